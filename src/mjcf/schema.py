@@ -1,0 +1,244 @@
+"""The vehicle parameter file format: every key, its unit, and its checks.
+
+A vehicle parameter file is TOML in SI units and radians. Each section below
+lists its keys as ``key: Field(unit, description, check)``. The loader rejects
+unknown keys, missing keys and values that fail their check, and names the file
+and the key in the error.
+
+The tables here are the documentation of the format as well: ``artic vehicle
+keys`` prints them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+
+class VehicleFileError(ValueError):
+    """A vehicle parameter file is malformed; the message names file and key."""
+
+
+@dataclass(frozen=True)
+class Field:
+    """One key of the parameter file.
+
+    Parameters
+    ----------
+    unit : str
+        SI unit, shown in brackets in messages and docs.
+    doc : str
+        What the number means.
+    kind : str
+        ``"positive"``, ``"nonneg"``, ``"real"``, ``"angle"``, ``"bool"``,
+        ``"str"``, ``"vec3"`` or ``"strlist"``.
+    optional : bool
+        Whether the key may be left out.
+    default : Any
+        Value used when an optional key is absent.
+    """
+
+    unit: str
+    doc: str
+    kind: str = "positive"
+    optional: bool = False
+    default: Any = None
+
+
+VEHICLE = {
+    "name": Field("", "preset or vehicle name", "str"),
+    "description": Field("", "one-line description", "str"),
+    "sources": Field("", "where every number comes from", "strlist"),
+}
+
+TRACTOR = {
+    "m1": Field("kg", "tractor mass"),
+    "J1": Field("kg m^2", "tractor yaw inertia about its centre of gravity"),
+    "a1": Field("m", "tractor centre of gravity to front axle"),
+    "b1": Field("m", "tractor centre of gravity to drive axle"),
+    "L1c": Field("m", "drive axle to fifth wheel, positive when ahead of the axle", "real"),
+    "h1": Field("m", "tractor centre-of-gravity height above ground"),
+    "h5": Field("m", "fifth-wheel (hitch) height above ground"),
+    "sensor": Field("m", "tractor sensor position from the drive-axle centre, ISO axes", "vec3"),
+}
+
+TRAILER = {
+    "m2": Field("kg", "semitrailer mass"),
+    "J2": Field("kg m^2", "semitrailer yaw inertia about its centre of gravity"),
+    "a2": Field("m", "kingpin to semitrailer centre of gravity"),
+    "L2": Field("m", "kingpin to the centre of the trailer axle group"),
+    "j": Field("m", "trailer axle spacing", "nonneg"),
+    "h2": Field("m", "semitrailer centre-of-gravity height above ground"),
+    "sensor": Field("m", "semitrailer sensor position from the kingpin, ISO axes", "vec3"),
+}
+
+AXLE = {
+    "name": Field("", "axle name, unique in the file", "str"),
+    "x": Field("m", "axle position along the unit: from the drive axle (tractor) or the "
+               "kingpin (semitrailer), forward positive", "real"),
+    "track": Field("m", "track width, between the centres of the left and right tyres"),
+    "steered": Field("", "steered by the steering wheel", "bool"),
+    "driven": Field("", "carries drive torque", "bool"),
+    "dual": Field("", "twin tyres at each end", "bool"),
+    "load_share": Field("", "share of its group's static load (group: the steered axles, "
+                        "the other tractor axles, the semitrailer axles); default equal",
+                        "positive", optional=True),
+}
+
+STEERING = {
+    "i_s": Field("", "steering ratio, steering-wheel angle over road-wheel angle"),
+    "q": Field("1/rad", "steering asymmetry factor of eq. (3)", "nonneg"),
+    "delta_h_offset": Field("rad", "steering-wheel angle read while driving straight", "angle"),
+    "delta_max": Field("rad", "largest road-wheel angle the linkage reaches", "angle"),
+}
+
+STEERING_OVERRIDE = {
+    "i_s": Field("", "steering ratio for this model", optional=True),
+    "q": Field("1/rad", "asymmetry factor for this model", "nonneg", optional=True),
+    "delta_h_offset": Field("rad", "steering-wheel offset for this model", "angle",
+                            optional=True),
+}
+
+TYRE = {
+    "f": Field("1/rad", "normalised cornering stiffness: axle cornering stiffness over axle load"),
+    "sigma_alpha": Field("m", "lateral relaxation length of the single-track model's tyres"),
+}
+
+LIMITS = {
+    "gamma_max": Field("rad", "articulation at which the cab and trailer touch (jackknife)",
+                       "angle"),
+}
+
+MODELS = ("kin", "stm", "mbd")
+
+SECTIONS = {
+    "vehicle": VEHICLE,
+    "tractor": TRACTOR,
+    "trailer": TRAILER,
+    "steering": STEERING,
+    "tyre": TYRE,
+    "limits": LIMITS,
+}
+
+
+def _fail(path: Path | str, key: str, message: str) -> VehicleFileError:
+    return VehicleFileError(f"{path}: key '{key}': {message}")
+
+
+def check_value(path: Path | str, key: str, field: Field, value: Any) -> Any:
+    """Check one value against its field and return it converted.
+
+    Parameters
+    ----------
+    path : Path or str
+        File the value came from, for the message.
+    key : str
+        Dotted key, for the message.
+    field : Field
+        The key's definition.
+    value : Any
+        The parsed TOML value.
+
+    Returns
+    -------
+    Any
+        ``float`` for numbers, ``tuple`` for vectors, the value otherwise.
+
+    Raises
+    ------
+    VehicleFileError
+        If the value has the wrong type or fails its check.
+    """
+    kind = field.kind
+    unit = f" [{field.unit}]" if field.unit else ""
+    if kind == "str":
+        if not isinstance(value, str):
+            raise _fail(path, key, f"expected a string, got {value!r}")
+        return value
+    if kind == "strlist":
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise _fail(path, key, f"expected a list of strings, got {value!r}")
+        return tuple(value)
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise _fail(path, key, f"expected true or false, got {value!r}")
+        return value
+    if kind == "vec3":
+        if (not isinstance(value, list) or len(value) != 3
+                or not all(_is_number(v) for v in value)):
+            raise _fail(path, key, f"expected three numbers [x, y, z]{unit}, got {value!r}")
+        return tuple(float(v) for v in value)
+    if not _is_number(value):
+        raise _fail(path, key, f"expected a number{unit}, got {value!r}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise _fail(path, key, f"expected a finite number{unit}, got {value!r}")
+    if kind == "positive" and x <= 0.0:
+        raise _fail(path, key, f"must be positive{unit}, got {x!r}")
+    if kind == "nonneg" and x < 0.0:
+        raise _fail(path, key, f"must not be negative{unit}, got {x!r}")
+    if kind == "angle" and abs(x) > math.pi:
+        raise _fail(path, key, f"{x!r} is larger than pi: angles are in radians; "
+                               f"{x!r} deg is {math.radians(x):.6g} rad")
+    return x
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def check_table(path: Path | str, prefix: str, table: Any,
+                fields: dict[str, Field], allow: tuple[str, ...] = ()) -> dict[str, Any]:
+    """Check a TOML table: no unknown key, no missing key, every value valid.
+
+    Parameters
+    ----------
+    path : Path or str
+        File the table came from, for messages.
+    prefix : str
+        Dotted name of the table, for messages.
+    table : Any
+        The parsed table.
+    fields : dict of str to Field
+        Its keys.
+    allow : tuple of str
+        Further keys that the caller checks itself (sub-tables).
+
+    Returns
+    -------
+    dict
+        Checked values, with defaults filled in for absent optional keys.
+    """
+    if not isinstance(table, dict):
+        raise _fail(path, prefix, f"expected a table, got {table!r}")
+    out: dict[str, Any] = {}
+    for key in table:
+        if key not in fields and key not in allow:
+            known = ", ".join(sorted([*fields, *allow]))
+            raise _fail(path, f"{prefix}.{key}",
+                        f"unknown key; known keys of [{prefix}] are: {known}")
+    for key, field in fields.items():
+        dotted = f"{prefix}.{key}"
+        if key not in table:
+            if field.optional:
+                out[key] = field.default
+                continue
+            unit = f" [{field.unit}]" if field.unit else ""
+            raise _fail(path, dotted, f"missing; add it: {field.doc}{unit}")
+        out[key] = check_value(path, dotted, field, table[key])
+    return out
+
+
+def describe() -> str:
+    """Return the file format as text, one line per key."""
+    lines = []
+    for section, fields in [*SECTIONS.items(), ("tractor.axle / trailer.axle", AXLE),
+                            ("steering.kin / .stm / .mbd", STEERING_OVERRIDE)]:
+        lines.append(f"[{section}]")
+        for key, f in fields.items():
+            unit = f" [{f.unit}]" if f.unit else ""
+            opt = " (optional)" if f.optional else ""
+            lines.append(f"  {key:<15}{f.doc}{unit}{opt}")
+    return "\n".join(lines)

@@ -1,0 +1,13 @@
+"""Reduced models for planning and control: KIN (eq. 1) and STM (eq. 2).
+
+This package depends on numpy and numba only: never on mujoco, rerun or pandas.
+"""
+
+from reduced.interface import OBSERVATION, InitialState, Model, wrap_angle
+from reduced.kinematic import KinematicModel
+from reduced.single_track import SingleTrackModel
+
+MODELS = {"kin": KinematicModel, "stm": SingleTrackModel}
+
+__all__ = ["MODELS", "OBSERVATION", "InitialState", "KinematicModel", "Model",
+           "SingleTrackModel", "wrap_angle"]

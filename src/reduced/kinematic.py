@@ -1,0 +1,162 @@
+"""KIN: the single-axle kinematic tractor-semitrailer model, eq. (1).
+
+No axle slips sideways: the tractor turns about a point on its drive-axle
+line and the semitrailer about a point on its equivalent axle, ``L2`` behind
+the kingpin. With the fifth wheel ``L1c`` ahead of the drive axle,
+
+    psi_1_dot = u1 tan(delta) / L1
+    gamma_dot = -u1 sin(gamma) / L2 + (1 - L1c cos(gamma) / L2) u1 tan(delta) / L1
+
+Derivation: the hitch moves at ``(u1, r1 L1c)`` in tractor axes. The trailer
+axle does not slip, so the trailer yaw rate is the hitch velocity across the
+trailer, ``u1 sin(gamma) + r1 L1c cos(gamma)``, over ``L2``; and
+``gamma_dot = r1 - r2``.
+
+State: ``[X, Y, psi_1, gamma]`` with ``(X, Y)`` the drive-axle centre [m].
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mjcf.vehicle import Vehicle
+from reduced.integrate import make_rk4
+from reduced.interface import InitialState, rotate, wrap_angle
+
+
+@njit(cache=True)
+def kin_rhs(x, u1, u1_dot, delta, P):
+    """Time derivative of the KIN state, eq. (1).
+
+    Parameters
+    ----------
+    x : ndarray, shape (4,)
+        ``[X, Y, psi_1, gamma]`` [m, m, rad, rad].
+    u1 : float
+        Drive-axle longitudinal speed [m/s].
+    u1_dot : float
+        Its rate [m/s^2] (unused: KIN has no inertia).
+    delta : float
+        Road-wheel angle [rad].
+    P : tuple
+        ``(L1, L1c, L2)`` [m].
+    """
+    L1, L1c, L2 = P
+    psi, gamma = x[2], x[3]
+    r1 = u1 * math.tan(delta) / L1
+    out = np.empty(4)
+    out[0] = u1 * math.cos(psi)
+    out[1] = u1 * math.sin(psi)
+    out[2] = r1
+    out[3] = -u1 * math.sin(gamma) / L2 + (1.0 - L1c * math.cos(gamma) / L2) * r1
+    return out
+
+
+kin_step = make_rk4(kin_rhs)
+"""One RK4 step of :func:`kin_rhs`: ``kin_step(x, dt, u1, u1_dot, delta, P)``."""
+
+
+@njit(cache=True)
+def kin_observe(x, u1, delta, P, s1, s2):
+    """Signals at the two sensor points, in ``OBSERVATION`` order.
+
+    Parameters
+    ----------
+    x : ndarray, shape (4,)
+        State.
+    u1 : float
+        Drive-axle longitudinal speed [m/s].
+    delta : float
+        Road-wheel angle [rad].
+    P : tuple
+        ``(L1, L1c, L2)`` [m].
+    s1 : ndarray, shape (2,)
+        Tractor sensor ``(x, y)`` from the drive axle [m].
+    s2 : ndarray, shape (2,)
+        Semitrailer sensor ``(x, y)`` from the kingpin [m].
+    """
+    L1, L1c, L2 = P
+    X, Y, psi1, gamma = x[0], x[1], x[2], x[3]
+    c1, sn1 = math.cos(psi1), math.sin(psi1)
+    r1 = u1 * math.tan(delta) / L1
+    sg, cg = math.sin(gamma), math.cos(gamma)
+    r2 = (u1 * sg + r1 * L1c * cg) / L2
+    psi2 = psi1 - gamma
+    c2, sn2 = math.cos(psi2), math.sin(psi2)
+    kx, ky = X + c1 * L1c, Y + sn1 * L1c
+    # Hitch velocity in trailer axes.
+    vhx = u1 * cg - r1 * L1c * sg
+    vhy = u1 * sg + r1 * L1c * cg
+    out = np.empty(13)
+    out[0] = X + c1 * s1[0] - sn1 * s1[1]
+    out[1] = Y + sn1 * s1[0] + c1 * s1[1]
+    out[2] = psi1
+    out[3] = u1 - r1 * s1[1]
+    out[4] = r1 * s1[0]
+    out[5] = r1
+    out[6] = kx + c2 * s2[0] - sn2 * s2[1]
+    out[7] = ky + sn2 * s2[0] + c2 * s2[1]
+    out[8] = psi2
+    out[9] = vhx - r2 * s2[1]
+    out[10] = vhy + r2 * s2[0]
+    out[11] = r2
+    out[12] = gamma
+    return out
+
+
+class KinematicModel:
+    """KIN, eq. (1), behind the harness's model interface.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Uses ``L1``, ``L1c``, ``L2`` and the sensor positions. KIN has one
+        equivalent axle per unit: the drive axle and the trailer axle group's
+        centre; further tractor axles (a tag axle) are not represented.
+    """
+
+    name = "kin"
+
+    def __init__(self, vehicle: Vehicle) -> None:
+        self.vehicle = vehicle
+        self.P = (vehicle.L1, vehicle.L1c, vehicle.L2)
+        self._s1 = np.array(vehicle.sensor1[:2])
+        self._s2 = np.array(vehicle.sensor2[:2])
+        self.x = np.zeros(4)
+        self._u1 = 0.0
+        self._delta = 0.0
+
+    def reset(self, initial: InitialState) -> None:
+        """Place the drive axle so that the tractor sensor is at ``(x_1, y_1)``."""
+        dx, dy = rotate(initial.psi_1, self._s1[0], self._s1[1])
+        self.x = np.array([initial.x_1 - dx, initial.y_1 - dy, initial.psi_1,
+                           wrap_angle(initial.gamma)])
+        self._u1 = initial.u1
+        self._delta = 0.0
+
+    def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
+        """Advance ``dt`` [s]; see :mod:`reduced.interface`."""
+        self.x = kin_step(self.x, dt, u1, u1_dot, delta, self.P)
+        self._u1 = u1 + u1_dot * dt
+        self._delta = delta
+
+    def observe(self) -> np.ndarray:
+        """Signals at the sensor points, in ``OBSERVATION`` order."""
+        y = kin_observe(self.x, self._u1, self._delta, self.P, self._s1, self._s2)
+        y[12] = wrap_angle(y[12])
+        return y
+
+    def compiled(self) -> tuple:
+        """Compiled step and observe functions, state, parameters and sensors.
+
+        For the harness's compiled closed loop; see :mod:`validation.harness`.
+        """
+        return kin_step, kin_observe, self.x.copy(), self.P, self._s1, self._s2
+
+    @property
+    def gamma(self) -> float:
+        """Articulation angle [rad]."""
+        return float(wrap_angle(self.x[3]))

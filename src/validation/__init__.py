@@ -1,0 +1,1 @@
+"""Validation: logs, the closed-loop harness, error criteria, the campaign and the CLI."""

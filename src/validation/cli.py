@@ -1,0 +1,159 @@
+"""The ``artic`` command line.
+
+Subcommands:
+
+- ``artic vehicle show VEHICLE [--json]``: the resolved parameter set;
+- ``artic vehicle keys``: the parameter file format;
+- ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
+- ``artic validate LOG.parquet ... --vehicle V --models kin,stm [--gain K] --out-dir DIR``;
+- ``artic campaign [--out-dir DIR]``: the main job.
+
+Errors in the user's input end with exit code 2 and a one-line message that
+names the file and what to change; no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from mjcf import schema
+from mjcf.schema import VehicleFileError
+from mjcf.vehicle import load_vehicle
+from validation.harness import DEFAULT_GAIN
+from validation.logio import LogError, read_run, write_run
+from validation.manoeuvres import KINDS, make_profile
+from validation.steering import SteeringRangeError
+
+USER_ERRORS = (VehicleFileError, LogError, SteeringRangeError, ValueError, FileNotFoundError)
+
+
+def _vehicle_show(args: argparse.Namespace) -> int:
+    v = load_vehicle(args.vehicle)
+    flat = v.flat()
+    if args.json:
+        print(json.dumps(flat, indent=2))
+    else:
+        width = max(map(len, flat))
+        for k, val in flat.items():
+            print(f"{k:<{width}}  {val}")
+    return 0
+
+
+def _vehicle_keys(args: argparse.Namespace) -> int:
+    print(schema.describe())
+    return 0
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    from validation.simulate import simulate
+    from validation.validate import model_factory
+
+    v = load_vehicle(args.vehicle)
+    s = v.steering_for(args.model)
+    profile = make_profile(args.manoeuvre, amplitude_deg=args.amplitude_deg,
+                           speed_kph=args.speed_kph, side=args.side, duration=args.duration,
+                           delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
+    model = model_factory(args.model)(v)
+    try:
+        run = simulate(model, v, profile)
+    finally:
+        if hasattr(model, "close"):
+            model.close()
+    write_run(run, args.out)
+    status = run.meta["status"]
+    print(f"wrote {args.out}: {len(run.frame)} samples, {run.frame.t.iloc[-1]:.2f} s"
+          + ("" if status == "ok" else f"; {status}"))
+    return 0
+
+
+def _validate(args: argparse.Namespace) -> int:
+    from validation.validate import (
+        parse_models,
+        stderr_progress,
+        validate_runs,
+        write_metrics,
+    )
+
+    v = load_vehicle(args.vehicle)
+    models = parse_models(args.models)
+    logs = [read_run(p) for p in args.logs]
+    metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=args.out_dir,
+                            progress=stderr_progress)
+    path = write_metrics(metrics, Path(args.out_dir) / "metrics.csv")
+    print(f"wrote {path} ({len(metrics)} rows) and {len(metrics)} runs in "
+          f"{Path(args.out_dir) / 'runs'}")
+    return 0
+
+
+def _campaign(args: argparse.Namespace) -> int:
+    from validation.campaign import run_campaign
+
+    run_campaign(Path(args.out_dir), vehicle=args.vehicle)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``artic``."""
+    p = argparse.ArgumentParser(
+        prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
+        "in reverse, and their validation.")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")
+    vsub = veh.add_subparsers(dest="vehicle_command", required=True)
+    show = vsub.add_parser("show", help="print the resolved parameters")
+    show.add_argument("vehicle", help="preset name or TOML file")
+    show.add_argument("--json", action="store_true", help="print JSON")
+    show.set_defaults(func=_vehicle_show)
+    keys = vsub.add_parser("keys", help="print the parameter file format")
+    keys.set_defaults(func=_vehicle_keys)
+
+    sim = sub.add_parser("simulate", help="simulate a manoeuvre open loop")
+    sim.add_argument("--model", required=True, choices=("kin", "stm", "mbd"))
+    sim.add_argument("--vehicle", default="gosar2022-unloaded",
+                     help="preset name or TOML file (default: %(default)s)")
+    sim.add_argument("--manoeuvre", required=True, choices=KINDS)
+    sim.add_argument("--amplitude-deg", type=float, default=None,
+                     help="steering-wheel amplitude [deg] (default 200 forward, 90 reverse)")
+    sim.add_argument("--speed-kph", type=float, default=None,
+                     help="speed [km/h], positive (default 5 forward, 3 reverse)")
+    sim.add_argument("--side", choices=("left", "right"), default="left")
+    sim.add_argument("--duration", type=float, default=None, help="length [s]")
+    sim.add_argument("--out", required=True, type=Path, help="output .parquet")
+    sim.set_defaults(func=_simulate)
+
+    val = sub.add_parser("validate", help="validate models against logs")
+    val.add_argument("logs", nargs="+", type=Path, help="logs in the signal schema (.parquet)")
+    val.add_argument("--vehicle", default="gosar2022-unloaded",
+                     help="preset name or TOML file (default: %(default)s)")
+    val.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
+    val.add_argument("--gain", type=float, default=DEFAULT_GAIN,
+                     help="reversing feedback gain K [rad/rad] (default: %(default)s)")
+    val.add_argument("--out-dir", required=True, type=Path)
+    val.set_defaults(func=_validate)
+
+    camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
+    camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
+                      help="output folder (default: %(default)s)")
+    camp.add_argument("--vehicle", default="gosar2022-unloaded",
+                      help="preset name or TOML file (default: %(default)s)")
+    camp.set_defaults(func=_campaign)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``artic``; returns the exit code."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.func(args))
+    except USER_ERRORS as exc:
+        print(f"artic: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,118 @@
+"""Open-loop manoeuvres: steering-wheel and speed profiles of the seed's test matrix.
+
+Each profile gives, per sample at 100 Hz, the steering-wheel angle
+``delta_h`` [rad] (offset included) and the tractor speed ``u1`` [m/s]. The
+amplitude is a steering-wheel angle, as in the seed (200, 360, 500 deg forward;
+30 and 90 deg in reverse). ``side="left"`` steers to positive angles.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse")
+
+DT = 0.01
+"""Sample period of every profile [s]: 100 Hz, as the seed's INS."""
+
+RAMP_TIME = 3.0
+"""Time to turn the steering wheel to its amplitude [s]."""
+
+SLALOM_PITCH = 12.0
+"""Distance between slalom cones [m]."""
+
+
+@dataclass(frozen=True)
+class Profile:
+    """Inputs of a manoeuvre.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    t, delta_h, u1 : ndarray
+        Time [s], steering-wheel angle [rad], tractor speed [m/s].
+    meta : dict
+        Manoeuvre parameters, for the run's metadata.
+    """
+
+    kind: str
+    t: np.ndarray
+    delta_h: np.ndarray
+    u1: np.ndarray
+    meta: dict
+
+
+def _smoothstep(x: np.ndarray) -> np.ndarray:
+    x = np.clip(x, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x)
+
+
+def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: float | None = None,
+                 side: str = "left", duration: float | None = None,
+                 delta_h_offset: float = 0.0, L1: float = 3.8, i_s: float = 21.0) -> Profile:
+    """Build the inputs of a manoeuvre.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    amplitude_deg : float, optional
+        Steering-wheel amplitude [deg]; default 200 forward, 90 in reverse.
+    speed_kph : float, optional
+        Speed [km/h], positive; default 5 forward, 3 in reverse.
+    side : str
+        ``"left"`` or ``"right"``.
+    duration : float, optional
+        Length [s]; a default that completes the manoeuvre otherwise.
+    delta_h_offset : float
+        Steering-wheel angle while driving straight [rad], added to the profile.
+    L1, i_s : float
+        Wheelbase [m] and steering ratio [-], to size a figure-8's circles.
+
+    Raises
+    ------
+    ValueError
+        For an unknown kind or side, or a non-positive speed or duration.
+    """
+    if kind not in KINDS:
+        raise ValueError(f"unknown manoeuvre {kind!r}; choose one of {', '.join(KINDS)}")
+    if side not in ("left", "right"):
+        raise ValueError(f"side must be 'left' or 'right', got {side!r}")
+    reverse = kind.endswith("reverse")
+    speed = (3.0 if reverse else 5.0) if speed_kph is None else float(speed_kph)
+    amp = (90.0 if reverse else 200.0) if amplitude_deg is None else float(amplitude_deg)
+    if speed <= 0:
+        raise ValueError(f"speed must be positive [km/h] (the direction follows the "
+                         f"manoeuvre), got {speed}")
+    if abs(amp) > 1080:
+        raise ValueError(f"amplitude {amp} deg is beyond three steering-wheel turns")
+    u = speed / 3.6
+    A = math.radians(amp) * (1.0 if side == "left" else -1.0)
+    circle = 2.0 * math.pi * L1 / max(math.tan(abs(math.radians(amp)) / i_s), 1e-3) / u
+    default = {"straight": 30.0, "constant-steer": 60.0, "slalom": 6.0 * SLALOM_PITCH / u,
+               "figure-8": 2.0 * circle + 3.0 * RAMP_TIME, "ramp-steer-reverse": 60.0}[kind]
+    T = default if duration is None else float(duration)
+    if T <= 0:
+        raise ValueError(f"duration must be positive [s], got {T}")
+    t = np.arange(0.0, T + 0.5 * DT, DT)
+    if kind == "straight":
+        d = np.zeros_like(t)
+    elif kind == "constant-steer":
+        d = A * _smoothstep((t - 2.0) / RAMP_TIME)
+    elif kind == "slalom":
+        period = 2.0 * SLALOM_PITCH / u
+        d = A * np.sin(2.0 * math.pi * t / period) * _smoothstep(t / RAMP_TIME)
+    elif kind == "figure-8":
+        up = _smoothstep(t / RAMP_TIME)
+        swap = _smoothstep((t - RAMP_TIME - circle) / (2 * RAMP_TIME))
+        d = A * (up - 2.0 * swap)
+    else:  # ramp-steer-reverse: straight back, then a slow ramp to the amplitude
+        d = A * np.clip((t - 5.0) / 20.0, 0.0, 1.0)
+    u1 = np.full_like(t, -u if reverse else u)
+    meta = {"manoeuvre": kind, "amplitude_deg": amp, "speed_kph": speed, "side": side,
+            "direction": "reverse" if reverse else "forward", "duration": T}
+    return Profile(kind, t, d + delta_h_offset, u1, meta)

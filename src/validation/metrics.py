@@ -1,0 +1,130 @@
+"""The distance-based error criteria, eqs. (8)-(10).
+
+Every error is averaged over the distance travelled, not over time:
+
+    eps_bar = sqrt( (1 / s_max) * integral eps**2 ds )              (8)
+
+``s`` is the measured tractor sensor's path length. It always increases,
+reversing included: ``ds = |v| dt`` with ``|v| = hypot(v_x_1, v_y_1)``. The
+integral is the trapezoidal rule over the samples, so a constant error gives
+back exactly that constant.
+
+- Lateral position errors ``eps_y1``, ``eps_y2``: the shortest distance from
+  each model sensor point to the measured sensor path, as a polyline.
+- Yaw-rate errors ``eps_r1``, ``eps_r2`` and lateral-velocity errors
+  ``eps_vy1``, ``eps_vy2``: model minus measurement at the same time.
+- Totals (9): ``eps_p = eps_y1 + eps_y2``, ``eps_a = eps_r1 + eps_r2``,
+  ``eps_v = eps_vy1 + eps_vy2``.
+- ``eps_n`` [%]: ``eps_a`` and ``eps_v`` each divided by the distance-averaged
+  mean of the absolute measured signals they compare (the sum of the two units'
+  means), then added. Absolute values, because a slalom's plain mean is about
+  zero. If a run has no yaw or lateral motion to speak of, the division means
+  nothing and ``eps_n`` is NaN.
+- ``J_steer`` [%] (10): the distance-RMS of the steering the harness added,
+  ``delta - delta_center``, over the distance-averaged mean of
+  ``|delta_center|``: both road-wheel angles.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from validation.pathdist import distance_to_polyline
+
+CRITERIA = ("eps_y1", "eps_y2", "eps_p", "eps_r1", "eps_r2", "eps_a",
+            "eps_vy1", "eps_vy2", "eps_v", "eps_n", "J_steer")
+"""Columns of a metrics row, in order."""
+
+UNITS = {"eps_y1": "m", "eps_y2": "m", "eps_p": "m", "eps_r1": "rad/s", "eps_r2": "rad/s",
+         "eps_a": "rad/s", "eps_vy1": "m/s", "eps_vy2": "m/s", "eps_v": "m/s",
+         "eps_n": "%", "J_steer": "%"}
+
+NOISE_FLOOR = {"r": 1e-3, "v_y": 1e-3}
+"""Mean absolute signal [rad/s, m/s] below which normalising by it means nothing."""
+
+
+def distance_weights(t: np.ndarray, speed: np.ndarray) -> np.ndarray:
+    """Trapezoidal weights ``w_k`` with ``integral g ds ~ sum_k w_k g_k`` [m].
+
+    Parameters
+    ----------
+    t : ndarray
+        Time [s], increasing.
+    speed : ndarray
+        Speed over ground, any sign [m/s]; its magnitude is used.
+
+    Returns
+    -------
+    ndarray
+        Weights; they sum to the distance travelled ``s_max``.
+    """
+    v = np.abs(np.asarray(speed, dtype=float))
+    ds = 0.5 * (v[1:] + v[:-1]) * np.diff(np.asarray(t, dtype=float))
+    w = np.zeros_like(v)
+    w[:-1] += 0.5 * ds
+    w[1:] += 0.5 * ds
+    return w
+
+
+def distance_rms(eps: np.ndarray, w: np.ndarray) -> float:
+    """Eq. (8): ``sqrt(integral eps**2 ds / s_max)``."""
+    s_max = float(np.sum(w))
+    if s_max <= 0.0:
+        return float("nan")
+    return float(np.sqrt(np.sum(w * np.square(eps)) / s_max))
+
+
+def distance_mean_abs(x: np.ndarray, w: np.ndarray) -> float:
+    """Distance-averaged mean of ``|x|``."""
+    s_max = float(np.sum(w))
+    return float(np.sum(w * np.abs(x)) / s_max) if s_max > 0 else float("nan")
+
+
+def run_metrics(measured: pd.DataFrame, model: pd.DataFrame) -> dict[str, float]:
+    """Error criteria of one model run against its measured log.
+
+    Parameters
+    ----------
+    measured : DataFrame
+        The log, in the signal schema.
+    model : DataFrame
+        The model's run from the harness, sample for sample; if it stopped
+        early, only its rows are compared.
+
+    Returns
+    -------
+    dict
+        The :data:`CRITERIA`, plus ``s_max`` [m] (distance compared).
+    """
+    n = len(model)
+    meas = measured.iloc[:n]
+    col = {c: meas[c].to_numpy(dtype=float) for c in meas.columns if c != "delta_saturated"}
+    sim = {c: model[c].to_numpy(dtype=float) for c in model.columns if c != "delta_saturated"}
+    w = distance_weights(col["t"], np.hypot(col["v_x_1"], col["v_y_1"]))
+    out: dict[str, float] = {}
+    for i in (1, 2):
+        pts = np.column_stack([sim[f"x_{i}"], sim[f"y_{i}"]])
+        path = np.column_stack([col[f"x_{i}"], col[f"y_{i}"]])
+        out[f"eps_y{i}"] = distance_rms(distance_to_polyline(pts, path), w)
+        out[f"eps_r{i}"] = distance_rms(sim[f"r_{i}"] - col[f"r_{i}"], w)
+        out[f"eps_vy{i}"] = distance_rms(sim[f"v_y_{i}"] - col[f"v_y_{i}"], w)
+    out["eps_p"] = out["eps_y1"] + out["eps_y2"]
+    out["eps_a"] = out["eps_r1"] + out["eps_r2"]
+    out["eps_v"] = out["eps_vy1"] + out["eps_vy2"]
+    r_mean = distance_mean_abs(col["r_1"], w) + distance_mean_abs(col["r_2"], w)
+    vy_mean = distance_mean_abs(col["v_y_1"], w) + distance_mean_abs(col["v_y_2"], w)
+    if r_mean > NOISE_FLOOR["r"] and vy_mean > NOISE_FLOOR["v_y"]:
+        out["eps_n"] = 100.0 * (out["eps_a"] / r_mean + out["eps_v"] / vy_mean)
+    else:
+        out["eps_n"] = float("nan")
+    if "delta_fb" in sim:
+        delta_c = sim["delta"] - sim["delta_fb"]
+        mean_c = distance_mean_abs(delta_c, w)
+        out["J_steer"] = (100.0 * distance_rms(sim["delta_fb"], w) / mean_c
+                          if mean_c > 0 else float("nan"))
+    else:
+        out["J_steer"] = float("nan")
+    result = {k: out[k] for k in CRITERIA}
+    result["s_max"] = float(np.sum(w))
+    return result

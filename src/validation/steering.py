@@ -1,0 +1,112 @@
+"""The steering map of eq. (3): steering-wheel angle to road-wheel angle.
+
+``delta = (d - q d**2) / i_s`` with ``d = delta_h - delta_h_offset``.
+
+A positive ``q`` lowers the road-wheel angle for left turns (``d > 0``) and
+raises it for right turns, as a tie-rod linkage driven from the left wheel
+does. The map is monotonic only while ``d < 1 / (2 q)``; :class:`SteeringMap`
+refuses a range in use beyond that instead of folding back silently.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mjcf.vehicle import Steering
+
+
+class SteeringRangeError(ValueError):
+    """The steering-wheel angles in use reach the fold of the quadratic map."""
+
+
+@dataclass(frozen=True)
+class SteeringMap:
+    """Eq. (3) with the steering-wheel offset.
+
+    Parameters
+    ----------
+    i_s : float
+        Steering ratio [-].
+    q : float
+        Asymmetry factor [1/rad].
+    delta_h_offset : float
+        Steering-wheel angle while driving straight [rad].
+    """
+
+    i_s: float
+    q: float
+    delta_h_offset: float
+
+    @classmethod
+    def from_steering(cls, s: Steering) -> SteeringMap:
+        """Build the map from a vehicle's steering parameters."""
+        return cls(s.i_s, s.q, s.delta_h_offset)
+
+    @property
+    def fold(self) -> float:
+        """Offset-free steering-wheel angle where the map stops rising [rad]."""
+        return np.inf if self.q == 0 else 1.0 / (2.0 * self.q)
+
+    def check_range(self, delta_h: np.ndarray, source: str = "input") -> None:
+        """Refuse steering-wheel angles past the fold of the map.
+
+        Parameters
+        ----------
+        delta_h : array_like
+            Steering-wheel angles in use [rad].
+        source : str
+            What the angles came from, for the message.
+
+        Raises
+        ------
+        SteeringRangeError
+            If any angle reaches 95 % of the fold, where the slope has fallen
+            to a tenth of its value at zero.
+        """
+        d = np.asarray(delta_h, dtype=float) - self.delta_h_offset
+        if d.size == 0 or not np.isfinite(self.fold):
+            return
+        peak = float(np.nanmax(d))
+        if peak >= 0.95 * self.fold:
+            raise SteeringRangeError(
+                f"{source}: steering-wheel angle reaches {np.degrees(peak):.0f} deg past the "
+                f"offset, but eq. (3) with q = {self.q} /rad stops being monotonic at "
+                f"{np.degrees(self.fold):.0f} deg. Lower q (a tie-rod linkage gives about "
+                f"0.01 /rad) or check that delta_h is in radians.")
+
+    def road_wheel(self, delta_h: np.ndarray | float) -> np.ndarray | float:
+        """Road-wheel angle at the centre of the front axle [rad].
+
+        Parameters
+        ----------
+        delta_h : float or ndarray
+            Steering-wheel angle as measured, offset included [rad].
+        """
+        d = np.asarray(delta_h, dtype=float) - self.delta_h_offset
+        out = (d - self.q * d * d) / self.i_s
+        return float(out) if out.ndim == 0 else out
+
+    def steering_wheel(self, delta: np.ndarray | float) -> np.ndarray | float:
+        """Inverse map: the steering-wheel angle that gives a road-wheel angle [rad].
+
+        Parameters
+        ----------
+        delta : float or ndarray
+            Road-wheel angle [rad]; must lie below the map's maximum
+            ``fold / (2 i_s)``.
+        """
+        x = np.asarray(delta, dtype=float) * self.i_s
+        if self.q == 0:
+            d = x
+        else:
+            disc = 1.0 - 4.0 * self.q * x
+            if np.any(disc < 0):
+                raise SteeringRangeError(
+                    f"road-wheel angle {np.degrees(np.max(x) / self.i_s):.1f} deg is beyond "
+                    f"what eq. (3) with q = {self.q} /rad reaches")
+            # The root on the rising branch, written to stay accurate as q -> 0.
+            d = 2.0 * x / (1.0 + np.sqrt(disc))
+        out = d + self.delta_h_offset
+        return float(out) if out.ndim == 0 else out
