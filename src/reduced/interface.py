@@ -8,8 +8,11 @@ Every model (KIN, STM and the multibody plant) is built from a
 - ``step(dt, delta, u1, u1_dot)`` advances by ``dt`` [s] with the road-wheel
   angle ``delta`` [rad] held and the tractor's longitudinal speed rising
   linearly from ``u1`` [m/s] at rate ``u1_dot`` [m/s^2];
-- ``observe()`` returns the signals a measured log has, in :data:`OBSERVATION`
-  order, at the two sensor points.
+- ``observe(delta)`` returns the signals a measured log has, in
+  :data:`OBSERVATION` order, at the two sensor points, with ``delta`` the
+  road-wheel angle about to be held (a kinematic model's yaw rate follows it
+  at once);
+- ``gamma`` is the current articulation angle [rad].
 
 ``u1`` is the longitudinal velocity of the tractor in its own axes. For a rigid
 tractor it is the same at every point on its centre line, so the drive axle,
@@ -75,8 +78,12 @@ class Model(Protocol):
     def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
         """Advance by ``dt`` [s] with the inputs held as described above."""
 
-    def observe(self) -> np.ndarray:
+    def observe(self, delta: float | None = None) -> np.ndarray:
         """Signals in :data:`OBSERVATION` order."""
+
+    @property
+    def gamma(self) -> float:
+        """Articulation angle [rad]."""
 
 
 def wrap_angle(a: float | np.ndarray) -> float | np.ndarray:

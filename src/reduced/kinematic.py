@@ -143,9 +143,17 @@ class KinematicModel:
         self._u1 = u1 + u1_dot * dt
         self._delta = delta
 
-    def observe(self) -> np.ndarray:
-        """Signals at the sensor points, in ``OBSERVATION`` order."""
-        y = kin_observe(self.x, self._u1, self._delta, self.P, self._s1, self._s2)
+    def observe(self, delta: float | None = None) -> np.ndarray:
+        """Signals at the sensor points, in ``OBSERVATION`` order.
+
+        Parameters
+        ----------
+        delta : float, optional
+            Road-wheel angle about to be held [rad]; KIN's yaw rates follow it
+            at once. The last applied angle by default.
+        """
+        d = self._delta if delta is None else delta
+        y = kin_observe(self.x, self._u1, d, self.P, self._s1, self._s2)
         y[12] = wrap_angle(y[12])
         return y
 

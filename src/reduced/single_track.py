@@ -349,8 +349,12 @@ class SingleTrackModel:
         self._u1 = u1 + u1_dot * dt
         self._delta = delta
 
-    def observe(self) -> np.ndarray:
-        """Signals at the sensor points, in ``OBSERVATION`` order."""
+    def observe(self, delta: float | None = None) -> np.ndarray:
+        """Signals at the sensor points, in ``OBSERVATION`` order.
+
+        ``delta`` is accepted for the common interface; the STM's velocities
+        are states and do not jump with the steering.
+        """
         y = stm_observe(self.x, self._u1, self._delta, self.P, self._s1, self._s2)
         y[12] = wrap_angle(y[12])
         return y

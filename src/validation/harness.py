@@ -199,8 +199,9 @@ def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
     delta, delta_fb = np.full(n, np.nan), np.full(n, np.nan)
     sat = np.zeros(n, dtype=bool)
     for k in range(n):
-        o = model.observe()
-        d, f, s = feedback_law(delta_c[k], o[12], gamma_meas[k], reversing[k], gain, delta_max)
+        d, f, s = feedback_law(delta_c[k], model.gamma, gamma_meas[k], reversing[k], gain,
+                               delta_max)
+        o = model.observe(d)
         obs[k], delta[k], delta_fb[k], sat[k] = o, d, f, s
         if abs(o[12]) > gamma_max or not np.all(np.isfinite(o)):
             return obs, delta, delta_fb, sat, k + 1

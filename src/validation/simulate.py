@@ -110,10 +110,10 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
     obs = np.empty((n, 13))
     delta = np.empty(n)
     for k in range(n):
-        obs[k] = model.observe()
         d_ff = steady_articulation_delta(float(gamma_ref[k]), vehicle)
-        delta[k], _, _ = feedback_law(d_ff, obs[k, 12], float(gamma_ref[k]), bool(u1[k] < 0),
+        delta[k], _, _ = feedback_law(d_ff, model.gamma, float(gamma_ref[k]), bool(u1[k] < 0),
                                       gain, vehicle.steering.delta_max)
+        obs[k] = model.observe(delta[k])
         if k + 1 < n:
             model.step(float(t[k + 1] - t[k]), float(delta[k]), float(u1[k]),
                        float((u1[k + 1] - u1[k]) / (t[k + 1] - t[k])))

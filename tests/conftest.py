@@ -1,0 +1,62 @@
+"""Shared fixtures: presets, and logs made by the models themselves."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mjcf import load_vehicle
+from validation.logio import Run
+from validation.schema import COLUMNS
+
+PRESETS = ("gosar2022-unloaded", "gosar2022-loaded", "six-axle")
+
+
+@pytest.fixture(scope="session")
+def unloaded():
+    return load_vehicle("gosar2022-unloaded")
+
+
+@pytest.fixture(scope="session")
+def loaded():
+    return load_vehicle("gosar2022-loaded")
+
+
+def as_log(run: Run, name: str = "log") -> Run:
+    """Strip a model run down to the signal schema, as a measured log."""
+    meta = {**run.meta, "name": name, "source": "synthetic"}
+    return Run(run.frame[list(COLUMNS)].copy(), meta)
+
+
+def straight_log(n: int = 2000, u: float = -0.8, gamma0: float = 0.0, dt: float = 0.01,
+                 delta_h: float = 0.0) -> Run:
+    """A log of a combination reversing (or driving) straight along x, gamma = 0.
+
+    Every signal is what an ideal straight run shows; ``gamma0`` sets the
+    first sample's articulation (the models start from it).
+    """
+    t = np.arange(n) * dt
+    z = np.zeros(n)
+    x = u * t
+    frame = {
+        "t": t, "delta_h": np.full(n, delta_h), "x_1": x, "y_1": z, "psi_1": z,
+        "v_x_1": np.full(n, u), "v_y_1": z, "r_1": z, "x_2": x - 14.0, "y_2": z,
+        "psi_2": z, "v_x_2": np.full(n, u), "v_y_2": z, "r_2": z, "gamma": z,
+    }
+    import pandas as pd
+
+    df = pd.DataFrame(frame)
+    df.loc[0, "gamma"] = gamma0
+    df.loc[0, "psi_2"] = -gamma0
+    return Run(df, {"name": "straight", "direction": "reverse" if u < 0 else "forward"})
+
+
+def velocities_from_positions(run_obs, dt):
+    """Sensor velocities in body axes from central differences of positions."""
+    out = {}
+    for i, (ix, iy, ipsi) in ((1, (0, 1, 2)), (2, (6, 7, 8))):
+        vx = np.gradient(run_obs[:, ix], dt)
+        vy = np.gradient(run_obs[:, iy], dt)
+        psi = run_obs[:, ipsi]
+        out[i] = (np.cos(psi) * vx + np.sin(psi) * vy, -np.sin(psi) * vx + np.cos(psi) * vy)
+    return out

@@ -1,0 +1,54 @@
+"""The steering map, eq. (3), with offset and monotonicity guard."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from validation.steering import SteeringMap, SteeringRangeError
+
+MAP = SteeringMap(i_s=20.0, q=0.01, delta_h_offset=math.radians(5.0))
+
+
+def test_offset_gives_straight_wheels():
+    assert MAP.road_wheel(MAP.delta_h_offset) == 0.0
+
+
+def test_equation_3_by_hand():
+    d = 2.0  # rad past the offset
+    assert MAP.road_wheel(MAP.delta_h_offset + d) == pytest.approx((d - 0.01 * d * d) / 20.0)
+    assert MAP.road_wheel(MAP.delta_h_offset - d) == pytest.approx((-d - 0.01 * d * d) / 20.0)
+
+
+def test_positive_q_steers_less_left_than_right():
+    # A linkage driven from the left wheel: left turns (positive) get less.
+    left = MAP.road_wheel(MAP.delta_h_offset + 3.0)
+    right = MAP.road_wheel(MAP.delta_h_offset - 3.0)
+    assert 0 < left < -right
+    assert -right - left == pytest.approx(2 * 0.01 * 9.0 / 20.0)
+
+
+def test_inverse_round_trip():
+    d = np.linspace(-0.4, 0.4, 101)
+    np.testing.assert_allclose(MAP.road_wheel(MAP.steering_wheel(d)), d, atol=1e-14)
+    linear = SteeringMap(20.0, 0.0, 0.0)
+    assert linear.steering_wheel(0.1) == pytest.approx(2.0)
+
+
+def test_monotonic_guard_refuses_the_fold():
+    printed = SteeringMap(i_s=21.0, q=0.1, delta_h_offset=0.0)
+    # The printed q = 0.1 /rad folds at 1/(2q) = 5 rad = 286 deg: a 500 deg turn fails.
+    with pytest.raises(SteeringRangeError, match="monotonic"):
+        printed.check_range(np.radians([0.0, 500.0]), "test")
+    printed.check_range(np.radians([0.0, 200.0]))
+    MAP.check_range(np.radians([-500.0, 500.0]))
+    # Degrees passed as radians also reach the fold: the message says so.
+    with pytest.raises(SteeringRangeError, match="radians"):
+        MAP.check_range(np.array([200.0]))
+
+
+def test_map_is_monotonic_below_the_fold():
+    d = np.linspace(-10, 0.95 / (2 * 0.01), 1000)
+    assert np.all(np.diff(MAP.road_wheel(d + MAP.delta_h_offset)) > 0)
