@@ -132,7 +132,8 @@ def read_run(path: Path | str, check: bool = True) -> Run:
                        "write it again") from exc
     raw = (table.schema.metadata or {}).get(META_KEY)
     meta = json.loads(raw) if raw else {}
-    meta.setdefault("name", path.stem)
+    # A run read from disk is known by its file: two files never share a name.
+    meta["name"] = path.stem
     frame = table.to_pandas()
     if check:
         check_frame(frame, str(path))

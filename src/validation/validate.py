@@ -77,6 +77,11 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle, models: Sequence[str],
         One row per (log, model): ``log, model``, the criteria, ``s_max``,
         ``status`` and ``wall_s``.
     """
+    names = [log.name for log in logs]
+    dupes = sorted({n for n in names if names.count(n) > 1})
+    if dupes:
+        raise ValueError(f"logs share the name(s) {', '.join(dupes)}; their results would "
+                         "overwrite each other: rename the files")
     rows = []
     total = len(logs) * len(models)
     for i, log in enumerate(logs):

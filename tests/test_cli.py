@@ -1,0 +1,88 @@
+"""The artic command line: the forms others script against."""
+
+from __future__ import annotations
+
+import json
+
+import pandas as pd
+import pytest
+
+from validation.cli import main
+from validation.logio import read_run
+from validation.metrics import CRITERIA
+from validation.schema import COLUMNS
+
+
+def test_vehicle_show_json(capsys):
+    assert main(["vehicle", "show", "gosar2022-loaded", "--json"]) == 0
+    flat = json.loads(capsys.readouterr().out)
+    assert flat["L1"] == pytest.approx(3.8) and flat["Lc"] == pytest.approx(2.04)
+    assert flat["a2"] == 5.19 and flat["Fz2"] == pytest.approx(67100, rel=0.02)
+    assert flat["L23"] == pytest.approx(8.8)
+
+
+def test_vehicle_keys(capsys):
+    assert main(["vehicle", "keys"]) == 0
+    out = capsys.readouterr().out
+    assert "delta_h_offset" in out and "[rad]" in out
+
+
+@pytest.mark.parametrize("model", ["kin", "stm"])
+def test_simulate_writes_schema(tmp_path, model, capsys):
+    out = tmp_path / "run.parquet"
+    assert main(["simulate", "--model", model, "--vehicle", "six-axle", "--manoeuvre",
+                 "slalom", "--amplitude-deg", "200", "--speed-kph", "5", "--duration", "20",
+                 "--out", str(out)]) == 0
+    run = read_run(out)
+    assert set(COLUMNS) | {"delta"} <= set(run.frame.columns)
+    assert len(run.frame) == 2001
+    assert run.meta["manoeuvre"] == "slalom" and run.meta["model"] == model
+
+
+def test_simulate_reverse_stops_at_jackknife(tmp_path, capsys):
+    out = tmp_path / "rev.parquet"
+    assert main(["simulate", "--model", "kin", "--manoeuvre", "ramp-steer-reverse",
+                 "--speed-kph", "6", "--duration", "300", "--out", str(out)]) == 0
+    assert "jackknife" in capsys.readouterr().out
+    assert read_run(out).meta["status"].startswith("stopped")
+
+
+def test_validate_writes_metrics_and_runs(tmp_path, capsys):
+    logs = []
+    for side in ("left", "right"):
+        p = tmp_path / f"{side}.parquet"
+        main(["simulate", "--model", "stm", "--manoeuvre", "constant-steer", "--side", side,
+              "--duration", "20", "--out", str(p)])
+        logs.append(str(p))
+    out = tmp_path / "val"
+    assert main(["validate", *logs, "--models", "kin,stm", "--gain", "3",
+                 "--out-dir", str(out)]) == 0
+    m = pd.read_csv(out / "metrics.csv")
+    assert list(m.columns[:2]) == ["log", "model"]
+    assert set(CRITERIA) <= set(m.columns)
+    assert len(m) == 4 and sorted(m.model.unique()) == ["kin", "stm"]
+    assert len(list((out / "runs").glob("*.parquet"))) == 4
+    # The STM replays its own log; KIN misses by its lack of tyre slip.
+    stm = m[m.model == "stm"]
+    assert (stm.eps_y1 < 1e-6).all() and (m[m.model == "kin"].eps_y1 > 1e-3).all()
+
+
+def test_user_errors_exit_2_with_message(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[vehicle]\nname = 1\n")
+    assert main(["vehicle", "show", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and "Traceback" not in err
+    assert main(["validate", str(tmp_path / "none.parquet"), "--out-dir", str(tmp_path)]) == 2
+    assert "no such file" in capsys.readouterr().err
+    assert main(["validate", str(bad), "--models", "kin,abc", "--out-dir", str(tmp_path)]) == 2
+    assert "unknown model" in capsys.readouterr().err
+
+
+def test_validate_refuses_duplicate_log_names(tmp_path, capsys):
+    from conftest import straight_log
+    from mjcf import load_vehicle
+    from validation.validate import validate_runs
+
+    with pytest.raises(ValueError, match="share the name"):
+        validate_runs([straight_log(), straight_log()], load_vehicle("six-axle"), ["kin"])
