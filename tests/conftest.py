@@ -49,14 +49,3 @@ def straight_log(n: int = 2000, u: float = -0.8, gamma0: float = 0.0, dt: float 
     df.loc[0, "gamma"] = gamma0
     df.loc[0, "psi_2"] = -gamma0
     return Run(df, {"name": "straight", "direction": "reverse" if u < 0 else "forward"})
-
-
-def velocities_from_positions(run_obs, dt):
-    """Sensor velocities in body axes from central differences of positions."""
-    out = {}
-    for i, (ix, iy, ipsi) in ((1, (0, 1, 2)), (2, (6, 7, 8))):
-        vx = np.gradient(run_obs[:, ix], dt)
-        vy = np.gradient(run_obs[:, iy], dt)
-        psi = run_obs[:, ipsi]
-        out[i] = (np.cos(psi) * vx + np.sin(psi) * vy, -np.sin(psi) * vx + np.cos(psi) * vy)
-    return out

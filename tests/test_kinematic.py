@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-from conftest import velocities_from_positions
 from reduced import InitialState, KinematicModel
 from reduced.kinematic import kin_rhs
 
@@ -59,20 +58,3 @@ def test_hitch_ahead_of_axle_sign():
     base = kin_rhs(np.zeros(4), 1.0, 0.0, 0.2, (3.8, 0.0, 7.5))[3]
     ahead = kin_rhs(np.zeros(4), 1.0, 0.0, 0.2, (3.8, 0.67, 7.5))[3]
     assert ahead == pytest.approx(base * (1 - 0.67 / 7.5))
-
-
-def test_sensor_velocities_are_derivatives_of_sensor_positions(unloaded):
-    # Constant steering from an articulated start: a smooth path (no held-input
-    # jumps) with a trailer transient of its own.
-    m = KinematicModel(unloaded)
-    m.reset(InitialState(0.0, 0.0, 0.0, 0.4, u1=1.2))
-    dt, obs = 0.01, []
-    for _ in range(1500):
-        m.step(dt, 0.25, 1.2, 0.0)
-        obs.append(m.observe())
-    obs = np.array(obs)
-    fd = velocities_from_positions(obs, dt)
-    # Central differences of a smooth path: error ~ dt^2 * jerk, well under 1e-4 m/s.
-    for i, (ivx, ivy) in ((1, (3, 4)), (2, (9, 10))):
-        np.testing.assert_allclose(fd[i][0][5:-5], obs[5:-5, ivx], atol=2e-4)
-        np.testing.assert_allclose(fd[i][1][5:-5], obs[5:-5, ivy], atol=2e-4)

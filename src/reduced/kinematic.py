@@ -25,6 +25,7 @@ from numba import njit
 from mjcf.vehicle import Vehicle
 from reduced.integrate import make_rk4
 from reduced.interface import InitialState, rotate, wrap_angle
+from reduced.sensors import sensor_signals
 
 
 @njit(cache=True)
@@ -79,32 +80,10 @@ def kin_observe(x, u1, delta, P, s1, s2):
         Semitrailer sensor ``(x, y)`` from the kingpin [m].
     """
     L1, L1c, L2 = P
-    X, Y, psi1, gamma = x[0], x[1], x[2], x[3]
-    c1, sn1 = math.cos(psi1), math.sin(psi1)
+    gamma = x[3]
     r1 = u1 * math.tan(delta) / L1
-    sg, cg = math.sin(gamma), math.cos(gamma)
-    r2 = (u1 * sg + r1 * L1c * cg) / L2
-    psi2 = psi1 - gamma
-    c2, sn2 = math.cos(psi2), math.sin(psi2)
-    kx, ky = X + c1 * L1c, Y + sn1 * L1c
-    # Hitch velocity in trailer axes.
-    vhx = u1 * cg - r1 * L1c * sg
-    vhy = u1 * sg + r1 * L1c * cg
-    out = np.empty(13)
-    out[0] = X + c1 * s1[0] - sn1 * s1[1]
-    out[1] = Y + sn1 * s1[0] + c1 * s1[1]
-    out[2] = psi1
-    out[3] = u1 - r1 * s1[1]
-    out[4] = r1 * s1[0]
-    out[5] = r1
-    out[6] = kx + c2 * s2[0] - sn2 * s2[1]
-    out[7] = ky + sn2 * s2[0] + c2 * s2[1]
-    out[8] = psi2
-    out[9] = vhx - r2 * s2[1]
-    out[10] = vhy + r2 * s2[0]
-    out[11] = r2
-    out[12] = gamma
-    return out
+    r2 = (u1 * math.sin(gamma) + r1 * L1c * math.cos(gamma)) / L2
+    return sensor_signals(x[0], x[1], x[2], gamma, u1, 0.0, r1, r2, L1c, s1, s2)
 
 
 class KinematicModel:

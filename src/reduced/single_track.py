@@ -43,6 +43,7 @@ from numba import njit
 from mjcf.vehicle import Vehicle
 from reduced.integrate import make_rk4
 from reduced.interface import InitialState, rotate, wrap_angle
+from reduced.sensors import sensor_signals
 from reduced.tyre_linear import slip_angle, slip_rate
 
 N_BODY = 7
@@ -244,32 +245,8 @@ def stm_observe(x, u1, delta, P, s1, s2):
     s2 : ndarray, shape (2,)
         Semitrailer sensor ``(x, y)`` from the kingpin [m].
     """
-    Lc = P[4]
-    X, Y, psi1, gamma, v, r, gd = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
-    c1, sn1 = math.cos(psi1), math.sin(psi1)
-    psi2 = psi1 - gamma
-    c2, sn2 = math.cos(psi2), math.sin(psi2)
-    sg, cg = math.sin(gamma), math.cos(gamma)
-    r2 = r - gd
-    kx, ky = X - c1 * Lc, Y - sn1 * Lc
-    vh = v - r * Lc
-    vhx = u1 * cg - vh * sg
-    vhy = u1 * sg + vh * cg
-    out = np.empty(13)
-    out[0] = X + c1 * s1[0] - sn1 * s1[1]
-    out[1] = Y + sn1 * s1[0] + c1 * s1[1]
-    out[2] = psi1
-    out[3] = u1 - r * s1[1]
-    out[4] = v + r * s1[0]
-    out[5] = r
-    out[6] = kx + c2 * s2[0] - sn2 * s2[1]
-    out[7] = ky + sn2 * s2[0] + c2 * s2[1]
-    out[8] = psi2
-    out[9] = vhx - r2 * s2[1]
-    out[10] = vhy + r2 * s2[0]
-    out[11] = r2
-    out[12] = gamma
-    return out
+    r = x[5]
+    return sensor_signals(x[0], x[1], x[2], x[3], u1, x[4], r, r - x[6], -P[4], s1, s2)
 
 
 def stm_parameters(vehicle: Vehicle, f: float | None = None,
