@@ -1,6 +1,6 @@
-"""The MuJoCo multibody reference plant (see issue: the multibody reference plant).
+"""The MuJoCo multibody reference plant.
 
-Not built yet: ``artic simulate --model mbd`` reports that it is unavailable.
+Built so far: the tyre property file reader (:mod:`plant.tir`) and the
+PAC2002 tyre force model (:mod:`plant.tyre`). The plant model behind the
+harness interface is not built yet.
 """
-
-raise ImportError("the multibody plant is not implemented yet")

@@ -33,11 +33,12 @@ def model_factory(name: str) -> Callable[[Vehicle], Model]:
     if name in REDUCED_MODELS:
         return REDUCED_MODELS[name]
     if name == "mbd":
-        try:
-            from plant import Plant
-        except ImportError as exc:
-            raise ValueError(f"model 'mbd' is not available: {exc}") from exc
-        return Plant
+        import plant
+
+        if not hasattr(plant, "Plant"):
+            raise ValueError("model 'mbd' is not available yet: the multibody plant is "
+                             "still being built; use kin or stm")
+        return plant.Plant
     raise ValueError(f"unknown model {name!r}; choose from kin, stm, mbd")
 
 

@@ -1,0 +1,169 @@
+"""The plant's PAC2002 tyre, checked by hand formulas on a real truck tyre file."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from plant.tir import TirError, read_tir
+from plant.tyre import (
+    TyreParams,
+    TyreRangeWarning,
+    check_ranges,
+    deflection_rates,
+    forces,
+    rolling_resistance,
+    transient_forces,
+)
+
+TIR = Path(__file__).resolve().parents[2] / "shared" / "data" / "tyres" / "315_80R22.5_PAC2002.tir"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def reference_file():
+    # The reference tyre lives in ../shared beside the clone, as in CI; its
+    # absence is an error of the checkout, not a reason to skip.
+    assert TIR.is_file(), f"reference tyre file {TIR} is missing: clone artic beside shared/"
+
+
+@pytest.fixture(scope="module")
+def p():
+    return TyreParams.from_tir(TIR)
+
+
+def test_reader_sections_and_values():
+    tir = read_tir(TIR)
+    assert tir.text("PROPERTY_FILE_FORMAT") == "PAC2002"
+    assert tir.number("FNOMIN") == 35000.0
+    assert tir.sections["LATERAL_COEFFICIENTS"]["PKY1"] == -10.289
+    assert tir.number("NO_SUCH_KEY", 3.0) == 3.0
+    with pytest.raises(TirError, match="NO_SUCH_KEY: missing"):
+        tir.number("NO_SUCH_KEY")
+
+
+@pytest.mark.parametrize("line,words", [
+    ("FNOMIN = 35000 kN", "is not a number"),
+    ("this is not a line", "cannot read line"),
+    ("PROPERTY_FILE_FORMAT = 'MF62'", "not PAC2002"),
+])
+def test_reader_refuses_bad_lines(tmp_path, line, words):
+    bad = tmp_path / "bad.tir"
+    bad.write_text("[MODEL]\n" + line + "\n")
+    with pytest.raises(TirError, match=words) as err:
+        read_tir(bad)
+    assert str(bad) in str(err.value)
+
+
+def test_cornering_stiffness_at_nominal_load(p):
+    # K_y = PKY1 * FNOMIN * sin(2 atan(1 / PKY2)) at Fz = FNOMIN, in magnitude.
+    # The slope of F_y(alpha) equals it where the horizontal shift is undone,
+    # alpha = SHy = PHY1 (ISO sign).
+    K = abs(-10.289 * 35000.0 * math.sin(2.0 * math.atan(1.0 / 3.3343)))
+    assert p.cornering_stiffness(35000.0) == pytest.approx(K, rel=1e-12)
+    Fz, a0, h = np.array([35000.0]), 0.0056509, 1e-6
+    slope = (forces(p, Fz, [0.0], [a0 + h])[1] - forces(p, Fz, [0.0], [a0 - h])[1]) / (2 * h)
+    assert slope[0] == pytest.approx(K, rel=1e-6)
+    # Normalised: about 5.8 /rad at 30 kN, the seed's f = 6 /rad.
+    assert p.cornering_stiffness(30e3) / 30e3 == pytest.approx(5.79, abs=0.01)
+
+
+def test_peak_friction(p):
+    # With shape factor C > 1 the sine reaches 1: the peak of F - S_V is D = mu Fz.
+    Fz = np.full(20001, 35000.0)
+    a = np.linspace(-0.8, 0.8, Fz.size)
+    k = np.linspace(-0.8, 0.8, Fz.size)
+    Fy = forces(p, Fz, np.zeros_like(a), a)[1]
+    Fx = forces(p, Fz, k, np.zeros_like(k))[0]
+    SVy, SVx = 35000.0 * 0.015216, 35000.0 * -5.5714e-7
+    assert np.max(np.abs(Fy - SVy)) == pytest.approx(0.73957 * 35000.0, rel=1e-5)
+    assert np.max(np.abs(Fx - SVx)) == pytest.approx(0.77751 * 35000.0, rel=1e-5)
+
+
+def test_positive_slip_angle_pushes_left(p):
+    Fz = np.array([10e3, 35e3, 60e3])
+    for alpha in (0.02, 0.1, 0.5):
+        assert np.all(forces(p, Fz, np.zeros(3), np.full(3, alpha))[1] > 0)
+        assert np.all(forces(p, Fz, np.zeros(3), np.full(3, -alpha))[1] < 0)
+
+
+def test_mirror_symmetry_left_right(p):
+    Fz = np.full(50, 30e3)
+    rng = np.random.default_rng(3)
+    a, k = rng.uniform(-0.3, 0.3, 50), rng.uniform(-0.2, 0.2, 50)
+    fx_l, fy_l = forces(p, Fz, k, a, side=1.0)
+    fx_r, fy_r = forces(p, Fz, k, -a, side=-1.0)
+    np.testing.assert_allclose(fx_r, fx_l, rtol=1e-12)
+    np.testing.assert_allclose(fy_r, -fy_l, rtol=1e-12)
+
+
+def test_mirror_symmetry_for_reverse_travel(p):
+    # Steady-state deflections depend on |V_x|: the same sideways slide
+    # gives the same force forward and in reverse.
+    Fz = np.full(3, 30e3)
+    Vy = np.array([-0.05, 0.02, 0.1])
+    for Vx in (0.5, 2.0):
+        ss = []
+        for sgn in (1.0, -1.0):
+            # Solve du/dt = dv/dt = 0 for free rolling (V_sx = 0).
+            v = -Vy * p.sigma_alpha(Fz) / Vx
+            du, dv = deflection_rates(p, Fz, np.full(3, sgn * Vx), 0 * Vy, Vy, 0 * Vy, v)
+            np.testing.assert_allclose(dv, 0.0, atol=1e-15)
+            ss.append(transient_forces(p, Fz, np.full(3, sgn * Vx), 0 * Vy, Vy, 0 * Vy, v))
+        np.testing.assert_allclose(ss[0][1], ss[1][1], rtol=1e-12)
+        assert np.all(np.sign(ss[0][1]) == -np.sign(Vy))
+
+
+def test_relaxation_time_constant(p):
+    # dv/dt = -V_y - |V_x| v / sigma: after t = sigma / |V_x| the deflection
+    # has covered 1 - 1/e of the way to its steady state.
+    Fz, Vx, Vy = np.array([30e3]), np.array([1.5]), np.array([0.03])
+    sigma = p.sigma_alpha(Fz)
+    v, dt = np.zeros(1), 1e-5
+    for _ in range(int(round(sigma[0] / Vx[0] / dt))):
+        v = v + dt * deflection_rates(p, Fz, Vx, 0 * Vx, Vy, 0 * v, v)[1]
+    v_ss = -Vy * sigma / Vx
+    assert v[0] / v_ss[0] == pytest.approx(1 - math.exp(-1), abs=1e-3)
+
+
+def test_finite_and_smooth_through_zero_speed(p):
+    # V_x from +2 to -2 m/s in 4 s while sliding 5 cm/s sideways and
+    # spinning 1 cm/s too fast: forces stay finite and change by less than
+    # 0.5 % of the wheel load per millisecond, the sign change included.
+    dt = 1e-3
+    t = np.arange(0.0, 4.0, dt)
+    Vx = 2.0 - t
+    Fz = np.array([30e3])
+    u, v = np.zeros(1), np.zeros(1)
+    Fx_hist, Fy_hist = [], []
+    for vx in Vx:
+        args = (p, Fz, np.array([vx]), np.array([-0.01]), np.array([0.05]))
+        du, dv = deflection_rates(*args, u, v)
+        u, v = u + dt * du, v + dt * dv
+        fx, fy = transient_forces(*args, u, v)
+        Fx_hist.append(fx[0])
+        Fy_hist.append(fy[0])
+    Fx_hist, Fy_hist = np.array(Fx_hist), np.array(Fy_hist)
+    assert np.all(np.isfinite(Fx_hist)) and np.all(np.isfinite(Fy_hist))
+    assert np.max(np.abs(np.diff(Fy_hist))) < 0.005 * Fz[0]
+    assert np.max(np.abs(np.diff(Fx_hist))) < 0.005 * Fz[0]
+    # Sliding left throughout: the force pushes right throughout.
+    assert np.all(Fy_hist[100:] < 0)
+
+
+def test_rolling_resistance(p):
+    Fz = np.full(3, 30e3)
+    M = rolling_resistance(p, Fz, np.array([2.0, -2.0, 0.0]))
+    # M_y = -QSY1 R0 Fz, against the rolling; nothing at standstill.
+    assert M[0] == pytest.approx(-0.008 * 0.548 * 30e3, rel=1e-6)
+    assert M[1] == pytest.approx(-M[0]) and M[2] == 0.0
+
+
+def test_range_warning_names_wheel(p):
+    with pytest.warns(TyreRangeWarning, match="trailer-1 L: Fz = 9e"):
+        msgs = check_ranges(p, np.array([30e3, 9e4]), np.zeros(2), np.zeros(2),
+                            names=["front L", "trailer-1 L"], where="t = 3.00 s")
+    assert len(msgs) == 1
+    assert check_ranges(p, np.array([30e3]), np.array([0.1]), np.array([0.2])) == []
