@@ -38,10 +38,11 @@ def final_gamma(model, log, v, K):
 
 def test_kin_linearised_loop_eigenvalue_is_eq6(unloaded):
     v = unloaded
+    P = np.array([v.L1, v.L1c, v.L2])
     for K in (0.0, 0.5, 3.0):
         for u in (U_REV, -1.7):
             def g_dot(g, u=u, K=K):
-                return kin_rhs(np.array([0, 0, 0, g]), u, 0.0, K * g, (v.L1, v.L1c, v.L2))[3]
+                return kin_rhs(np.array([0, 0, 0, g]), u, 0.0, K * g, P)[3]
             J = (g_dot(1e-7) - g_dot(-1e-7)) / 2e-7
             assert J == pytest.approx(lam6(v, K, u), rel=1e-7)
 

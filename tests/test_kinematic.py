@@ -48,13 +48,13 @@ def test_on_axle_hitch_is_the_standard_model():
     L1, L2 = 3.8, 7.5
     for _ in range(20):
         g, d, u = rng.uniform(-1.2, 1.2), rng.uniform(-0.5, 0.5), rng.uniform(-3, 3)
-        out = kin_rhs(np.array([0.0, 0.0, 0.3, g]), u, 0.0, d, (L1, 0.0, L2))
+        out = kin_rhs(np.array([0.0, 0.0, 0.3, g]), u, 0.0, d, np.array([L1, 0.0, L2]))
         assert out[3] == pytest.approx(-u * math.sin(g) / L2 + u * math.tan(d) / L1, abs=1e-14)
 
 
 def test_hitch_ahead_of_axle_sign():
     # Eq. (1)'s (1 - L1c cos(gamma) / L2): a hitch ahead of the drive axle
     # moves sideways with the tractor's yaw, swinging the trailer less.
-    base = kin_rhs(np.zeros(4), 1.0, 0.0, 0.2, (3.8, 0.0, 7.5))[3]
-    ahead = kin_rhs(np.zeros(4), 1.0, 0.0, 0.2, (3.8, 0.67, 7.5))[3]
+    base = kin_rhs(np.zeros(4), 1.0, 0.0, 0.2, np.array([3.8, 0.0, 7.5]))[3]
+    ahead = kin_rhs(np.zeros(4), 1.0, 0.0, 0.2, np.array([3.8, 0.67, 7.5]))[3]
     assert ahead == pytest.approx(base * (1 - 0.67 / 7.5))

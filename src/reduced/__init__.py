@@ -4,8 +4,7 @@ This package depends on numpy and numba only: never on mujoco, rerun or pandas.
 """
 
 from reduced.interface import OBSERVATION, InitialState, Model, wrap_angle
-from reduced.kinematic import KinematicModel
-from reduced.single_track import SingleTrackModel
+from reduced.models import KinematicModel, SingleTrackModel
 
 MODELS = {"kin": KinematicModel, "stm": SingleTrackModel}
 

@@ -4,31 +4,49 @@ Logs hold their inputs over each sample, so every sample is a discontinuity.
 An adaptive solver would shrink its step at each one; a fixed step at the log
 rate is both faster and exactly aligned with the samples.
 
-``rhs(x, u1, u1_dot, delta, P)`` returns the state derivative. Within a step
-the speed rises linearly, ``u1(t) = u1 + u1_dot * t``.
+Within a step the road-wheel angle is held and the speed rises linearly,
+``u1(t) = u1 + u1_dot * t``.
+
+Both reduced models are reached through one compiled entry point per
+operation, chosen by an integer model kind (:data:`KIN`, :data:`STM`). Their
+parameters are flat float arrays. That keeps every compiled function at
+module level, where numba can cache it between processes; closures over other
+compiled functions cannot be cached.
 """
 
 from __future__ import annotations
 
 from numba import njit
 
+from reduced.kinematic import kin_observe, kin_rhs
+from reduced.single_track import stm_observe, stm_rhs
 
-def make_rk4(rhs):
-    """Build a compiled RK4 step ``step(x, dt, u1, u1_dot, delta, P)`` for ``rhs``.
+KIN = 0
+STM = 1
 
-    Parameters
-    ----------
-    rhs : numba dispatcher
-        ``rhs(x, u1, u1_dot, delta, P) -> x_dot``.
-    """
 
-    @njit(cache=True)
-    def step(x, dt, u1, u1_dot, delta, P):
-        h2 = 0.5 * dt
-        k1 = rhs(x, u1, u1_dot, delta, P)
-        k2 = rhs(x + h2 * k1, u1 + h2 * u1_dot, u1_dot, delta, P)
-        k3 = rhs(x + h2 * k2, u1 + h2 * u1_dot, u1_dot, delta, P)
-        k4 = rhs(x + dt * k3, u1 + dt * u1_dot, u1_dot, delta, P)
-        return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+@njit(cache=True)
+def rhs(kind, x, u1, u1_dot, delta, P):
+    """State derivative of model ``kind`` (equations in the model modules)."""
+    if kind == KIN:
+        return kin_rhs(x, u1, u1_dot, delta, P)
+    return stm_rhs(x, u1, u1_dot, delta, P)
 
-    return step
+
+@njit(cache=True)
+def rk4_step(kind, x, dt, u1, u1_dot, delta, P):
+    """One RK4 step of ``dt`` [s] of model ``kind``."""
+    h2 = 0.5 * dt
+    k1 = rhs(kind, x, u1, u1_dot, delta, P)
+    k2 = rhs(kind, x + h2 * k1, u1 + h2 * u1_dot, u1_dot, delta, P)
+    k3 = rhs(kind, x + h2 * k2, u1 + h2 * u1_dot, u1_dot, delta, P)
+    k4 = rhs(kind, x + dt * k3, u1 + dt * u1_dot, u1_dot, delta, P)
+    return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+@njit(cache=True)
+def observe(kind, x, u1, delta, P, s1, s2):
+    """Signals at the sensor points of model ``kind``, in ``OBSERVATION`` order."""
+    if kind == KIN:
+        return kin_observe(x, u1, delta, P, s1, s2)
+    return stm_observe(x, u1, delta, P, s1, s2)

@@ -41,13 +41,14 @@ import numpy as np
 from numba import njit
 
 from mjcf.vehicle import Vehicle
-from reduced.integrate import make_rk4
-from reduced.interface import InitialState, rotate, wrap_angle
 from reduced.sensors import sensor_signals
-from reduced.tyre_linear import slip_angle, slip_rate
+from reduced.tyre_linear import slip_rate
 
 N_BODY = 7
 """Number of rigid-body states before the slip states."""
+
+STM_LC = 4
+"""Index of ``Lc`` in the parameter array."""
 
 
 @njit(cache=True)
@@ -186,6 +187,25 @@ def solve3(A, b):
 
 
 @njit(cache=True)
+def stm_unpack(P):
+    """Split the STM's parameter array (see :func:`stm_parameters`).
+
+    Returns
+    -------
+    tuple
+        ``(m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C)``; the arrays
+        are views of ``P``.
+    """
+    n1, n2 = int(P[7]), int(P[8])
+    i = 9
+    ax_x = P[i:i + n1]
+    ax_steer = P[i + n1:i + 2 * n1]
+    tr_l = P[i + 2 * n1:i + 2 * n1 + n2]
+    C = P[i + 2 * n1 + n2:i + 3 * n1 + 2 * n2]
+    return P[0], P[1], P[2], P[3], P[4], P[5], P[6], ax_x, ax_steer, tr_l, C
+
+
+@njit(cache=True)
 def stm_rhs(x, u1, u1_dot, delta, P):
     """Time derivative of the STM state with ``u`` prescribed.
 
@@ -197,10 +217,10 @@ def stm_rhs(x, u1, u1_dot, delta, P):
         Tractor longitudinal speed [m/s] and its rate [m/s^2].
     delta : float
         Road-wheel angle [rad].
-    P : tuple
-        ``(m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C)``.
+    P : ndarray
+        Parameter array, see :func:`stm_parameters`.
     """
-    m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C = P
+    m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C = stm_unpack(P)
     psi, gamma, v, r, gd = x[2], x[3], x[4], x[5], x[6]
     alpha = x[N_BODY:]
     v_long, v_lat = axle_velocities(u1, v, r, gamma, gd, delta, ax_x, ax_steer, tr_l, Lc)
@@ -222,10 +242,6 @@ def stm_rhs(x, u1, u1_dot, delta, P):
     return out
 
 
-stm_step = make_rk4(stm_rhs)
-"""One RK4 step of :func:`stm_rhs`: ``stm_step(x, dt, u1, u1_dot, delta, P)``."""
-
-
 @njit(cache=True)
 def stm_observe(x, u1, delta, P, s1, s2):
     """Signals at the two sensor points, in ``OBSERVATION`` order.
@@ -238,20 +254,25 @@ def stm_observe(x, u1, delta, P, s1, s2):
         Tractor longitudinal speed [m/s].
     delta : float
         Road-wheel angle [rad] (unused: the STM's velocities are states).
-    P : tuple
-        Parameters, as for :func:`stm_rhs`.
+    P : ndarray
+        Parameter array, as for :func:`stm_rhs`.
     s1 : ndarray, shape (2,)
         Tractor sensor ``(x, y)`` from the tractor centre of gravity [m].
     s2 : ndarray, shape (2,)
         Semitrailer sensor ``(x, y)`` from the kingpin [m].
     """
     r = x[5]
-    return sensor_signals(x[0], x[1], x[2], x[3], u1, x[4], r, r - x[6], -P[4], s1, s2)
+    return sensor_signals(x[0], x[1], x[2], x[3], u1, x[4], r, r - x[6], -P[STM_LC], s1, s2)
 
 
 def stm_parameters(vehicle: Vehicle, f: float | None = None,
-                   trailer_axles: np.ndarray | None = None) -> tuple:
-    """Pack a vehicle into the STM's parameter tuple.
+                   trailer_axles: np.ndarray | None = None) -> np.ndarray:
+    """Pack a vehicle into the STM's parameter array.
+
+    Layout: ``[m1, J1, m2, J2, Lc, a2, sigma_alpha, n1, n2, ax_x (n1),
+    ax_steer (n1), tr_l (n2), C (n1 + n2)]``: tractor axle positions from the
+    centre of gravity [m], steered flags, trailer axle distances behind the
+    kingpin [m] and cornering stiffnesses [N/rad], tractor axles first.
 
     Parameters
     ----------
@@ -276,84 +297,6 @@ def stm_parameters(vehicle: Vehicle, f: float | None = None,
         tr_l = np.asarray(trailer_axles, dtype=float)
         tr_fz = np.full(tr_l.size, loads[n1:].sum() / tr_l.size)
     C = f * np.concatenate([loads[:n1], tr_fz])
-    return (vehicle.m1, vehicle.J1, vehicle.m2, vehicle.J2, vehicle.Lc, vehicle.a2,
-            vehicle.sigma_alpha, ax_x, ax_steer, tr_l, C)
-
-
-class SingleTrackModel:
-    """STM, eq. (2), behind the harness's model interface.
-
-    Parameters
-    ----------
-    vehicle : Vehicle
-        Masses, inertias, every axle, ``f`` and ``sigma_alpha``.
-    f : float, optional
-        Override of the normalised cornering stiffness [1/rad].
-    trailer_axles : ndarray, optional
-        Override of the trailer axle distances behind the kingpin [m].
-    """
-
-    name = "stm"
-
-    def __init__(self, vehicle: Vehicle, f: float | None = None,
-                 trailer_axles: np.ndarray | None = None) -> None:
-        self.vehicle = vehicle
-        self.P = stm_parameters(vehicle, f, trailer_axles)
-        self.n_axles = self.P[7].size + self.P[9].size
-        self._s1 = np.array([vehicle.sensor1[0] - vehicle.b1, vehicle.sensor1[1]])
-        self._s2 = np.array(vehicle.sensor2[:2])
-        self.x = np.zeros(N_BODY + self.n_axles)
-        self._u1 = 0.0
-        self._delta = 0.0
-
-    def reset(self, initial: InitialState) -> None:
-        """Place the combination at ``initial``, tyres at steady-state slip."""
-        s1x, s1y = self._s1
-        dx, dy = rotate(initial.psi_1, s1x, s1y)
-        v = initial.v_y_1 - initial.r_1 * s1x
-        x = np.zeros(N_BODY + self.n_axles)
-        x[:N_BODY] = [initial.x_1 - dx, initial.y_1 - dy, initial.psi_1,
-                      wrap_angle(initial.gamma), v, initial.r_1, initial.r_1 - initial.r_2]
-        v_long, v_lat = self.axle_velocities(x, initial.u1, 0.0)
-        x[N_BODY:] = [slip_angle(a, b) for a, b in zip(v_long, v_lat, strict=True)]
-        self.x = x
-        self._u1 = initial.u1
-        self._delta = 0.0
-
-    def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
-        """Advance ``dt`` [s]; see :mod:`reduced.interface`."""
-        self.x = stm_step(self.x, dt, u1, u1_dot, delta, self.P)
-        self._u1 = u1 + u1_dot * dt
-        self._delta = delta
-
-    def observe(self, delta: float | None = None) -> np.ndarray:
-        """Signals at the sensor points, in ``OBSERVATION`` order.
-
-        ``delta`` is accepted for the common interface; the STM's velocities
-        are states and do not jump with the steering.
-        """
-        y = stm_observe(self.x, self._u1, self._delta, self.P, self._s1, self._s2)
-        y[12] = wrap_angle(y[12])
-        return y
-
-    def compiled(self) -> tuple:
-        """Compiled step and observe functions, state, parameters and sensors.
-
-        For the harness's compiled closed loop; see :mod:`validation.harness`.
-        """
-        return stm_step, stm_observe, self.x.copy(), self.P, self._s1, self._s2
-
-    def axle_velocities(self, x: np.ndarray, u1: float, delta: float):
-        """Axle-centre velocities ``(v_long, v_lat)`` in wheel frames [m/s]."""
-        _, _, _, _, Lc, _, _, ax_x, ax_steer, tr_l, _ = self.P
-        return axle_velocities(u1, x[4], x[5], x[3], x[6], delta, ax_x, ax_steer, tr_l, Lc)
-
-    @property
-    def tyre_forces(self) -> np.ndarray:
-        """Lateral force of every axle, tractor first [N]."""
-        return self.P[10] * self.x[N_BODY:]
-
-    @property
-    def gamma(self) -> float:
-        """Articulation angle [rad]."""
-        return float(wrap_angle(self.x[3]))
+    return np.concatenate([
+        [vehicle.m1, vehicle.J1, vehicle.m2, vehicle.J2, vehicle.Lc, vehicle.a2,
+         vehicle.sigma_alpha, ax_x.size, tr_l.size], ax_x, ax_steer, tr_l, C])

@@ -39,7 +39,8 @@ def _vehicle_show(args: argparse.Namespace) -> int:
     else:
         width = max(map(len, flat))
         for k, val in flat.items():
-            print(f"{k:<{width}}  {val}")
+            shown = f"{val:.6g}" if isinstance(val, float) else val
+            print(f"{k:<{width}}  {shown}")
     return 0
 
 
@@ -153,6 +154,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except USER_ERRORS as exc:
         print(f"artic: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # The reader (head, less) left early: not an error of artic's.
+        sys.stderr.close()
+        return 0
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -32,6 +32,7 @@ import numpy as np
 from numba import njit
 
 from mjcf.vehicle import Vehicle
+from reduced.integrate import observe, rk4_step
 from reduced.interface import InitialState, Model
 from validation.logio import Run, new_frame
 from validation.steering import SteeringMap
@@ -82,47 +83,47 @@ def feedback_law(delta_c, gamma_model, gamma_meas, reversing, gain, delta_max):
     return delta, delta - delta_c, saturated
 
 
-_LOOPS: dict[tuple, object] = {}
+@njit(cache=True)
+def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
+                  delta_max, gamma_max):
+    """The harness loop for a reduced model, compiled: a whole log in one call.
 
+    Parameters
+    ----------
+    kind : int
+        ``reduced.integrate.KIN`` or ``STM``.
+    x0, P, s1, s2 : ndarray
+        Initial state, parameters and sensors, from the model's ``compiled()``.
+    dt, delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
+        Per-sample inputs (see :class:`LoopInputs`).
+    gain, delta_max, gamma_max : float
+        K [rad/rad], the road-wheel limit and the jackknife limit [rad].
 
-def compiled_loop(step, observe):
-    """The harness loop compiled around one model's step and observe functions.
-
-    The returned function runs a whole log in one call:
-    ``loop(x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
-    delta_max, gamma_max) -> (obs, delta, delta_fb, saturated, n_done)``. It stops
-    early, with ``n_done`` rows filled, when the articulation passes
-    ``gamma_max`` or the state stops being finite.
+    Returns
+    -------
+    obs, delta, delta_fb, saturated : ndarray
+    n_done : int
+        Rows filled; fewer when the articulation passed ``gamma_max`` or the
+        state stopped being finite.
     """
-    key = (step, observe)
-    if key in _LOOPS:
-        return _LOOPS[key]
-
-    def loop(x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
-             delta_max, gamma_max):
-        n = delta_c.size
-        obs = np.full((n, 13), np.nan)
-        delta = np.full(n, np.nan)
-        delta_fb = np.full(n, np.nan)
-        sat = np.zeros(n, dtype=np.bool_)
-        x = x0.copy()
-        for k in range(n):
-            d, f, s = feedback_law(delta_c[k], wrap(x[3]), gamma_meas[k], reversing[k],
-                                   gain, delta_max)
-            o = observe(x, u1[k], d, P, s1, s2)
-            o[12] = wrap(o[12])
-            obs[k] = o
-            delta[k], delta_fb[k], sat[k] = d, f, s
-            if abs(o[12]) > gamma_max or not np.all(np.isfinite(o)):
-                return obs, delta, delta_fb, sat, k + 1
-            if k + 1 < n:
-                x = step(x, dt[k], u1[k], u1_dot[k], d, P)
-        return obs, delta, delta_fb, sat, n
-
-    loop.__name__ = loop.__qualname__ = f"closed_loop_{step.__name__}"
-    fn = njit(cache=True)(loop)
-    _LOOPS[key] = fn
-    return fn
+    n = delta_c.size
+    obs = np.full((n, 13), np.nan)
+    delta = np.full(n, np.nan)
+    delta_fb = np.full(n, np.nan)
+    sat = np.zeros(n, dtype=np.bool_)
+    x = x0.copy()
+    for k in range(n):
+        d, f, s = feedback_law(delta_c[k], wrap(x[3]), gamma_meas[k], reversing[k],
+                               gain, delta_max)
+        o = observe(kind, x, u1[k], d, P, s1, s2)
+        o[12] = wrap(o[12])
+        obs[k] = o
+        delta[k], delta_fb[k], sat[k] = d, f, s
+        if abs(o[12]) > gamma_max or not np.all(np.isfinite(o)):
+            return obs, delta, delta_fb, sat, k + 1
+        if k + 1 < n:
+            x = rk4_step(kind, x, dt[k], u1[k], u1_dot[k], d, P)
+    return obs, delta, delta_fb, sat, n
 
 
 @dataclass(frozen=True)
@@ -187,8 +188,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
     args = (dt, inputs.delta_c, inputs.u1, inputs.u1_dot, inputs.gamma_meas,
             inputs.reversing, float(gain), vehicle.steering.delta_max, vehicle.gamma_max)
     if hasattr(model, "compiled"):
-        step, observe, x0, P, s1, s2 = model.compiled()
-        return compiled_loop(step, observe)(x0, P, s1, s2, *args)
+        return compiled_loop(*model.compiled(), *args)
     return _python_loop(model, *args)
 
 
