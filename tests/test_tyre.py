@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from plant.tir import TirError, read_tir
+from mjcf.tir import TirError, read_tir
 from plant.tyre import (
     TyreParams,
     TyreRangeWarning,

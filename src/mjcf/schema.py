@@ -85,6 +85,13 @@ AXLE = {
     "load_share": Field("", "share of its group's static load (group: the steered axles, "
                         "the other tractor axles, the semitrailer axles); default equal",
                         "positive", optional=True),
+    "unsprung_mass": Field("kg", "axle, hubs, brakes and wheels (plant)"),
+    "suspension_stiffness": Field("N/m", "vertical rate of the axle's suspension, both "
+                                  "sides together (plant)"),
+    "suspension_damping": Field("N s/m", "vertical damping of the axle's suspension, both "
+                                "sides together (plant)"),
+    "wheel_inertia": Field("kg m^2", "spin inertia of one wheel end: a wheel, or a dual "
+                           "pair (plant)"),
 }
 
 STEERING = {
@@ -92,6 +99,7 @@ STEERING = {
     "q": Field("1/rad", "steering asymmetry factor of eq. (3)", "nonneg"),
     "delta_h_offset": Field("rad", "steering-wheel angle read while driving straight", "angle"),
     "delta_max": Field("rad", "largest road-wheel angle the linkage reaches", "angle"),
+    "steering_arm": Field("m", "steering-arm length of the tie-rod trapezoid (plant)"),
 }
 
 STEERING_OVERRIDE = {
@@ -104,11 +112,15 @@ STEERING_OVERRIDE = {
 TYRE = {
     "f": Field("1/rad", "normalised cornering stiffness: axle cornering stiffness over axle load"),
     "sigma_alpha": Field("m", "lateral relaxation length of the single-track model's tyres"),
+    "file": Field("", "PAC2002 tyre property file of the plant: a path relative to this "
+                  "file, or the name of one shipped with artic", "str"),
 }
 
 LIMITS = {
     "gamma_max": Field("rad", "articulation at which the cab and trailer touch (jackknife)",
                        "angle"),
+    "hitch_pitch": Field("rad", "pitch freedom of the fifth wheel, either way (plant)",
+                         "angle"),
 }
 
 MODELS = ("kin", "stm", "mbd")

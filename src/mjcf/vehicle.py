@@ -54,6 +54,12 @@ class Axle:
         Steered by the steering wheel; carries drive torque; twin tyres.
     load_share : float
         Share of its load group's static load [-].
+    unsprung_mass : float
+        Axle, hubs, brakes and wheels [kg].
+    suspension_stiffness, suspension_damping : float
+        Vertical rate [N/m] and damping [N s/m], both sides together.
+    wheel_inertia : float
+        Spin inertia of one wheel end (a wheel or a dual pair) [kg m^2].
     """
 
     name: str
@@ -64,6 +70,10 @@ class Axle:
     driven: bool
     dual: bool
     load_share: float
+    unsprung_mass: float
+    suspension_stiffness: float
+    suspension_damping: float
+    wheel_inertia: float
 
 
 @dataclass(frozen=True)
@@ -80,12 +90,15 @@ class Steering:
         Steering-wheel angle read while driving straight [rad].
     delta_max : float
         Largest road-wheel angle [rad].
+    steering_arm : float
+        Steering-arm length of the tie-rod trapezoid [m].
     """
 
     i_s: float
     q: float
     delta_h_offset: float
     delta_max: float
+    steering_arm: float = 0.25
 
 
 @dataclass(frozen=True)
@@ -120,6 +133,8 @@ class Vehicle:
     f: float = 6.0
     sigma_alpha: float = 0.45
     gamma_max: float = 1.4
+    hitch_pitch: float = 0.2
+    tyre_file: str = ""
     path: str = ""
 
     # ----------------------------------------------------------- derived
@@ -212,8 +227,10 @@ class Vehicle:
             s = self.steering_for(model)
             for key in ("i_s", "q", "delta_h_offset"):
                 out[f"{key}_{model}"] = float(getattr(s, key))
-        for key in ("i_s", "q", "delta_h_offset", "delta_max"):
+        for key in ("i_s", "q", "delta_h_offset", "delta_max", "steering_arm"):
             out[key] = float(getattr(self.steering, key))
+        out["hitch_pitch"] = self.hitch_pitch
+        out["tyre_file"] = self.tyre_file
         loads = self.static_loads
         for i, (axle, fz) in enumerate(zip(self.axles, loads, strict=True), start=1):
             out[f"Fz{i}"] = float(fz)
@@ -225,6 +242,9 @@ class Vehicle:
             out[f"axle{i}.driven"] = axle.driven
             out[f"axle{i}.dual"] = axle.dual
             out[f"axle{i}.load_share"] = axle.load_share
+            for key in ("unsprung_mass", "suspension_stiffness", "suspension_damping",
+                        "wheel_inertia"):
+                out[f"axle{i}.{key}"] = getattr(axle, key)
         out["Fz_k"] = float(self.kingpin_load)
         return out
 
@@ -280,6 +300,31 @@ def resolve_vehicle_path(name_or_path: str | Path) -> Path:
         return Path(str(resources.files("mjcf") / "presets" / f"{name_or_path}.toml"))
     raise VehicleFileError(
         f"{name_or_path!r} is neither a preset nor a file; presets are: {', '.join(names)}")
+
+
+def resolve_tyre_file(name: str, vehicle_path: str | Path) -> Path:
+    """Find a tyre property file: beside the vehicle file, or shipped with artic.
+
+    Raises
+    ------
+    VehicleFileError
+        Naming the vehicle file and the key ``tyre.file``.
+    """
+    here = Path(vehicle_path).parent / name
+    if here.is_file():
+        return here
+    shipped = Path(str(resources.files("mjcf") / "tyres" / name))
+    if shipped.is_file():
+        return shipped
+    raise VehicleFileError(
+        f"{vehicle_path}: key 'tyre.file': {name!r} is neither beside the vehicle file nor "
+        f"shipped with artic (shipped: {', '.join(tyre_names())})")
+
+
+def tyre_names() -> list[str]:
+    """Tyre property files shipped with artic."""
+    files = resources.files("mjcf") / "tyres"
+    return sorted(p.name for p in files.iterdir() if p.name.endswith(".tir"))
 
 
 def load_vehicle(name_or_path: str | Path) -> Vehicle:
@@ -349,7 +394,8 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
         h2=tr["h2"], sensor2=tr["sensor"], axles=tuple(axles),
         steering=Steering(**sec["steering"]), steering_overrides=overrides,
         f=sec["tyre"]["f"], sigma_alpha=sec["tyre"]["sigma_alpha"],
-        gamma_max=sec["limits"]["gamma_max"], path=str(path),
+        gamma_max=sec["limits"]["gamma_max"], hitch_pitch=sec["limits"]["hitch_pitch"],
+        tyre_file=str(resolve_tyre_file(sec["tyre"]["file"], path)), path=str(path),
     )
     check_geometry(v, path)
     return v

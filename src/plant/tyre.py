@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from plant.tir import TirFile, read_tir
+from mjcf.tir import TirFile, read_tir
 
 
 class TyreRangeWarning(UserWarning):

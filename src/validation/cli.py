@@ -6,6 +6,7 @@ Subcommands:
 - ``artic vehicle keys``: the parameter file format;
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
 - ``artic validate LOG.parquet ... --vehicle V --models kin,stm [--gain K] --out-dir DIR``;
+- ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
 - ``artic campaign [--out-dir DIR]``: the main job.
 
 Errors in the user's input end with exit code 2 and a one-line message that
@@ -90,6 +91,16 @@ def _validate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _mjcf(args: argparse.Namespace) -> int:
+    from mjcf.builder import to_xml
+    from validation.logio import atomic_write_text
+
+    v = load_vehicle(args.vehicle)
+    path = atomic_write_text(args.output, to_xml(v, scene=not args.no_scene))
+    print(f"wrote {path} ({v.name}: {len(v.axles)} axles)")
+    return 0
+
+
 def _campaign(args: argparse.Namespace) -> int:
     from validation.campaign import run_campaign
 
@@ -136,6 +147,13 @@ def build_parser() -> argparse.ArgumentParser:
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     val.add_argument("--out-dir", required=True, type=Path)
     val.set_defaults(func=_validate)
+
+    mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
+    mj.add_argument("--vehicle", default="gosar2022-unloaded",
+                    help="preset name or TOML file (default: %(default)s)")
+    mj.add_argument("-o", "--output", required=True, type=Path, help="output .xml")
+    mj.add_argument("--no-scene", action="store_true", help="the vehicle only, no yard")
+    mj.set_defaults(func=_mjcf)
 
     camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
