@@ -125,6 +125,7 @@ def test_polynomial_fits_the_trapezoid(name):
     assert np.max(err[np.abs(d) < math.radians(20)]) < math.radians(0.16)
     assert np.max(err[np.abs(d) < math.radians(30)]) < math.radians(0.6)
     assert np.max(err) < math.radians(0.95)
+    assert poly[0] == 0.0  # no toe when the left wheel points straight ahead
     # The servo's range reaches exactly delta_max at the axle centre, through
     # the linkage the model has.
     c = centre_angle(np.array([lo, hi]), np.polynomial.polynomial.polyval([lo, hi], poly))

@@ -1,6 +1,10 @@
 """The MuJoCo multibody reference plant.
 
-Built so far: the PAC2002 tyre force model (:mod:`plant.tyre`); the
-property-file reader is :mod:`mjcf.tir`. The plant model behind the
-harness interface is not built yet.
+- :mod:`plant.tyre`: the PAC2002 tyre with transient slip;
+- :mod:`plant.callback`: the process-wide passive-force dispatcher;
+- :mod:`plant.plant`: the plant behind the harness's model interface.
 """
+
+from plant.plant import Plant, PlantError, PlantWarning
+
+__all__ = ["Plant", "PlantError", "PlantWarning"]

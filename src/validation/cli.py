@@ -172,6 +172,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except USER_ERRORS as exc:
         print(f"artic: error: {exc}", file=sys.stderr)
         return 2
+    except RuntimeError as exc:
+        if type(exc).__name__ != "PlantError":
+            raise
+        print(f"artic: simulation failed: {exc}", file=sys.stderr)
+        return 1
     except BrokenPipeError:
         # The reader (head, less) left early: not an error of artic's.
         sys.stderr.close()

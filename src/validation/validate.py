@@ -33,12 +33,9 @@ def model_factory(name: str) -> Callable[[Vehicle], Model]:
     if name in REDUCED_MODELS:
         return REDUCED_MODELS[name]
     if name == "mbd":
-        import plant
+        from plant import Plant
 
-        if not hasattr(plant, "Plant"):
-            raise ValueError("model 'mbd' is not available yet: the multibody plant is "
-                             "still being built; use kin or stm")
-        return plant.Plant
+        return Plant
     raise ValueError(f"unknown model {name!r}; choose from kin, stm, mbd")
 
 

@@ -1,0 +1,177 @@
+"""The multibody plant: statics, straight and steady driving, reversing, numerics."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from conftest import PRESETS, straight_log
+from mjcf import load_vehicle
+from mjcf.linkage import centre_angle
+from plant import Plant, callback
+from plant.tyre import TyreParams
+from reduced import InitialState, SingleTrackModel
+from validation.harness import run_closed_loop
+
+
+@pytest.fixture(scope="module")
+def unloaded_plant(unloaded):
+    p = Plant(unloaded)
+    yield p
+    p.close()
+
+
+def run(plant, seconds, delta=0.0, u=0.0, initial=None):
+    plant.reset(initial or InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
+    out = []
+    for _ in range(int(round(seconds / 0.01))):
+        plant.step(0.01, delta, u, 0.0)
+        out.append(plant.observe())
+    return np.array(out)
+
+
+@pytest.mark.parametrize("name", PRESETS)
+def test_static_axle_loads_match_the_file(name):
+    # The model stands in equilibrium on the loads derived from the file: the
+    # tyres' vertical forces, summed per axle, after 1 s at rest.
+    v = load_vehicle(name)
+    with Plant(v) as p:
+        run(p, 1.0)
+        loads = p.wheel_loads().reshape(-1, 2).sum(axis=1)
+    np.testing.assert_allclose(loads, v.static_loads, rtol=0.02)
+    # In fact far closer: the model is built to start in that equilibrium.
+    np.testing.assert_allclose(loads, v.static_loads, rtol=1e-6)
+
+
+def test_ten_seconds_at_rest(unloaded_plant):
+    p = unloaded_plant
+    obs = run(p, 10.0)
+    assert all(w.number == 0 for w in p.data.warning)
+    drift = np.hypot(obs[:, 0] - obs[0, 0], obs[:, 1] - obs[0, 1])
+    assert drift.max() < 1e-3
+    assert abs(p.data.qpos[2]) < 1e-3
+
+
+def test_deterministic(unloaded_plant):
+    a = run(unloaded_plant, 2.0, delta=0.1, u=1.5)
+    b = run(unloaded_plant, 2.0, delta=0.1, u=1.5)
+    assert np.array_equal(a, b)
+
+
+def test_two_plants_do_not_disturb_each_other(unloaded, loaded):
+    # Stepped in turns, each plant gives what it gives alone; closing them
+    # restores whatever passive callback was there before.
+    before = mujoco.get_mjcb_passive()
+    n0 = callback.active()  # plants of other tests may be open
+    with Plant(unloaded) as a:
+        alone = run(a, 1.0, delta=0.2, u=2.0)
+    with Plant(unloaded) as a, Plant(loaded) as b:
+        assert callback.active() == n0 + 2
+        init = InitialState(0.0, 0.0, 0.0, 0.0, u1=2.0)
+        a.reset(init)
+        b.reset(init)
+        both = []
+        for _ in range(100):
+            a.step(0.01, 0.2, 2.0, 0.0)
+            b.step(0.01, -0.1, 2.0, 0.0)
+            both.append(a.observe())
+    assert np.array_equal(np.array(both), alone)
+    assert callback.active() == n0
+    assert mujoco.get_mjcb_passive() is before
+
+
+def test_steering_asymmetry_emerges_from_the_linkage(unloaded_plant):
+    # The servo turns the left wheel; the right follows the trapezoid, so the
+    # centre angle is smaller for a left turn than for a right one.
+    p = unloaded_plant
+    c = []
+    for d in (0.3, -0.3):
+        run(p, 1.0, delta=d, u=0.0)
+        qL = p.data.qpos[p._steer_L[0]]
+        qR = p.data.qpos[p._steer_R[0]]
+        assert qL == pytest.approx(d, abs=2e-3)
+        c.append(float(centre_angle(np.array(qL), np.array(qR))))
+    assert 0 < c[0] < 0.3 < -c[1]
+
+
+def stm_with_tyre_file_stiffness(v):
+    tyre = TyreParams.from_tir(v.tyre_file)
+    n = np.array([2.0 * (2 if a.dual else 1) for a in v.axles])
+    C = n * tyre.cornering_stiffness(v.static_loads / n)
+    m = SingleTrackModel(v)
+    m.P[-len(C):] = C  # the cornering stiffnesses close the parameter array
+    return m
+
+
+@pytest.mark.slow
+def test_constant_steer_yaw_rate_matches_stm(unloaded, unloaded_plant):
+    # 200 deg of steering wheel at 5 km/h. At the plant's own centre angle,
+    # with the tyre file's cornering stiffness at the static loads, the STM's
+    # steady yaw rate is within 5 %: the two differ by roll, load transfer,
+    # tyre non-linearity and the tyres' longitudinal forces, all small here.
+    v, p, u = unloaded, unloaded_plant, 5 / 3.6
+    delta_left = math.radians(200.0) / v.steering_for("mbd").i_s
+    y = run(p, 40.0, delta=delta_left, u=u)[-1]
+    qL, qR = p.data.qpos[p._steer_L[0]], p.data.qpos[p._steer_R[0]]
+    dc = float(centre_angle(np.array(qL), np.array(qR)))
+    m = stm_with_tyre_file_stiffness(v)
+    m.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
+    for _ in range(4000):
+        m.step(0.01, dc, u, 0.0)
+    assert y[5] == pytest.approx(m.observe()[5], rel=0.05)
+
+
+@pytest.mark.slow
+def test_straight_100_m(unloaded_plant):
+    u = 10 / 3.6
+    obs = run(unloaded_plant, 100.0 / u, u=u)
+    assert obs[-1, 0] - obs[0, 0] == pytest.approx(100.0, abs=0.5)
+    assert np.max(np.abs(obs[:, 1] - obs[0, 1])) < 0.05
+    # The speed controller holds 10 km/h to within 0.1 %.
+    assert obs[-1, 3] == pytest.approx(u, rel=1e-3)
+
+
+@pytest.mark.slow
+def test_reverse_open_loop_diverges_and_harness_holds_it(unloaded):
+    v = unloaded
+    s = v.steering_for("mbd").delta_h_offset
+    log = straight_log(n=3000, u=-3 / 3.6, gamma0=math.radians(2.0), delta_h=s)
+    with Plant(v) as p:
+        g_open = run_closed_loop(p, log, v, gain=0.0).frame["gamma"].to_numpy()
+    with Plant(v) as p:
+        g_k3 = run_closed_loop(p, log, v, gain=3.0).frame["gamma"].to_numpy()
+    # Eq. (6) with K = 0 at -3 km/h: growth near 0.1 /s, about 20-fold in 30 s.
+    assert abs(g_open[-1]) > 5 * math.radians(2.0)
+    assert abs(g_k3[-1]) < 0.05 * math.radians(2.0)
+
+
+@pytest.mark.slow
+def test_forward_stop_reverse_without_warnings(unloaded_plant):
+    p = unloaded_plant
+    t = np.arange(0.0, 30.0, 0.01)
+    u = np.interp(t, [0, 8, 11, 14, 17, 30], [1.4, 1.4, 0.0, 0.0, -0.8, -0.8])
+    p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u[0]))
+    obs = []
+    for k in range(t.size - 1):
+        p.step(0.01, 0.15, u[k], (u[k + 1] - u[k]) / 0.01)
+        obs.append(p.observe())
+    obs = np.array(obs)
+    assert all(w.number == 0 for w in p.data.warning)
+    assert np.all(np.isfinite(obs))
+    # The speed followed the profile, through zero and into reverse.
+    assert obs[-1, 3] == pytest.approx(-0.8, abs=0.02)
+    assert abs(obs[int(12.5 / 0.01), 3]) < 0.02
+
+
+@pytest.mark.slow
+def test_timestep_is_converged(unloaded):
+    # The default 5 ms RK4 step against 2 ms on a transient: 10 s of a
+    # steering step at 2 m/s. Positions agree to a millimetre.
+    out = []
+    for h in (0.005, 0.002):
+        with Plant(unloaded, timestep=h) as p:
+            out.append(run(p, 10.0, delta=0.25, u=2.0))
+    np.testing.assert_allclose(out[0][:, [0, 1, 6, 7]], out[1][:, [0, 1, 6, 7]], atol=1e-3)
