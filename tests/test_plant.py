@@ -11,10 +11,12 @@ import pytest
 from conftest import PRESETS, straight_log
 from mjcf import load_vehicle
 from mjcf.linkage import centre_angle
-from plant import Plant, callback
-from plant.tyre import TyreParams
+from plant import Plant, PlantError, callback
+from plant.tyre import TyreParams, TyreRangeWarning
 from reduced import InitialState, SingleTrackModel
 from validation.harness import run_closed_loop
+from validation.simulate import drive_articulation
+from validation.steering import SteeringMap
 
 
 @pytest.fixture(scope="module")
@@ -175,3 +177,47 @@ def test_timestep_is_converged(unloaded):
         with Plant(unloaded, timestep=h) as p:
             out.append(run(p, 10.0, delta=0.25, u=2.0))
     np.testing.assert_allclose(out[0][:, [0, 1, 6, 7]], out[1][:, [0, 1, 6, 7]], atol=1e-3)
+
+
+def test_divergence_names_time_and_wheel(unloaded_plant):
+    p = unloaded_plant
+    p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=1.0))
+    p.step(0.01, 0.0, 1.0, 0.0)
+    p.data.qvel[p._spin_dof[3]] = np.nan
+    with pytest.raises(PlantError, match=r"t = 0\.0[0-9]+ s: the simulation diverged.*wheel"):
+        p.step(0.01, 0.0, 1.0, 0.0)
+
+
+def test_tyre_range_warning_names_the_wheel(unloaded):
+    import dataclasses
+
+    with Plant(unloaded) as p:
+        # A tyre file whose valid load range ends below the front tyres' load.
+        p.tyre = dataclasses.replace(p.tyre, FZMAX=20e3)
+        p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=0.0))
+        with pytest.warns(TyreRangeWarning, match=r"front L: Fz = .* outside \[500, 20000\]"):
+            p.step(0.01, 0.0, 0.0, 0.0)
+
+
+@pytest.mark.slow
+def test_reverse_ramp_steer_is_held_by_the_harness(unloaded):
+    # A reverse ramp steer as a driver does it: at 3 km/h the articulation is
+    # steered up to 30 deg, the log coming from the STM. The plant, driven by
+    # the log's steering wheel and the harness with K = 3, follows it without
+    # jackknifing: its articulation stays within a few degrees of the log's.
+    v = unloaded
+    t = np.arange(0.0, 35.0, 0.01)
+    gref = math.radians(30.0) * np.clip((t - 3.0) / 20.0, 0.0, 1.0)
+    s = SteeringMap.from_steering(v.steering_for("mbd"))
+    log = drive_articulation(SingleTrackModel(v), v, t, np.full_like(t, -3 / 3.6), gref,
+                             steering=s)
+    log.meta["name"] = "ramp"
+    from conftest import as_log
+
+    log = as_log(log, "ramp")
+    with Plant(v) as p:
+        run_ = run_closed_loop(p, log, v, gain=3.0)
+    assert run_.meta["status"] == "ok"
+    g_meas, g_plant = log.frame["gamma"].to_numpy(), run_.frame["gamma"].to_numpy()
+    assert abs(g_meas[-1]) > math.radians(25.0)
+    assert np.max(np.abs(g_plant - g_meas)) < math.radians(5.0)

@@ -236,6 +236,7 @@ class Plant:
             self._control(u1 + u1_dot * k * h, u1_dot, h)
             mujoco.mj_step(m, d)
         self._check()
+        self.check_tyre_ranges()
 
     def _check(self) -> None:
         d = self.data
@@ -276,12 +277,19 @@ class Plant:
         return self.last_forces[:, 2].copy()
 
     def check_tyre_ranges(self) -> list[str]:
-        """Warn for wheels outside the tyre file's valid ranges now (see :mod:`plant.tyre`)."""
+        """Warn for wheels outside the tyre file's valid ranges now (see :mod:`plant.tyre`).
+
+        Called after every step; a wheel in the air (no load) is not reported.
+        """
         n = self._n_tyres
         Fz = self.last_forces[:, 2] / n
         kappa = self.data.act[self._act_u] / self.tyre.sigma_kappa(np.maximum(Fz, 1.0))
         alpha = np.arctan(self.data.act[self._act_v] / self.tyre.sigma_alpha(np.maximum(Fz, 1.0)))
-        return check_ranges(self.tyre, Fz, kappa, alpha, self.wheel_names,
+        loaded = Fz > 0.0
+        if not loaded.any():
+            return []
+        names = [w for w, ok in zip(self.wheel_names, loaded, strict=True) if ok]
+        return check_ranges(self.tyre, Fz[loaded], kappa[loaded], alpha[loaded], names,
                             f"t = {self.data.time:.2f} s")
 
     def close(self) -> None:
