@@ -7,6 +7,7 @@ Subcommands:
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
 - ``artic validate LOG.parquet ... --vehicle V --models kin,stm [--gain K] --out-dir DIR``;
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
+- ``artic logs import SRC... --out-dir DIR``: exports to canonical Parquet;
 - ``artic campaign [--out-dir DIR]``: the main job.
 
 Errors in the user's input end with exit code 2 and a one-line message that
@@ -101,6 +102,14 @@ def _mjcf(args: argparse.Namespace) -> int:
     return 0
 
 
+def _logs_import(args: argparse.Namespace) -> int:
+    from validation.importers import import_sources
+
+    for path in import_sources(args.sources, args.out_dir):
+        print(f"wrote {path}")
+    return 0
+
+
 def _campaign(args: argparse.Namespace) -> int:
     from validation.campaign import run_campaign
 
@@ -154,6 +163,15 @@ def build_parser() -> argparse.ArgumentParser:
     mj.add_argument("-o", "--output", required=True, type=Path, help="output .xml")
     mj.add_argument("--no-scene", action="store_true", help="the vehicle only, no yard")
     mj.set_defaults(func=_mjcf)
+
+    logs = sub.add_parser("logs", help="import measured logs")
+    lsub = logs.add_subparsers(dest="logs_command", required=True)
+    imp = lsub.add_parser("import", help="exports to canonical Parquet")
+    imp.add_argument("sources", nargs="+", type=Path,
+                     help="canonical .parquet/.csv, .mat, or a folder with tractor.csv, "
+                          "trailer.csv, can.csv")
+    imp.add_argument("--out-dir", required=True, type=Path)
+    imp.set_defaults(func=_logs_import)
 
     camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
