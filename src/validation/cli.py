@@ -110,6 +110,16 @@ def _logs_import(args: argparse.Namespace) -> int:
     return 0
 
 
+def _logs_generate(args: argparse.Namespace) -> int:
+    from validation.synthetic import generate_campaign
+    from validation.validate import stderr_progress
+
+    only = [o for o in args.only.split(",") if o] if args.only else None
+    paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress)
+    print(f"{len(paths)} manoeuvres in {args.out_dir}")
+    return 0
+
+
 def _campaign(args: argparse.Namespace) -> int:
     from validation.campaign import run_campaign
 
@@ -172,6 +182,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "trailer.csv, can.csv")
     imp.add_argument("--out-dir", required=True, type=Path)
     imp.set_defaults(func=_logs_import)
+    gen = lsub.add_parser("generate", help="the synthetic measured campaign")
+    gen.add_argument("--seed", type=int, default=0)
+    gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
+    gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
+    gen.set_defaults(func=_logs_generate)
 
     camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),

@@ -4,12 +4,14 @@ Accepted sources:
 
 - a canonical log, Parquet or CSV, in the signal schema (checked);
 - an OXTS-style export: a folder holding ``tractor.csv``, ``trailer.csv``
-  and ``can.csv`` (see :mod:`validation.oxts`);
+  and ``can.csv`` (see :mod:`validation.oxts`), and optionally ``meta.json``
+  with the run's metadata (manoeuvre, load, ...);
 - a MATLAB ``.mat`` (v5) file with structs ``tractor``, ``trailer``, ``can``.
 """
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pandas as pd
@@ -41,6 +43,9 @@ def import_source(path: Path) -> tuple[Run, list[str]]:
             raise LogError(f"{path}: an OXTS-style export folder needs tractor.csv, trailer.csv "
                            f"and can.csv; missing {', '.join(missing)}")
         run, report = import_oxts(*files)
+        meta = path / "meta.json"
+        if meta.is_file():
+            run.meta = {**json.loads(meta.read_text()), **run.meta}
     elif path.suffix == ".mat":
         run, report = import_mat(path)
     elif path.suffix == ".parquet":
