@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -115,15 +116,18 @@ def _logs_generate(args: argparse.Namespace) -> int:
     from validation.validate import stderr_progress
 
     only = [o for o in args.only.split(",") if o] if args.only else None
-    paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress)
+    paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress,
+                              jobs=args.jobs)
     print(f"{len(paths)} manoeuvres in {args.out_dir}")
     return 0
 
 
 def _campaign(args: argparse.Namespace) -> int:
     from validation.campaign import run_campaign
+    from validation.validate import parse_models
 
-    run_campaign(Path(args.out_dir), vehicle=args.vehicle)
+    run_campaign(Path(args.out_dir), models=tuple(parse_models(args.models)), seed=args.seed,
+                 jobs=args.jobs)
     return 0
 
 
@@ -186,13 +190,18 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--seed", type=int, default=0)
     gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
     gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
+    gen.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                     help="processes (default: the number of cores, %(default)s)")
     gen.set_defaults(func=_logs_generate)
 
     camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
-    camp.add_argument("--vehicle", default="gosar2022-unloaded",
-                      help="preset name or TOML file (default: %(default)s)")
+    camp.add_argument("--models", default="kin,stm",
+                      help="comma-separated, from kin, stm, mbd (default: %(default)s)")
+    camp.add_argument("--seed", type=int, default=0, help="seed of the synthetic campaign")
+    camp.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                      help="processes for generating the logs (default: %(default)s)")
     camp.set_defaults(func=_campaign)
     return p
 

@@ -27,6 +27,7 @@ import shutil
 import tempfile
 import time
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -149,8 +150,16 @@ def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
     return final
 
 
+def _generate_one(args: tuple[Manoeuvre, int, Path]) -> tuple[str, float]:
+    m, seed, out_dir = args
+    t0 = time.perf_counter()
+    generate_manoeuvre(m, seed, out_dir)
+    return m.name, time.perf_counter() - t0
+
+
 def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = None,
-                      progress: Callable[[str], None] | None = None) -> list[Path]:
+                      progress: Callable[[str], None] | None = None,
+                      jobs: int = 1) -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -163,6 +172,9 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         Names (or name prefixes) of the manoeuvres to make; all by default.
     progress : callable, optional
         Receives one line per manoeuvre.
+    jobs : int
+        Processes to use. Every manoeuvre has its own random numbers, so the
+        files are the same for any number of jobs.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -171,15 +183,24 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         raise ValueError(f"no manoeuvre matches {', '.join(unknown)}; names look like "
                          f"{MATRIX[0].name}")
     todo = [m for m in MATRIX if not only or any(m.name.startswith(o) for o in only)]
-    paths = []
-    for i, m in enumerate(todo, start=1):
-        folder = out_dir / m.name
-        meta = folder / META_FILE
-        if meta.is_file() and json.loads(meta.read_text()).get("seed") == seed:
-            paths.append(folder)
-            continue
-        t0 = time.perf_counter()
-        paths.append(generate_manoeuvre(m, seed, out_dir))
-        if progress:
-            progress(f"[{i}/{len(todo)}] {m.name} ({time.perf_counter() - t0:.1f} s)")
-    return paths
+    missing = []
+    for m in todo:
+        meta = out_dir / m.name / META_FILE
+        if not (meta.is_file() and json.loads(meta.read_text()).get("seed") == seed):
+            missing.append(m)
+    if progress and len(missing) < len(todo):
+        progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
+    work = [(m, seed, out_dir) for m in missing]
+    if jobs > 1 and len(work) > 1:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            futures = [pool.submit(_generate_one, w) for w in work]
+            for i, fut in enumerate(as_completed(futures), start=1):
+                name, wall = fut.result()
+                if progress:
+                    progress(f"[{i}/{len(work)}] {name} ({wall:.1f} s)")
+    else:
+        for i, w in enumerate(work, start=1):
+            name, wall = _generate_one(w)
+            if progress:
+                progress(f"[{i}/{len(work)}] {name} ({wall:.1f} s)")
+    return [out_dir / m.name for m in todo]
