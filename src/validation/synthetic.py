@@ -71,9 +71,10 @@ def _drive_profile(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMa
                             40.0 if m.kind == "constant-steer" else None))
     u = prof.u1.copy()
     plant.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=float(u[0])))
-    # The driver brakes at 30-40 deg; the articulation grows on while the
-    # combination stops, to 35-50 deg (the seed's runs peaked at 45 on average).
-    stop_at = math.radians(rng.uniform(30.0, 40.0))
+    # The driver brakes (1 m/s^2) at 30-38 deg, earlier the faster the
+    # combination goes; the articulation grows on while it stops, to 33-48 deg
+    # (the seed's runs peaked at 45 on average).
+    stop_at = math.radians(rng.uniform(30.0, 38.0) - 1.5 * (m.speed_kph - 3.0))
     n_max = prof.t.size if m.kind != "ramp-steer-reverse" else int(120 / 0.01)
     obs, dh, speed = [], [], []
     u_now, stopping, stopped_for = float(u[0]), False, 0
@@ -92,7 +93,8 @@ def _drive_profile(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMa
             target = 0.0 if stopping else float(u[min(k, u.size - 1)])
         else:
             target = float(u[min(k + 1, u.size - 1)])
-        u_next = u_now + max(-0.005, min(0.005, target - u_now))
+        a_max = 0.01 if stopping else 0.005  # speed change per 10 ms step [m/s]
+        u_next = u_now + max(-a_max, min(a_max, target - u_now))
         plant.step(0.01, steering.road_wheel(d_h), u_now, (u_next - u_now) / 0.01)
         u_now = u_next
     t = np.arange(len(obs)) * 0.01
