@@ -16,7 +16,58 @@ from reduced.single_track import N_BODY, axle_velocities, stm_parameters, stm_un
 from reduced.tyre_linear import slip_angle
 
 
-class KinematicModel:
+class CompiledModel:
+    """What both reduced models share: compiled stepping and observing.
+
+    A subclass sets ``kind`` (:data:`reduced.integrate.KIN` or ``STM``), ``name``,
+    and in its constructor ``P`` (parameters), ``x`` (state) and the sensors
+    ``_s1``, ``_s2``; it places the state in ``reset``.
+    """
+
+    kind: int
+    name: str
+    P: np.ndarray
+    x: np.ndarray
+    _s1: np.ndarray
+    _s2: np.ndarray
+    _u1: float = 0.0
+    _delta: float = 0.0
+
+    def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
+        """Advance ``dt`` [s]; see :mod:`reduced.interface`."""
+        self.x = rk4_step(self.kind, self.x, dt, u1, u1_dot, delta, self.P)
+        self._u1 = u1 + u1_dot * dt
+        self._delta = delta
+
+    def observe(self, delta: float | None = None) -> np.ndarray:
+        """Signals at the sensor points, in ``OBSERVATION`` order.
+
+        Parameters
+        ----------
+        delta : float, optional
+            Road-wheel angle about to be held [rad]; KIN's yaw rates follow it
+            at once (the STM's velocities are states and do not jump). The
+            last applied angle by default.
+        """
+        d = self._delta if delta is None else delta
+        y = observe(self.kind, self.x, self._u1, d, self.P, self._s1, self._s2)
+        y[12] = wrap_angle(y[12])
+        return y
+
+    def compiled(self) -> tuple:
+        """Model kind, state, parameters and sensors, for compiled loops.
+
+        See :mod:`reduced.integrate` and :mod:`validation.harness`.
+        """
+        return self.kind, self.x.copy(), self.P, self._s1, self._s2
+
+    @property
+    def gamma(self) -> float:
+        """Articulation angle [rad]."""
+        return float(wrap_angle(self.x[3]))
+
+
+class KinematicModel(CompiledModel):
     """KIN, eq. (1), behind the harness's model interface.
 
     Parameters
@@ -28,6 +79,7 @@ class KinematicModel:
     """
 
     name = "kin"
+    kind = KIN
 
     def __init__(self, vehicle: Vehicle) -> None:
         self.vehicle = vehicle
@@ -46,40 +98,8 @@ class KinematicModel:
         self._u1 = initial.u1
         self._delta = 0.0
 
-    def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
-        """Advance ``dt`` [s]; see :mod:`reduced.interface`."""
-        self.x = rk4_step(KIN, self.x, dt, u1, u1_dot, delta, self.P)
-        self._u1 = u1 + u1_dot * dt
-        self._delta = delta
 
-    def observe(self, delta: float | None = None) -> np.ndarray:
-        """Signals at the sensor points, in ``OBSERVATION`` order.
-
-        Parameters
-        ----------
-        delta : float, optional
-            Road-wheel angle about to be held [rad]; KIN's yaw rates follow it
-            at once. The last applied angle by default.
-        """
-        d = self._delta if delta is None else delta
-        y = observe(KIN, self.x, self._u1, d, self.P, self._s1, self._s2)
-        y[12] = wrap_angle(y[12])
-        return y
-
-    def compiled(self) -> tuple:
-        """Model kind, state, parameters and sensors, for compiled loops.
-
-        See :mod:`reduced.integrate` and :mod:`validation.harness`.
-        """
-        return KIN, self.x.copy(), self.P, self._s1, self._s2
-
-    @property
-    def gamma(self) -> float:
-        """Articulation angle [rad]."""
-        return float(wrap_angle(self.x[3]))
-
-
-class SingleTrackModel:
+class SingleTrackModel(CompiledModel):
     """STM, eq. (2), behind the harness's model interface.
 
     Parameters
@@ -93,6 +113,7 @@ class SingleTrackModel:
     """
 
     name = "stm"
+    kind = STM
 
     def __init__(self, vehicle: Vehicle, f: float | None = None,
                  trailer_axles: np.ndarray | None = None) -> None:
@@ -119,29 +140,6 @@ class SingleTrackModel:
         self._u1 = initial.u1
         self._delta = 0.0
 
-    def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
-        """Advance ``dt`` [s]; see :mod:`reduced.interface`."""
-        self.x = rk4_step(STM, self.x, dt, u1, u1_dot, delta, self.P)
-        self._u1 = u1 + u1_dot * dt
-        self._delta = delta
-
-    def observe(self, delta: float | None = None) -> np.ndarray:
-        """Signals at the sensor points, in ``OBSERVATION`` order.
-
-        ``delta`` is accepted for the common interface; the STM's velocities
-        are states and do not jump with the steering.
-        """
-        y = observe(STM, self.x, self._u1, self._delta, self.P, self._s1, self._s2)
-        y[12] = wrap_angle(y[12])
-        return y
-
-    def compiled(self) -> tuple:
-        """Model kind, state, parameters and sensors, for compiled loops.
-
-        See :mod:`reduced.integrate` and :mod:`validation.harness`.
-        """
-        return STM, self.x.copy(), self.P, self._s1, self._s2
-
     def axle_velocities(self, x: np.ndarray, u1: float, delta: float):
         """Axle-centre velocities ``(v_long, v_lat)`` in wheel frames [m/s]."""
         _, _, _, _, Lc, _, _, ax_x, ax_steer, tr_l, _ = stm_unpack(self.P)
@@ -151,8 +149,3 @@ class SingleTrackModel:
     def tyre_forces(self) -> np.ndarray:
         """Lateral force of every axle, tractor first [N]."""
         return stm_unpack(self.P)[10] * self.x[N_BODY:]
-
-    @property
-    def gamma(self) -> float:
-        """Articulation angle [rad]."""
-        return float(wrap_angle(self.x[3]))
