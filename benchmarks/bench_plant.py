@@ -1,12 +1,16 @@
 """The multibody plant's speed: real-time factor and cost over a bare MuJoCo step.
 
-Measured in one run on one machine:
+Measured in one run on one machine, driving a 200 deg constant steer at
+5 km/h through ``Plant.step`` at the harness's 100 Hz:
 
-- real-time factor of the plant at its default timestep (RK4, 5 ms), driving
-  a 200 deg constant steer at 5 km/h through ``Plant.step``;
-- plant step time / bare ``mj_step`` time of the same model and timestep with
-  no passive callback (so no tyre forces: the model falls, which costs
-  MuJoCo nothing extra without contacts).
+- real-time factor of the plant at its default timestep (RK4, 5 ms), with
+  the compiled tyre callback and with the numpy reference;
+- plant step time / bare ``mj_step`` time of the same model and timestep.
+  "Bare" is ``mj_step`` with no passive callback, from the plant's own states:
+  every 10 ms of the compiled run the state is recorded, and the bare step
+  is timed on two steps from each recorded state (without tyre forces the
+  combination would otherwise fall through the ground, a different and
+  cheaper computation).
 
 Run: ``python benchmarks/run.py`` (or this file alone).
 """
@@ -17,43 +21,102 @@ import math
 import time
 
 import mujoco
+import numpy as np
 
 from mjcf import load_vehicle
 from plant import Plant
 from reduced import InitialState
 
 SIM_SECONDS = 10.0
+DT = 0.01
+
+
+def _run(backend: str, seconds: float, states: list | None = None) -> tuple[float, Plant]:
+    v = load_vehicle("gosar2022-unloaded")
+    u, delta = 5 / 3.6, math.radians(200) / v.steering_for("mbd").i_s
+    p = Plant(v, backend=backend)
+    p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
+    spec = mujoco.mjtState.mjSTATE_INTEGRATION
+    wall = 0.0
+    for _ in range(int(seconds / DT)):
+        if states is not None:
+            s = np.empty(mujoco.mj_stateSize(p.model, spec))
+            mujoco.mj_getState(p.model, p.data, s, spec)
+            states.append(s)
+        t0 = time.perf_counter()
+        p.step(DT, delta, u, 0.0)
+        wall += time.perf_counter() - t0
+    return wall, p
+
+
+def _bare(p: Plant, states: list) -> float:
+    m, d = p.model, mujoco.MjData(p.model)
+    spec = mujoco.mjtState.mjSTATE_INTEGRATION
+    n = round(DT / m.opt.timestep)
+    saved = mujoco.get_mjcb_passive()
+    mujoco.set_mjcb_passive(None)
+    wall = 0.0
+    try:
+        for s in states:
+            mujoco.mj_setState(m, d, s, spec)
+            t0 = time.perf_counter()
+            mujoco.mj_step(m, d, nstep=n)
+            wall += time.perf_counter() - t0
+    finally:
+        mujoco.set_mjcb_passive(saved)
+    return wall
+
+
+def _tyre_ns() -> tuple[float, float]:
+    """Per wheel evaluation: compiled and numpy tyre model [ns]."""
+    from plant import ctyre
+    from plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
+
+    p = TyreParams.from_tir(load_vehicle("gosar2022-unloaded").tyre_file)
+    rng = np.random.default_rng(0)
+    n = 100_000
+    a = (rng.uniform(1e4, 4e4, n), rng.uniform(-3, 3, n), rng.normal(0, 0.3, n),
+         rng.normal(0, 0.3, n), rng.normal(0, 0.01, n), rng.normal(0, 0.05, n),
+         np.ones(n))
+
+    def numpy_eval():
+        transient_forces(p, *a)
+        deflection_rates(p, *a[:6])
+        rolling_resistance(p, a[0], a[1])
+
+    times = []
+    for fn in (lambda: ctyre.evaluate(p, *a), numpy_eval):
+        fn()
+        t0 = time.perf_counter()
+        fn()
+        times.append((time.perf_counter() - t0) / n * 1e9)
+    return times[0], times[1]
 
 
 def main() -> dict[str, float]:
-    v = load_vehicle("gosar2022-unloaded")
-    u, delta = 5 / 3.6, math.radians(200) / v.steering_for("mbd").i_s
-    with Plant(v) as p:
-        p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
-        n = int(SIM_SECONDS / 0.01)
-        t0 = time.perf_counter()
-        for _ in range(n):
-            p.step(0.01, delta, u, 0.0)
-        wall = time.perf_counter() - t0
-        steps = round(SIM_SECONDS / p.model.opt.timestep)
-        model = p.model
-    data = mujoco.MjData(model)
-    saved = mujoco.get_mjcb_passive()
-    mujoco.set_mjcb_passive(None)
-    try:
-        t0 = time.perf_counter()
-        for _ in range(steps):
-            mujoco.mj_step(model, data)
-        bare = time.perf_counter() - t0
-    finally:
-        mujoco.set_mjcb_passive(saved)
-    out = {"plant_rtf": SIM_SECONDS / wall, "plant_over_bare": wall / bare,
-           "timestep_ms": model.opt.timestep * 1e3,
-           "bare_step_us": bare / steps * 1e6, "plant_step_us": wall / steps * 1e6}
-    print(f"Plant, {SIM_SECONDS:.0f} s of constant steer, RK4 at {out['timestep_ms']:.0f} ms:")
-    print(f"  real-time factor: {out['plant_rtf']:.1f} x")
-    print(f"  plant step / bare mj_step: {out['plant_over_bare']:.1f} "
-          f"({out['plant_step_us']:.0f} us / {out['bare_step_us']:.0f} us per step)")
+    c_ns, np_ns = _tyre_ns()
+    states: list = []
+    wall_c, p = _run("c", SIM_SECONDS, states)
+    bare = _bare(p, states)
+    steps = round(SIM_SECONDS / p.model.opt.timestep)
+    p.close()
+    wall_np, q = _run("numpy", SIM_SECONDS / 5)
+    q.close()
+    wall_np *= 5
+    out = {"plant_rtf": SIM_SECONDS / wall_c, "numpy_rtf": SIM_SECONDS / wall_np,
+           "plant_over_bare": wall_c / bare, "numpy_over_c": wall_np / wall_c,
+           "timestep_ms": p.model.opt.timestep * 1e3,
+           "bare_step_us": bare / steps * 1e6, "plant_step_us": wall_c / steps * 1e6}
+    out["tyre_c_ns"], out["tyre_numpy_ns"] = c_ns, np_ns
+    print(f"Tyre model per wheel evaluation: compiled {c_ns:.0f} ns, numpy (vectorised over "
+          f"100 000 wheels) {np_ns:.0f} ns")
+    print(f"Plant, {SIM_SECONDS:.0f} s of constant steer, RK4 at {out['timestep_ms']:.0f} ms, "
+          "stepped at 100 Hz:")
+    print(f"  real-time factor, compiled tyre callback: {out['plant_rtf']:.1f} x")
+    print(f"  real-time factor, numpy tyre callback:    {out['numpy_rtf']:.1f} x "
+          f"({out['numpy_over_c']:.1f} times slower)")
+    print(f"  plant step / bare mj_step: {out['plant_over_bare']:.2f} "
+          f"({out['plant_step_us']:.1f} us / {out['bare_step_us']:.1f} us per step)")
     return out
 
 

@@ -188,10 +188,11 @@ def test_divergence_names_time_and_wheel(unloaded_plant):
         p.step(0.01, 0.0, 1.0, 0.0)
 
 
-def test_tyre_range_warning_names_the_wheel(unloaded):
+@pytest.mark.parametrize("backend", ["c", "numpy"])
+def test_tyre_range_warning_names_the_wheel(unloaded, backend):
     import dataclasses
 
-    with Plant(unloaded) as p:
+    with Plant(unloaded, backend=backend) as p:
         # A tyre file whose valid load range ends below the front tyres' load.
         p.tyre = dataclasses.replace(p.tyre, FZMAX=20e3)
         p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=0.0))

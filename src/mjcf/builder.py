@@ -30,6 +30,8 @@ the vehicle.
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import math
 
 import mujoco
@@ -88,8 +90,17 @@ def linkage(v: Vehicle) -> tuple[Trapezoid, np.ndarray, tuple[float, float]]:
     left-wheel angle, 0.6 deg up to 30 deg, and 0.95 deg at lock.
     """
     front = max((a for a in v.tractor_axles if a.steered), key=lambda a: a.x)
-    trap = Trapezoid(front.track, v.L1, v.steering.steering_arm)
-    lo, hi = left_range(trap.right_angle, v.steering.delta_max)
+    trap, coef, rng = _linkage(front.track, v.L1, v.steering.steering_arm,
+                               v.steering.delta_max)
+    return trap, coef.copy(), rng
+
+
+@functools.lru_cache(maxsize=64)
+def _linkage(track: float, L1: float, arm: float,
+             delta_max: float) -> tuple[Trapezoid, np.ndarray, tuple[float, float]]:
+    """:func:`linkage` for the four numbers it depends on, cached."""
+    trap = Trapezoid(track, L1, arm)
+    lo, hi = left_range(trap.right_angle, delta_max)
     d = np.linspace(lo - math.radians(2.0), hi + math.radians(2.0), 301)
     r = np.array([trap.right_angle(x) for x in d])
     # Weighted least squares through the origin: straight ahead is straight ahead,
@@ -100,7 +111,7 @@ def linkage(v: Vehicle) -> tuple[Trapezoid, np.ndarray, tuple[float, float]]:
     poly = np.concatenate([[0.0], coef])
     # The servo's range, through the fitted linkage the model really has.
     return trap, poly, left_range(lambda x: np.polynomial.polynomial.polyval(x, poly),
-                                  v.steering.delta_max)
+                                  delta_max)
 
 
 def _add_axle(parent, a: AxleLayout, R0: float) -> None:
@@ -244,13 +255,16 @@ def add_scene(spec: mujoco.MjSpec) -> None:
 
 
 def compile_model(spec: mujoco.MjSpec) -> mujoco.MjModel:
-    """Compile a spec with MuJoCo's global passive callback suspended.
+    """Compile a spec, with MuJoCo's global passive callback suspended if it is Python.
 
     The compiler runs a forward pass on a model that has no Python wrapper
-    yet; a Python passive callback installed at that moment (a plant's) makes
-    the compilation fail. Not safe while another thread steps a plant.
+    yet; a Python passive callback installed at that moment (a numpy plant's)
+    makes the compilation fail, so it is suspended, which is not safe while
+    another thread steps a plant. The compiled C callback needs no suspension.
     """
     saved = mujoco.get_mjcb_passive()
+    if saved is None or isinstance(saved, ctypes._CFuncPtr):
+        return spec.compile()
     mujoco.set_mjcb_passive(None)
     try:
         return spec.compile()

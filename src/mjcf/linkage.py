@@ -67,9 +67,14 @@ class Trapezoid:
             return float(np.linalg.norm(a - b)) - rod
 
         # The rod closes on two branches; the assembled one is the sign change
-        # nearest to d_left.
+        # nearest to d_left. The grid is scanned at once (the right tip for all
+        # candidate angles), then the root refined by brentq on gap().
         grid = d_left + np.linspace(-1.2, 1.2, 961)
-        g = np.array([gap(x) for x in grid])
+        a, _ = self._tips(d_left, 0.0)
+        lx, ly = -self.arm * math.cos(self.beta), self.arm * math.sin(self.beta)
+        c, s = np.cos(grid), np.sin(grid)
+        bx, by = c * lx - s * ly, -0.5 * self.track + s * lx + c * ly
+        g = np.hypot(a[0] - bx, a[1] - by) - rod
         changes = np.flatnonzero(np.sign(g[:-1]) != np.sign(g[1:]))
         if changes.size == 0:
             raise ValueError(f"the trapezoid cannot reach a left-wheel angle of {d_left} rad")

@@ -36,7 +36,7 @@ from mjcf import naming as nm
 from mjcf.builder import build_model, compile_model, linkage
 from mjcf.masses import layout
 from mjcf.vehicle import G, Vehicle
-from plant import callback
+from plant import callback, ctyre
 from plant.tyre import (
     TyreParams,
     check_ranges,
@@ -54,6 +54,21 @@ SPEED_KI = 0.5
 
 BRAKE_SPIN_SCALE = 0.5
 """Wheel spin [rad/s] over which brake torque fades to zero at standstill."""
+
+
+BACKENDS = ("auto", "c", "numpy")
+"""Tyre callback implementations: compiled (:mod:`plant.ctyre`) or the numpy reference."""
+
+_fallback_warned = False
+
+
+def _warn_fallback() -> None:
+    global _fallback_warned
+    if not _fallback_warned:
+        _fallback_warned = True
+        warnings.warn(f"the compiled tyre callback is unavailable ({ctyre.unavailable_reason()}); "
+                      "the plant uses the numpy tyre model, about 10x slower", PlantWarning,
+                      stacklevel=3)
 
 
 class PlantError(RuntimeError):
@@ -77,20 +92,68 @@ class Plant:
 
     name = "mbd"
 
-    def __init__(self, vehicle: Vehicle, timestep: float | None = None) -> None:
+    def __init__(self, vehicle: Vehicle, timestep: float | None = None,
+                 backend: str = "auto") -> None:
+        if backend not in BACKENDS:
+            raise ValueError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+        if backend != "numpy" and ctyre.library() is None:
+            if backend == "c":
+                raise RuntimeError(ctyre.unavailable_reason())
+            _warn_fallback()
+            backend = "numpy"
+        self.backend = "c" if backend == "auto" else backend
         self.vehicle = vehicle
-        self.model = compile_model(build_model(vehicle))
+        self._tyre = TyreParams.from_tir(vehicle.tyre_file)
+        spec = build_model(vehicle)
+        n_wheels = 2 * len(vehicle.axles)
+        if self.backend == "c":
+            if spec.numerics:
+                raise ValueError("the plant's spec must not carry numerics of its own")
+            spec.add_numeric(name=ctyre.BLOCK, size=ctyre.block_size(n_wheels))
+            spec.nuserdata = 3 * n_wheels + 1  # forces, then the out-of-range count
+        self.model = compile_model(spec)
         if timestep is not None:
             self.model.opt.timestep = timestep
         self.data = mujoco.MjData(self.model)
-        self.tyre = TyreParams.from_tir(vehicle.tyre_file)
         self._index(vehicle)
         self._psi = np.zeros(2)
         self._integral = 0.0
         self.steer_limited = 0
-        self.last_forces = np.zeros((self.n_wheels, 3))
+        self._last_forces = np.zeros((self.n_wheels, 3))
         self._closed = False
-        callback.install(self.model, self._passive)
+        if self.backend == "c":
+            self.tyre = self._tyre  # writes the C callback's block
+            callback.install(self.model, callback.NATIVE)
+        else:
+            callback.install(self.model, self._passive)
+
+    def _wheel_table(self) -> np.ndarray:
+        m = self.model
+        cols = {"hub_site": self._hub, "hub_body": self._hub_body, "root_body": self._root,
+                "wheel_body": self._wheel_body, "spin_dof": self._spin_dof,
+                "act_u": self._act_u, "act_v": self._act_v, "ctrl_u": self._tread_u,
+                "ctrl_v": self._tread_v, "n_tyres": self._n_tyres, "side": self._side}
+        assert m.nu > max(self._tread_v)
+        return np.column_stack([cols[f] for f in ctyre.WHEEL_FIELDS])
+
+    @property
+    def tyre(self) -> TyreParams:
+        """The tyre coefficients in use; assigning new ones takes effect at the next step."""
+        return self._tyre
+
+    @tyre.setter
+    def tyre(self, p: TyreParams) -> None:
+        self._tyre = p
+        if self.backend == "c":
+            self.model.numeric_data[:] = ctyre.block(p, self.R0, self.k_t, self.c_t,
+                                                     self._wheel_table())
+
+    @property
+    def last_forces(self) -> np.ndarray:
+        """Contact force of every wheel end from the last callback, world frame [N]."""
+        if self.backend == "c":
+            return self.data.userdata[:-1].reshape(-1, 3)
+        return self._last_forces
 
     # ------------------------------------------------------------ indexing
     def _index(self, v: Vehicle) -> None:
@@ -166,7 +229,7 @@ class Plant:
         torque = (n * My)[:, None] * hy  # about the spin axis
         contact = pos.copy()
         contact[:, 2] = 0.0
-        self.last_forces = F
+        self._last_forces = F
         for i in range(self.n_wheels):
             mujoco.mj_applyFT(m, d, F[i], torque[i], contact[i], int(self._wheel_body[i]),
                               d.qfrc_passive)
@@ -192,10 +255,15 @@ class Plant:
         self._psi = np.array([psi, psi - initial.gamma])
 
     def _speed(self) -> float:
-        res = np.zeros(6)
-        mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_BODY,
-                                 self._tractor, res, 1)
-        return float(res[3])
+        """Tractor speed along its x-axis [m/s].
+
+        The tractor is the free root body, so ``qvel[:3]`` is its origin's
+        velocity in the world frame; the x-axis is the first column of ``xmat``.
+        """
+        d = self.data
+        R = d.xmat[self._tractor]
+        v = d.qvel
+        return float(R[0] * v[0] + R[3] * v[1] + R[6] * v[2])
 
     def _control(self, u_cmd: float, u_dot: float, h: float) -> None:
         d = self.data
@@ -232,14 +300,21 @@ class Plant:
         d.ctrl[self._servo] = min(max(delta, lo), hi)
         h = m.opt.timestep
         n = max(1, round(dt / h))
-        for k in range(n):
-            self._control(u1 + u1_dot * k * h, u1_dot, h)
-            mujoco.mj_step(m, d)
+        # The speed controller is sampled once per call (zero-order hold over
+        # dt), at the middle of the interval, so MuJoCo runs n steps uninterrupted.
+        self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
+        mujoco.mj_step(m, d, nstep=n)
         self._check()
-        self.check_tyre_ranges()
+        if self.backend == "numpy":
+            self.check_tyre_ranges()
+        elif d.userdata[-1]:  # the C callback counted wheels outside the file's ranges
+            d.userdata[-1] = 0.0
+            self.check_tyre_ranges()
 
     def _check(self) -> None:
         d = self.data
+        if not d.warning.number.any() and np.isfinite(d.qvel).all():
+            return
         bad = [mujoco.mjtWarning(i).name for i in range(len(d.warning)) if d.warning[i].number]
         finite = np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))
         if bad or not finite:
@@ -283,8 +358,9 @@ class Plant:
         """
         n = self._n_tyres
         Fz = self.last_forces[:, 2] / n
-        kappa = self.data.act[self._act_u] / self.tyre.sigma_kappa(np.maximum(Fz, 1.0))
-        alpha = np.arctan(self.data.act[self._act_v] / self.tyre.sigma_alpha(np.maximum(Fz, 1.0)))
+        Fzc = np.maximum(Fz, self.tyre.FZMIN)  # as in the force evaluation
+        kappa = self.data.act[self._act_u] / self.tyre.sigma_kappa(Fzc)
+        alpha = np.arctan(self.data.act[self._act_v] / self.tyre.sigma_alpha(Fzc))
         loaded = Fz > 0.0
         if not loaded.any():
             return []

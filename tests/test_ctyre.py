@@ -1,0 +1,136 @@
+"""The compiled tyre callback against the numpy reference, and what it makes possible."""
+
+from __future__ import annotations
+
+import threading
+
+import mujoco
+import numpy as np
+import pytest
+
+from plant import Plant, PlantWarning, callback, ctyre
+from plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
+from reduced import InitialState
+
+
+@pytest.fixture(scope="module", autouse=True)
+def compiled():
+    # CI installs with a C compiler, so the extension must be there: its absence
+    # is a failed build, not a reason to skip.
+    assert ctyre.library() is not None, ctyre.unavailable_reason()
+
+
+def random_states(n: int, seed: int = 0) -> dict[str, np.ndarray]:
+    """Wheel states over forward, reverse, standstill and large slip."""
+    rng = np.random.default_rng(seed)
+    Vx = rng.uniform(-6.0, 6.0, n)
+    Vx[: n // 5] = 0.0  # standstill
+    Vx[n // 5: n // 4] = rng.uniform(-0.5, 0.5, n // 4 - n // 5)  # below VXLOW
+    return {
+        "Fz": rng.uniform(-2e3, 60e3, n),  # in the air, light and overloaded
+        "Vx": Vx,
+        "Vsx": rng.normal(0.0, 1.0, n),
+        "Vy": rng.normal(0.0, 1.5, n),
+        "u": rng.normal(0.0, 0.05, n),  # kappa up to about +-0.3 at 20 kN
+        "v": rng.normal(0.0, 0.3, n),  # alpha up to about +-60 deg
+        "side": rng.choice([-1.0, 1.0], n),
+    }
+
+
+@pytest.mark.parametrize("which", ["artic", "shared"])
+def test_compiled_forces_equal_the_numpy_reference(which, unloaded):
+    from test_tyre import TIR
+
+    p = TyreParams.from_tir(unloaded.tyre_file if which == "artic" else TIR)
+    s = random_states(10_000)
+    c = ctyre.evaluate(p, **s)
+    Fx, Fy = transient_forces(p, s["Fz"], s["Vx"], s["Vsx"], s["Vy"], s["u"], s["v"], s["side"])
+    du, dv = deflection_rates(p, s["Fz"], s["Vx"], s["Vsx"], s["Vy"], s["u"], s["v"])
+    My = rolling_resistance(p, s["Fz"], s["Vx"])
+    # Both evaluate the same formulas in double precision; the C code replaces
+    # cos(atan x) and sin(2 atan x) by their algebraic forms, so they differ by
+    # rounding only. 1e-9 relative, on a floor of 1 N (1 N m, 1 um/s) so that
+    # forces that vanish at zero load or slip are compared absolutely.
+    for name, ref, got in (("Fx", Fx, c.Fx), ("Fy", Fy, c.Fy), ("My", My, c.My),
+                           ("du", du, c.du), ("dv", dv, c.dv)):
+        floor = 1e-6 if name in ("du", "dv") else 1.0
+        err = np.abs(got - ref) / np.maximum(np.abs(ref), floor)
+        assert np.all(np.isfinite(got)), name
+        assert err.max() < 1e-9, f"{name}: worst relative error {err.max():.2e}"
+    # The sample reaches large slip and both directions, as it claims.
+    alpha = np.arctan(s["v"] / p.sigma_alpha(np.maximum(s["Fz"], p.FZMIN)))
+    assert np.abs(alpha).max() > 1.0 and (s["Vx"] < -1).any() and (s["Vx"] == 0).sum() >= 2000
+
+
+def trajectory(vehicle, backend, seconds=10.0):
+    with Plant(vehicle, backend=backend) as p:
+        p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=2.0))
+        out = []
+        for k in range(int(seconds / 0.01)):
+            # forward, braking at 0.6 m/s^2 through standstill, into reverse
+            t = k * 0.01
+            u, u_dot = (2.0, 0.0) if t < 3.0 else (max(2.0 - 0.6 * (t - 3.0), -1.0), -0.6)
+            p.step(0.01, 0.2 * np.sin(0.5 * t), u, u_dot if u > -1.0 else 0.0)
+            out.append(p.observe())
+        return np.array(out)
+
+
+def test_plant_trajectories_agree_between_backends(unloaded):
+    # Same equations, same integrator: over 10 s, through a stop and into
+    # reverse, rounding differences must stay at rounding level. 1e-9 m and rad
+    # is six orders above double rounding and far below any physical effect.
+    a, b = trajectory(unloaded, "c"), trajectory(unloaded, "numpy")
+    assert np.abs(a - b).max() < 1e-9
+    assert a[:, 3].min() < -0.5 and a[:, 3].max() > 1.5
+
+
+def test_fallback_warns_and_uses_numpy(unloaded, monkeypatch):
+    import plant.plant as pp
+
+    monkeypatch.setattr(ctyre, "library", lambda: None)
+    monkeypatch.setattr(ctyre, "unavailable_reason", lambda: "no compiler (test)")
+    monkeypatch.setattr(pp, "_fallback_warned", False)
+    with pytest.warns(PlantWarning, match="no compiler"), Plant(unloaded) as p:
+        assert p.backend == "numpy"
+    with pytest.raises(RuntimeError, match="no compiler"):
+        Plant(unloaded, backend="c")
+    with pytest.raises(ValueError, match="backend 'fortran'"):
+        Plant(unloaded, backend="fortran")
+
+
+def test_native_callback_installed_and_restored(unloaded):
+    assert callback.active() == 0
+    with Plant(unloaded, backend="c"):
+        assert not callback.python_installed()
+        with Plant(unloaded, backend="numpy"):
+            assert callback.python_installed()  # the dispatcher serves both
+        assert not callback.python_installed()
+    assert mujoco.get_mjcb_passive() is None
+
+
+def test_models_without_the_block_get_no_force(unloaded):
+    m = mujoco.MjModel.from_xml_string(
+        "<mujoco><worldbody><body><freejoint/><geom size='1'/></body></worldbody></mujoco>")
+    d = mujoco.MjData(m)
+    with Plant(unloaded, backend="c"):
+        mujoco.mj_step(m, d)
+    assert np.all(d.qfrc_passive == 0.0)
+
+
+def test_plants_on_threads_equal_serial(unloaded, loaded):
+    # The C callback runs without the GIL and keeps no global state, so plants
+    # step on threads; each result equals its serial run bit for bit.
+    serial = [trajectory(v, "c", 3.0) for v in (unloaded, loaded)]
+    out: list = [None, None]
+
+    def work(i, v):
+        out[i] = trajectory(v, "c", 3.0)
+
+    threads = [threading.Thread(target=work, args=(i, v))
+               for i, v in enumerate((unloaded, loaded))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(serial, out, strict=True):
+        np.testing.assert_array_equal(a, b)
