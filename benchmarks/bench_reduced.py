@@ -14,10 +14,10 @@ Run: ``python benchmarks/run.py`` (or this file alone).
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
+from _timing import REPEATS, best_wall
 from mjcf import load_vehicle
 from reduced import KinematicModel, SingleTrackModel
 from validation.harness import run_closed_loop
@@ -27,8 +27,6 @@ from validation.pathdist import distance_to_polyline
 from validation.schema import COLUMNS
 from validation.simulate import drive_articulation, simulate
 from validation.steering import SteeringMap
-
-REPEATS = 5
 
 
 def _logs(v):
@@ -41,16 +39,6 @@ def _logs(v):
                              math.radians(30) * np.clip(t / 30, 0, 1),
                              steering=SteeringMap.from_steering(s))
     return [Run(r.frame[list(COLUMNS)], {"name": n}) for r, n in ((fwd, "fwd"), (rev, "rev"))]
-
-
-def best_wall(fn) -> float:
-    fn()
-    best = math.inf
-    for _ in range(REPEATS):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def main() -> dict[str, float]:

@@ -47,13 +47,19 @@ def test_simulate_reverse_stops_at_jackknife(tmp_path, capsys):
     assert read_run(out).meta["status"].startswith("stopped")
 
 
-def test_validate_writes_metrics_and_runs(tmp_path, capsys):
+def constant_steer_logs(tmp_path) -> list[str]:
+    """Two 20 s STM constant steers, left and right, written by ``artic simulate``."""
     logs = []
     for side in ("left", "right"):
         p = tmp_path / f"{side}.parquet"
         main(["simulate", "--model", "stm", "--manoeuvre", "constant-steer", "--side", side,
               "--duration", "20", "--out", str(p)])
         logs.append(str(p))
+    return logs
+
+
+def test_validate_writes_metrics_and_runs(tmp_path, capsys):
+    logs = constant_steer_logs(tmp_path)
     out = tmp_path / "val"
     assert main(["validate", *logs, "--models", "kin,stm", "--gain", "3",
                  "--out-dir", str(out)]) == 0
@@ -86,3 +92,36 @@ def test_validate_refuses_duplicate_log_names(tmp_path, capsys):
 
     with pytest.raises(ValueError, match="share the name"):
         validate_runs([straight_log(), straight_log()], load_vehicle("six-axle"), ["kin"])
+
+
+def test_tune_writes_a_vehicle_file_the_other_commands_accept(tmp_path, capsys):
+    logs = constant_steer_logs(tmp_path)
+    out = tmp_path / "tuned.toml"
+    assert main(["tune", *logs, "--models", "kin", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "kin    i_s" in text and "eps_n before" in text and f"wrote {out}" in text
+    assert main(["vehicle", "show", str(out)]) == 0
+    assert "i_s_kin" in capsys.readouterr().out
+    assert main(["validate", *logs, "--vehicle", str(out), "--models", "kin",
+                 "--out-dir", str(tmp_path / "val")]) == 0
+    assert (tmp_path / "val" / "table2_forward.md").is_file()
+    # Reverse logs are refused: tuning is on forward manoeuvres.
+    rev = tmp_path / "rev.parquet"
+    main(["simulate", "--model", "kin", "--manoeuvre", "ramp-steer-reverse", "--duration", "10",
+          "--out", str(rev)])
+    assert main(["tune", str(rev), "--out", str(tmp_path / "x.toml")]) == 2
+    assert "forward" in capsys.readouterr().err and not (tmp_path / "x.toml").exists()
+
+
+def test_validate_gain_sweep_marks_the_bound(tmp_path, capsys):
+    rev = tmp_path / "rev.parquet"
+    main(["simulate", "--model", "stm", "--manoeuvre", "ramp-steer-reverse",
+          "--amplitude-deg", "30", "--duration", "15", "--out", str(rev)])
+    out = tmp_path / "val"
+    assert main(["validate", str(rev), "--models", "kin", "--gain-sweep",
+                 "--out-dir", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "K_min" in text and "| bound |" in text
+    sweep = pd.read_csv(out / "gain_sweep.csv")
+    assert len(sweep) == 12 and (out / "gain_sweep.png").is_file()
+    assert (out / "table3_reverse.csv").is_file()

@@ -153,3 +153,19 @@ def test_jackknife_stops_open_loop_reverse(unloaded):
     assert "jackknife" in run.meta["status"]
     assert abs(run.frame["gamma"].iloc[-1]) > v.gamma_max
     assert len(run.frame) < prof.t.size
+
+
+def test_speed_filter_passes_a_quadratic_and_removes_noise():
+    from validation.harness import smooth_speed
+
+    t = np.arange(0.0, 20.0, 0.01)
+    u = 0.5 + 0.2 * t - 0.01 * t ** 2  # braking and accelerating profiles are quadratic-ish
+    np.testing.assert_allclose(smooth_speed(t, u), u, atol=1e-12)
+    rng = np.random.default_rng(1)
+    noise = rng.normal(0.0, 0.01, t.size)
+    # A quadratic fit over 51 samples leaves sqrt(3 (3 m^2 + 3 m - 1) / ((2m - 1)(2m + 1)(2m + 3)))
+    # ~ 0.21 of white noise at the centre (m = 25); 0.3 bounds it over the whole log.
+    rest = np.std(smooth_speed(t, u + noise) - u)
+    assert rest < 0.3 * 0.01
+    # The difference quotient, the plant's feed-forward, drops far more.
+    assert np.std(np.diff(smooth_speed(t, u + noise) - u)) < 0.05 * np.std(np.diff(noise))

@@ -253,3 +253,16 @@ def test_deterministic(unloaded):
             m.step(0.01, 0.05 * math.sin(k / 50), -0.8, 0.0)
         runs.append(m.x.copy())
     assert np.array_equal(runs[0], runs[1])
+
+
+def test_start_from_rest_with_noisy_velocity_has_relaxed_tyres(unloaded):
+    # A log that starts at rest reads 1 cm/s of sensor noise. Steady-state slip
+    # from that would be near 90 deg; the tyres start relaxed in proportion to speed.
+    from reduced.models import U_SLIP_KNOWN
+
+    m = SingleTrackModel(unloaded)
+    m.reset(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.01, u1=0.005))
+    assert np.abs(m.x[N_BODY:]).max() < (math.pi / 2) * (0.02 / U_SLIP_KNOWN)
+    m.reset(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.05, u1=3.0))
+    v_long, v_lat = m.axle_velocities(m.x, 3.0, 0.0)
+    np.testing.assert_allclose(m.x[N_BODY:], -np.arctan2(v_lat, np.abs(v_long)))

@@ -44,6 +44,11 @@ def test_monotonic_guard_refuses_the_fold():
         printed.check_range(np.radians([0.0, 500.0]), "test")
     printed.check_range(np.radians([0.0, 200.0]))
     MAP.check_range(np.radians([-500.0, 500.0]))
+    # A negative q folds on the right-turn side, and only there.
+    mirrored = SteeringMap(20.0, -0.1, 0.0)
+    mirrored.check_range(np.radians([0.0, 500.0]))
+    with pytest.raises(SteeringRangeError, match="-500 deg"):
+        mirrored.check_range(np.radians([0.0, -500.0]))
     # Degrees passed as radians also reach the fold: the message says so.
     with pytest.raises(SteeringRangeError, match="radians"):
         MAP.check_range(np.array([200.0]))

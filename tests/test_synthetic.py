@@ -35,7 +35,8 @@ def test_matrix_has_the_seed_counts_and_every_cell():
     assert Counter(m.kind for m in MATRIX)["docking"] == 9
     assert Counter(m.kind for m in MATRIX)["parking"] == 8
     assert len(TUNING) == 8
-    assert all("constant-steer-unloaded" in n for n in TUNING)
+    for load in ("unloaded", "loaded"):
+        assert sum(f"constant-steer-{load}-" in n for n in TUNING) == 4
 
 
 @pytest.mark.parametrize("y0,psi0", [(3.0, 0.0), (-4.0, 8.0)])
@@ -91,28 +92,3 @@ def test_generated_manoeuvres(tmp_path):
     paths[1].rmdir()
     generate_campaign(tmp_path, seed=3, only=names)
     assert {p: p.read_bytes() for p in paths[1].iterdir()} == first
-
-
-@pytest.mark.slow
-def test_whole_campaign(tmp_path):
-    # The full 58-manoeuvre campaign, as the main job makes it (about 6 min on
-    # two cores): counts, cells and loads, ramp-steer articulation, docking.
-    import json
-    import os
-
-    from validation.synthetic import generate_campaign
-
-    paths = generate_campaign(tmp_path, seed=0, jobs=os.cpu_count() or 1)
-    metas = [json.loads((p / "meta.json").read_text()) for p in paths]
-    assert Counter(m["direction"] for m in metas) == {"forward": 25, "reverse": 33}
-    assert {(m["kind"], m["load"], m["amplitude_deg"], m["speed_kph"], m["side"])
-            for m in metas} == {(c.kind, c.load, c.amplitude_deg, c.speed_kph, c.side)
-                                for c in MATRIX}
-    for m in metas:
-        if m["kind"] == "ramp-steer-reverse":
-            assert math.radians(30) < m["peak_articulation"] < math.radians(50), m["name"]
-        if m["kind"] in ("docking", "parking"):
-            assert m["docked"], m["name"]
-            assert abs(m["final_lateral_error"]) < 0.5, m["name"]
-            assert abs(m["final_heading_error"]) < math.radians(3.0), m["name"]
-    assert sum(m.get("shuffles", 0) > 0 for m in metas) >= 1  # shuffles happen

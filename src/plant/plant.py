@@ -67,7 +67,7 @@ def _warn_fallback() -> None:
     if not _fallback_warned:
         _fallback_warned = True
         warnings.warn(f"the compiled tyre callback is unavailable ({ctyre.unavailable_reason()}); "
-                      "the plant uses the numpy tyre model, about 10x slower", PlantWarning,
+                      "the plant uses the numpy tyre model, about 16 times slower", PlantWarning,
                       stacklevel=3)
 
 

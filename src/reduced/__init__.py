@@ -3,6 +3,7 @@
 This package depends on numpy and numba only: never on mujoco, rerun or pandas.
 """
 
+from reduced import _cache  # noqa: F401 - before any compiled function is defined
 from reduced.interface import OBSERVATION, InitialState, Model, wrap_angle
 from reduced.models import KinematicModel, SingleTrackModel
 

@@ -16,6 +16,7 @@ compiled functions cannot be cached.
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from reduced.kinematic import kin_observe, kin_rhs
@@ -36,12 +37,25 @@ def rhs(kind, x, u1, u1_dot, delta, P):
 @njit(cache=True)
 def rk4_step(kind, x, dt, u1, u1_dot, delta, P):
     """One RK4 step of ``dt`` [s] of model ``kind``."""
+    # Element loops instead of array expressions: the same operations in the
+    # same order (so the same bits), without a temporary array per operation.
     h2 = 0.5 * dt
+    n = x.size
+    xt = np.empty(n)
     k1 = rhs(kind, x, u1, u1_dot, delta, P)
-    k2 = rhs(kind, x + h2 * k1, u1 + h2 * u1_dot, u1_dot, delta, P)
-    k3 = rhs(kind, x + h2 * k2, u1 + h2 * u1_dot, u1_dot, delta, P)
-    k4 = rhs(kind, x + dt * k3, u1 + dt * u1_dot, u1_dot, delta, P)
-    return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    for i in range(n):
+        xt[i] = x[i] + h2 * k1[i]
+    k2 = rhs(kind, xt, u1 + h2 * u1_dot, u1_dot, delta, P)
+    for i in range(n):
+        xt[i] = x[i] + h2 * k2[i]
+    k3 = rhs(kind, xt, u1 + h2 * u1_dot, u1_dot, delta, P)
+    for i in range(n):
+        xt[i] = x[i] + dt * k3[i]
+    k4 = rhs(kind, xt, u1 + dt * u1_dot, u1_dot, delta, P)
+    w = dt / 6.0
+    for i in range(n):
+        xt[i] = x[i] + w * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+    return xt
 
 
 @njit(cache=True)

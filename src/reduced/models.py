@@ -6,6 +6,8 @@ the stepping in :mod:`reduced.integrate`.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mjcf.vehicle import Vehicle
@@ -14,6 +16,9 @@ from reduced.interface import InitialState, rotate, wrap_angle
 from reduced.kinematic import kin_parameters
 from reduced.single_track import N_BODY, axle_velocities, stm_parameters, stm_unpack
 from reduced.tyre_linear import slip_angle
+
+U_SLIP_KNOWN = 0.5
+"""Axle speed above which a log's initial slip angle is taken as known [m/s]."""
 
 
 class CompiledModel:
@@ -127,7 +132,17 @@ class SingleTrackModel(CompiledModel):
         self._delta = 0.0
 
     def reset(self, initial: InitialState) -> None:
-        """Place the combination at ``initial``, tyres at steady-state slip."""
+        """Place the combination at ``initial``, tyres at steady-state slip.
+
+        The steady-state slip angle is the travel direction's, which a
+        measured velocity only gives when the axle moves well above the
+        sensors' noise: with 1 cm/s of noise it is uncertain by 45 deg at
+        1 cm/s and by 1 deg at 0.5 m/s. So the initial lagged slip is the
+        steady-state one scaled by ``min(1, |v| / U_SLIP_KNOWN)``: relaxed
+        tyres for a log that starts at rest, steady state for one that starts
+        rolling. (Steady-state slip from a noisy 1 cm/s start gives slip
+        angles near 90 deg and an oscillation of metres per second.)
+        """
         s1x, s1y = self._s1
         dx, dy = rotate(initial.psi_1, s1x, s1y)
         v = initial.v_y_1 - initial.r_1 * s1x
@@ -135,7 +150,8 @@ class SingleTrackModel(CompiledModel):
         x[:N_BODY] = [initial.x_1 - dx, initial.y_1 - dy, initial.psi_1,
                       wrap_angle(initial.gamma), v, initial.r_1, initial.r_1 - initial.r_2]
         v_long, v_lat = self.axle_velocities(x, initial.u1, 0.0)
-        x[N_BODY:] = [slip_angle(a, b) for a, b in zip(v_long, v_lat, strict=True)]
+        x[N_BODY:] = [slip_angle(a, b) * min(1.0, math.hypot(a, b) / U_SLIP_KNOWN)
+                      for a, b in zip(v_long, v_lat, strict=True)]
         self.x = x
         self._u1 = initial.u1
         self._delta = 0.0

@@ -92,6 +92,39 @@ def mass_and_bias(gamma, u, v, r, gamma_dot, m1, J1, m2, J2, Lc, a2):
     return M, h
 
 
+@njit(cache=True, inline="always")
+def axle_velocity(i, u, v, r, gamma_dot, cg, sg, cd, sd, ax_x, ax_steer, tr_l, Lc):
+    """Velocity of axle ``i`` (tractor axles first) in its wheel frame [m/s].
+
+    ``cg, sg`` and ``cd, sd`` are the cosine and sine of the articulation and
+    of the road-wheel angle. Returns ``(v_long, v_lat)``.
+    """
+    n1 = ax_x.size
+    if i < n1:
+        vy = v + r * ax_x[i]
+        if ax_steer[i] > 0.5:
+            return u * cd + vy * sd, -u * sd + vy * cd
+        return u, vy
+    vh = v - r * Lc
+    return u * cg - vh * sg, u * sg + vh * cg - (r - gamma_dot) * tr_l[i - n1]
+
+
+@njit(cache=True, inline="always")
+def axle_generalised_force(i, F, cg, sg, cd, sd, ax_x, ax_steer, tr_l, Lc):
+    """Axle ``i``'s share ``(Q_u, Q_v, Q_r, Q_gamma_dot)`` of ``Q`` for its lateral force ``F``.
+
+    The partial velocities of the axle centre, dotted with the force along
+    the wheel's lateral axis.
+    """
+    n1 = ax_x.size
+    if i < n1:
+        if ax_steer[i] > 0.5:
+            return -F * sd, F * cd, ax_x[i] * F * cd, 0.0
+        return 0.0, F, ax_x[i] * F, 0.0
+    k = i - n1
+    return F * sg, F * cg, -(Lc * cg + tr_l[k]) * F, tr_l[k] * F
+
+
 @njit(cache=True)
 def axle_velocities(u, v, r, gamma, gamma_dot, delta, ax_x, ax_steer, tr_l, Lc):
     """Axle-centre velocities in each axle's wheel frame [m/s].
@@ -110,24 +143,14 @@ def axle_velocities(u, v, r, gamma, gamma_dot, delta, ax_x, ax_steer, tr_l, Lc):
     v_long, v_lat : ndarray
         Tractor axles first, then trailer axles.
     """
-    n1, n2 = ax_x.size, tr_l.size
-    v_long = np.empty(n1 + n2)
-    v_lat = np.empty(n1 + n2)
+    n = ax_x.size + tr_l.size
+    v_long = np.empty(n)
+    v_lat = np.empty(n)
+    cg, sg = math.cos(gamma), math.sin(gamma)
     cd, sd = math.cos(delta), math.sin(delta)
-    for i in range(n1):
-        vy = v + r * ax_x[i]
-        if ax_steer[i] > 0.5:
-            v_long[i] = u * cd + vy * sd
-            v_lat[i] = -u * sd + vy * cd
-        else:
-            v_long[i] = u
-            v_lat[i] = vy
-    s, c = math.sin(gamma), math.cos(gamma)
-    w2 = r - gamma_dot
-    vh = v - r * Lc
-    for k in range(n2):
-        v_long[n1 + k] = u * c - vh * s
-        v_lat[n1 + k] = u * s + vh * c - w2 * tr_l[k]
+    for i in range(n):
+        v_long[i], v_lat[i] = axle_velocity(i, u, v, r, gamma_dot, cg, sg, cd, sd, ax_x,
+                                            ax_steer, tr_l, Lc)
     return v_long, v_lat
 
 
@@ -145,24 +168,16 @@ def generalised_forces(F, gamma, delta, ax_x, ax_steer, tr_l, Lc):
     ndarray, shape (4,)
         ``(Q_u, Q_v, Q_r, Q_gamma_dot)`` [N, N, N m, N m].
     """
-    n1 = ax_x.size
     Q = np.zeros(4)
+    cg, sg = math.cos(gamma), math.sin(gamma)
     cd, sd = math.cos(delta), math.sin(delta)
-    for i in range(n1):
-        if ax_steer[i] > 0.5:
-            Q[0] -= F[i] * sd
-            Q[1] += F[i] * cd
-            Q[2] += ax_x[i] * F[i] * cd
-        else:
-            Q[1] += F[i]
-            Q[2] += ax_x[i] * F[i]
-    s, c = math.sin(gamma), math.cos(gamma)
-    for k in range(tr_l.size):
-        f = F[n1 + k]
-        Q[0] += f * s
-        Q[1] += f * c
-        Q[2] -= (Lc * c + tr_l[k]) * f
-        Q[3] += tr_l[k] * f
+    for i in range(F.size):
+        q0, q1, q2, q3 = axle_generalised_force(i, F[i], cg, sg, cd, sd, ax_x, ax_steer,
+                                                tr_l, Lc)
+        Q[0] += q0
+        Q[1] += q1
+        Q[2] += q2
+        Q[3] += q3
     return Q
 
 
@@ -186,7 +201,7 @@ def solve3(A, b):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def stm_unpack(P):
     """Split the STM's parameter array (see :func:`stm_parameters`).
 
@@ -222,13 +237,27 @@ def stm_rhs(x, u1, u1_dot, delta, P):
     """
     m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C = stm_unpack(P)
     psi, gamma, v, r, gd = x[2], x[3], x[4], x[5], x[6]
-    alpha = x[N_BODY:]
-    v_long, v_lat = axle_velocities(u1, v, r, gamma, gd, delta, ax_x, ax_steer, tr_l, Lc)
-    Q = generalised_forces(C * alpha, gamma, delta, ax_x, ax_steer, tr_l, Lc)
-    M, h = mass_and_bias(gamma, u1, v, r, gd, m1, J1, m2, J2, Lc, a2)
-    rhs = Q[1:] - h[1:] - M[1:, 0] * u1_dot
-    wdot = solve3(M[1:, 1:], rhs)
+    cg, sg = math.cos(gamma), math.sin(gamma)
+    cd, sd = math.cos(delta), math.sin(delta)
     out = np.empty(x.size)
+    # One pass over the axles (the per-axle kernels of axle_velocities and
+    # generalised_forces), with no temporary arrays: this is the hot loop.
+    Q1 = Q2 = Q3 = 0.0
+    for i in range(C.size):
+        a = x[N_BODY + i]
+        _, q1, q2, q3 = axle_generalised_force(i, C[i] * a, cg, sg, cd, sd, ax_x, ax_steer,
+                                               tr_l, Lc)
+        Q1 += q1
+        Q2 += q2
+        Q3 += q3
+        vl, vt = axle_velocity(i, u1, v, r, gd, cg, sg, cd, sd, ax_x, ax_steer, tr_l, Lc)
+        out[N_BODY + i] = slip_rate(vl, vt, a, sigma)
+    M, h = mass_and_bias(gamma, u1, v, r, gd, m1, J1, m2, J2, Lc, a2)
+    b = np.empty(3)
+    b[0] = Q1 - h[1] - M[1, 0] * u1_dot
+    b[1] = Q2 - h[2] - M[2, 0] * u1_dot
+    b[2] = Q3 - h[3] - M[3, 0] * u1_dot
+    wdot = solve3(M[1:, 1:], b)
     cp, sp = math.cos(psi), math.sin(psi)
     out[0] = u1 * cp - v * sp
     out[1] = u1 * sp + v * cp
@@ -237,8 +266,6 @@ def stm_rhs(x, u1, u1_dot, delta, P):
     out[4] = wdot[0]
     out[5] = wdot[1]
     out[6] = wdot[2]
-    for i in range(alpha.size):
-        out[N_BODY + i] = slip_rate(v_long[i], v_lat[i], alpha[i], sigma)
     return out
 
 

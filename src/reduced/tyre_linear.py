@@ -29,7 +29,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def slip_angle(v_long: float, v_lat: float) -> float:
     """Steady-state slip angle from the travel direction [rad].
 
@@ -47,7 +47,7 @@ def slip_angle(v_long: float, v_lat: float) -> float:
     return -math.atan2(v_lat, abs(v_long))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def slip_rate(v_long: float, v_lat: float, alpha_lag: float, sigma: float) -> float:
     """Rate of the lagged slip angle ``alpha'`` [rad/s].
 

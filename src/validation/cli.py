@@ -5,7 +5,9 @@ Subcommands:
 - ``artic vehicle show VEHICLE [--json]``: the resolved parameter set;
 - ``artic vehicle keys``: the parameter file format;
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
-- ``artic validate LOG.parquet ... --vehicle V --models kin,stm [--gain K] --out-dir DIR``;
+- ``artic validate LOG.parquet ... --vehicle V --models kin,stm,mbd [--gain K]
+  [--gain-sweep] --out-dir DIR``: metrics and the Table 2/3 summaries;
+- ``artic tune LOG.parquet ... --vehicle V --models kin,stm,mbd --out PARAMS.toml``;
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
 - ``artic logs import SRC... --out-dir DIR``: exports to canonical Parquet;
 - ``artic campaign [--out-dir DIR]``: the main job.
@@ -75,6 +77,7 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def _validate(args: argparse.Namespace) -> int:
+    from validation.tables import markdown, summary, write_table
     from validation.validate import (
         parse_models,
         stderr_progress,
@@ -85,11 +88,58 @@ def _validate(args: argparse.Namespace) -> int:
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
     logs = [read_run(p) for p in args.logs]
-    metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=args.out_dir,
-                            progress=stderr_progress)
-    path = write_metrics(metrics, Path(args.out_dir) / "metrics.csv")
-    print(f"wrote {path} ({len(metrics)} rows) and {len(metrics)} runs in "
-          f"{Path(args.out_dir) / 'runs'}")
+    out = Path(args.out_dir)
+    metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
+                            progress=stderr_progress, jobs=args.jobs)
+    path = write_metrics(metrics, out / "metrics.csv")
+    print(f"wrote {path} ({len(metrics)} rows) and {len(metrics)} runs in {out / 'runs'}")
+    for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
+                                   ("reverse", "table3_reverse", "Reverse (Table 3 columns)")):
+        table = summary(metrics, direction)
+        if len(table):
+            write_table(table, out / stem, title)
+            print(f"\n{title}\n\n{markdown(table)}")
+    if args.gain_sweep:
+        from validation.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep, sweep_table
+
+        rev = [log for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
+        if not rev:
+            raise ValueError("--gain-sweep needs reverse logs (the tractor reversing for most "
+                             "of the log); none of the given logs is one")
+        sweep = gain_sweep({"logs": (v, rev)}, models, DEFAULT_GAINS, args.jobs,
+                           stderr_progress)
+        sweep.to_csv(out / "gain_sweep.csv", index=False, float_format="%.6g")
+        plot_gain_sweep(sweep, out / "gain_sweep.png", args.gain)
+        print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
+              f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
+    return 0
+
+
+def _tune(args: argparse.Namespace) -> int:
+    from mjcf.writer import fitted_changes, updated, write_vehicle
+    from validation.tuning import tune
+    from validation.validate import parse_models, stderr_progress
+
+    v = load_vehicle(args.vehicle)
+    logs = [read_run(p) for p in args.logs]
+    reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
+    if reverse:
+        raise ValueError(f"tuning uses forward manoeuvres; {', '.join(reverse)} reverse(s) "
+                         "for most of the log: leave it out")
+    _, fits = tune(v, logs, parse_models(args.models), args.jobs, stderr_progress)
+    print("model  parameter        nominal      fitted       bounds")
+    for fit in fits:
+        for row in fit.rows():
+            flag = "  (at bound)" if row["at_bound"] else ""
+            print(f"{row['model']:<6} {row['parameter']:<16} {row['nominal']:<12.6g} "
+                  f"{row['fitted']:<12.6g} [{row['lo']:.4g}, {row['hi']:.4g}]{flag}")
+        print(f"{fit.model:<6} eps_n before {fit.eps_n_before:.3f} %, after "
+              f"{fit.eps_n_after:.3f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)")
+    data = updated(args.vehicle, fitted_changes(v, {f.model: f.fitted for f in fits}),
+                   f"Tuned by artic on {', '.join(log.name for log in logs)}",
+                   name=f"{v.name}-tuned")
+    write_vehicle(data, args.out)
+    print(f"wrote {args.out}")
     return 0
 
 
@@ -126,8 +176,11 @@ def _campaign(args: argparse.Namespace) -> int:
     from validation.campaign import run_campaign
     from validation.validate import parse_models
 
+    sweep = tuple(parse_models(args.sweep_models)) if args.sweep_models else ()
     run_campaign(Path(args.out_dir), models=tuple(parse_models(args.models)), seed=args.seed,
-                 jobs=args.jobs)
+                 jobs=args.jobs, gain=args.gain, sweep_models=sweep,
+                 recordings=not args.no_recordings, executor=args.executor,
+                 scheduler=args.scheduler)
     return 0
 
 
@@ -169,7 +222,20 @@ def build_parser() -> argparse.ArgumentParser:
     val.add_argument("--gain", type=float, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     val.add_argument("--out-dir", required=True, type=Path)
+    val.add_argument("--gain-sweep", action="store_true",
+                     help="also sweep K over the reverse logs; marks the stability bound")
+    val.add_argument("--jobs", type=int, default=1, help="threads (default: %(default)s)")
     val.set_defaults(func=_validate)
+
+    tun = sub.add_parser("tune", help="fit f, i_s, q and the offset on forward logs")
+    tun.add_argument("logs", nargs="+", type=Path, help="forward logs (.parquet)")
+    tun.add_argument("--vehicle", default="gosar2022-unloaded",
+                     help="preset name or TOML file (default: %(default)s)")
+    tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
+    tun.add_argument("--out", required=True, type=Path, help="tuned vehicle file (.toml)")
+    tun.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                     help="threads for the plant (default: %(default)s)")
+    tun.set_defaults(func=_tune)
 
     mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
     mj.add_argument("--vehicle", default="gosar2022-unloaded",
@@ -197,11 +263,21 @@ def build_parser() -> argparse.ArgumentParser:
     camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
-    camp.add_argument("--models", default="kin,stm",
+    camp.add_argument("--models", default="kin,stm,mbd",
                       help="comma-separated, from kin, stm, mbd (default: %(default)s)")
     camp.add_argument("--seed", type=int, default=0, help="seed of the synthetic campaign")
+    camp.add_argument("--gain", type=float, default=DEFAULT_GAIN,
+                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
+    camp.add_argument("--sweep-models", default="kin,stm",
+                      help="models in the gain sweep; empty to skip it (default: %(default)s)")
+    camp.add_argument("--no-recordings", action="store_true", help="skip the .rrd files")
+    camp.add_argument("--executor", choices=("local", "dask"), default="local",
+                      help="where generation and validation run (default: %(default)s)")
+    camp.add_argument("--scheduler", default=None,
+                      help="address of a running Dask scheduler (with --executor dask); "
+                           "a local cluster otherwise")
     camp.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                      help="processes for generating the logs (default: %(default)s)")
+                      help="processes and threads (default: the number of cores, %(default)s)")
     camp.set_defaults(func=_campaign)
     return p
 

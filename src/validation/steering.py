@@ -46,7 +46,10 @@ class SteeringMap:
 
     @property
     def fold(self) -> float:
-        """Offset-free steering-wheel angle where the map stops rising [rad]."""
+        """Offset-free steering-wheel angle where the map stops rising [rad].
+
+        Positive for ``q > 0`` (left turns), negative for ``q < 0``.
+        """
         return np.inf if self.q == 0 else 1.0 / (2.0 * self.q)
 
     def check_range(self, delta_h: np.ndarray, source: str = "input") -> None:
@@ -68,8 +71,9 @@ class SteeringMap:
         d = np.asarray(delta_h, dtype=float) - self.delta_h_offset
         if d.size == 0 or not np.isfinite(self.fold):
             return
-        peak = float(np.nanmax(d))
-        if peak >= 0.95 * self.fold:
+        # Rising while 1 - 2 q d > 0: the fold is on the side q points to.
+        peak = float(np.nanmax(d) if self.q > 0 else np.nanmin(d))
+        if peak / self.fold >= 0.95:
             raise SteeringRangeError(
                 f"{source}: steering-wheel angle reaches {np.degrees(peak):.0f} deg past the "
                 f"offset, but eq. (3) with q = {self.q} /rad stops being monotonic at "

@@ -26,15 +26,17 @@ import os
 import shutil
 import tempfile
 import time
+import warnings
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
 
 from mjcf.vehicle import Vehicle, load_vehicle
-from plant import Plant
+from plant import Plant, PlantWarning
 from reduced.interface import InitialState
+from validation import fingerprint
 from validation.driver import DockingDriver, drive_to_dock
 from validation.logio import Run, new_frame
 from validation.manoeuvres import make_profile
@@ -118,9 +120,11 @@ def _drive_dock(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
     return t, obs, np.asarray(steering.steering_wheel(delta)), info
 
 
-def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
-                       sensors: SensorModel | None = None) -> Path:
-    """Drive, measure and export one manoeuvre; returns its export folder."""
+def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None) -> Run:
+    """Drive and measure one manoeuvre; returns the measured run with its metadata.
+
+    Pure computation, no files: it runs wherever an executor sends it.
+    """
     sensors = sensors or SensorModel()
     truth = truth_configuration(seed)
     v = load_vehicle(f"gosar2022-{m.load}")
@@ -131,18 +135,30 @@ def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
         plant.tyre = dataclasses.replace(plant.tyre, LKY=plant.tyre.LKY * truth["LKY"],
                                          LMUY=plant.tyre.LMUY * truth["LMUY"])
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
-        t, obs, delta_h, info = drive(plant, vt, m, steering, rng)
+        # The driver may ask for more wheel angle than the linkage gives at
+        # lock, as a real driver turns the wheel against its stop; the plant
+        # holds the wheel at lock. That is the truth, so it is counted in the
+        # metadata rather than warned about.
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlantWarning)
+            t, obs, delta_h, info = drive(plant, vt, m, steering, rng)
+        info["steer_limited_steps"] = plant.steer_limited
     true = new_frame(t, delta_h, obs)
     measured = measure(true, rng, sensors)
     meta = {**m.meta(), **info, "vehicle": v.name, "load": m.load, "seed": seed,
             "truth": truth, "source": "synthetic",
             "peak_articulation": float(np.max(np.abs(obs[:, 12]))),
-            "sensors": dataclasses.asdict(sensors)}
-    final = Path(out_dir) / m.name
-    tmp = Path(tempfile.mkdtemp(prefix=f".{m.name}.", dir=out_dir))
+            "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
+    return Run(measured, meta)
+
+
+def write_export(run: Run, out_dir: Path) -> Path:
+    """Export a measured run into ``out_dir/NAME``, whole or not at all."""
+    final = Path(out_dir) / run.meta["name"]
+    tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.", dir=out_dir))
     try:
-        export_oxts(Run(measured, meta), tmp)
-        (tmp / META_FILE).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n")
+        export_oxts(run, tmp)
+        (tmp / META_FILE).write_text(json.dumps(run.meta, sort_keys=True, indent=1) + "\n")
         if final.exists():
             shutil.rmtree(final)
         os.replace(tmp, final)
@@ -152,16 +168,25 @@ def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
     return final
 
 
-def _generate_one(args: tuple[Manoeuvre, int, Path]) -> tuple[str, float]:
-    m, seed, out_dir = args
+def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
+                       sensors: SensorModel | None = None) -> Path:
+    """Drive, measure and export one manoeuvre; returns its export folder."""
+    return write_export(simulate_manoeuvre(m, seed, sensors), out_dir)
+
+
+def _simulate_timed(m: Manoeuvre, seed: int) -> tuple[Run, float]:
     t0 = time.perf_counter()
-    generate_manoeuvre(m, seed, out_dir)
-    return m.name, time.perf_counter() - t0
+    run = simulate_manoeuvre(m, seed)
+    return run, time.perf_counter() - t0
+
+
+def _same(meta: dict, seed: int) -> bool:
+    return meta.get("seed") == seed and meta.get("generator") == fingerprint.code()
 
 
 def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = None,
                       progress: Callable[[str], None] | None = None,
-                      jobs: int = 1) -> list[Path]:
+                      jobs: int = 1, executor: Executor | None = None) -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -177,6 +202,9 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     jobs : int
         Processes to use. Every manoeuvre has its own random numbers, so the
         files are the same for any number of jobs.
+    executor : concurrent.futures.Executor, optional
+        Where to simulate instead (a Dask cluster's, see
+        :mod:`validation.executors`); the files are written here.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -188,21 +216,24 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     missing = []
     for m in todo:
         meta = out_dir / m.name / META_FILE
-        if not (meta.is_file() and json.loads(meta.read_text()).get("seed") == seed):
+        # Reuse only what this seed and this code made (see validation.fingerprint).
+        if not (meta.is_file() and _same(json.loads(meta.read_text()), seed)):
             missing.append(m)
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
-    work = [(m, seed, out_dir) for m in missing]
-    if jobs > 1 and len(work) > 1:
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            futures = [pool.submit(_generate_one, w) for w in work]
-            for i, fut in enumerate(as_completed(futures), start=1):
-                name, wall = fut.result()
-                if progress:
-                    progress(f"[{i}/{len(work)}] {name} ({wall:.1f} s)")
-    else:
-        for i, w in enumerate(work, start=1):
-            name, wall = _generate_one(w)
+    own = executor is None and jobs > 1 and len(missing) > 1
+    pool = ProcessPoolExecutor(max_workers=jobs) if own else executor
+    try:
+        if pool is None:
+            done = (_simulate_timed(m, seed) for m in missing)
+        else:
+            futures = [pool.submit(_simulate_timed, m, seed) for m in missing]
+            done = (f.result() for f in as_completed(futures))
+        for i, (run, wall) in enumerate(done, start=1):
+            write_export(run, out_dir)
             if progress:
-                progress(f"[{i}/{len(work)}] {name} ({wall:.1f} s)")
+                progress(f"[{i}/{len(missing)}] {run.meta['name']} ({wall:.1f} s)")
+    finally:
+        if own:
+            pool.shutdown(cancel_futures=True)
     return [out_dir / m.name for m in todo]
