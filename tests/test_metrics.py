@@ -129,3 +129,14 @@ def test_distance_rms_weights_distance_not_time():
     eps = np.where(t < 10, 1.0, 0.0)
     w = distance_weights(t, v)
     assert distance_rms(eps, w) == pytest.approx(np.sqrt(1.0 / 11.0), rel=2e-3)
+
+
+def test_travelled_ends_at_s_max():
+    from validation.metrics import distance_weights, travelled
+
+    t = np.linspace(0.0, 10.0, 101)
+    f = pd.DataFrame({"t": t, "v_x_1": -np.sin(t), "v_y_1": 0.1 * np.cos(t)})
+    s = travelled(f)
+    assert s[-1] == pytest.approx(distance_weights(t, np.hypot(f.v_x_1, f.v_y_1)).sum(),
+                                  rel=1e-12)
+    assert np.all(np.diff(s) >= 0)  # reversing counts as distance too

@@ -67,6 +67,16 @@ def distance_weights(t: np.ndarray, speed: np.ndarray) -> np.ndarray:
     return w
 
 
+def travelled(frame: pd.DataFrame) -> np.ndarray:
+    """Running distance of the tractor sensor, ``integral |v| dt`` (trapezoidal) [m].
+
+    The same integral as :func:`distance_weights`; its last value is ``s_max``.
+    """
+    v = np.hypot(frame["v_x_1"], frame["v_y_1"]).to_numpy()
+    ds = 0.5 * (v[1:] + v[:-1]) * np.diff(frame["t"].to_numpy())
+    return np.concatenate([[0.0], np.cumsum(ds)])
+
+
 def distance_rms(eps: np.ndarray, w: np.ndarray) -> float:
     """Eq. (8): ``sqrt(integral eps**2 ds / s_max)``."""
     s_max = float(np.sum(w))

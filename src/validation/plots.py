@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from validation.logio import Run, atomic_write
+from validation.metrics import travelled
 
 STYLE = {"measured": dict(color="0.1", lw=2.2), "kin": dict(color="#4285f4"),
          "stm": dict(color="#34a853"), "mbd": dict(color="#fb8c00")}
@@ -36,8 +37,7 @@ def plot_manoeuvre(path: Path, log: Run, runs: Mapping[str, Run], title: str = "
     import matplotlib.pyplot as plt
 
     f = log.frame
-    v = np.hypot(f["v_x_1"], f["v_y_1"]).to_numpy()
-    s = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(f["t"].to_numpy()))])
+    s = travelled(f)
     fig = plt.figure(figsize=(12, 5.5), constrained_layout=True)
     grid = fig.add_gridspec(2, 2, width_ratios=[1.4, 1])
     top = fig.add_subplot(grid[:, 0])

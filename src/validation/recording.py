@@ -41,7 +41,7 @@ from mjcf.builder import DOCK_POSE
 from mjcf.tir import read_tir
 from mjcf.vehicle import Vehicle
 from validation.logio import Run
-from validation.metrics import distance_weights
+from validation.metrics import distance_weights, travelled
 from validation.pathdist import distance_to_polyline
 
 COLOURS = {"measured": (230, 230, 230), "kin": (66, 133, 244), "stm": (52, 168, 83),
@@ -65,13 +65,6 @@ def artic_version() -> str:
 def _timelines(t: np.ndarray, s: np.ndarray) -> list[rr.TimeColumn]:
     return [rr.TimeColumn("time", duration=t),
             rr.TimeColumn("distance_cm", sequence=np.round(100.0 * s).astype(np.int64))]
-
-
-def _travelled(frame: pd.DataFrame) -> np.ndarray:
-    """Running distance of the tractor sensor, ``integral |v| dt`` (trapezoidal) [m]."""
-    v = np.hypot(frame["v_x_1"], frame["v_y_1"]).to_numpy()
-    ds = 0.5 * (v[1:] + v[:-1]) * np.diff(frame["t"].to_numpy())
-    return np.concatenate([[0.0], np.cumsum(ds)])
 
 
 def _quat_z(psi: np.ndarray) -> np.ndarray:
@@ -269,7 +262,7 @@ def _log_manoeuvre(rec: rr.RecordingStream, log: Run, runs: Mapping[str, Run], v
                    metrics: pd.DataFrame | None, extra: str) -> None:
     f = log.frame
     t = f["t"].to_numpy()
-    s = _travelled(f)
+    s = travelled(f)
     every = max(1, round(1.0 / (YARD_RATE * float(np.median(np.diff(t))))))
     geo = _Geometry(vehicle)
     margin = 15.0
