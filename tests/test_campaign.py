@@ -20,6 +20,20 @@ PART = [*[n for n in TUNING if "-unloaded-" in n][:2],
         "02-constant-steer-unloaded-200deg-10kph-left", "27-ramp-steer-reverse", "45-docking"]
 
 
+def check_recordings(out):
+    """Read every recording back: each holds every sample of each model's run."""
+    metrics = pd.read_csv(out / "metrics.csv")
+    for path in (out / "recordings").glob("*.rrd"):
+        rows = read_rows(path)
+        if path.stem == "campaign":
+            assert rows["/criteria/eps_n/kin"] == metrics.log.nunique()
+            continue
+        for model in metrics.model.unique():
+            run = read_run(out / "runs" / f"{path.stem}.{model}.parquet")
+            assert rows[f"/signals/articulation/{model}"] == len(run.frame), path.name
+        assert rows["/signals/articulation/measured"] >= len(run.frame)
+
+
 @pytest.mark.slow
 def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys, monkeypatch):
     out = tmp_path / "out"
@@ -52,10 +66,7 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     # One recording per validated manoeuvre, holding every sample of each run.
     assert sorted(p.stem for p in (out / "recordings").glob("*.rrd")) == \
         sorted([*validated, "campaign"])
-    rows = read_rows(out / "recordings" / f"{validated[2]}.rrd")
-    for model in ("kin", "stm", "mbd"):
-        run = read_run(out / "runs" / f"{validated[2]}.{model}.parquet")
-        assert rows[f"/signals/articulation/{model}"] == len(run.frame)
+    check_recordings(out)
     assert (out / "plots" / "gain_sweep.png").is_file()
 
     # Resume: a lost run file is simulated again, the rest reused.
@@ -122,4 +133,5 @@ def test_whole_campaign(tmp_path):
         assert fit["i_s"] == pytest.approx(i_s_true, rel=0.015), load
         assert abs(fit["delta_h_offset"] - truth["delta_h_offset"]) < math.radians(0.3), load
     assert len(list((out / "recordings").glob("*.rrd"))) == 50 + 1
+    check_recordings(out)
     assert "## Discussion" in (out / "report.md").read_text()

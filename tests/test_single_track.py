@@ -16,7 +16,7 @@ RNG = np.random.default_rng(20221)
 
 
 def paper_matrices(g, u, v, r, gd, m1, J1, m2, J2, Lc, a2):
-    """Eqs. (11)-(12) as printed, with the seed notes' correction in H row 1."""
+    """Eqs. (11)-(12) as printed, with the design notes' correction in H row 1."""
     s, c = math.sin(g), math.cos(g)
     M = np.array([
         [m1 + m2, -m2 * (Lc + a2 * c), m2 * a2 * c],
@@ -42,7 +42,7 @@ def test_mass_matrix_and_bias_match_corrected_paper(unloaded):
         Mp, Hp = paper_matrices(g, u, vv, r, gd, *p)
         np.testing.assert_allclose(M[1:, 1:], Mp, rtol=1e-12, atol=1e-9)
         np.testing.assert_allclose(h[1:], Hp, rtol=1e-12, atol=1e-9)
-        # The u_dot terms the seed drops (seed notes section 3).
+        # The u_dot terms the paper drops (design notes section 3).
         s = math.sin(g)
         np.testing.assert_allclose(M[1:, 0], [0.0, -v.m2 * v.a2 * s, v.m2 * v.a2 * s],
                                    atol=1e-9)

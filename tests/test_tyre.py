@@ -66,7 +66,7 @@ def test_cornering_stiffness_at_nominal_load(p):
     Fz, a0, h = np.array([35000.0]), 0.0056509, 1e-6
     slope = (forces(p, Fz, [0.0], [a0 + h])[1] - forces(p, Fz, [0.0], [a0 - h])[1]) / (2 * h)
     assert slope[0] == pytest.approx(K, rel=1e-6)
-    # Normalised: about 5.8 /rad at 30 kN, the seed's f = 6 /rad.
+    # Normalised: about 5.8 /rad at 30 kN, the paper's f = 6 /rad.
     assert p.cornering_stiffness(30e3) / 30e3 == pytest.approx(5.79, abs=0.01)
 
 

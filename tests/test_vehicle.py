@@ -12,7 +12,7 @@ from conftest import PRESETS
 from mjcf import VehicleFileError, load_vehicle, preset_names
 from mjcf.vehicle import G, resolve_vehicle_path
 
-# Appendix of the seed: measured axle loads [N]; drive axle, trailer axles 1-3.
+# Appendix of the paper: measured axle loads [N]; drive axle, trailer axles 1-3.
 MEASURED = {
     "gosar2022-unloaded": (34727.0, (17658.0, 18639.0, 18835.0)),
     "gosar2022-loaded": (67100.0, (38651.0, 39632.0, 39436.0)),
@@ -26,7 +26,7 @@ def test_presets_are_shipped():
 @pytest.mark.parametrize("name", list(MEASURED))
 def test_static_loads_match_measured_axle_loads(name):
     # The drive-axle load and the trailer-group total follow from masses and
-    # geometry alone; 2 % is the bound (the seed notes find 0.8 % and
+    # geometry alone; 2 % is the bound (the design notes find 0.8 % and
     # 1.8 %). Each trailer axle's share comes from the measured distribution,
     # so each trailer axle is held to the same 2 %.
     v = load_vehicle(name)

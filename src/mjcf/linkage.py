@@ -12,7 +12,7 @@ The right-wheel angle is solved from the rod length and fitted by a
 fourth-order polynomial, the form a MuJoCo joint equality takes. The
 equivalent single-track angle at the axle centre,
 ``cot(delta_c) = (cot(delta_L) + cot(delta_R)) / 2``, is not symmetric in
-``delta_L``: the left/right asymmetry that the seed's eq. (3) models with ``q``.
+``delta_L``: the left/right asymmetry that the paper's eq. (3) models with ``q``.
 """
 
 from __future__ import annotations

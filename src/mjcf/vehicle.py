@@ -4,7 +4,7 @@ This module is the single source of truth for every physical number of the
 combination. The MJCF generator, the plant's tyres and the reduced models all
 read a :class:`Vehicle`; none of them hard-codes a mass, a length or a stiffness.
 
-Frames and symbols (the seed paper's, ISO 8855: x forward, y left, z up):
+Frames and symbols (the paper's, ISO 8855: x forward, y left, z up):
 
 - The tractor frame has its origin at the drive-axle centre. The front axle
   is at ``x = L1 = a1 + b1``, the centre of gravity at ``x = b1`` and the
@@ -30,7 +30,7 @@ from mjcf import schema
 from mjcf.schema import VehicleFileError
 
 G = 9.81
-"""Gravitational acceleration [m/s^2], as used for the seed's axle loads."""
+"""Gravitational acceleration [m/s^2], as used for the paper's axle loads."""
 
 GEOMETRY_TOL = 1e-3
 """Tolerance on geometric consistency checks [m]: one millimetre."""

@@ -17,7 +17,7 @@ so its partial velocities, the columns of ``dV2/dw``, are ``(1, 0)``,
 
 with ``a(w)`` the velocity-product part of each acceleration, including the
 rotating frame's ``r x V``. The equations ``M w_dot + h = Q`` reproduce the
-seed's (11) and (13). Its (12) agrees once the printed ``psi_1_ddot`` in the
+paper's (11) and (13). Its (12) agrees once the printed ``psi_1_ddot`` in the
 first row is read as ``psi_1_dot**2``.
 
 The speed ``u`` is prescribed, so the first row only sets the traction force.

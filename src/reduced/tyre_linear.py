@@ -1,7 +1,7 @@
 """Linear axle tyre of the single-track model, eq. (14), with transient slip.
 
 Force: ``F_y = f * Fz * alpha'``. The axle cornering stiffness ``C = f * Fz``
-scales with the static axle load, as the seed's normalised stiffness does.
+scales with the static axle load, as the paper's normalised stiffness does.
 The force is linear: no saturation.
 
 Slip from the travel direction. The steady-state slip angle is

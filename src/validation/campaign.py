@@ -10,7 +10,7 @@ Stages, each timed and each resumable:
    and one tuned vehicle file per load condition in ``OUT/params``;
 3. **validation**: every model through the closed-loop harness on every other
    log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``;
-4. **tables**: the seed's Table 2 and Table 3 columns, overall and per load
+4. **tables**: the paper's Table 2 and Table 3 columns, overall and per load
    (``table2_forward``, ``table3_reverse``, ``.csv`` and ``.md``);
 5. **efficiency**: wall time per simulated second of each model (``efficiency.csv``);
 6. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
@@ -238,9 +238,9 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     with stage("tables"):
         forward, reverse = summary(metrics, "forward"), summary(metrics, "reverse")
         paths["table2"], _ = write_table(forward, out_dir / "table2_forward",
-                                         "Forward driving (the seed's Table 2 columns)")
+                                         "Forward driving (the paper's Table 2 columns)")
         paths["table3"], _ = write_table(reverse, out_dir / "table3_reverse",
-                                         "Reverse driving (the seed's Table 3 columns)")
+                                         "Reverse driving (the paper's Table 3 columns)")
         per_load = {}
         for load in LOADS:
             part = metrics[metrics["load"] == load]

@@ -1,6 +1,6 @@
 """Computational efficiency: wall time per simulated second of each model.
 
-The seed reports its kinematic model 90 % and its single-track model 60 %
+The paper reports its kinematic model 90 % and its single-track model 60 %
 faster than its multibody model, that is wall-time ratios KIN/MBD = 0.1 and
 STM/MBD = 0.4. Here every model runs the same logs through the same harness,
 one after the other in one process with nothing else running, so the ratios
@@ -21,7 +21,7 @@ from validation.logio import Run
 from validation.validate import model_factory
 
 PAPER_RATIO = {"kin": 0.1, "stm": 0.4, "mbd": 1.0}
-"""Wall-time ratio to the multibody model reported by the seed (90 % and 60 % faster)."""
+"""Wall-time ratio to the multibody model reported by the paper (90 % and 60 % faster)."""
 
 
 def measure(logs: Sequence[tuple[Vehicle, Run]], models: Sequence[str],
@@ -43,7 +43,7 @@ def measure(logs: Sequence[tuple[Vehicle, Run]], models: Sequence[str],
     DataFrame
         Per model: ``simulated_s``, ``build_s`` (construction, per run),
         ``wall_s`` (stepping), ``wall_per_sim_s``, ``real_time_factor``, and
-        ``ratio_to_mbd`` with the seed's ``paper_ratio`` beside it.
+        ``ratio_to_mbd`` with the paper's ``paper_ratio`` beside it.
     """
     rows = []
     for name in models:

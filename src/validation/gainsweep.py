@@ -2,7 +2,7 @@
 
 The harness adds ``K (gamma_model - gamma_measured)`` to the steering while
 reversing. Linearised about straight reversing, KIN's articulation then has
-the eigenvalue ``u1 (K (L2 - L1c) - L1) / (L1 L2)`` (seed eqs. (6)-(7)), so
+the eigenvalue ``u1 (K (L2 - L1c) - L1) / (L1 L2)`` (the paper's eqs. (6)-(7)), so
 for ``u1 < 0`` the loop is stable only for
 
     K > K_min = L1 / (L2 - L1c).

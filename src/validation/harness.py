@@ -2,7 +2,7 @@
 
 Reversing is open-loop unstable, so a model fed only the measured steering
 drifts away from the measurement. The harness closes the loop the way the
-seed's eq. (5) intends, with the stabilising sign of its eqs. (6)-(7):
+paper's eq. (5) intends, with the stabilising sign of its eqs. (6)-(7):
 
     delta = delta_center(delta_h) + K * (gamma_model - gamma_measured)
 
@@ -44,7 +44,7 @@ from validation.logio import Run, new_frame
 from validation.steering import SteeringMap
 
 DEFAULT_GAIN = 3.0
-"""The seed's feedback gain K [rad/rad]."""
+"""The paper's feedback gain K [rad/rad]."""
 
 SPEED_WINDOW = 0.5
 """Length of the speed filter's window [s] (see the module docstring)."""

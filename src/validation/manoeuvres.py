@@ -1,8 +1,8 @@
-"""Open-loop manoeuvres: steering-wheel and speed profiles of the seed's test matrix.
+"""Open-loop manoeuvres: steering-wheel and speed profiles of the paper's test matrix.
 
 Each profile gives, per sample at 100 Hz, the steering-wheel angle
 ``delta_h`` [rad] (offset included) and the tractor speed ``u1`` [m/s]. The
-amplitude is a steering-wheel angle, as in the seed (200, 360, 500 deg forward;
+amplitude is a steering-wheel angle, as in the paper (200, 360, 500 deg forward;
 30 and 90 deg in reverse). ``side="left"`` steers to positive angles.
 """
 
@@ -16,7 +16,7 @@ import numpy as np
 KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse")
 
 DT = 0.01
-"""Sample period of every profile [s]: 100 Hz, as the seed's INS."""
+"""Sample period of every profile [s]: 100 Hz, as the paper's INS."""
 
 RAMP_TIME = 3.0
 """Time to turn the steering wheel to its amplitude [s]."""

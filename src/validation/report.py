@@ -1,4 +1,4 @@
-"""``report.md``: the campaign's results, discussed as the seed discusses its own.
+"""``report.md``: the campaign's results, discussed as the paper discusses its own.
 
 Every statement about a ranking or a size is computed from the results
 passed in; the fixed prose gives only the reasons that hold for any run of
@@ -58,19 +58,19 @@ def _noise_floor(metrics: pd.DataFrame) -> float | None:
 
 
 def discussion(r: CampaignResults) -> list[str]:
-    """The paragraphs that compare models and set the results against the seed's."""
+    """The paragraphs that compare models and set the results against the paper's."""
     out = []
     fwd, rev = r.forward, r.reverse
     if len(fwd):
         best = _rank(fwd, "eps_n")[0][0]
         text = (f"**Forward.** By eps_n the ranking is {_ranking_text(fwd, 'eps_n', '%')}; by "
                 f"eps_p it is {_ranking_text(fwd, 'eps_p', 'm')}. {best.upper()} is the most "
-                "accurate forward model here; the seed found MBD best (4.83 %), then STM "
+                "accurate forward model here; the paper found MBD best (4.83 %), then STM "
                 "(5.9 %) and KIN (9.26 %).")
         f_fit = [p["fitted"]["stm"]["f"] for p in r.tuned.values() if "stm" in p["fitted"]]
         truth = next((p["truth"] for p in r.tuned.values() if p["truth"]), None)
         if "mbd" in fwd.index and best != "mbd" and f_fit and truth:
-            text += (" The multibody model's tyres are not tuned (the seed, too, tuned its "
+            text += (" The multibody model's tyres are not tuned (the paper, too, tuned its "
                      "MBD only a little), while the truth's lateral stiffness is "
                      f"{truth['LKY']:.2f} times the tyre file's; the STM's fitted f ("
                      + " and ".join(f"{f:.3g}" for f in f_fit) + " /rad against the "
@@ -82,10 +82,10 @@ def discussion(r: CampaignResults) -> list[str]:
         steer = _rank(rev, "J_steer")
         out.append(
             f"**Reverse.** By eps_n the ranking is {_ranking_text(rev, 'eps_n', '%')}, so "
-            f"{best.upper()} is the most accurate reversing model here (the seed: STM, "
+            f"{best.upper()} is the most accurate reversing model here (the paper: STM, "
             f"27.7 %). The steering-effort ranking J_steer is "
             f"{_ranking_text(rev, 'J_steer', '%')}: {steer[0][0].upper()} needs the least "
-            "correction from the harness to follow the measured articulation (the seed: STM "
+            "correction from the harness to follow the measured articulation (the paper: STM "
             "21.15 %, MBD 26.14 %, KIN 26.96 %). A model whose articulation dynamics match "
             "the truck's needs little feedback, so J_steer ranks the models' reversing "
             "dynamics directly, independent of the gain's size as long as the loop is stable.")
@@ -93,16 +93,16 @@ def discussion(r: CampaignResults) -> list[str]:
         vs = versus_paper(fwd, PAPER_FORWARD)
         ratio = vs[[c for c in vs.columns if c.endswith("ratio")]]
         out.append(
-            "**Against the seed's Table 2.** Our forward errors are "
+            "**Against the paper's Table 2.** Our forward errors are "
             f"{np.nanmin(ratio.to_numpy()):.2g} to {np.nanmax(ratio.to_numpy()):.2g} times the "
-            "seed's. The measurement here is synthetic: artic's multibody plant in a truth "
+            "paper's. The measurement here is synthetic: artic's multibody plant in a truth "
             "configuration (steering ratio, steering-wheel offset and tyre scaling drawn from "
-            "the seed) with modelled sensors. What real logs add and these lack: a real "
+            "the paper) with modelled sensors. What real logs add and these lack: a real "
             "tyre's load and temperature dependence, suspension and frame compliance, road "
             "crossfall and grip variation, driver speed variation, and GNSS multipath. The "
             "position error eps_p of open-loop forward runs grows with the drift of heading, "
             "which those effects dominate on a real truck; it is therefore the criterion "
-            "furthest from the seed's.")
+            "furthest from the paper's.")
     floor = _noise_floor(r.metrics)
     if floor is not None:
         out.append(
@@ -113,23 +113,23 @@ def discussion(r: CampaignResults) -> list[str]:
     if len(rev) and set(rev.index) & set(PAPER_REVERSE.index):
         vs = versus_paper(rev, PAPER_REVERSE)
         out.append(
-            "**Against the seed's Table 3.** Reverse eps_n here is "
-            + ", ".join(f"{m.upper()} {vs.loc[m, 'eps_n']:.3g} % (seed "
-                        f"{vs.loc[m, 'eps_n (seed)']:.3g} %)" for m in vs.index)
+            "**Against the paper's Table 3.** Reverse eps_n here is "
+            + ", ".join(f"{m.upper()} {vs.loc[m, 'eps_n']:.3g} % (paper "
+                        f"{vs.loc[m, 'eps_n (paper)']:.3g} %)" for m in vs.index)
             + ". The synthetic docking and parking runs come from a driver model that steers "
-            "smoothly and stops at the dock; the seed's experienced driver shuffled and "
+            "smoothly and stops at the dock; the paper's experienced driver shuffled and "
             "corrected more, and its reverse runs reached 40 to 45 deg of articulation on "
             "average. Reverse yaw rates are small, so eps_n, which divides by them, is large "
             "in both.")
     if r.efficiency is not None and "ratio_to_mbd" in r.efficiency:
         e = r.efficiency
         parts = [f"{m.upper()}/MBD = {e.loc[m, 'ratio_to_mbd']:.3g} "
-                 f"(seed {e.loc[m, 'paper_ratio']:.2g})" for m in e.index if m != "mbd"]
+                 f"(paper {e.loc[m, 'paper_ratio']:.2g})" for m in e.index if m != "mbd"]
         out.append(
             "**Efficiency.** Wall time per simulated second, as ratios to the multibody "
             f"plant: {'; '.join(parts)}. The reduced models are compiled (numba) and the "
             "plant steps MuJoCo with a compiled tyre callback, so the ratios compare "
-            "implementations as much as models; the seed's figures (KIN 90 % and STM 60 % "
+            "implementations as much as models; the paper's figures (KIN 90 % and STM 60 % "
             "faster) compare its own implementations.")
     return out
 
@@ -177,21 +177,21 @@ def render(r: CampaignResults) -> str:
         f"{r.seed}; models {', '.join(r.models)}; reversing feedback K = {r.gain:g}; "
         f"wall time {total:.0f} s.", "",
         "## Discussion", "", *[p + "\n" for p in discussion(r)],
-        "## Forward driving (the seed's Table 2)", "",
+        "## Forward driving (the paper's Table 2)", "",
         "Mean over the forward manoeuvres not used for tuning. Forward, the harness's "
         "feedback is off: the models run open loop from the measured steering and speed.", "",
         markdown(r.forward), "",
-        "Beside the seed's values:", "", markdown(versus_paper(r.forward, PAPER_FORWARD)), "",
-        "## Reverse driving (the seed's Table 3)", "",
+        "Beside the paper's values:", "", markdown(versus_paper(r.forward, PAPER_FORWARD)), "",
+        "## Reverse driving (the paper's Table 3)", "",
         f"Mean over all reverse manoeuvres, closed loop with K = {r.gain:g}.", "",
         markdown(r.reverse), "",
-        "Beside the seed's values:", "", markdown(versus_paper(r.reverse, PAPER_REVERSE)), "",
+        "Beside the paper's values:", "", markdown(versus_paper(r.reverse, PAPER_REVERSE)), "",
     ]
     for load, table in r.per_load.items():
         lines += [f"### {load}", "", markdown(table), ""]
     lines += ["## Tuning", "",
               "Each load condition fitted on its own 4 forward tuning manoeuvres (8 in "
-              "all, as in the seed) by the normalised criteria of eq. (9) (see "
+              "all, as in the paper) by the normalised criteria of eq. (9) (see "
               "`validation/tuning.py`).", "", *_tuning_text(r), ""]
     if r.efficiency is not None:
         lines += ["## Computational efficiency", "",

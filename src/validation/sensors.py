@@ -1,6 +1,6 @@
 """Sensor models of a measured run: RTK GNSS, the inertial unit, the CAN bus.
 
-Figures typical of an RTK-corrected automotive INS (such as the seed's OXTS
+Figures typical of an RTK-corrected automotive INS (such as the paper's OXTS
 RT3000) and of a truck CAN bus:
 
 - position: RTK noise as a first-order Gauss-Markov process, 10 mm standard

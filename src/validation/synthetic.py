@@ -5,7 +5,7 @@ on the multibody plant in a *truth configuration*. It measures each run
 through :mod:`validation.sensors` and writes it as an OXTS-style export, so
 that it comes back in through the same importer as real logs.
 
-Truth configuration, drawn once per campaign from the seed: the steering
+Truth configuration, drawn once per campaign from its random seed: the steering
 ratio differs from the preset's by a 2 % standard deviation, the
 steering-wheel offset is 5 deg with a 0.5 deg spread, and the tyres' cornering
 stiffness (``LKY``) and friction (``LMUY``) scale by 5 % and 3 %. Tuning has
@@ -75,7 +75,7 @@ def _drive_profile(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMa
     plant.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=float(u[0])))
     # The driver brakes (1 m/s^2) at 30-38 deg, earlier the faster the
     # combination goes; the articulation grows on while it stops, to 33-48 deg
-    # (the seed's runs peaked at 45 on average).
+    # (the paper's runs peaked at 45 on average).
     stop_at = math.radians(rng.uniform(30.0, 38.0) - 1.5 * (m.speed_kph - 3.0))
     n_max = prof.t.size if m.kind != "ramp-steer-reverse" else int(120 / 0.01)
     obs, dh, speed = [], [], []

@@ -1,7 +1,7 @@
-"""The summary tables: the seed's Table 2 (forward) and Table 3 (reverse).
+"""The summary tables: the paper's Table 2 (forward) and Table 3 (reverse).
 
 Each table is the mean of the criteria per model over the manoeuvres of one
-direction, as the seed reports them. The seed's own values are kept here for
+direction, as the paper reports them. The paper's own values are kept here for
 comparison; they come from its Tables 2 and 3 (a Scania tractor with a
 tri-axle semitrailer on a test track, 17 forward and 33 reverse manoeuvres).
 """
@@ -22,13 +22,13 @@ PAPER_FORWARD = pd.DataFrame(
     {"eps_a": [0.0064, 0.0049, 0.0037], "eps_v": [0.0431, 0.0211, 0.0159],
      "eps_p": [3.06, 2.51, 1.72], "eps_n": [9.26, 5.9, 4.83]},
     index=pd.Index(["kin", "stm", "mbd"], name="model"))
-"""The seed's Table 2 (forward driving)."""
+"""The paper's Table 2 (forward driving)."""
 
 PAPER_REVERSE = pd.DataFrame(
     {"eps_a": [0.0072, 0.0069, 0.0080], "eps_v": [0.039, 0.032, 0.034],
      "J_steer": [26.96, 21.15, 26.14], "eps_n": [32.36, 27.7, 30.78]},
     index=pd.Index(["kin", "stm", "mbd"], name="model"))
-"""The seed's Table 3 (reverse driving)."""
+"""The paper's Table 3 (reverse driving)."""
 
 
 def summary(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
@@ -58,7 +58,7 @@ def markdown(df: pd.DataFrame, digits: int = 4) -> str:
 
 
 def versus_paper(ours: pd.DataFrame, paper: pd.DataFrame) -> pd.DataFrame:
-    """Side by side: our value, the seed's, and their ratio, per model and criterion."""
+    """Side by side: our value, the paper's, and their ratio, per model and criterion."""
     rows = {}
     for model in ours.index:
         row = {}
@@ -66,7 +66,7 @@ def versus_paper(ours: pd.DataFrame, paper: pd.DataFrame) -> pd.DataFrame:
             a = float(ours.loc[model, c])
             b = float(paper.loc[model, c]) if model in paper.index else float("nan")
             row[f"{c}"] = a
-            row[f"{c} (seed)"] = b
+            row[f"{c} (paper)"] = b
             row[f"{c} ratio"] = a / b if b else float("nan")
         rows[model] = row
     out = pd.DataFrame.from_dict(rows, orient="index")

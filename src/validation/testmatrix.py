@@ -1,10 +1,10 @@
-"""The seed's test matrix (section 2.3), spread over both load conditions.
+"""The paper's test matrix (section 2.3), spread over both load conditions.
 
 Forward, 25 manoeuvres:
 
 - constant steer at 200, 360 and 500 deg of steering wheel, 5 and 10 km/h,
   left and right: all 12 cells unloaded, and the same 12 loaded except
-  500 deg at 10 km/h to the right (the seed ran 25 forward, not 26);
+  500 deg at 10 km/h to the right (the paper ran 25 forward, not 26);
 - a slalom at 5 km/h (200 deg, unloaded) and a figure-of-8 at 5 km/h
   (360 deg, loaded).
 

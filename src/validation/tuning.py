@@ -1,6 +1,6 @@
 """Tuning: fit each model's free parameters to forward manoeuvres.
 
-The seed tunes the normalised cornering stiffness ``f`` (STM), the steering
+The paper tunes the normalised cornering stiffness ``f`` (STM), the steering
 ratio ``i_s`` and the asymmetry ``q`` (all models) on 8 forward manoeuvres,
 by its error criteria. artic also fits the steering-wheel offset, which the
 seed removes by hand.
@@ -17,7 +17,7 @@ sum of squares over a signal is then exactly that signal's
 terms whose sum is ``eps_n``. ``scipy.optimize.least_squares`` (trust-region
 reflective) works in coordinates scaled to the bounds, so all parameters
 weigh alike. Forward, the harness's feedback is off, so the fit sees the
-models' open-loop response, as the seed's does.
+models' open-loop response, as the paper's does.
 
 Bounds. ``i_s`` within 25 % of its nominal value; ``q`` from 0 (the
 parameter files' domain: a linkage driven from the left wheel) to 0.04 /rad
