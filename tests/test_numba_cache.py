@@ -32,3 +32,24 @@ def test_cache_folder_in_use():
 def test_user_setting_wins(monkeypatch):
     monkeypatch.setenv("NUMBA_CACHE_DIR", "/somewhere")
     assert _cache.configure() is None
+
+
+def test_old_folders_go_after_a_month(tmp_path, monkeypatch):
+    import os
+    import time
+
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    saved = numba.config.CACHE_DIR
+    base = tmp_path / "artic" / "numba"
+    recent, stale = base / "recent", base / "stale"
+    for d in (recent, stale):
+        d.mkdir(parents=True)
+    old = time.time() - (_cache.STALE_DAYS + 1) * 86400
+    os.utime(stale, (old, old))
+    try:
+        folder = _cache.configure()
+    finally:
+        numba.config.CACHE_DIR = saved
+    assert folder == base / _cache.source_hash()
+    assert recent.is_dir() and not stale.exists()  # another environment may use "recent"

@@ -5,8 +5,9 @@ A cached function that calls into another module (``rk4_step`` into the STM's
 right-hand side, the harness loop into both) keeps the old callee after that
 module is edited, and silently computes the old equations. So artic's
 functions are cached in a folder named by the hash of every artic source
-file: editing any of them moves the cache to a fresh folder, and the stale
-folders are removed. Setting ``NUMBA_CACHE_DIR`` yourself overrides this.
+file: editing any of them moves the cache to a fresh folder. Folders no
+version has used for :data:`STALE_DAYS` are removed. Setting
+``NUMBA_CACHE_DIR`` yourself overrides this.
 
 Imported by ``reduced`` before any compiled function is defined; the folder
 is chosen when a function is decorated.
@@ -17,11 +18,15 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
+import time
 from pathlib import Path
 
 import numba
 
 PACKAGES = ("mjcf", "plant", "reduced", "validation")
+
+STALE_DAYS = 30
+"""Cache folders unused for this long are removed [days]."""
 
 
 def source_hash(root: Path | None = None) -> str:
@@ -46,8 +51,12 @@ def configure() -> Path | None:
     folder = base / source_hash()
     try:
         folder.mkdir(parents=True, exist_ok=True)
+        os.utime(folder)  # in use: its age counts from now
+        # Folders of other versions (another environment may still use one)
+        # go once nothing has used them for STALE_DAYS.
+        cutoff = time.time() - STALE_DAYS * 86400.0
         for old in base.iterdir():
-            if old != folder and old.is_dir():
+            if old != folder and old.is_dir() and old.stat().st_mtime < cutoff:
                 shutil.rmtree(old, ignore_errors=True)
     except OSError:  # a read-only home: numba falls back to its own locations
         return None
