@@ -174,12 +174,15 @@ class Objective:
         return np.concatenate(out)
 
     def eps_n(self, x: np.ndarray) -> float:
-        """Mean over the logs of the eq. (9) normalised error [%] at ``x``.
+        """Mean over the logs of the eq. (9) normalised error [%] at ``x``."""
+        return self.eps_n_of(self.residuals(x))
+
+    def eps_n_of(self, flat: np.ndarray) -> float:
+        """:meth:`eps_n` from residuals already computed (no simulation).
 
         Each signal's residuals have the root sum of squares ``eps / mean_abs``,
         so their sum per log is ``eps_n / 100``.
         """
-        flat = self.residuals(x)
         per_log, k = [], 0
         for sw, _, _ in self._meas:
             total = 0.0
@@ -213,7 +216,7 @@ def tune_model(model: str, vehicle: Vehicle, logs: Sequence[Run], jobs: int = 1,
     fit = Fit(model=model, bounds=obj.bounds, fitted=dict(zip(obj.names, map(float, x),
                                                               strict=True)),
               cost_before=before, cost_after=float(2.0 * sol.cost),
-              eps_n_before=obj.eps_n(x0), eps_n_after=obj.eps_n(x),
+              eps_n_before=obj.eps_n_of(r0), eps_n_after=obj.eps_n_of(sol.fun),
               evaluations=obj.evaluations, wall_s=time.perf_counter() - t0,
               at_bound=[n for n, z in zip(obj.names, sol.x, strict=True)
                         if z < 1e-4 or z > 1 - 1e-4])
