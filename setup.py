@@ -24,7 +24,7 @@ setup(
     ext_modules=[
         Extension(
             "plant._tyre_c",
-            sources=["src/plant/_tyre_c.c"],
+            sources=["plant/_tyre_c.c"],
             include_dirs=mujoco_include(),
             extra_compile_args=["-O2", "-std=c99"],
             optional=True,

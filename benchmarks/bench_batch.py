@@ -17,11 +17,11 @@ from mjcf import load_vehicle
 from reduced import KinematicModel, SingleTrackModel
 from validation.batch import run_batch
 from validation.harness import loop_inputs, run_inputs
-from validation.logio import Run
-from validation.manoeuvres import make_profile
-from validation.schema import COLUMNS
+from validation.logs.runfile import Run
+from validation.logs.schema import COLUMNS
 from validation.simulate import simulate
 from validation.steering import SteeringMap
+from validation.synthetic.manoeuvres import make_profile
 
 CELLS = [(200, 5), (500, 5), (360, 5), (360, 10)]
 

@@ -21,12 +21,12 @@ from _timing import REPEATS, best_wall
 from mjcf import load_vehicle
 from reduced import KinematicModel, SingleTrackModel
 from validation.harness import run_closed_loop
-from validation.logio import Run
-from validation.manoeuvres import make_profile
+from validation.logs.runfile import Run
+from validation.logs.schema import COLUMNS
 from validation.pathdist import distance_to_polyline
-from validation.schema import COLUMNS
 from validation.simulate import drive_articulation, simulate
 from validation.steering import SteeringMap
+from validation.synthetic.manoeuvres import make_profile
 
 
 def _logs(v):

@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from mjcf import load_vehicle
-from validation.logio import Run
-from validation.schema import COLUMNS
+from validation import runtime
+
+# As the artic command does: numba's cache folder before any compiled model is imported.
+runtime.configure()
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/shared_data.py
+
+from mjcf import load_vehicle  # noqa: E402
+from validation.logs.runfile import Run  # noqa: E402
+from validation.logs.schema import COLUMNS  # noqa: E402
 
 PRESETS = ("gosar2022-unloaded", "gosar2022-loaded", "six-axle")
 

@@ -11,10 +11,10 @@ import pandas as pd
 import pytest
 
 from mjcf import load_vehicle
-from validation.campaign import run_campaign
-from validation.logio import read_run
-from validation.recording import read_rows
-from validation.testmatrix import MATRIX, TUNING
+from validation.campaign.main import run_campaign
+from validation.campaign.recording import read_rows
+from validation.logs.runfile import read_run
+from validation.synthetic.testmatrix import MATRIX, TUNING
 
 PART = [*[n for n in TUNING if "-unloaded-" in n][:2],
         "02-constant-steer-unloaded-200deg-10kph-left", "27-ramp-steer-reverse", "45-docking"]
@@ -85,7 +85,7 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     pd.testing.assert_frame_equal(again.drop(columns="wall_s"), m.drop(columns="wall_s"))
 
     # A run that fails part way leaves no report behind to be mistaken for its own.
-    import validation.efficiency as eff_module
+    import validation.campaign.efficiency as eff_module
 
     def broken(*a, **k):
         raise RuntimeError("interrupted")

@@ -8,9 +8,9 @@ import pandas as pd
 import pytest
 
 from validation.cli import main
-from validation.logio import read_run
+from validation.logs.runfile import read_run
+from validation.logs.schema import COLUMNS
 from validation.metrics import CRITERIA
-from validation.schema import COLUMNS
 
 
 def test_vehicle_show_json(capsys):
@@ -88,7 +88,7 @@ def test_user_errors_exit_2_with_message(tmp_path, capsys):
 def test_validate_refuses_duplicate_log_names(tmp_path, capsys):
     from conftest import straight_log
     from mjcf import load_vehicle
-    from validation.validate import validate_runs
+    from validation.campaign.validate import validate_runs
 
     with pytest.raises(ValueError, match="share the name"):
         validate_runs([straight_log(), straight_log()], load_vehicle("six-axle"), ["kin"])

@@ -8,9 +8,10 @@ import mujoco
 import numpy as np
 import pytest
 
+from mjcf.interface import InitialState
 from plant import Plant, PlantWarning, callback, ctyre
 from plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
-from reduced import InitialState
+from shared_data import REFERENCE_TYRE, needs
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -37,11 +38,9 @@ def random_states(n: int, seed: int = 0) -> dict[str, np.ndarray]:
     }
 
 
-@pytest.mark.parametrize("which", ["artic", "shared"])
+@pytest.mark.parametrize("which", ["artic", pytest.param("shared", marks=needs(REFERENCE_TYRE))])
 def test_compiled_forces_equal_the_numpy_reference(which, unloaded):
-    from test_tyre import TIR
-
-    p = TyreParams.from_tir(unloaded.tyre_file if which == "artic" else TIR)
+    p = TyreParams.from_tir(unloaded.tyre_file if which == "artic" else REFERENCE_TYRE)
     s = random_states(10_000)
     c = ctyre.evaluate(p, **s)
     Fx, Fy = transient_forces(p, s["Fz"], s["Vx"], s["Vsx"], s["Vy"], s["u"], s["v"], s["side"])

@@ -5,9 +5,9 @@ from __future__ import annotations
 import pytest
 
 from conftest import straight_log
-from validation.executors import cluster_executor
-from validation.synthetic import generate_campaign
-from validation.validate import validate_runs
+from validation.campaign.executors import cluster_executor
+from validation.campaign.validate import validate_runs
+from validation.synthetic.generate import generate_campaign
 
 
 def test_executor_choices_are_checked():

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from conftest import straight_log
-from validation.gainsweep import gain_sweep, plot_gain_sweep, stability_bound, sweep_table
+from validation.campaign.gainsweep import gain_sweep, plot_gain_sweep, stability_bound, sweep_table
 
 
 def test_bound_is_eq7(unloaded):

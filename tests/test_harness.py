@@ -11,10 +11,10 @@ from conftest import as_log, straight_log
 from reduced import KinematicModel, SingleTrackModel
 from reduced.kinematic import kin_rhs
 from validation.harness import run_closed_loop
-from validation.manoeuvres import make_profile
 from validation.metrics import run_metrics
 from validation.simulate import drive_articulation, simulate
 from validation.steering import SteeringMap
+from validation.synthetic.manoeuvres import make_profile
 
 U_REV = -3.0 / 3.6
 G0 = math.radians(1.0)

@@ -13,12 +13,12 @@ from hypothesis import strategies as st
 from mjcf import load_vehicle
 from reduced import SingleTrackModel
 from validation.cli import main
-from validation.importers import import_source
-from validation.logio import LogError, Run, check_frame, read_run
-from validation.manoeuvres import make_profile
-from validation.oxts import export_mat, export_oxts, import_oxts, import_tables
-from validation.schema import COLUMNS
+from validation.logs.importers import import_source
+from validation.logs.oxts import export_mat, export_oxts, import_oxts, import_tables
+from validation.logs.runfile import LogError, Run, check_frame, read_run
+from validation.logs.schema import COLUMNS
 from validation.simulate import simulate
+from validation.synthetic.manoeuvres import make_profile
 
 
 @pytest.fixture(scope="module")

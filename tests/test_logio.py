@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import straight_log
-from validation.logio import LogError, Run, atomic_write, check_frame, read_run, write_run
+from validation.logs.runfile import LogError, Run, atomic_write, check_frame, read_run, write_run
 
 
 def good_log() -> Run:

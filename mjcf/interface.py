@@ -1,0 +1,79 @@
+"""What every model shares with the harness: signals, initial state, angle helpers.
+
+The harness (:mod:`validation.models` holds its protocol) drives KIN, STM and
+the multibody plant alike. Each is built from a :class:`mjcf.vehicle.Vehicle`
+and offers these calls:
+
+- ``reset(initial)`` places the combination at an :class:`InitialState`,
+  taken from a log's first sample;
+- ``step(dt, delta, u1, u1_dot)`` advances by ``dt`` [s] with the road-wheel
+  angle ``delta`` [rad] held and the tractor's longitudinal speed rising
+  linearly from ``u1`` [m/s] at rate ``u1_dot`` [m/s^2];
+- ``observe(delta)`` returns the signals a measured log has, in
+  :data:`OBSERVATION` order, at the two sensor points, with ``delta`` the
+  road-wheel angle about to be held (a kinematic model's yaw rate follows it
+  at once);
+- ``gamma`` is the current articulation angle [rad].
+
+``u1`` is the longitudinal velocity of the tractor in its own axes. For a rigid
+tractor it is the same at every point on its centre line, so the drive axle,
+the centre of gravity and a sensor with ``y = 0`` all see it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+OBSERVATION = (
+    "x_1", "y_1", "psi_1", "v_x_1", "v_y_1", "r_1",
+    "x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2",
+    "gamma",
+)
+"""Observed signals, in the order ``observe()`` returns them (SI, ISO 8855)."""
+
+OBS_INDEX = {name: i for i, name in enumerate(OBSERVATION)}
+
+
+@dataclass(frozen=True)
+class InitialState:
+    """Pose and motion of the combination at the start of a run.
+
+    Parameters
+    ----------
+    x_1, y_1 : float
+        Tractor sensor position in the earth-fixed plane [m].
+    psi_1 : float
+        Tractor yaw [rad].
+    gamma : float
+        Articulation angle ``psi_1 - psi_2`` [rad].
+    v_y_1 : float
+        Lateral velocity of the tractor sensor in tractor axes [m/s].
+    r_1, r_2 : float
+        Yaw rates of tractor and semitrailer [rad/s].
+    u1 : float
+        Tractor longitudinal speed [m/s].
+    """
+
+    x_1: float
+    y_1: float
+    psi_1: float
+    gamma: float
+    v_y_1: float = 0.0
+    r_1: float = 0.0
+    r_2: float = 0.0
+    u1: float = 0.0
+
+
+def wrap_angle(a: float | np.ndarray) -> float | np.ndarray:
+    """Wrap an angle to (-pi, pi] [rad]."""
+    out = np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2.0 * np.pi)
+    return float(out) if out.ndim == 0 else out
+
+
+def rotate(psi: float, x: float, y: float) -> tuple[float, float]:
+    """Rotate a body-frame vector by yaw ``psi`` into the earth-fixed plane."""
+    c, s = math.cos(psi), math.sin(psi)
+    return c * x - s * y, s * x + c * y

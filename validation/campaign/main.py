@@ -1,0 +1,349 @@
+"""The main job: the validation campaign on the embedded default.
+
+Stages, each timed and each resumable:
+
+1. **logs**: the synthetic measured campaign (:mod:`validation.synthetic.generate`),
+   generated on first use into ``OUT/synthetic`` and imported through the
+   same importer as real logs into ``OUT/logs``;
+2. **tuning**: every model's parameters fitted per load condition on its 4
+   forward tuning manoeuvres (:mod:`validation.campaign.tuning`); ``OUT/tuning.json``,
+   and one tuned vehicle file per load condition in ``OUT/params``;
+3. **validation**: every model through the closed-loop harness on every other
+   log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``;
+4. **tables**: the paper's Table 2 and Table 3 columns, overall and per load
+   (``table2_forward``, ``table3_reverse``, ``.csv`` and ``.md``);
+5. **efficiency**: wall time per simulated second of each model (``efficiency.csv``);
+6. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
+7. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
+8. **report**: ``report.md``, written last.
+
+Resuming. Every cached result carries a key: the hash of artic's code, the
+seed, the models and the gain (:mod:`validation.campaign.fingerprint`). A rerun
+reuses what matches and redoes the rest, so an interrupted campaign picks up
+where it stopped. ``report.md`` is deleted when a run starts and written only
+when every stage has finished, and every file is written atomically, so no
+half-written result looks complete.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor
+from pathlib import Path
+
+import pandas as pd
+
+from mjcf.vehicle import Vehicle, load_vehicle
+from mjcf.writer import fitted_changes, updated, write_vehicle
+from validation.campaign import fingerprint
+from validation.campaign.executors import cluster_executor
+from validation.campaign.tables import summary, write_table
+from validation.campaign.validate import stderr_progress, validate_runs, write_metrics
+from validation.harness import DEFAULT_GAIN
+from validation.logs.importers import import_source
+from validation.logs.runfile import Run, atomic_write_text, read_run, write_run
+from validation.models import NAMES
+from validation.synthetic.generate import generate_campaign
+from validation.synthetic.testmatrix import TUNING
+
+LOADS = ("unloaded", "loaded")
+PRESET = "gosar2022-{load}"
+
+
+class Stages:
+    """Wall time per stage, with progress lines."""
+
+    def __init__(self, progress: Callable[[str], None]) -> None:
+        self.times: dict[str, float] = {}
+        self.progress = progress
+        self._name = ""
+        self._t0 = 0.0
+
+    def __call__(self, name: str) -> Stages:
+        """Name the stage the next ``with`` block times."""
+        self._name = name
+        return self
+
+    def __enter__(self) -> Stages:
+        self._t0 = time.perf_counter()
+        self.progress(f"== {self._name}")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.times[self._name] = time.perf_counter() - self._t0
+        if exc[0] is None:
+            self.progress(f"== {self._name}: {self.times[self._name]:.1f} s")
+
+
+def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
+              only: list[str] | None = None, executor: Executor | None = None) -> list[Run]:
+    """Generate (or reuse) the synthetic campaign and import it (or reuse the import)."""
+    exports = generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
+                                jobs=jobs, only=only, executor=executor)
+    logs = []
+    for folder in exports:
+        target = out_dir / "logs" / f"{folder.name}.parquet"
+        if target.is_file() and target.stat().st_mtime >= (folder / "meta.json").stat().st_mtime:
+            logs.append(read_run(target))
+            continue
+        run, report = import_source(folder)
+        for line in report:
+            stderr_progress(f"repaired: {line}")
+        write_run(run, target)
+        logs.append(run)
+    return logs
+
+
+def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
+          jobs: int) -> dict:
+    """Tuning per load condition, reused from ``tuning.json`` when its key matches.
+
+    Each load condition is tuned on its own tuning manoeuvres with its own
+    preset. A load condition without tuning logs (a part of the campaign)
+    keeps the preset's values, and says so.
+    """
+    from validation.campaign.tuning import tune_model
+
+    path = out_dir / "tuning.json"
+    if path.is_file():
+        saved = json.loads(path.read_text())
+        if saved.get("key") == key:
+            stderr_progress(f"tuning reused from {path}")
+            return saved
+    out: dict = {"key": key, "loads": {}}
+    for load in LOADS:
+        tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
+        if not tuning:
+            stderr_progress(f"{load}: no tuning manoeuvre among the logs; the preset's "
+                            "parameters are used untuned")
+            continue
+        vehicle = load_vehicle(PRESET.format(load=load))
+        rows, summary_rows, fitted = [], [], {}
+        for m in models:
+            fit = tune_model(m, vehicle, tuning, jobs,
+                             lambda line, load=load: stderr_progress(f"{load}: {line}"))
+            rows += [{"load": load, **row} for row in fit.rows()]
+            fitted[m] = fit.fitted
+            summary_rows.append({"load": load, "model": m, "eps_n_before": fit.eps_n_before,
+                                 "eps_n_after": fit.eps_n_after,
+                                 "cost_before": fit.cost_before, "cost_after": fit.cost_after,
+                                 "evaluations": fit.evaluations, "wall_s": fit.wall_s})
+        out["loads"][load] = {"logs": [log.name for log in tuning], "rows": rows,
+                              "summary": summary_rows, "fitted": fitted,
+                              "truth": tuning[0].meta.get("truth", {}),
+                              "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
+    if not out["loads"]:
+        raise ValueError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
+                         f"({', '.join(TUNING[:2])}, ...)")
+    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
+    return out
+
+
+def _tuned_vehicles(out_dir: Path, tuned: dict, seed: int) -> dict[str, Vehicle]:
+    out = {}
+    for load in LOADS:
+        base = load_vehicle(PRESET.format(load=load))
+        part = tuned["loads"].get(load)
+        if part is None:
+            out[load] = base
+            continue
+        data = updated(PRESET.format(load=load), fitted_changes(base, part["fitted"]),
+                       f"Tuned by artic on the synthetic campaign (seed {seed}), on the "
+                       f"{load} forward tuning manoeuvres {', '.join(part['logs'])}: see "
+                       "tuning.json beside this file's folder", name=f"{base.name}-tuned")
+        out[load] = write_vehicle(data, out_dir / "params" / f"{base.name}.tuned.toml")
+    return out
+
+
+def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
+                 jobs: int | None = None, only: list[str] | None = None,
+                 gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
+                 recordings: bool = True, executor: str = "local",
+                 scheduler: str | None = None) -> dict[str, Path]:
+    """Run the campaign; see the module docstring.
+
+    Parameters
+    ----------
+    out_dir : Path
+        Output folder.
+    models : tuple of str
+        Models to tune and validate.
+    seed : int
+        Seed of the synthetic campaign.
+    jobs : int, optional
+        Processes for generation, threads for the plant; the number of cores by default.
+    only : list of str, optional
+        Manoeuvre names or prefixes: a part of the campaign (tests, studies).
+    gain : float
+        Reversing feedback gain K [rad/rad].
+    sweep_models : tuple of str
+        Models in the gain sweep (the plant makes it long: 33 logs per gain).
+    recordings : bool
+        Write the Rerun recordings.
+    executor, scheduler : str
+        Where generation and validation run: ``local`` or ``dask``, and a
+        Dask scheduler's address (a local cluster when omitted); see
+        :mod:`validation.campaign.executors`.
+
+    Returns
+    -------
+    dict
+        Result files by name.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    jobs = jobs or os.cpu_count() or 1
+    key = fingerprint.key(seed, list(models), gain, only)
+    (out_dir / "report.md").unlink(missing_ok=True)
+    stage = Stages(stderr_progress)
+    stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, K = {gain:g}, "
+                    f"{jobs} jobs ({executor}), output {out_dir}")
+
+    with contextlib.ExitStack() as stack:
+        pool = stack.enter_context(cluster_executor(executor, jobs, scheduler))
+        return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
+                       key, stage)
+
+
+def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
+            stage) -> dict[str, Path]:
+    from validation.campaign import report as rep
+    from validation.campaign.efficiency import measure
+    from validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
+
+    paths: dict[str, Path] = {}
+    with stage("logs"):
+        logs = load_logs(out_dir, seed, jobs, only, pool)
+    with stage("tuning"):
+        tuned = _tune(out_dir, logs, models, key, jobs)
+        vehicles = _tuned_vehicles(out_dir, tuned, seed)
+        tuning_logs = {n for part in tuned["loads"].values() for n in part["logs"]}
+        paths["tuning"] = out_dir / "tuning.json"
+    with stage("validation"):
+        parts = []
+        for load in LOADS:
+            group = [log for log in logs if log.meta.get("load") == load
+                     and log.name not in tuning_logs]
+            if group:
+                parts.append(validate_runs(group, vehicles[load], models, gain=gain,
+                                           out_dir=out_dir, progress=stderr_progress,
+                                           reuse_key=f"{key}.{load}", jobs=jobs,
+                                           executor=pool))
+        metrics = pd.concat(parts, ignore_index=True)
+        metrics["load"] = metrics["log"].map({log.name: log.meta.get("load") for log in logs})
+        paths["metrics"] = write_metrics(metrics, out_dir / "metrics.csv")
+    with stage("tables"):
+        forward, reverse = summary(metrics, "forward"), summary(metrics, "reverse")
+        paths["table2"], _ = write_table(forward, out_dir / "table2_forward",
+                                         "Forward driving (the paper's Table 2 columns)")
+        paths["table3"], _ = write_table(reverse, out_dir / "table3_reverse",
+                                         "Reverse driving (the paper's Table 3 columns)")
+        per_load = {}
+        for load in LOADS:
+            part = metrics[metrics["load"] == load]
+            for direction in ("forward", "reverse"):
+                t = summary(part, direction)
+                if len(t):
+                    per_load[f"{load}, {direction}"] = t
+    by_name = {log.name: log for log in logs}
+    with stage("efficiency"):
+        sample = _efficiency_sample(metrics, by_name, vehicles)
+        eff = measure(sample, models, repeat=2)
+        eff.to_csv(out_dir / "efficiency.csv", float_format="%.6g")
+        paths["efficiency"] = out_dir / "efficiency.csv"
+    sweep = None
+    if sweep_models:
+        with stage("gain sweep"):
+            rev = {load: (vehicles[load], [log for log in logs if log.meta.get("load") == load
+                                           and log.meta.get("direction") == "reverse"])
+                   for load in LOADS}
+            sweep = _cached_sweep(out_dir, key, sweep_models)
+            if sweep is None:
+                sweep = gain_sweep(rev, [m for m in sweep_models if m in models],
+                                   DEFAULT_GAINS, jobs)
+                atomic_write_text(out_dir / "gain_sweep.json", json.dumps(
+                    {"key": key, "models": list(sweep_models), "K_min": sweep.attrs["K_min"],
+                     "rows": sweep.to_dict(orient="records")}) + "\n")
+            sweep.to_csv(out_dir / "gain_sweep.csv", index=False, float_format="%.6g")
+            plot_gain_sweep(sweep, out_dir / "plots" / "gain_sweep.png", gain)
+            paths["gain_sweep"] = out_dir / "gain_sweep.csv"
+    if recordings:
+        with stage("recordings"):
+            paths.update(_recordings(out_dir, metrics, by_name, vehicles, models))
+    results = rep.CampaignResults(
+        seed=seed, models=tuple(models), gain=gain, metrics=metrics, forward=forward,
+        reverse=reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep, stages=stage.times,
+        fingerprint=fingerprint.code(), version=_version(), per_load=per_load,
+        files={k: str(v.relative_to(out_dir)) for k, v in paths.items()})
+    with stage("report"):
+        draft = rep.render(results)  # the summary recording's copy, before the last timing
+        if recordings:
+            from validation.campaign.recording import record_summary
+
+            paths["summary_recording"] = record_summary(
+                out_dir / "recordings" / "campaign.rrd", metrics, draft)
+    text = rep.render(results)
+    paths["report"] = atomic_write_text(out_dir / "report.md", text)
+    print(text)
+    stderr_progress(f"done in {sum(stage.times.values()):.0f} s; report in {paths['report']}")
+    return paths
+
+
+def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFrame | None:
+    """The gain sweep of an earlier run with the same key and models, if any."""
+    path = out_dir / "gain_sweep.json"
+    if not path.is_file():
+        return None
+    saved = json.loads(path.read_text())
+    if saved.get("key") != key or saved.get("models") != list(models):
+        return None
+    stderr_progress(f"gain sweep reused from {path}")
+    sweep = pd.DataFrame(saved["rows"])
+    sweep.attrs["K_min"] = saved["K_min"]
+    return sweep
+
+
+def _version() -> str:
+    from validation.campaign.recording import artic_version
+
+    return artic_version()
+
+
+def _efficiency_sample(metrics: pd.DataFrame, logs: dict[str, Run],
+                       vehicles: dict[str, Vehicle]) -> list[tuple[Vehicle, Run]]:
+    """Two forward and two reverse logs (the first of each kind) for timing."""
+    out = []
+    for direction in ("forward", "reverse"):
+        names = list(dict.fromkeys(metrics.loc[metrics.direction == direction, "log"]))[:2]
+        out += [(vehicles[logs[n].meta.get("load", "unloaded")], logs[n]) for n in names]
+    return out
+
+
+def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
+                vehicles: dict[str, Vehicle], models: Sequence[str]) -> dict[str, Path]:
+    """One recording per validated manoeuvre, skipped when newer than its runs; a few plots."""
+    from validation.campaign.plots import plot_manoeuvre
+    from validation.campaign.recording import record_manoeuvre
+
+    names = list(dict.fromkeys(metrics["log"]))
+    out = {}
+    for i, name in enumerate(names, start=1):
+        runs = {m: out_dir / "runs" / f"{name}.{m}.parquet" for m in models}
+        target = out_dir / "recordings" / f"{name}.rrd"
+        newest = max(p.stat().st_mtime for p in runs.values())
+        if target.is_file() and target.stat().st_mtime >= newest:
+            continue
+        loaded = {m: read_run(p) for m, p in runs.items()}
+        log = logs[name]
+        record_manoeuvre(target, log, loaded, vehicles[log.meta.get("load", "unloaded")],
+                         metrics[metrics["log"] == name])
+        stderr_progress(f"[{i}/{len(names)}] recorded {target.name}")
+        if log.meta.get("manoeuvre") in ("docking", "constant-steer") and \
+                not (out_dir / "plots" / f"{log.meta['manoeuvre']}.png").is_file():
+            plot_manoeuvre(out_dir / "plots" / f"{log.meta['manoeuvre']}.png", log, loaded)
+    out["recordings"] = out_dir / "recordings"
+    return out

@@ -1,0 +1,307 @@
+"""The ``artic`` command line.
+
+Subcommands:
+
+- ``artic vehicle show VEHICLE [--json]``: the resolved parameter set;
+- ``artic vehicle keys``: the parameter file format;
+- ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
+- ``artic validate LOG.parquet ... --vehicle V --models kin,stm,mbd [--gain K]
+  [--gain-sweep] --out-dir DIR``: metrics and the Table 2/3 summaries;
+- ``artic tune LOG.parquet ... --vehicle V --models kin,stm,mbd --out PARAMS.toml``;
+- ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
+- ``artic logs import SRC... --out-dir DIR``: exports to canonical Parquet;
+- ``artic campaign [--out-dir DIR]``: the main job.
+
+Errors in the user's input end with exit code 2 and a one-line message that
+names the file and what to change; no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from mjcf import schema
+from mjcf.schema import VehicleFileError
+from mjcf.vehicle import load_vehicle
+from validation.harness import DEFAULT_GAIN
+from validation.logs.runfile import LogError, read_run, write_run
+from validation.models import NAMES
+from validation.steering import SteeringRangeError
+from validation.synthetic.manoeuvres import KINDS, make_profile
+
+USER_ERRORS = (VehicleFileError, LogError, SteeringRangeError, ValueError, FileNotFoundError)
+
+
+def _vehicle_show(args: argparse.Namespace) -> int:
+    v = load_vehicle(args.vehicle)
+    flat = v.flat()
+    if args.json:
+        print(json.dumps(flat, indent=2))
+    else:
+        width = max(map(len, flat))
+        for k, val in flat.items():
+            shown = f"{val:.6g}" if isinstance(val, float) else val
+            print(f"{k:<{width}}  {shown}")
+    return 0
+
+
+def _vehicle_keys(args: argparse.Namespace) -> int:
+    print(schema.describe())
+    return 0
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    from validation.models import build
+    from validation.simulate import simulate
+
+    v = load_vehicle(args.vehicle)
+    s = v.steering_for(args.model)
+    profile = make_profile(args.manoeuvre, amplitude_deg=args.amplitude_deg,
+                           speed_kph=args.speed_kph, side=args.side, duration=args.duration,
+                           delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
+    model = build(args.model, v)
+    try:
+        run = simulate(model, v, profile)
+    finally:
+        model.close()
+    write_run(run, args.out)
+    status = run.meta["status"]
+    print(f"wrote {args.out}: {len(run.frame)} samples, {run.frame.t.iloc[-1]:.2f} s"
+          + ("" if status == "ok" else f"; {status}"))
+    return 0
+
+
+def _validate(args: argparse.Namespace) -> int:
+    from validation.campaign.tables import markdown, summary, write_table
+    from validation.campaign.validate import stderr_progress, validate_runs, write_metrics
+    from validation.models import parse_models
+
+    v = load_vehicle(args.vehicle)
+    models = parse_models(args.models)
+    logs = [read_run(p) for p in args.logs]
+    out = Path(args.out_dir)
+    metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
+                            progress=stderr_progress, jobs=args.jobs)
+    path = write_metrics(metrics, out / "metrics.csv")
+    print(f"wrote {path} ({len(metrics)} rows) and {len(metrics)} runs in {out / 'runs'}")
+    for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
+                                   ("reverse", "table3_reverse", "Reverse (Table 3 columns)")):
+        table = summary(metrics, direction)
+        if len(table):
+            write_table(table, out / stem, title)
+            print(f"\n{title}\n\n{markdown(table)}")
+    if args.gain_sweep:
+        from validation.campaign.gainsweep import (
+            DEFAULT_GAINS,
+            gain_sweep,
+            plot_gain_sweep,
+            sweep_table,
+        )
+
+        rev = [log for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
+        if not rev:
+            raise ValueError("--gain-sweep needs reverse logs (the tractor reversing for most "
+                             "of the log); none of the given logs is one")
+        sweep = gain_sweep({"logs": (v, rev)}, models, DEFAULT_GAINS, args.jobs,
+                           stderr_progress)
+        sweep.to_csv(out / "gain_sweep.csv", index=False, float_format="%.6g")
+        plot_gain_sweep(sweep, out / "gain_sweep.png", args.gain)
+        print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
+              f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
+    return 0
+
+
+def _tune(args: argparse.Namespace) -> int:
+    from mjcf.writer import fitted_changes, updated, write_vehicle
+    from validation.campaign.tuning import tune
+    from validation.campaign.validate import stderr_progress
+    from validation.models import parse_models
+
+    v = load_vehicle(args.vehicle)
+    logs = [read_run(p) for p in args.logs]
+    reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
+    if reverse:
+        raise ValueError(f"tuning uses forward manoeuvres; {', '.join(reverse)} reverse(s) "
+                         "for most of the log: leave it out")
+    _, fits = tune(v, logs, parse_models(args.models), args.jobs, stderr_progress)
+    print("model  parameter        nominal      fitted       bounds")
+    for fit in fits:
+        for row in fit.rows():
+            flag = "  (at bound)" if row["at_bound"] else ""
+            print(f"{row['model']:<6} {row['parameter']:<16} {row['nominal']:<12.6g} "
+                  f"{row['fitted']:<12.6g} [{row['lo']:.4g}, {row['hi']:.4g}]{flag}")
+        print(f"{fit.model:<6} eps_n before {fit.eps_n_before:.3f} %, after "
+              f"{fit.eps_n_after:.3f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)")
+    data = updated(args.vehicle, fitted_changes(v, {f.model: f.fitted for f in fits}),
+                   f"Tuned by artic on {', '.join(log.name for log in logs)}",
+                   name=f"{v.name}-tuned")
+    write_vehicle(data, args.out)
+    print(f"wrote {args.out}")
+    return 0
+
+
+def _mjcf(args: argparse.Namespace) -> int:
+    from mjcf.builder import to_xml
+    from validation.logs.runfile import atomic_write_text
+
+    v = load_vehicle(args.vehicle)
+    path = atomic_write_text(args.output, to_xml(v, scene=not args.no_scene))
+    print(f"wrote {path} ({v.name}: {len(v.axles)} axles)")
+    return 0
+
+
+def _logs_import(args: argparse.Namespace) -> int:
+    from validation.logs.importers import import_sources
+
+    for path in import_sources(args.sources, args.out_dir):
+        print(f"wrote {path}")
+    return 0
+
+
+def _logs_generate(args: argparse.Namespace) -> int:
+    from validation.campaign.validate import stderr_progress
+    from validation.synthetic.generate import generate_campaign
+
+    only = [o for o in args.only.split(",") if o] if args.only else None
+    paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress,
+                              jobs=args.jobs)
+    print(f"{len(paths)} manoeuvres in {args.out_dir}")
+    return 0
+
+
+def _campaign(args: argparse.Namespace) -> int:
+    from validation.campaign.main import run_campaign
+    from validation.models import parse_models
+
+    sweep = tuple(parse_models(args.sweep_models)) if args.sweep_models else ()
+    run_campaign(Path(args.out_dir), models=tuple(parse_models(args.models)), seed=args.seed,
+                 jobs=args.jobs, gain=args.gain, sweep_models=sweep,
+                 recordings=not args.no_recordings, executor=args.executor,
+                 scheduler=args.scheduler)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``artic``."""
+    p = argparse.ArgumentParser(
+        prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
+        "in reverse, and their validation.")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")
+    vsub = veh.add_subparsers(dest="vehicle_command", required=True)
+    show = vsub.add_parser("show", help="print the resolved parameters")
+    show.add_argument("vehicle", help="preset name or TOML file")
+    show.add_argument("--json", action="store_true", help="print JSON")
+    show.set_defaults(func=_vehicle_show)
+    keys = vsub.add_parser("keys", help="print the parameter file format")
+    keys.set_defaults(func=_vehicle_keys)
+
+    sim = sub.add_parser("simulate", help="simulate a manoeuvre open loop")
+    sim.add_argument("--model", required=True, type=str.lower, choices=NAMES)
+    sim.add_argument("--vehicle", default="gosar2022-unloaded",
+                     help="preset name or TOML file (default: %(default)s)")
+    sim.add_argument("--manoeuvre", required=True, choices=KINDS)
+    sim.add_argument("--amplitude-deg", type=float, default=None,
+                     help="steering-wheel amplitude [deg] (default 200 forward, 90 reverse)")
+    sim.add_argument("--speed-kph", type=float, default=None,
+                     help="speed [km/h], positive (default 5 forward, 3 reverse)")
+    sim.add_argument("--side", choices=("left", "right"), default="left")
+    sim.add_argument("--duration", type=float, default=None, help="length [s]")
+    sim.add_argument("--out", required=True, type=Path, help="output .parquet")
+    sim.set_defaults(func=_simulate)
+
+    val = sub.add_parser("validate", help="validate models against logs")
+    val.add_argument("logs", nargs="+", type=Path, help="logs in the signal schema (.parquet)")
+    val.add_argument("--vehicle", default="gosar2022-unloaded",
+                     help="preset name or TOML file (default: %(default)s)")
+    val.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
+    val.add_argument("--gain", type=float, default=DEFAULT_GAIN,
+                     help="reversing feedback gain K [rad/rad] (default: %(default)s)")
+    val.add_argument("--out-dir", required=True, type=Path)
+    val.add_argument("--gain-sweep", action="store_true",
+                     help="also sweep K over the reverse logs; marks the stability bound")
+    val.add_argument("--jobs", type=int, default=1, help="threads (default: %(default)s)")
+    val.set_defaults(func=_validate)
+
+    tun = sub.add_parser("tune", help="fit f, i_s, q and the offset on forward logs")
+    tun.add_argument("logs", nargs="+", type=Path, help="forward logs (.parquet)")
+    tun.add_argument("--vehicle", default="gosar2022-unloaded",
+                     help="preset name or TOML file (default: %(default)s)")
+    tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
+    tun.add_argument("--out", required=True, type=Path, help="tuned vehicle file (.toml)")
+    tun.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                     help="threads for the plant (default: %(default)s)")
+    tun.set_defaults(func=_tune)
+
+    mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
+    mj.add_argument("--vehicle", default="gosar2022-unloaded",
+                    help="preset name or TOML file (default: %(default)s)")
+    mj.add_argument("-o", "--output", required=True, type=Path, help="output .xml")
+    mj.add_argument("--no-scene", action="store_true", help="the vehicle only, no yard")
+    mj.set_defaults(func=_mjcf)
+
+    logs = sub.add_parser("logs", help="import measured logs")
+    lsub = logs.add_subparsers(dest="logs_command", required=True)
+    imp = lsub.add_parser("import", help="exports to canonical Parquet")
+    imp.add_argument("sources", nargs="+", type=Path,
+                     help="canonical .parquet/.csv, .mat, or a folder with tractor.csv, "
+                          "trailer.csv, can.csv")
+    imp.add_argument("--out-dir", required=True, type=Path)
+    imp.set_defaults(func=_logs_import)
+    gen = lsub.add_parser("generate", help="the synthetic measured campaign")
+    gen.add_argument("--seed", type=int, default=0)
+    gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
+    gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
+    gen.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                     help="processes (default: the number of cores, %(default)s)")
+    gen.set_defaults(func=_logs_generate)
+
+    camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
+    camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
+                      help="output folder (default: %(default)s)")
+    camp.add_argument("--models", default="kin,stm,mbd",
+                      help="comma-separated, from kin, stm, mbd (default: %(default)s)")
+    camp.add_argument("--seed", type=int, default=0, help="seed of the synthetic campaign")
+    camp.add_argument("--gain", type=float, default=DEFAULT_GAIN,
+                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
+    camp.add_argument("--sweep-models", default="kin,stm",
+                      help="models in the gain sweep; empty to skip it (default: %(default)s)")
+    camp.add_argument("--no-recordings", action="store_true", help="skip the .rrd files")
+    camp.add_argument("--executor", choices=("local", "dask"), default="local",
+                      help="where generation and validation run (default: %(default)s)")
+    camp.add_argument("--scheduler", default=None,
+                      help="address of a running Dask scheduler (with --executor dask); "
+                           "a local cluster otherwise")
+    camp.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                      help="processes and threads (default: the number of cores, %(default)s)")
+    camp.set_defaults(func=_campaign)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``artic``; returns the exit code."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.func(args))
+    except USER_ERRORS as exc:
+        print(f"artic: error: {exc}", file=sys.stderr)
+        return 2
+    except RuntimeError as exc:
+        if type(exc).__name__ != "PlantError":
+            raise
+        print(f"artic: simulation failed: {exc}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:
+        # The reader (head, less) left early: not an error of artic's.
+        sys.stderr.close()
+        return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,19 @@
+"""The ``artic`` console script: process-wide settings first, then the command line.
+
+The settings of :mod:`validation.runtime` must be made before the compiled
+models are imported, so this module imports nothing of artic's at its top.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Configure the process, then run :func:`validation.cli.main`; returns the exit code."""
+    from validation import runtime
+
+    runtime.configure()
+    from validation.cli import main as cli_main
+
+    return cli_main(argv)

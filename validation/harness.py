@@ -1,0 +1,288 @@
+"""The closed-loop harness: drives any model from a log.
+
+Reversing is open-loop unstable, so a model fed only the measured steering
+drifts away from the measurement. The harness closes the loop the way the
+paper's eq. (5) intends, with the stabilising sign of its eqs. (6)-(7):
+
+    delta = delta_center(delta_h) + K * (gamma_model - gamma_measured)
+
+only while the tractor reverses (``v_x_1 < 0``). The linearised articulation
+dynamics then have the eigenvalue ``u1 (K (L2 - L1c) - L1) / (L1 L2)``, which is
+negative for ``u1 < 0`` once ``K > L1 / (L2 - L1c)``. Forward, the same feedback
+would destabilise the loop for such K, so it is off.
+
+Inputs per sample ``k`` (held over the step to ``k + 1``):
+
+- ``delta_center`` from the log's ``delta_h`` through the model's eq. (3) map;
+- the tractor speed ``u1 = v_x_1 + r_1 * y_s1``, exact for a rigid tractor
+  whose sensor sits ``y_s1`` off its centre line, smoothed by a quadratic
+  Savitzky-Golay filter over :data:`SPEED_WINDOW` and rising linearly to the
+  next sample's value. The measured speed carries sensor noise (about
+  1 cm/s at 100 Hz); its difference quotient, the plant's speed feed-forward,
+  would turn that into +-1.4 m/s^2 of drive and brake torque. The filter
+  passes a quadratic speed profile exactly and the yard's accelerations
+  (about 1 m/s^2, changing over seconds) nearly so;
+- the initial pose and motion from the log's first sample.
+
+The applied road-wheel angle is limited to the vehicle's ``delta_max``; the
+run's ``delta_saturated`` column says where.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from scipy.signal import savgol_filter
+
+from mjcf.interface import InitialState
+from mjcf.vehicle import Vehicle
+from reduced.integrate import observe, rk4_step
+from validation.logs.runfile import Run, new_frame
+from validation.models import Model
+from validation.steering import SteeringMap
+
+DEFAULT_GAIN = 3.0
+"""The paper's feedback gain K [rad/rad]."""
+
+SPEED_WINDOW = 0.5
+"""Length of the speed filter's window [s] (see the module docstring)."""
+
+
+def smooth_speed(t: np.ndarray, u: np.ndarray, window: float = SPEED_WINDOW) -> np.ndarray:
+    """Quadratic Savitzky-Golay smoothing of a speed signal sampled at ``t`` [m/s].
+
+    The log's time base is uniform (the importers make it so); the window is
+    the odd number of samples nearest to ``window`` seconds. Logs shorter
+    than the window are returned unchanged.
+    """
+    if u.size < 5:
+        return u.copy()
+    n = int(round(window / float(np.median(np.diff(t)))))
+    n += 1 - n % 2
+    if n < 5 or n > u.size:
+        return u.copy()
+    return savgol_filter(u, n, 2, mode="interp")
+
+
+@njit(cache=True)
+def wrap(a):
+    """Wrap an angle to [-pi, pi) [rad]."""
+    return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
+
+
+@njit(cache=True)
+def feedback_law(delta_c, gamma_model, gamma_meas, reversing, gain, delta_max):
+    """The harness's steering law.
+
+    Parameters
+    ----------
+    delta_c : float
+        Road-wheel angle from the measured steering wheel, eq. (3) [rad].
+    gamma_model, gamma_meas : float
+        Articulation of the model and of the log [rad].
+    reversing : bool
+        Whether the log's tractor reverses at this sample.
+    gain : float
+        K [rad/rad].
+    delta_max : float
+        Largest road-wheel angle [rad].
+
+    Returns
+    -------
+    delta : float
+        Road-wheel angle to apply [rad].
+    delta_fb : float
+        ``delta - delta_c`` [rad].
+    saturated : bool
+        Whether ``delta_max`` limited it.
+    """
+    fb = gain * wrap(gamma_model - gamma_meas) if reversing else 0.0
+    delta = delta_c + fb
+    saturated = False
+    if delta > delta_max:
+        delta, saturated = delta_max, True
+    elif delta < -delta_max:
+        delta, saturated = -delta_max, True
+    return delta, delta - delta_c, saturated
+
+
+@njit(cache=True)
+def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
+                  delta_max, gamma_max):
+    """The harness loop for a reduced model, compiled: a whole log in one call.
+
+    Parameters
+    ----------
+    kind : int
+        ``reduced.integrate.KIN`` or ``STM``.
+    x0, P, s1, s2 : ndarray
+        Initial state, parameters and sensors, from the model's ``compiled()``.
+    dt, delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
+        Per-sample inputs (see :class:`LoopInputs`).
+    gain, delta_max, gamma_max : float
+        K [rad/rad], the road-wheel limit and the jackknife limit [rad].
+
+    Returns
+    -------
+    obs, delta, delta_fb, saturated : ndarray
+    n_done : int
+        Rows filled; fewer when the articulation passed ``gamma_max`` or the
+        state stopped being finite.
+    """
+    n = delta_c.size
+    obs = np.full((n, 13), np.nan)
+    delta = np.full(n, np.nan)
+    delta_fb = np.full(n, np.nan)
+    sat = np.zeros(n, dtype=np.bool_)
+    x = x0.copy()
+    for k in range(n):
+        d, f, s = feedback_law(delta_c[k], wrap(x[3]), gamma_meas[k], reversing[k],
+                               gain, delta_max)
+        o = observe(kind, x, u1[k], d, P, s1, s2)
+        o[12] = wrap(o[12])
+        finite = True
+        for j in range(o.size):
+            obs[k, j] = o[j]
+            finite = finite and math.isfinite(o[j])
+        delta[k], delta_fb[k], sat[k] = d, f, s
+        if abs(o[12]) > gamma_max or not finite:
+            return obs, delta, delta_fb, sat, k + 1
+        if k + 1 < n:
+            x = rk4_step(kind, x, dt[k], u1[k], u1_dot[k], d, P)
+    return obs, delta, delta_fb, sat, n
+
+
+@dataclass(frozen=True)
+class LoopInputs:
+    """Arrays the loop needs, per sample (see the module docstring)."""
+
+    t: np.ndarray
+    delta_h: np.ndarray
+    delta_c: np.ndarray
+    u1: np.ndarray
+    u1_dot: np.ndarray
+    gamma_meas: np.ndarray
+    reversing: np.ndarray
+    initial: InitialState
+
+
+def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs:
+    """Derive the harness inputs from a log.
+
+    Parameters
+    ----------
+    run : Run
+        A checked log in the signal schema.
+    vehicle : Vehicle
+        For the tractor sensor's lateral offset.
+    steering : SteeringMap
+        The model's eq. (3) map.
+    """
+    df = run.frame
+    t = df["t"].to_numpy(dtype=float)
+    delta_h = df["delta_h"].to_numpy(dtype=float)
+    steering.check_range(delta_h, f"{run.name}: column delta_h")
+    r1 = df["r_1"].to_numpy(dtype=float)
+    u1 = smooth_speed(t, df["v_x_1"].to_numpy(dtype=float) + r1 * vehicle.sensor1[1])
+    u1_dot = np.zeros_like(u1)
+    u1_dot[:-1] = np.diff(u1) / np.diff(t)
+    first = df.iloc[0]
+    initial = InitialState(
+        x_1=float(first["x_1"]), y_1=float(first["y_1"]), psi_1=float(first["psi_1"]),
+        gamma=float(first["gamma"]), v_y_1=float(first["v_y_1"]), r_1=float(first["r_1"]),
+        r_2=float(first["r_2"]), u1=float(u1[0]))
+    return LoopInputs(
+        t=t, delta_h=delta_h, delta_c=np.asarray(steering.road_wheel(delta_h)), u1=u1,
+        u1_dot=u1_dot, gamma_meas=df["gamma"].to_numpy(dtype=float),
+        reversing=df["v_x_1"].to_numpy(dtype=float) < 0.0, initial=initial)
+
+
+def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
+               gain: float = DEFAULT_GAIN) -> tuple[np.ndarray, ...]:
+    """Drive a model through prepared inputs.
+
+    Returns
+    -------
+    obs, delta, delta_fb, saturated : ndarray
+        Per computed sample.
+    n_done : int
+        Rows computed; fewer than the inputs when the model left the
+        plausible range (see :func:`compiled_loop`).
+    """
+    model.reset(inputs.initial)
+    dt = np.diff(inputs.t)
+    args = (dt, inputs.delta_c, inputs.u1, inputs.u1_dot, inputs.gamma_meas,
+            inputs.reversing, float(gain), vehicle.steering.delta_max, vehicle.gamma_max)
+    form = model.compiled()
+    if form is not None:
+        return compiled_loop(*form, *args)
+    return _python_loop(model, *args)
+
+
+def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
+                 delta_max, gamma_max):
+    n = delta_c.size
+    obs = np.full((n, 13), np.nan)
+    delta, delta_fb = np.full(n, np.nan), np.full(n, np.nan)
+    sat = np.zeros(n, dtype=bool)
+    for k in range(n):
+        d, f, s = feedback_law(delta_c[k], model.gamma, gamma_meas[k], reversing[k], gain,
+                               delta_max)
+        o = model.observe(d)
+        obs[k], delta[k], delta_fb[k], sat[k] = o, d, f, s
+        if abs(o[12]) > gamma_max or not np.all(np.isfinite(o)):
+            return obs, delta, delta_fb, sat, k + 1
+        if k + 1 < n:
+            model.step(dt[k], d, u1[k], u1_dot[k])
+    return obs, delta, delta_fb, sat, n
+
+
+def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
+                    gain: float = DEFAULT_GAIN) -> Run:
+    """Drive a model from a log with the reversing feedback.
+
+    Parameters
+    ----------
+    model : Model
+        KIN, STM or the plant, built from ``vehicle``.
+    run : Run
+        The measured log.
+    vehicle : Vehicle
+        The parameters the model was built from; its steering map for
+        ``model.name`` turns ``delta_h`` into ``delta_center``.
+    gain : float
+        K [rad/rad]; 0 runs open loop.
+
+    Returns
+    -------
+    Run
+        The model's run in the signal schema plus ``delta``, ``delta_fb`` and
+        ``delta_saturated``. ``meta["status"]`` is ``"ok"``, or says where
+        and why the run stopped early; the rows after that are not written.
+    """
+    steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
+    inputs = loop_inputs(run, vehicle, steering)
+    obs, delta, delta_fb, sat, n = run_inputs(model, inputs, vehicle, gain)
+    frame = new_frame(inputs.t[:n], inputs.delta_h[:n], obs[:n])
+    frame["delta"] = delta[:n]
+    frame["delta_fb"] = delta_fb[:n]
+    frame["delta_saturated"] = sat[:n]
+    status = "ok"
+    if n < inputs.t.size:
+        g = obs[n - 1, 12]
+        why = (f"articulation {math.degrees(g):.1f} deg passed the jackknife limit "
+               f"{math.degrees(vehicle.gamma_max):.1f} deg" if np.isfinite(g)
+               else "the state stopped being finite")
+        status = f"stopped at t = {inputs.t[n - 1]:.2f} s: {why}"
+    meta = {
+        "name": f"{run.name}.{model.name}", "source": f"model:{model.name}",
+        "log": run.name, "model": model.name, "gain": float(gain), "vehicle": vehicle.name,
+        "vehicle_path": vehicle.path, "status": status,
+        "steering": {"i_s": steering.i_s, "q": steering.q,
+                     "delta_h_offset": steering.delta_h_offset},
+        **{k: run.meta[k] for k in ("manoeuvre", "direction", "load") if k in run.meta},
+    }
+    return Run(frame, meta)

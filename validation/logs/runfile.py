@@ -1,0 +1,214 @@
+"""Reading, checking and writing runs in the signal schema.
+
+A run is stored as Parquet with its metadata inside, under the key ``artic``
+as JSON: manoeuvre, direction, load condition, vehicle, sensor positions and
+source. Files are written atomically: to a temporary file beside the target,
+then renamed, so a reader never sees half a file.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from mjcf.interface import wrap_angle
+from validation.logs.schema import COLUMNS, PLAUSIBLE, UNIT_HINT
+
+META_KEY = b"artic"
+
+
+class LogError(ValueError):
+    """A log cannot be used as it is; the message names the file, the column and the fix."""
+
+
+@dataclass
+class Run:
+    """A run in the signal schema with its metadata.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        One row per sample; at least the schema's columns.
+    meta : dict
+        JSON-serialisable metadata.
+    """
+
+    frame: pd.DataFrame
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        """The run's name, from its metadata."""
+        return str(self.meta.get("name", "run"))
+
+
+def atomic_write(path: Path | str, write: Callable[[Path], None]) -> Path:
+    """Write a file atomically: ``write(tmp)`` then rename ``tmp`` onto ``path``.
+
+    Parameters
+    ----------
+    path : Path or str
+        Target file; its folder is created if needed.
+    write : callable
+        Writes the content to the temporary path it is given.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        write(Path(tmp))
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def atomic_write_text(path: Path | str, text: str) -> Path:
+    """Write text atomically (see :func:`atomic_write`)."""
+    return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"))
+
+
+def write_run(run: Run, path: Path | str) -> Path:
+    """Write a run as Parquet with its metadata, atomically.
+
+    Parameters
+    ----------
+    run : Run
+        Frame and metadata.
+    path : Path or str
+        Target ``.parquet`` file.
+    """
+    table = pa.Table.from_pandas(run.frame, preserve_index=False)
+    meta = dict(table.schema.metadata or {})
+    meta[META_KEY] = json.dumps(run.meta, sort_keys=True, default=_json_default).encode()
+    table = table.replace_schema_metadata(meta)
+    return atomic_write(path, lambda p: pq.write_table(table, p))
+
+
+def _json_default(o: Any) -> Any:
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, Path):
+        return str(o)
+    raise TypeError(f"metadata value {o!r} is not JSON-serialisable")
+
+
+def read_run(path: Path | str, check: bool = True) -> Run:
+    """Read a run written by :func:`write_run` (or any Parquet in the schema).
+
+    Parameters
+    ----------
+    path : Path or str
+        The ``.parquet`` file.
+    check : bool
+        Check the frame with :func:`check_frame`.
+
+    Raises
+    ------
+    LogError
+        If the file is missing, not Parquet, or fails the checks.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise LogError(f"{path}: no such file")
+    try:
+        table = pq.read_table(path)
+    except (pa.ArrowInvalid, OSError) as exc:
+        raise LogError(f"{path}: not a readable Parquet file ({exc}); it may be truncated: "
+                       "write it again") from exc
+    raw = (table.schema.metadata or {}).get(META_KEY)
+    meta = json.loads(raw) if raw else {}
+    # A run read from disk is known by its file: two files never share a name.
+    meta["name"] = path.stem
+    frame = table.to_pandas()
+    if check:
+        check_frame(frame, str(path))
+    return Run(frame, meta)
+
+
+def check_frame(df: pd.DataFrame, source: str = "log") -> None:
+    """Check a frame against the signal schema; raise on anything unusable.
+
+    Checks, in order: the columns are there; the run has at least two
+    samples; nothing is NaN or infinite; time strictly increases; magnitudes
+    are plausible for their units; ``gamma`` agrees with ``psi_1 - psi_2``.
+
+    Parameters
+    ----------
+    df : DataFrame
+        The frame.
+    source : str
+        File or name, for the message.
+
+    Raises
+    ------
+    LogError
+        Naming the source, the column, the first bad row and the fix.
+    """
+    missing = [c for c in COLUMNS if c not in df.columns]
+    if missing:
+        raise LogError(f"{source}: missing column(s) {', '.join(missing)}; a log needs "
+                       f"{', '.join(COLUMNS)} (SI units, radians)")
+    if len(df) < 2:
+        raise LogError(f"{source}: {len(df)} sample(s); a run needs at least two: "
+                       "the file may be truncated")
+    for c in COLUMNS:
+        col = pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+        bad = ~np.isfinite(col)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise LogError(f"{source}: column {c}: {int(bad.sum())} NaN or infinite value(s), "
+                           f"first at row {i}; repair or cut the run before validating")
+    t = df["t"].to_numpy(dtype=float)
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        i = int(np.argmax(dt <= 0)) + 1
+        raise LogError(f"{source}: column t: time does not increase at row {i} "
+                       f"(t = {t[i - 1]!r} then {t[i]!r}); sort the run and drop duplicate "
+                       "samples before validating")
+    for c, limit in PLAUSIBLE.items():
+        peak = float(np.max(np.abs(df[c].to_numpy(dtype=float))))
+        if peak > limit:
+            raise LogError(f"{source}: column {c}: peak {peak:.4g} is beyond {limit} "
+                           f"(SI) for a yard manoeuvre; this looks like {UNIT_HINT[c]}. "
+                           "Convert units at import.")
+    g = df["gamma"].to_numpy(dtype=float)
+    g2 = wrap_angle(df["psi_1"].to_numpy(dtype=float) - df["psi_2"].to_numpy(dtype=float))
+    err = np.abs(wrap_angle(g - g2))
+    if np.max(err) > np.radians(1.0):
+        i = int(np.argmax(err))
+        raise LogError(f"{source}: column gamma: differs from psi_1 - psi_2 by "
+                       f"{np.degrees(err[i]):.1f} deg at row {i}; gamma is tractor yaw minus "
+                       "semitrailer yaw (check its sign and unit)")
+
+
+def new_frame(t: np.ndarray, delta_h: np.ndarray, obs: np.ndarray) -> pd.DataFrame:
+    """Assemble a schema frame from time, steering-wheel angle and observations.
+
+    Parameters
+    ----------
+    t : ndarray, shape (N,)
+        Time [s].
+    delta_h : ndarray, shape (N,)
+        Steering-wheel angle [rad].
+    obs : ndarray, shape (N, 13)
+        Signals in ``OBSERVATION`` order.
+    """
+    df = pd.DataFrame(obs, columns=list(COLUMNS[2:]))
+    df.insert(0, "delta_h", np.asarray(delta_h, dtype=float))
+    df.insert(0, "t", np.asarray(t, dtype=float))
+    return df

@@ -1,0 +1,86 @@
+"""Process-wide settings, made by the entry points (the ``artic`` command, the tests).
+
+Importing a library module changes nothing process-wide; an entry point calls
+:func:`configure` once, before it imports the compiled models.
+
+**Where numba keeps artic's compiled functions.** numba's on-disk cache checks
+only the source file of the function it caches. A cached function that calls
+into another module (``rk4_step`` into the STM's right-hand side, the harness
+loop into both) keeps the old callee after that module is edited, and silently
+computes the old equations. So artic's compiled functions are cached in a
+folder named by the hash of exactly the sources that compiled code is built
+from: the ``reduced`` package and the harness's compiled loops
+(:data:`COMPILED_MODULES`). Editing a report or a plot leaves the cache alone;
+editing any equation moves it to a fresh folder. Folders no version has used
+for :data:`STALE_DAYS` are removed. Setting ``NUMBA_CACHE_DIR`` yourself
+overrides this.
+
+matplotlib needs no setting: artic draws on ``matplotlib.figure.Figure``
+objects with the Agg canvas, never through pyplot's global backend.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import shutil
+import time
+from pathlib import Path
+
+STALE_DAYS = 30
+"""Cache folders unused for this long are removed [days]."""
+
+COMPILED_MODULES = ("harness.py", "batch.py")
+"""Modules of :mod:`validation` that define compiled (numba) functions."""
+
+
+def compiled_sources() -> list[Path]:
+    """The source files that artic's compiled functions are built from.
+
+    Found without importing ``reduced``, so that the cache folder is chosen
+    before any compiled function is defined.
+    """
+    spec = importlib.util.find_spec("reduced")
+    reduced_dir = Path(next(iter(spec.submodule_search_locations)))
+    here = Path(__file__).resolve().parent
+    return sorted(reduced_dir.glob("*.py")) + [here / m for m in COMPILED_MODULES]
+
+
+def source_hash(files: list[Path] | None = None) -> str:
+    """Hash of numba's version and of ``files`` (default :func:`compiled_sources`)."""
+    import numba
+
+    files = compiled_sources() if files is None else files
+    h = hashlib.sha256(numba.__version__.encode())
+    for p in files:
+        h.update(p.name.encode())
+        h.update(p.read_bytes())
+    return h.hexdigest()[:12]
+
+
+def configure() -> Path | None:
+    """Point numba's cache at ``$XDG_CACHE_HOME/artic/numba/<hash>`` (or ~/.cache).
+
+    Returns the folder, or ``None`` when ``NUMBA_CACHE_DIR`` is set by the
+    user or the home folder is read-only (numba then uses its own locations).
+    """
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return None
+    import numba
+
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "artic" / "numba"
+    folder = base / source_hash()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        os.utime(folder)  # in use: its age counts from now
+        # Folders of other versions (another environment may still use one)
+        # go once nothing has used them for STALE_DAYS.
+        cutoff = time.time() - STALE_DAYS * 86400.0
+        for old in base.iterdir():
+            if old != folder and old.is_dir() and old.stat().st_mtime < cutoff:
+                shutil.rmtree(old, ignore_errors=True)
+    except OSError:
+        return None
+    numba.config.CACHE_DIR = str(folder)
+    return folder

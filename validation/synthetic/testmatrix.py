@@ -1,0 +1,110 @@
+"""The paper's test matrix (section 2.3), spread over both load conditions.
+
+Forward, 25 manoeuvres:
+
+- constant steer at 200, 360 and 500 deg of steering wheel, 5 and 10 km/h,
+  left and right: all 12 cells unloaded, and the same 12 loaded except
+  500 deg at 10 km/h to the right (the paper ran 25 forward, not 26);
+- a slalom at 5 km/h (200 deg, unloaded) and a figure-of-8 at 5 km/h
+  (360 deg, loaded).
+
+Reverse, 33 manoeuvres:
+
+- ramp steer to 30 and 90 deg at 3 and 6 km/h, left and right, in both
+  load conditions: 16; the driver stops before jackknife;
+- docking, 9 (5 unloaded, 4 loaded), and parking, 8 (4 and 4), driven by
+  :class:`validation.synthetic.driver.DockingDriver` from seeded start poses. Parking
+  starts further off line and at a larger angle than docking.
+
+The forward tuning set has 8 manoeuvres, as in the paper, 4 per load
+condition so that each is tuned on its own: the constant steers at 200 deg
+and 5 km/h and at 360 deg and 10 km/h, left and right (:data:`TUNING`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+
+@dataclass(frozen=True)
+class Manoeuvre:
+    """One cell of the test matrix.
+
+    Parameters
+    ----------
+    name : str
+        Unique name, also the folder name of its export.
+    kind : str
+        ``constant-steer``, ``slalom``, ``figure-8``, ``ramp-steer-reverse``,
+        ``docking`` or ``parking``.
+    load : str
+        ``unloaded`` or ``loaded``.
+    amplitude_deg : float
+        Steering-wheel amplitude [deg] (0 for docking and parking).
+    speed_kph : float
+        Speed [km/h], positive.
+    side : str
+        ``left`` or ``right`` (for docking and parking: which side the
+        start is offset to).
+    index : int
+        Position in the matrix, which seeds its random numbers.
+    """
+
+    name: str
+    kind: str
+    load: str
+    amplitude_deg: float
+    speed_kph: float
+    side: str
+    index: int
+
+    @property
+    def direction(self) -> str:
+        """``forward`` or ``reverse``."""
+        return "reverse" if self.kind in ("ramp-steer-reverse", "docking", "parking") \
+            else "forward"
+
+    def meta(self) -> dict:
+        """Metadata for the run."""
+        return {**asdict(self), "direction": self.direction, "manoeuvre": self.kind}
+
+
+def _matrix() -> tuple[Manoeuvre, ...]:
+    cells: list[tuple] = []
+    for load in ("unloaded", "loaded"):
+        for amp in (200, 360, 500):
+            for speed in (5, 10):
+                for side in ("left", "right"):
+                    if load == "loaded" and (amp, speed, side) == (500, 10, "right"):
+                        continue
+                    cells.append(("constant-steer", load, amp, speed, side))
+    cells.append(("slalom", "unloaded", 200, 5, "left"))
+    cells.append(("figure-8", "loaded", 360, 5, "left"))
+    for load in ("unloaded", "loaded"):
+        for amp in (30, 90):
+            for speed in (3, 6):
+                for side in ("left", "right"):
+                    cells.append(("ramp-steer-reverse", load, amp, speed, side))
+    for i in range(9):
+        cells.append(("docking", "unloaded" if i < 5 else "loaded", 0, 3,
+                      "left" if i % 2 == 0 else "right"))
+    for i in range(8):
+        cells.append(("parking", "unloaded" if i < 4 else "loaded", 0, 3,
+                      "left" if i % 2 == 0 else "right"))
+    out = []
+    for i, (kind, load, amp, speed, side) in enumerate(cells):
+        name = f"{i:02d}-{kind}-{load}-{amp}deg-{speed}kph-{side}" if amp else \
+            f"{i:02d}-{kind}-{load}-{side}"
+        out.append(Manoeuvre(name, kind, load, float(amp), float(speed), side, i))
+    return tuple(out)
+
+
+MATRIX = _matrix()
+"""All 58 manoeuvres, in order."""
+
+TUNING = tuple(m.name for m in MATRIX if m.kind == "constant-steer"
+               and (m.amplitude_deg, m.speed_kph) in ((200.0, 5.0), (360.0, 10.0)))
+"""The 8 forward tuning manoeuvres, 4 per load condition: constant steer at
+200 deg and 5 km/h and at 360 deg and 10 km/h, left and right. Two amplitudes
+separate the asymmetry q from the offset, and two speeds the cornering
+stiffness f (whose effect grows with the square of the speed) from i_s."""
