@@ -39,6 +39,7 @@ import numpy as np
 from mjcf import naming as nm
 from mjcf.linkage import Trapezoid, left_range
 from mjcf.masses import AxleLayout, Body, layout
+from mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from mjcf.vehicle import Vehicle
 
 TIMESTEP = 5e-3
@@ -57,8 +58,6 @@ SERVO_KP = 2.0e5
 STEER_ARMATURE = 20.0
 """Inertia reflected to each steering hinge [kg m^2]: steering box, column and arms."""
 
-DOCK_POSE = (-40.0, 0.0)
-"""Dock position in the yard [m]: 40 m behind the starting tractor."""
 
 _QX90 = [math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0]
 """Quaternion turning a cylinder's axis from z to y (wheels, axles)."""
@@ -164,10 +163,12 @@ def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
     tractor = spec.worldbody.add_body(name=nm.TRACTOR, pos=[0.0, 0.0, 0.0])
     tractor.add_freejoint(name=nm.ROOT)
     _inertial(tractor, lay.chassis[1])
-    _visual(tractor, type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5 * (v.L1 + 2.3), 1.25, 0.35],
-            pos=[0.5 * (v.L1 - 0.3), 0.0, 1.0], rgba=[0.75, 0.1, 0.1, 1])
-    _visual(tractor, type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.9, 1.25, 1.1],
-            pos=[v.L1 + 0.2, 0.0, 2.1], rgba=[0.8, 0.15, 0.15, 1])
+    body = outline(v)
+    frame_half = 0.5 * (body.tractor_front - body.tractor_rear)
+    _visual(tractor, type=mujoco.mjtGeom.mjGEOM_BOX, size=[frame_half, 0.5 * body.width, 0.35],
+            pos=[body.tractor_rear + frame_half, 0.0, 1.0], rgba=[0.75, 0.1, 0.1, 1])
+    _visual(tractor, type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.9, 0.5 * body.width, 1.1],
+            pos=[body.tractor_front - 1.2, 0.0, 2.1], rgba=[0.8, 0.15, 0.15, 1])
     s1 = v.sensor1
     z_drive = lay.unit_axles(1)[[a.axle.x for a in lay.unit_axles(1)].index(0.0)].centre[2]
     tractor.add_site(name=nm.sensor(1), pos=[s1[0], s1[1], z_drive + s1[2]],
@@ -182,10 +183,9 @@ def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
     pitch.limited = mujoco.mjtLimited.mjLIMITED_TRUE
     pitch.range = [-v.hitch_pitch, v.hitch_pitch]
     _inertial(trailer, lay.chassis[2])
-    rear = min(a.axle.x for a in lay.unit_axles(2))
-    length = 1.6 - (rear - 1.5)
-    _visual(trailer, type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5 * length, 1.27, 1.35],
-            pos=[1.6 - 0.5 * length, 0.0, 1.5], rgba=[0.85, 0.85, 0.8, 0.6])
+    length = body.trailer_front - body.trailer_rear
+    _visual(trailer, type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5 * length, 0.5 * body.width, 1.35],
+            pos=[body.trailer_front - 0.5 * length, 0.0, 1.5], rgba=[0.85, 0.85, 0.8, 0.6])
     s2 = v.sensor2
     trailer.add_site(name=nm.sensor(2), pos=[s2[0], s2[1], z_drive + s2[2] - v.h5],
                      size=[0.08, 0.0, 0.0], rgba=[0, 0.6, 1, 1])
@@ -243,8 +243,9 @@ def add_scene(spec: mujoco.MjSpec) -> None:
                             size=[200.0, 200.0, 0.1], rgba=[0.55, 0.55, 0.5, 1])
     ground.contype, ground.conaffinity = 0, 0
     world.add_light(name="sun", pos=[0.0, 0.0, 50.0], dir=[0.2, 0.2, -1.0])
-    dock = world.add_body(name=nm.DOCK, pos=[DOCK_POSE[0] - 1.0, DOCK_POSE[1], 0.0])
-    _visual(dock, type=mujoco.mjtGeom.mjGEOM_BOX, size=[1.0, 3.0, 1.3], pos=[0.0, 0.0, 1.3],
+    dock = world.add_body(name=nm.DOCK, pos=[DOCK_FACE[0] - 0.5 * DOCK_DEPTH, DOCK_FACE[1], 0.0])
+    _visual(dock, type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5 * DOCK_DEPTH, 3.0, 1.3],
+            pos=[0.0, 0.0, 1.3],
             rgba=[0.4, 0.4, 0.45, 1])
     tractor = spec.body(nm.TRACTOR)
     if tractor is not None:

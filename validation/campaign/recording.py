@@ -37,7 +37,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 from rerun.chunk import RrdReader
 
-from mjcf.builder import DOCK_POSE
+from mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from mjcf.tir import read_tir
 from mjcf.vehicle import Vehicle
 from validation.logs.runfile import Run
@@ -75,16 +75,16 @@ class _Geometry:
 
     The tractor frame sits at the drive axle, the trailer frame at the kingpin,
     both ISO (x forward, y left). Wheels have the tyre file's radius; the
-    bodies' overhangs are typical, not from the file.
+    bodies are :func:`mjcf.outline.outline`'s, as the plant and the docking
+    driver have them.
     """
 
     def __init__(self, v: Vehicle) -> None:
-        xs = [a.x for a in v.tractor_axles]
-        width = max(a.track for a in v.axles) + 0.5
-        self.tractor_body = ((max(xs) + 1.4 + min(xs) - 1.0) / 2, (max(xs) + 2.4 - min(xs)) / 2,
-                             width / 2)
-        rear = v.sensor2[0] - 0.8
-        self.trailer_body = ((1.6 + rear) / 2, (1.6 - rear) / 2, width / 2)
+        o = outline(v)
+        self.tractor_body = ((o.tractor_front + o.tractor_rear) / 2,
+                             (o.tractor_front - o.tractor_rear) / 2, o.width / 2)
+        self.trailer_body = ((o.trailer_front + o.trailer_rear) / 2,
+                             (o.trailer_front - o.trailer_rear) / 2, o.width / 2)
         self.s1 = np.array(v.sensor1[:2])
         self.s2 = np.array(v.sensor2[:2])
         self.R0 = read_tir(v.tyre_file).number("UNLOADED_RADIUS")
@@ -269,8 +269,9 @@ def _log_manoeuvre(rec: rr.RecordingStream, log: Run, runs: Mapping[str, Run], v
                                        half_sizes=[[*(hi - lo) / 2, 0.05]],
                                        colors=[(90, 90, 85)], fill_mode="solid"), static=True)
     if log.meta.get("manoeuvre") in ("docking", "parking"):
-        rec.log("/yard/dock", rr.Boxes3D(centers=[[DOCK_POSE[0] - 1.0, DOCK_POSE[1], 1.3]],
-                                         half_sizes=[[1.0, 3.0, 1.3]],
+        rec.log("/yard/dock", rr.Boxes3D(centers=[[DOCK_FACE[0] - DOCK_DEPTH / 2, DOCK_FACE[1],
+                                                   1.3]],
+                                         half_sizes=[[DOCK_DEPTH / 2, 3.0, 1.3]],
                                          colors=[(110, 110, 120)], fill_mode="solid"),
                 static=True)
     sources = {"measured": log.frame, **{k: r.frame for k, r in runs.items()}}

@@ -33,12 +33,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mjcf.interface import wrap_angle
+from mjcf.outline import DOCK_FACE, outline
 from mjcf.vehicle import Vehicle
 from validation.harness import feedback_law
 from validation.simulate import steady_articulation_delta
-
-REAR_OVERHANG = 1.5
-"""Semitrailer body behind its last axle [m] (the generated model's box)."""
 
 
 @dataclass
@@ -60,8 +58,8 @@ class DockingDriver:
     """
 
     vehicle: Vehicle
-    x_dock: float = -40.0
-    y_dock: float = 0.0
+    x_dock: float = DOCK_FACE[0]
+    y_dock: float = DOCK_FACE[1]
     speed: float = 3.0 / 3.6
     delay: float = 0.3
     rate: float = 0.3
@@ -78,7 +76,7 @@ class DockingDriver:
 
     def __post_init__(self) -> None:
         self._buffer = deque([0.0] * max(1, round(self.delay / self.dt)))
-        self.rear = float(np.max(self.vehicle.trailer_axle_distances)) + REAR_OVERHANG
+        self.rear = outline(self.vehicle).rear_behind_kingpin
 
     def rear_point(self, obs: np.ndarray) -> tuple[float, float]:
         """Semitrailer rear centre from an observation [m]."""
