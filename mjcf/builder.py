@@ -40,7 +40,7 @@ from mjcf import naming as nm
 from mjcf.linkage import Trapezoid, left_range
 from mjcf.masses import AxleLayout, Body, layout
 from mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
-from mjcf.vehicle import Vehicle
+from mjcf.vehicle import G, Vehicle
 
 TIMESTEP = 5e-3
 """Default plant timestep [s], with the RK4 integrator.
@@ -54,6 +54,10 @@ it against 2 ms."""
 
 SERVO_KP = 2.0e5
 """Steering servo stiffness [N m/rad]."""
+
+SPEED_SERVO_RATE = 20.0
+"""Bandwidth of the speed follower's velocity servo [1/s]: its gain is this times
+the combination's mass, a 50 ms time constant."""
 
 STEER_ARMATURE = 20.0
 """Inertia reflected to each steering hinge [kg m^2]: steering box, column and arms."""
@@ -139,10 +143,27 @@ def _add_axle(parent, a: AxleLayout, R0: float) -> None:
         carrier.add_site(name=nm.hub(ax.name, side), pos=pos, size=[0.05, 0.0, 0.0])
         wheel = carrier.add_body(name=nm.wheel(ax.name, side), pos=pos)
         _inertial(wheel, a.wheel, at_origin=True)
-        wheel.add_joint(name=nm.spin(ax.name, side), type=mujoco.mjtJoint.mjJNT_HINGE,
-                        axis=[0, 1, 0])
+        spin = wheel.add_joint(name=nm.spin(ax.name, side), type=mujoco.mjtJoint.mjJNT_HINGE,
+                               axis=[0, 1, 0])
+        # The parking brake is dry friction on this joint (plant.Plant.parking_brake):
+        # a hard friction constraint, so a parked wheel creeps at 0.1 mm/s, not cm/s.
+        spin.solimp_friction = [0.999, 0.9999, 0.001, 0.5, 2.0]
         _visual(wheel, type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[R0, half_width, 0],
                 quat=_QX90, rgba=[0.1, 0.1, 0.1, 1])
+
+
+def gravity(v: Vehicle) -> list[float]:
+    """Gravity in the yard's ground-aligned frame [m/s^2].
+
+    The model's ground is the plane ``z = 0``; a sloped yard tilts gravity
+    instead. With grade ``theta`` (+x uphill) and crossfall ``phi`` (+y uphill)
+    the ground's normal is ``R_x(phi) R_y(-theta) e_z`` in a level frame, so in
+    ground axes gravity is ``-G (sin theta, cos theta sin phi, cos theta cos phi)``:
+    its along-slope parts point downhill.
+    """
+    th, ph = v.plant.grade, v.plant.crossfall
+    return [-G * math.sin(th), -G * math.cos(th) * math.sin(ph),
+            -G * math.cos(th) * math.cos(ph)]
 
 
 def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
@@ -153,6 +174,7 @@ def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
     v : Vehicle
         Every number comes from here (and from its tyre file).
     """
+    v = v.with_payload()
     lay = layout(v)
     spec = mujoco.MjSpec()
     spec.modelname = f"artic-{v.name}"
@@ -160,6 +182,7 @@ def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
     spec.option.timestep = TIMESTEP
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    spec.option.gravity = gravity(v)
     tractor = spec.worldbody.add_body(name=nm.TRACTOR, pos=[0.0, 0.0, 0.0])
     tractor.add_freejoint(name=nm.ROOT)
     _inertial(tractor, lay.chassis[1])
@@ -175,9 +198,15 @@ def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
                      size=[0.08, 0.0, 0.0], rgba=[0, 0.6, 1, 1])
     for a in lay.unit_axles(1):
         _add_axle(tractor, a, lay.R0)
+    drive = next((a for a in lay.unit_axles(1) if a.axle.driven), lay.unit_axles(1)[0])
+    spec.body(nm.axle(drive.axle.name)).add_site(name=nm.SPEED_SITE,
+                                                 pos=[0.0, 0.0, -float(drive.centre[2])],
+                                                 size=[0.05, 0.0, 0.0])
     trailer = tractor.add_body(name=nm.TRAILER, pos=[v.L1c, 0.0, v.h5])
     yaw = trailer.add_joint(name=nm.HITCH_YAW, type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1])
     yaw.limited = mujoco.mjtLimited.mjLIMITED_FALSE
+    yaw.frictionloss = v.plant.fifth_wheel_friction
+    yaw.damping = [v.plant.hitch_damping, 0.0, 0.0]
     pitch = trailer.add_joint(name=nm.HITCH_PITCH, type=mujoco.mjtJoint.mjJNT_HINGE,
                               axis=[0, 1, 0])
     pitch.limited = mujoco.mjtLimited.mjLIMITED_TRUE
@@ -221,6 +250,14 @@ def _add_actuators(spec: mujoco.MjSpec, v: Vehicle, lay) -> None:
             b = spec.add_actuator(name=nm.brake(ax.name, side), target=nm.spin(ax.name, side),
                                   trntype=mujoco.mjtTrn.mjTRN_JOINT)
             b.set_to_motor()
+    # The speed follower: a velocity servo pushing the drive axle along the
+    # tractor's x-axis at ground level, where traction acts. The plant sets its
+    # gain to zero when it drives with wheel torques instead (plant.plant).
+    follower = spec.add_actuator(name=nm.SPEED_SERVO, target=nm.SPEED_SITE,
+                                 trntype=mujoco.mjtTrn.mjTRN_SITE)
+    follower.gear = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    follower.set_to_velocity(kv=SPEED_SERVO_RATE * (v.m1 + v.m2))
+    follower.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
     for a in lay.axles:
         for side in nm.SIDES:
             for direction in ("u", "v"):

@@ -141,7 +141,8 @@ def layout(v: Vehicle) -> Layout:
     chassis = {}
     for unit, m, x_g, h, J in ((1, v.m1, v.b1, v.h1, v.J1),
                                (2, v.m2, -v.a2, v.h2 - v.h5, v.J2)):
-        chassis[unit] = _chassis(v, unit, m, np.array([x_g, 0.0, h]), J, out.unit_axles(unit))
+        y_g = v.plant.payload_offset[1] if unit == 2 else 0.0
+        chassis[unit] = _chassis(v, unit, m, np.array([x_g, y_g, h]), J, out.unit_axles(unit))
     return Layout(chassis, tuple(axles), R0, k_t, c_t)
 
 

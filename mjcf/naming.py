@@ -15,6 +15,10 @@ ROOT = "root"
 HITCH_YAW = "hitch.yaw"
 HITCH_PITCH = "hitch.pitch"
 DOCK = "dock"
+SPEED_SITE = "speed.follower"
+"""Site on the drive axle at ground level where the speed follower pushes."""
+SPEED_SERVO = "speed.servo"
+"""The speed follower's velocity servo (see :mod:`plant.plant`)."""
 
 
 def unit(u: int) -> str:

@@ -62,6 +62,9 @@ TRACTOR = {
     "h1": Field("m", "tractor centre-of-gravity height above ground"),
     "h5": Field("m", "fifth-wheel (hitch) height above ground"),
     "sensor": Field("m", "tractor sensor position from the drive-axle centre, ISO axes", "vec3"),
+    "sensor_yaw": Field("rad", "mounting yaw of the tractor's inertial unit: its x-axis turned "
+                        "this far left of the tractor's (plant and generated logs)", "angle",
+                        optional=True, default=0.0),
 }
 
 TRAILER = {
@@ -72,6 +75,8 @@ TRAILER = {
     "j": Field("m", "trailer axle spacing", "nonneg"),
     "h2": Field("m", "semitrailer centre-of-gravity height above ground"),
     "sensor": Field("m", "semitrailer sensor position from the kingpin, ISO axes", "vec3"),
+    "sensor_yaw": Field("rad", "mounting yaw of the semitrailer's inertial unit (plant and "
+                        "generated logs)", "angle", optional=True, default=0.0),
 }
 
 AXLE = {
@@ -92,6 +97,8 @@ AXLE = {
                                 "sides together (plant)"),
     "wheel_inertia": Field("kg m^2", "spin inertia of one wheel end: a wheel, or a dual "
                            "pair (plant)"),
+    "tyre_file": Field("", "this axle's PAC2002 tyre property file, if not [tyre] file "
+                       "(plant)", "str", optional=True, default=""),
 }
 
 STEERING = {
@@ -116,6 +123,29 @@ TYRE = {
                   "file, or the name of one shipped with artic", "str"),
 }
 
+TYRE_SCALING = ("LFZO", "LCX", "LMUX", "LEX", "LKX", "LHX", "LVX", "LCY", "LMUY", "LEY",
+                "LKY", "LHY", "LVY", "LTR", "LRES", "LXAL", "LYKA", "LVYKA", "LS", "LMY",
+                "LGAY", "LGAZ")
+"""Magic Formula scaling factors that ``[tyre.scaling]`` may multiply (plant)."""
+
+PLANT = {
+    "fifth_wheel_friction": Field("N m", "dry friction torque of the fifth wheel about its "
+                                  "vertical axis, with a smooth sign through zero",
+                                  "nonneg", optional=True, default=0.0),
+    "hitch_damping": Field("N m s/rad", "viscous yaw damping of the fifth wheel", "nonneg",
+                           optional=True, default=0.0),
+    "grade": Field("rad", "ground slope along the yard's x-axis, positive when +x runs uphill",
+                   "angle", optional=True, default=0.0),
+    "crossfall": Field("rad", "ground slope across the yard, positive when +y runs uphill",
+                       "angle", optional=True, default=0.0),
+    "payload_offset": Field("m", "shift of the semitrailer's centre of gravity from a2, h2 "
+                            "in semitrailer axes [forward, left, up]", "vec3", optional=True,
+                            default=(0.0, 0.0, 0.0)),
+    "payload_yaw_inertia": Field("kg m^2", "change of the semitrailer's yaw inertia J2",
+                                 "real", optional=True, default=0.0),
+}
+"""Optional ``[plant]`` section: effects only the multibody plant has, each off by default."""
+
 LIMITS = {
     "gamma_max": Field("rad", "articulation at which the cab and trailer touch (jackknife)",
                        "angle"),
@@ -133,6 +163,9 @@ SECTIONS = {
     "tyre": TYRE,
     "limits": LIMITS,
 }
+
+OPTIONAL_SECTIONS = {"plant": PLANT}
+"""Sections a file may leave out; their keys take their defaults."""
 
 
 def _fail(path: Path | str, key: str, message: str) -> VehicleFileError:
@@ -181,6 +214,8 @@ def check_value(path: Path | str, key: str, field: Field, value: Any) -> Any:
         if (not isinstance(value, list) or len(value) != 3
                 or not all(_is_number(v) for v in value)):
             raise _fail(path, key, f"expected three numbers [x, y, z]{unit}, got {value!r}")
+        if not all(math.isfinite(float(v)) for v in value):
+            raise _fail(path, key, f"expected three finite numbers{unit}, got {value!r}")
         return tuple(float(v) for v in value)
     if not _is_number(value):
         raise _fail(path, key, f"expected a number{unit}, got {value!r}")
@@ -246,11 +281,14 @@ def check_table(path: Path | str, prefix: str, table: Any,
 def describe() -> str:
     """Return the file format as text, one line per key."""
     lines = []
-    for section, fields in [*SECTIONS.items(), ("tractor.axle / trailer.axle", AXLE),
+    for section, fields in [*SECTIONS.items(), *OPTIONAL_SECTIONS.items(),
+                            ("tractor.axle / trailer.axle", AXLE),
                             ("steering.kin / .stm / .mbd", STEERING_OVERRIDE)]:
         lines.append(f"[{section}]")
         for key, f in fields.items():
             unit = f" [{f.unit}]" if f.unit else ""
             opt = " (optional)" if f.optional else ""
             lines.append(f"  {key:<15}{f.doc}{unit}{opt}")
+    lines.append("[tyre.scaling]  (optional, plant) a factor per Magic Formula scaling "
+                 f"coefficient: {', '.join(TYRE_SCALING)}")
     return "\n".join(lines)

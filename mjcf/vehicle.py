@@ -60,6 +60,9 @@ class Axle:
         Vertical rate [N/m] and damping [N s/m], both sides together.
     wheel_inertia : float
         Spin inertia of one wheel end (a wheel or a dual pair) [kg m^2].
+    tyre_file : str
+        This axle's tyre property file (resolved path), or ``""`` for the
+        vehicle's :attr:`Vehicle.tyre_file`.
     """
 
     name: str
@@ -74,6 +77,7 @@ class Axle:
     suspension_stiffness: float
     suspension_damping: float
     wheel_inertia: float
+    tyre_file: str = ""
 
 
 @dataclass(frozen=True)
@@ -99,6 +103,33 @@ class Steering:
     delta_h_offset: float
     delta_max: float
     steering_arm: float = 0.25
+
+
+@dataclass(frozen=True)
+class PlantOptions:
+    """Effects only the multibody plant has (``[plant]``), each off by default.
+
+    Parameters
+    ----------
+    fifth_wheel_friction : float
+        Dry friction torque of the fifth wheel about its vertical axis [N m].
+    hitch_damping : float
+        Viscous yaw damping of the fifth wheel [N m s/rad].
+    grade, crossfall : float
+        Ground slope along and across the yard's axes [rad], positive when
+        +x (+y) runs uphill.
+    payload_offset : tuple of float
+        Shift of the semitrailer's centre of gravity [m], semitrailer axes.
+    payload_yaw_inertia : float
+        Change of the semitrailer's yaw inertia [kg m^2].
+    """
+
+    fifth_wheel_friction: float = 0.0
+    hitch_damping: float = 0.0
+    grade: float = 0.0
+    crossfall: float = 0.0
+    payload_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    payload_yaw_inertia: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -138,6 +169,10 @@ class Vehicle:
     hitch_pitch: float = 0.2
     tyre_file: str = ""
     path: str = ""
+    sensor1_yaw: float = 0.0
+    sensor2_yaw: float = 0.0
+    plant: PlantOptions = PlantOptions()
+    tyre_scaling: tuple[tuple[str, float], ...] = ()
 
     # ----------------------------------------------------------- derived
     @property
@@ -175,6 +210,24 @@ class Vehicle:
         """Semitrailer sensor from the tractor drive axle at ``gamma = 0`` [m] (Table 1)."""
         x, y, z = self.sensor2
         return (x + self.L1c, y, z)
+
+    def tyre_file_for(self, axle: Axle) -> str:
+        """The tyre property file of ``axle``: its own, or the vehicle's."""
+        return axle.tyre_file or self.tyre_file
+
+    def with_payload(self) -> Vehicle:
+        """The vehicle with ``[plant]``'s payload offset folded into a2, h2 and J2.
+
+        The plant is built from this; KIN and STM use the file's a2, h2 and J2.
+        The lateral offset stays in ``plant.payload_offset`` for the plant's
+        mass layout; the rest is zeroed there, so folding twice changes nothing.
+        """
+        dx, dy, dz = self.plant.payload_offset
+        if dx == 0.0 and dz == 0.0 and self.plant.payload_yaw_inertia == 0.0:
+            return self
+        rest = replace(self.plant, payload_offset=(0.0, dy, 0.0), payload_yaw_inertia=0.0)
+        return replace(self, a2=self.a2 - dx, h2=self.h2 + dz,
+                       J2=self.J2 + self.plant.payload_yaw_inertia, plant=rest)
 
     def steering_for(self, model: str) -> Steering:
         """Steering-map parameters for one model, with its overrides applied.
@@ -304,7 +357,7 @@ def resolve_vehicle_path(name_or_path: str | Path) -> Path:
         f"{name_or_path!r} is neither a preset nor a file; presets are: {', '.join(names)}")
 
 
-def resolve_tyre_file(name: str, vehicle_path: str | Path) -> Path:
+def resolve_tyre_file(name: str, vehicle_path: str | Path, key: str = "tyre.file") -> Path:
     """Find a tyre property file: beside the vehicle file, or shipped with artic.
 
     Raises
@@ -319,7 +372,7 @@ def resolve_tyre_file(name: str, vehicle_path: str | Path) -> Path:
     if shipped.is_file():
         return shipped
     raise VehicleFileError(
-        f"{vehicle_path}: key 'tyre.file': {name!r} is neither beside the vehicle file nor "
+        f"{vehicle_path}: key '{key}': {name!r} is neither beside the vehicle file nor "
         f"shipped with artic (shipped: {', '.join(tyre_names())})")
 
 
@@ -370,7 +423,18 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
             raise VehicleFileError(f"{path}: key '{name}': section missing")
         allow = ("axle",) if name in ("tractor", "trailer") else (
             schema.MODELS if name == "steering" else ())
+        allow = (*allow, "scaling") if name == "tyre" else allow
         sec[name] = schema.check_table(path, name, data[name], fields, allow)
+    for name, fields in schema.OPTIONAL_SECTIONS.items():
+        sec[name] = schema.check_table(path, name, data.get(name, {}), fields)
+    scaling = data["tyre"].get("scaling", {})
+    if not isinstance(scaling, dict):
+        raise VehicleFileError(f"{path}: key 'tyre.scaling': expected a table of factors")
+    for k, val in scaling.items():
+        if k not in schema.TYRE_SCALING:
+            raise VehicleFileError(f"{path}: key 'tyre.scaling.{k}': unknown scaling factor; "
+                                   f"known: {', '.join(schema.TYRE_SCALING)}")
+        schema.check_value(path, f"tyre.scaling.{k}", schema.Field("", "factor"), val)
     overrides = {}
     for model in schema.MODELS:
         if model in data["steering"]:
@@ -385,6 +449,9 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
                 f"{path}: key '{uname}.axle': no axles; add [[{uname}.axle]] tables")
         for i, table in enumerate(raw):
             a = schema.check_table(path, f"{uname}.axle[{i}]", table, schema.AXLE)
+            if a["tyre_file"]:
+                a["tyre_file"] = str(resolve_tyre_file(a["tyre_file"], path,
+                                                       f"{uname}.axle[{i}].tyre_file"))
             axles.append(Axle(unit=unit, **{**a, "load_share": a["load_share"] or 0.0}))
     axles = _fill_load_shares(path, axles)
     t, tr = sec["tractor"], sec["trailer"]
@@ -398,6 +465,9 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
         f=sec["tyre"]["f"], sigma_alpha=sec["tyre"]["sigma_alpha"],
         gamma_max=sec["limits"]["gamma_max"], hitch_pitch=sec["limits"]["hitch_pitch"],
         tyre_file=str(resolve_tyre_file(sec["tyre"]["file"], path)), path=str(path),
+        sensor1_yaw=t["sensor_yaw"], sensor2_yaw=tr["sensor_yaw"],
+        plant=PlantOptions(**sec["plant"]),
+        tyre_scaling=tuple(sorted((k, float(val)) for k, val in scaling.items())),
     )
     check_geometry(v, path)
     return v

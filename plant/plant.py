@@ -12,9 +12,23 @@ the passive-force callback runs for every wheel end at once:
   MuJoCo integrates (see :mod:`plant.tyre`);
 - PAC2002 forces and rolling resistance, applied at the contact point.
 
-The speed controller tracks the commanded tractor speed with drive torque
-on the driven wheels, and with brake torque on all wheels when it must slow
-the combination. The steering servo turns the left front wheel to the
+The tractor's speed is either *followed* or *driven* (``speed=``):
+
+- ``"follow"`` (the default, as the harness drives every model): a velocity
+  servo at the drive axle's ground contact pushes the tractor along its own
+  x-axis so that its speed follows the commanded profile, with feed-forward of
+  the profile's acceleration (the combination's mass plus the wheels' spin
+  inertia) and of the rolling resistance, and an integral term for what the
+  feed-forward misses (cornering drag). The wheels roll free. A log's speed is
+  then reproduced within millimetres per second, so a plant replaying a log
+  that a plant made does not lag it a second time. What it gives up is the
+  drive axle's traction slip, a few tenths of a per cent at yard speeds, and
+  its small effect on that axle's side force through combined slip;
+- ``"drive"``: a driver's cruise control, a PI controller on drive torque at
+  the driven wheels and brake torque at all wheels, with the lag a driver has.
+  The synthetic campaign's truth drives this way.
+
+The steering servo turns the left front wheel to the
 commanded road-wheel angle. The right wheel follows through the tie-rod
 trapezoid, which gives the left/right asymmetry of eq. (3) by itself, so
 the plant's steering map has ``q = 0``.
@@ -26,6 +40,7 @@ wheel; nothing is reset silently.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -55,6 +70,18 @@ SPEED_KI = 0.5
 BRAKE_SPIN_SCALE = 0.5
 """Wheel spin [rad/s] over which brake torque fades to zero at standstill."""
 
+PARKING_BRAKE_GRADE = 0.2
+"""Parking brake capacity: it holds the combination on this gradient [-] (20 %;
+EU rules ask for 18 % for a laden combination)."""
+
+FOLLOW_KI = 5.0
+"""Speed follower: integral gain [1/s] on the speed error, added to the servo's
+set-point. With the servo's 20 /s bandwidth the loop is critically damped
+(``s^2 + 20 s + 100``)."""
+
+SPEED_MODES = ("follow", "drive")
+"""How the plant's tractor speed is controlled (see the module docstring)."""
+
 
 BACKENDS = ("auto", "c", "numpy")
 """Tyre callback implementations: compiled (:mod:`plant.ctyre`) or the numpy reference."""
@@ -69,6 +96,13 @@ def _warn_fallback() -> None:
         warnings.warn(f"the compiled tyre callback is unavailable ({ctyre.unavailable_reason()}); "
                       "the plant uses the numpy tyre model, about 16 times slower", PlantWarning,
                       stacklevel=3)
+
+
+def scaled(p: TyreParams, scaling: tuple[tuple[str, float], ...]) -> TyreParams:
+    """``p`` with its Magic Formula scaling factors multiplied by the vehicle file's."""
+    if not scaling:
+        return p
+    return dataclasses.replace(p, **{k: getattr(p, k) * f for k, f in scaling})
 
 
 class PlantError(RuntimeError):
@@ -88,14 +122,22 @@ class Plant:
         Every number of the model comes from here and its tyre file.
     timestep : float, optional
         MuJoCo timestep [s]; the model's default (5 ms, RK4) otherwise.
+    backend : str
+        Tyre callback: ``"auto"`` (compiled if available), ``"c"`` or ``"numpy"``.
+    speed : str
+        ``"follow"`` the commanded speed kinematically, or ``"drive"`` it with
+        wheel torques like a driver (see the module docstring).
     """
 
     name = "mbd"
 
     def __init__(self, vehicle: Vehicle, timestep: float | None = None,
-                 backend: str = "auto") -> None:
+                 backend: str = "auto", speed: str = "follow") -> None:
         if backend not in BACKENDS:
             raise ValueError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+        if speed not in SPEED_MODES:
+            raise ValueError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)}")
+        self.speed_mode = speed
         if backend != "numpy" and ctyre.library() is None:
             if backend == "c":
                 raise RuntimeError(ctyre.unavailable_reason())
@@ -103,8 +145,8 @@ class Plant:
             backend = "numpy"
         self.backend = "c" if backend == "auto" else backend
         self.vehicle = vehicle
-        self._tyre = TyreParams.from_tir(vehicle.tyre_file)
-        spec = build_model(vehicle)
+        self._tyre = scaled(TyreParams.from_tir(vehicle.tyre_file), vehicle.tyre_scaling)
+        spec = build_model(vehicle)  # with vehicle.with_payload(), as _index uses
         n_wheels = 2 * len(vehicle.axles)
         if self.backend == "c":
             if spec.numerics:
@@ -116,6 +158,9 @@ class Plant:
             self.model.opt.timestep = timestep
         self.data = mujoco.MjData(self.model)
         self._index(vehicle)
+        if speed == "drive":  # no follower: the wheels drive and brake
+            self.model.actuator_gainprm[self._follower, 0] = 0.0
+            self.model.actuator_biasprm[self._follower, 2] = 0.0
         self._psi = np.zeros(2)
         self._integral = 0.0
         self.steer_limited = 0
@@ -149,6 +194,22 @@ class Plant:
                                                      self._wheel_table())
 
     @property
+    def parking_brake(self) -> bool:
+        """Whether the parking brake holds every wheel.
+
+        It is dry friction on each wheel's spin joint, solved by MuJoCo's
+        constraint solver (implicitly, so a held wheel does not chatter), with
+        a torque per wheel end in proportion to its static load: together they
+        hold the combination on a :data:`PARKING_BRAKE_GRADE` slope.
+        """
+        return bool(self.model.dof_frictionloss[self._spin_dof].any())
+
+    @parking_brake.setter
+    def parking_brake(self, on: bool) -> None:
+        T = PARKING_BRAKE_GRADE * self.mass * G * self.R0 * self._brake_share if on else 0.0
+        self.model.dof_frictionloss[self._spin_dof] = T
+
+    @property
     def last_forces(self) -> np.ndarray:
         """Contact force of every wheel end from the last callback, world frame [N]."""
         if self.backend == "c":
@@ -158,6 +219,7 @@ class Plant:
     # ------------------------------------------------------------ indexing
     def _index(self, v: Vehicle) -> None:
         m = self.model
+        v = v.with_payload()
         lay = layout(v)
         ends = [(a, side) for a in lay.axles for side in nm.SIDES]
         self.n_wheels = len(ends)
@@ -183,11 +245,16 @@ class Plant:
         self._servo_range = linkage(v)[2]
         self._steer_L = [m.jnt_qposadr[m.joint(nm.steer(n, "L")).id] for n in steered]
         self._steer_R = [m.jnt_qposadr[m.joint(nm.steer(n, "R")).id] for n in steered]
+        self._follower = m.actuator(nm.SPEED_SERVO).id
+        self._follower_kv = float(m.actuator_gainprm[self._follower, 0])
+        spin_inertia = sum(2.0 * a.wheel_inertia for a in v.axles)
+        self.mass_eff = v.m1 + v.m2 + spin_inertia / lay.R0 ** 2
         self._tractor = m.body(nm.TRACTOR).id
         self._trailer = m.body(nm.TRAILER).id
         self._hitch_yaw = m.joint(nm.HITCH_YAW).id
         self._sensor = [m.site(nm.sensor(1)).id, m.site(nm.sensor(2)).id]
         self._s1 = np.array(v.sensor1[:2])
+        self._sensor_yaw = (v.sensor1_yaw, v.sensor2_yaw)
         self.mass = v.m1 + v.m2
         self.R0, self.k_t, self.c_t = lay.R0, lay.k_tyre, lay.c_tyre
 
@@ -271,6 +338,10 @@ class Plant:
         e = u_cmd - u
         self._integral += e * h
         rr = self.tyre.QSY1 * self.mass * G * math.tanh(u_cmd / 0.1)
+        if self.speed_mode == "follow":
+            ff = self.mass_eff * u_dot + rr
+            d.ctrl[self._follower] = u_cmd + ff / self._follower_kv + FOLLOW_KI * self._integral
+            return
         F = self.mass * (u_dot + SPEED_KP * e + SPEED_KI * self._integral) + rr
         direction = math.copysign(1.0, u_cmd) if abs(u_cmd) > 0.05 else math.copysign(1.0, F)
         d.ctrl[self._brake] = 0.0
@@ -337,8 +408,13 @@ class Plant:
             psi = self._psi[i] + wrap_angle(psi - self._psi[i])
             self._psi[i] = psi
             mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_SITE, site, res, 1)
-            out[6 * i:6 * i + 6] = [d.site_xpos[site][0], d.site_xpos[site][1], psi,
-                                    res[3], res[4], res[2]]
+            vx, vy = res[3], res[4]
+            eps = self._sensor_yaw[i]
+            if eps:  # the unit's axes turned eps to the left: heading and velocity axes
+                c, s = math.cos(eps), math.sin(eps)
+                vx, vy = c * vx + s * vy, -s * vx + c * vy
+            out[6 * i:6 * i + 6] = [d.site_xpos[site][0], d.site_xpos[site][1], psi + eps,
+                                    vx, vy, res[2]]
         out[12] = wrap_angle(out[2] - out[8])
         return out
 

@@ -168,9 +168,13 @@ def _logs_generate(args: argparse.Namespace) -> int:
     from validation.synthetic.generate import generate_campaign
 
     only = [o for o in args.only.split(",") if o] if args.only else None
+    from validation.synthetic.sensors import SensorModel
+
+    sensors = SensorModel.ideal() if args.sensors == "ideal" else SensorModel()
     paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress,
-                              jobs=args.jobs)
-    print(f"{len(paths)} manoeuvres in {args.out_dir}")
+                              jobs=args.jobs, sensors=sensors)
+    print(f"{len(paths)} manoeuvres in {args.out_dir}; the truth as vehicle files "
+          f"{args.out_dir / 'truth-unloaded.toml'} and truth-loaded.toml")
     return 0
 
 
@@ -258,6 +262,9 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--seed", type=int, default=0)
     gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
     gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
+    gen.add_argument("--sensors", choices=("default", "ideal"), default="default",
+                     help="the measurement chain: noisy RTK/INS/CAN models, or the truth "
+                          "itself (default: %(default)s)")
     gen.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                      help="processes (default: the number of cores, %(default)s)")
     gen.set_defaults(func=_logs_generate)

@@ -9,7 +9,14 @@ Truth configuration, drawn once per campaign from its random seed: the steering
 ratio differs from the preset's by a 2 % standard deviation, the
 steering-wheel offset is 5 deg with a 0.5 deg spread, and the tyres' cornering
 stiffness (``LKY``) and friction (``LMUY``) scale by 5 % and 3 %. Tuning has
-something real to find.
+something real to find. The truth of each load condition is written beside the
+exports as a vehicle file, ``truth-unloaded.toml`` and ``truth-loaded.toml``,
+which every command accepts: the plant built from it, with ideal sensors
+(``--sensors ideal``), replays the campaign's logs.
+
+The truth drives its own speed as a driver does (``Plant(speed="drive")``),
+with drive and brake torques and their lag; the plant under validation follows
+the log's speed (see :mod:`plant.plant`).
 
 Each manoeuvre draws its own random numbers from ``(seed, index)``, so a
 campaign is the same whichever manoeuvres are made, in whatever order. Each
@@ -35,6 +42,7 @@ import numpy as np
 
 from mjcf.interface import InitialState
 from mjcf.vehicle import Vehicle, load_vehicle
+from mjcf.writer import updated, write_vehicle
 from plant import Plant, PlantWarning
 from validation.campaign import fingerprint
 from validation.logs.oxts import export_oxts
@@ -47,6 +55,9 @@ from validation.synthetic.testmatrix import MATRIX, Manoeuvre
 
 META_FILE = "meta.json"
 
+LOADS = ("unloaded", "loaded")
+"""The campaign's load conditions."""
+
 
 def truth_configuration(seed: int) -> dict[str, float]:
     """The truth configuration of a campaign (see the module docstring)."""
@@ -57,12 +68,34 @@ def truth_configuration(seed: int) -> dict[str, float]:
             "LMUY": float(1.0 + rng.normal(0.0, 0.03))}
 
 
-def truth_vehicle(v: Vehicle, truth: dict[str, float]) -> Vehicle:
-    """The vehicle with the truth configuration's steering (for the plant)."""
+def _truth_changes(v: Vehicle, truth: dict[str, float]) -> dict[str, dict[str, float]]:
     s = v.steering_for("mbd")
-    mbd = {"i_s": s.i_s * truth["i_s_scale"], "q": s.q,
-           "delta_h_offset": truth["delta_h_offset"]}
-    return dataclasses.replace(v, steering_overrides={**v.steering_overrides, "mbd": mbd})
+    return {"steering.mbd": {"i_s": s.i_s * truth["i_s_scale"], "q": s.q,
+                             "delta_h_offset": truth["delta_h_offset"]},
+            "tyre.scaling": {"LKY": truth["LKY"], "LMUY": truth["LMUY"]}}
+
+
+def truth_vehicle(v: Vehicle, truth: dict[str, float]) -> Vehicle:
+    """The vehicle in the truth configuration: its steering and its tyres' scaling."""
+    ch = _truth_changes(v, truth)
+    return dataclasses.replace(
+        v, steering_overrides={**v.steering_overrides, "mbd": ch["steering.mbd"]},
+        tyre_scaling=tuple(sorted(ch["tyre.scaling"].items())))
+
+
+def write_truth_files(out_dir: Path, seed: int) -> dict[str, Path]:
+    """Write ``truth-LOAD.toml`` per load condition into ``out_dir``; returns them by load."""
+    truth = truth_configuration(seed)
+    out = {}
+    for load in LOADS:
+        preset = f"gosar2022-{load}"
+        data = updated(preset, _truth_changes(load_vehicle(preset), truth),
+                       f"The truth configuration of artic's synthetic campaign, seed {seed} "
+                       "(validation.synthetic.generate)", name=f"truth-{load}")
+        path = Path(out_dir) / f"truth-{load}.toml"
+        write_vehicle(data, path)
+        out[load] = path
+    return out
 
 
 def _drive_profile(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
@@ -131,9 +164,7 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     vt = truth_vehicle(v, truth)
     rng = np.random.default_rng([seed, m.index])
     steering = SteeringMap.from_steering(vt.steering_for("mbd"))
-    with Plant(vt) as plant:
-        plant.tyre = dataclasses.replace(plant.tyre, LKY=plant.tyre.LKY * truth["LKY"],
-                                         LMUY=plant.tyre.LMUY * truth["LMUY"])
+    with Plant(vt, speed="drive") as plant:
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
         # The driver may ask for more wheel angle than the linkage gives at
         # lock, as a real driver turns the wheel against its stop; the plant
@@ -174,19 +205,22 @@ def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
     return write_export(simulate_manoeuvre(m, seed, sensors), out_dir)
 
 
-def _simulate_timed(m: Manoeuvre, seed: int) -> tuple[Run, float]:
+def _simulate_timed(m: Manoeuvre, seed: int,
+                    sensors: SensorModel | None = None) -> tuple[Run, float]:
     t0 = time.perf_counter()
-    run = simulate_manoeuvre(m, seed)
+    run = simulate_manoeuvre(m, seed, sensors)
     return run, time.perf_counter() - t0
 
 
-def _same(meta: dict, seed: int) -> bool:
-    return meta.get("seed") == seed and meta.get("generator") == fingerprint.code()
+def _same(meta: dict, seed: int, sensors: SensorModel) -> bool:
+    return (meta.get("seed") == seed and meta.get("generator") == fingerprint.code()
+            and meta.get("sensors") == dataclasses.asdict(sensors))
 
 
 def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = None,
                       progress: Callable[[str], None] | None = None,
-                      jobs: int = 1, executor: Executor | None = None) -> list[Path]:
+                      jobs: int = 1, executor: Executor | None = None,
+                      sensors: SensorModel | None = None) -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -205,9 +239,19 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     executor : concurrent.futures.Executor, optional
         Where to simulate instead (a Dask cluster's, see
         :mod:`validation.campaign.executors`); the files are written here.
+    sensors : SensorModel, optional
+        The measurement chain; :class:`SensorModel` by default,
+        ``SensorModel.ideal()`` for the truth itself.
+
+    Returns
+    -------
+    list of Path
+        The export folders; ``truth-LOAD.toml`` files are written beside them.
     """
+    sensors = sensors or SensorModel()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    write_truth_files(out_dir, seed)
     unknown = [o for o in only or [] if not any(m.name.startswith(o) for m in MATRIX)]
     if unknown:
         raise ValueError(f"no manoeuvre matches {', '.join(unknown)}; names look like "
@@ -217,7 +261,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     for m in todo:
         meta = out_dir / m.name / META_FILE
         # Reuse only what this seed and this code made (see validation.campaign.fingerprint).
-        if not (meta.is_file() and _same(json.loads(meta.read_text()), seed)):
+        if not (meta.is_file() and _same(json.loads(meta.read_text()), seed, sensors)):
             missing.append(m)
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
@@ -225,9 +269,9 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     pool = ProcessPoolExecutor(max_workers=jobs) if own else executor
     try:
         if pool is None:
-            done = (_simulate_timed(m, seed) for m in missing)
+            done = (_simulate_timed(m, seed, sensors) for m in missing)
         else:
-            futures = [pool.submit(_simulate_timed, m, seed) for m in missing]
+            futures = [pool.submit(_simulate_timed, m, seed, sensors) for m in missing]
             done = (f.result() for f in as_completed(futures))
         for i, (run, wall) in enumerate(done, start=1):
             write_export(run, out_dir)

@@ -38,6 +38,17 @@ class SensorModel:
     can_delay: float = 0.05
     can_step: float = math.radians(0.1)
 
+    @classmethod
+    def ideal(cls) -> SensorModel:
+        """Sensors that report the truth: no noise, the steering wheel at 100 Hz, unquantised."""
+        return cls(pos_sigma=0.0, heading_sigma=0.0, vel_sigma=0.0, rate_sigma=0.0,
+                   rate_bias_sigma=0.0, can_rate=100.0, can_delay=0.0, can_step=0.0)
+
+    @property
+    def is_ideal(self) -> bool:
+        """Whether :func:`measure` returns the true signals unchanged."""
+        return self == SensorModel.ideal()
+
 
 def gauss_markov(rng: np.random.Generator, n: int, dt: float, sigma: float,
                  tau: float) -> np.ndarray:
@@ -71,6 +82,8 @@ def measure(frame: pd.DataFrame, rng: np.random.Generator,
         (10 Hz, held, late, quantised).
     """
     out = frame.copy()
+    if model.is_ideal:
+        return out
     t = frame["t"].to_numpy()
     n, dt = len(t), float(np.median(np.diff(t)))
     for i in (1, 2):
@@ -89,5 +102,6 @@ def measure(frame: pd.DataFrame, rng: np.random.Generator,
     true = frame["delta_h"].to_numpy()
     sample_at = (np.arange(n) // step) * step - lag
     held = true[np.clip(sample_at, 0, n - 1)]
-    out["delta_h"] = np.round(held / model.can_step) * model.can_step
+    out["delta_h"] = (np.round(held / model.can_step) * model.can_step if model.can_step > 0
+                      else held)
     return out
