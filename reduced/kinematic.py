@@ -12,7 +12,33 @@ axle does not slip, so the trailer yaw rate is the hitch velocity across the
 trailer, ``u1 sin(gamma) + r1 L1c cos(gamma)``, over ``L2``; and
 ``gamma_dot = r1 - r2``.
 
-State: ``[X, Y, psi_1, gamma]`` with ``(X, Y)`` the drive-axle centre [m].
+State: ``[X, Y, psi_1, gamma]`` with ``(X, Y)`` the centre of the tractor's
+(equivalent) rear axle [m].
+
+**Equivalent wheelbases.** A unit with several unsteered axles has no axle
+that does not slip: at low speed its axles scrub. The semitrailer's tridem
+turns about the point where its lateral velocity is zero, and its scrub pushes
+on the hitch, which makes the tractor's axles slip too. KIN takes this in
+through equivalent lengths from the low-speed steady turn of the linear
+single-track model (Winkler's analysis of the steady turning of complex
+vehicles): side forces ``C_i alpha_i`` with ``C_i = f Fz_i``, no inertia, small
+angles, so that every slip is geometric and ``f`` cancels.
+
+- Semitrailer: no moment about the kingpin puts its no-slip point at
+  ``L2 = l_0 = sum C_i l_i^2 / sum C_i l_i`` behind the kingpin (Fancher's
+  effective wheelbase; for an equal tandem of spread ``s`` about ``l`` it is
+  ``l + s^2 / (4 l)``). Its tyres' net force ``rho sum C_i (l_i - l_0)``,
+  ``rho`` the path curvature, acts on the tractor at the hitch.
+- Tractor: force and moment balance of its axles and that hitch force give,
+  per radian of steer, its curvature and the lateral slip of its drive-axle
+  point. ``L1 = delta / rho``, and the tractor turns about its no-slip point
+  ``x_n`` on its centre line, which becomes KIN's rear axle:
+  ``L1c = x_hitch - x_n``.
+
+This is the default (``wheelbase="equivalent"``). For a 4x2 tractor with a
+single-axle trailer it is the paper's geometry exactly. ``wheelbase="paper"``
+keeps the paper's choice: the drive axle and the middle trailer axle, ``L1``
+and ``L2``.
 """
 
 from __future__ import annotations
@@ -80,6 +106,68 @@ def kin_observe(x, u1, delta, P, s1, s2):
     return sensor_signals(x[0], x[1], x[2], gamma, u1, 0.0, r1, r2, L1c, s1, s2)
 
 
-def kin_parameters(vehicle: Vehicle) -> np.ndarray:
-    """Pack a vehicle into KIN's parameter array ``[L1, L1c, L2]`` [m]."""
-    return np.array([vehicle.L1, vehicle.L1c, vehicle.L2])
+WHEELBASES = ("equivalent", "paper")
+"""Choices of KIN's wheelbases (see the module docstring)."""
+
+
+def equivalent_length(d: np.ndarray, C: np.ndarray) -> float:
+    """``sum C d^2 / sum C d``: the no-slip point of an axle group [m].
+
+    Parameters
+    ----------
+    d : ndarray
+        Axle distances from the point that carries the unit's other force [m].
+    C : ndarray
+        Their cornering stiffnesses (any common unit, or loads).
+    """
+    return float(np.sum(C * d ** 2) / np.sum(C * d))
+
+
+def wheelbases(vehicle: Vehicle, wheelbase: str = "equivalent") -> tuple[float, float, float]:
+    """KIN's tractor lengths ``(L1, L1c, x_rear)`` [m]; see the module docstring.
+
+    ``x_rear`` is the tractor's (equivalent) rear axle, its no-slip point, on
+    the drive-axle frame's x-axis [m]: zero for the paper's choice.
+    """
+    if wheelbase == "paper":
+        return vehicle.L1, vehicle.L1c, 0.0
+    n1 = len(vehicle.tractor_axles)
+    C = vehicle.static_loads  # proportional to the cornering stiffnesses; f cancels
+    ell = vehicle.trailer_axle_distances
+    Ct = C[n1:]
+    l0 = equivalent_length(ell, Ct)
+    T = float(np.sum(Ct * (ell - l0)))  # trailer tyres' net force per unit curvature
+    x = np.array([a.x for a in vehicle.tractor_axles])
+    Cc = C[:n1]
+    steer = np.array([1.0 if a.steered else 0.0 for a in vehicle.tractor_axles])
+    x_h = vehicle.L1c
+    # Slip of axle j: steer_j delta - beta - rho x_j, with beta the drive-axle
+    # point's lateral velocity over u and rho the curvature. Force and moment
+    # (about the drive axle) balance with the hitch force T rho at x_h:
+    A = np.array([[Cc.sum(), (Cc * x).sum() - T],
+                  [(Cc * x).sum(), (Cc * x * x).sum() - T * x_h]])
+    b = np.array([(Cc * steer).sum(), (Cc * steer * x).sum()])
+    beta, rho = np.linalg.solve(A, b)  # per radian of steer
+    x_n = -beta / rho
+    return float(1.0 / rho), float(x_h - x_n), float(x_n)
+
+
+def kin_parameters(vehicle: Vehicle, wheelbase: str = "equivalent") -> np.ndarray:
+    """Pack a vehicle into KIN's parameter array ``[L1, L1c, L2]`` [m].
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Geometry and static axle loads.
+    wheelbase : str
+        ``"equivalent"`` (default): the axle groups' no-slip points, see the
+        module docstring; ``"paper"``: the drive axle and ``L2``.
+    """
+    if wheelbase not in WHEELBASES:
+        raise ValueError(f"wheelbase {wheelbase!r}: expected one of {', '.join(WHEELBASES)}")
+    L1, L1c, _ = wheelbases(vehicle, wheelbase)
+    if wheelbase == "paper":
+        return np.array([L1, L1c, vehicle.L2])
+    n1 = len(vehicle.tractor_axles)
+    L2 = equivalent_length(vehicle.trailer_axle_distances, vehicle.static_loads[n1:])
+    return np.array([L1, L1c, L2])

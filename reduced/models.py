@@ -13,7 +13,7 @@ import numpy as np
 from mjcf.interface import InitialState, rotate, wrap_angle
 from mjcf.vehicle import Vehicle
 from reduced.integrate import KIN, STM, observe, rk4_step
-from reduced.kinematic import kin_parameters
+from reduced.kinematic import kin_parameters, wheelbases
 from reduced.single_track import N_BODY, axle_velocities, stm_parameters, stm_unpack
 from reduced.tyre_linear import slip_angle
 
@@ -81,18 +81,25 @@ class KinematicModel(CompiledModel):
     Parameters
     ----------
     vehicle : Vehicle
-        Uses ``L1``, ``L1c``, ``L2`` and the sensor positions. KIN has one
-        equivalent axle per unit: the drive axle and the trailer axle group's
-        centre; further tractor axles (a tag axle) are not represented.
+        Geometry, static axle loads and sensor positions. KIN has one
+        equivalent axle per unit.
+    wheelbase : str
+        ``"equivalent"`` (default): each unit's axle group enters through its
+        no-slip point, so a tag axle or a tridem counts; ``"paper"``: the drive
+        axle and the middle trailer axle, as the paper has it. See
+        :mod:`reduced.kinematic`.
     """
 
     name = "kin"
     kind = KIN
 
-    def __init__(self, vehicle: Vehicle) -> None:
+    def __init__(self, vehicle: Vehicle, wheelbase: str = "equivalent") -> None:
         self.vehicle = vehicle
-        self.P = kin_parameters(vehicle)
-        self._s1 = np.array(vehicle.sensor1[:2])
+        self.wheelbase = wheelbase
+        self.P = kin_parameters(vehicle, wheelbase)
+        x_rear = wheelbases(vehicle, wheelbase)[2]
+        # The state's point is the (equivalent) rear axle: the sensor from there.
+        self._s1 = np.array([vehicle.sensor1[0] - x_rear, vehicle.sensor1[1]])
         self._s2 = np.array(vehicle.sensor2[:2])
         self.x = np.zeros(4)
         self._u1 = 0.0

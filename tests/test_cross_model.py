@@ -64,7 +64,7 @@ def linear(unloaded):
         qL = plant.data.qpos[plant._steer_L[0]]
         qR = plant.data.qpos[plant._steer_R[0]]
     dc = float(centre_angle(np.array(qL), np.array(qR)))
-    out = {"kin": steady(KinematicModel(unloaded), dc), "stm1": steady(stm1, dc),
+    out = {"kin": steady(KinematicModel(unloaded, "paper"), dc), "stm1": steady(stm1, dc),
            "stm": steady(stm, dc), "mbd": mbd}
     return out, float(np.min(C / unloaded.static_loads))
 

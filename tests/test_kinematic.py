@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -18,11 +19,14 @@ def steady(model, delta, u, seconds=300.0, dt=0.01):
     return model.observe()
 
 
+@pytest.mark.parametrize("wheelbase", ["paper", "equivalent"])
 @pytest.mark.parametrize("delta", [0.05, 0.2, -0.35])
-def test_steady_circle_closed_form(unloaded, delta):
-    v = unloaded
+def test_steady_circle_closed_form(unloaded, delta, wheelbase):
     u = 1.4
-    y = steady(KinematicModel(v), delta, u)
+    model = KinematicModel(unloaded, wheelbase)
+    L1, L1c, L2 = model.P
+    v = SimpleNamespace(L1=L1, L1c=L1c, L2=L2)  # eq. (1)'s lengths, whichever the choice
+    y = steady(model, delta, u)
     # Yaw rate: u tan(delta) / L1.
     assert y[5] == pytest.approx(u * math.tan(delta) / v.L1, rel=1e-12)
     # Articulation from the geometry. Drive axle on radius R1 = L1 / tan(delta);

@@ -130,7 +130,7 @@ def test_stiff_tyres_approach_kin(unloaded):
     # are the lateral accelerations over the cornering stiffness, so the
     # difference to KIN falls as 1/f: a tenfold f cuts it tenfold.
     delta, u = 0.2, 0.5
-    kin = steady(KinematicModel(unloaded), delta, u)
+    kin = steady(KinematicModel(unloaded, "paper"), delta, u)
     err = {}
     for f in (6.0, 60.0, 600.0):
         stm = steady(SingleTrackModel(unloaded, f=f, trailer_axles=np.array([unloaded.L2])),
@@ -150,7 +150,7 @@ def test_trailer_tridem_scrub(unloaded):
     delta, u = 0.2, 0.5
     m = SingleTrackModel(v)
     y = steady(m, delta, u)
-    kin = steady(KinematicModel(v), delta, u)
+    kin = steady(KinematicModel(v, "paper"), delta, u)
     assert y[12] > kin[12] + math.radians(1.0)
     x = m.x
     r, gd, g, vv = x[5], x[6], x[3], x[4]
