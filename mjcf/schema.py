@@ -143,6 +143,8 @@ PLANT = {
                             default=(0.0, 0.0, 0.0)),
     "payload_yaw_inertia": Field("kg m^2", "change of the semitrailer's yaw inertia J2",
                                  "real", optional=True, default=0.0),
+    "tyre_moments": Field("", "the tyres' aligning moment and turn-slip (bore) torque",
+                          "bool", optional=True, default=False),
 }
 """Optional ``[plant]`` section: effects only the multibody plant has, each off by default."""
 

@@ -122,6 +122,8 @@ class PlantOptions:
         Shift of the semitrailer's centre of gravity [m], semitrailer axes.
     payload_yaw_inertia : float
         Change of the semitrailer's yaw inertia [kg m^2].
+    tyre_moments : bool
+        Whether the tyres' aligning moment and turn-slip torque act.
     """
 
     fifth_wheel_friction: float = 0.0
@@ -130,6 +132,7 @@ class PlantOptions:
     crossfall: float = 0.0
     payload_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
     payload_yaw_inertia: float = 0.0
+    tyre_moments: bool = False
 
 
 @dataclass(frozen=True)
@@ -413,10 +416,10 @@ def load_vehicle(name_or_path: str | Path) -> Vehicle:
 def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehicle:
     """Check parsed TOML and build a :class:`Vehicle` (see :func:`load_vehicle`)."""
     for key in data:
-        if key not in schema.SECTIONS:
+        if key not in schema.SECTIONS and key not in schema.OPTIONAL_SECTIONS:
             raise VehicleFileError(
                 f"{path}: key '{key}': unknown section; sections are: "
-                f"{', '.join(schema.SECTIONS)}")
+                f"{', '.join([*schema.SECTIONS, *schema.OPTIONAL_SECTIONS])}")
     sec = {}
     for name, fields in schema.SECTIONS.items():
         if name not in data:

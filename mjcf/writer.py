@@ -40,7 +40,8 @@ def updated(base: str | Path, changes: dict[str, dict[str, Any]], source: str,
         node = out
         for part in section.split("."):
             node = node.setdefault(part, {})
-        node.update({k: float(v) for k, v in values.items()})
+        node.update({k: v if isinstance(v, bool) else [float(x) for x in v]
+                     if isinstance(v, list | tuple) else float(v) for k, v in values.items()})
     vehicle = out.setdefault("vehicle", {})
     vehicle["sources"] = [*vehicle.get("sources", []), source]
     if name:

@@ -25,8 +25,10 @@ The tractor's speed is either *followed* or *driven* (``speed=``):
   drive axle's traction slip, a few tenths of a per cent at yard speeds, and
   its small effect on that axle's side force through combined slip;
 - ``"drive"``: a driver's cruise control, a PI controller on drive torque at
-  the driven wheels and brake torque at all wheels, with the lag a driver has.
-  The synthetic campaign's truth drives this way.
+  the driven wheels and brake torque at all wheels, with the lag a driver has;
+- ``"pedals"``: no controller at all; :attr:`Plant.pedals` sets throttle and
+  brake, each in [0, 1], of :data:`DRIVE_FORCE_MAX` and :data:`BRAKE_DECEL_MAX`.
+  The synthetic campaign's structural truth has a driver work them.
 
 The steering servo turns the left front wheel to the
 commanded road-wheel angle. The right wheel follows through the tie-rod
@@ -79,7 +81,14 @@ FOLLOW_KI = 5.0
 set-point. With the servo's 20 /s bandwidth the loop is critically damped
 (``s^2 + 20 s + 100``)."""
 
-SPEED_MODES = ("follow", "drive")
+DRIVE_FORCE_MAX = 0.15
+"""Full throttle: drive force at the wheels as a fraction of the combination's
+weight [-] (a laden truck in a low gear pulls off at about 1.5 m/s^2)."""
+
+BRAKE_DECEL_MAX = 0.6
+"""Full brake: deceleration of the combination [g] (a service brake's reach)."""
+
+SPEED_MODES = ("follow", "drive", "pedals")
 """How the plant's tractor speed is controlled (see the module docstring)."""
 
 
@@ -138,6 +147,8 @@ class Plant:
         if speed not in SPEED_MODES:
             raise ValueError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)}")
         self.speed_mode = speed
+        self.pedals = (0.0, 0.0)
+        """Throttle and brake in [0, 1], applied with ``speed="pedals"``."""
         if backend != "numpy" and ctyre.library() is None:
             if backend == "c":
                 raise RuntimeError(ctyre.unavailable_reason())
@@ -158,7 +169,7 @@ class Plant:
             self.model.opt.timestep = timestep
         self.data = mujoco.MjData(self.model)
         self._index(vehicle)
-        if speed == "drive":  # no follower: the wheels drive and brake
+        if speed != "follow":  # no follower: the wheels drive and brake
             self.model.actuator_gainprm[self._follower, 0] = 0.0
             self.model.actuator_biasprm[self._follower, 2] = 0.0
         self._psi = np.zeros(2)
@@ -341,6 +352,16 @@ class Plant:
         if self.speed_mode == "follow":
             ff = self.mass_eff * u_dot + rr
             d.ctrl[self._follower] = u_cmd + ff / self._follower_kv + FOLLOW_KI * self._integral
+            return
+        if self.speed_mode == "pedals":
+            throttle, brake = (min(max(float(x), 0.0), 1.0) for x in self.pedals)
+            direction = 1.0 if u_cmd >= 0.0 else -1.0  # the gear: forward or reverse
+            weight = self.mass * G
+            d.ctrl[self._drive] = direction * throttle * DRIVE_FORCE_MAX * weight * self.R0 \
+                / len(self._drive)
+            spin = d.qvel[self._spin_dof]
+            d.ctrl[self._brake] = (-brake * BRAKE_DECEL_MAX * weight * self.R0
+                                   * self._brake_share * np.tanh(spin / BRAKE_SPIN_SCALE))
             return
         F = self.mass * (u_dot + SPEED_KP * e + SPEED_KI * self._integral) + rr
         direction = math.copysign(1.0, u_cmd) if abs(u_cmd) > 0.05 else math.copysign(1.0, F)

@@ -172,7 +172,7 @@ def _logs_generate(args: argparse.Namespace) -> int:
 
     sensors = SensorModel.ideal() if args.sensors == "ideal" else SensorModel()
     paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress,
-                              jobs=args.jobs, sensors=sensors)
+                              jobs=args.jobs, sensors=sensors, truth=args.truth)
     print(f"{len(paths)} manoeuvres in {args.out_dir}; the truth as vehicle files "
           f"{args.out_dir / 'truth-unloaded.toml'} and truth-loaded.toml")
     return 0
@@ -262,6 +262,9 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--seed", type=int, default=0)
     gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
     gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
+    gen.add_argument("--truth", choices=("structural", "legacy"), default="structural",
+                     help="the vehicle that made the logs: one that differs from the presets "
+                          "in structure, or the first near-identical one (default: %(default)s)")
     gen.add_argument("--sensors", choices=("default", "ideal"), default="default",
                      help="the measurement chain: noisy RTK/INS/CAN models, or the truth "
                           "itself (default: %(default)s)")

@@ -5,18 +5,19 @@ on the multibody plant in a *truth configuration*. It measures each run
 through :mod:`validation.synthetic.sensors` and writes it as an OXTS-style export, so
 that it comes back in through the same importer as real logs.
 
-Truth configuration, drawn once per campaign from its random seed: the steering
-ratio differs from the preset's by a 2 % standard deviation, the
-steering-wheel offset is 5 deg with a 0.5 deg spread, and the tyres' cornering
-stiffness (``LKY``) and friction (``LMUY``) scale by 5 % and 3 %. Tuning has
-something real to find. The truth of each load condition is written beside the
+The truth configuration, drawn once per campaign from its random seed, is
+:mod:`validation.synthetic.truth`'s: by default a vehicle that differs from the
+validated presets in structure (another trailer tyre, tyre moments,
+fifth-wheel friction, payload, sensor installation, steering play and drift,
+a driver on the pedals, a sloped yard), or with ``--truth legacy`` the first,
+near-identical truth. The truth of each load condition is written beside the
 exports as a vehicle file, ``truth-unloaded.toml`` and ``truth-loaded.toml``,
-which every command accepts: the plant built from it, with ideal sensors
-(``--sensors ideal``), replays the campaign's logs.
+which every command accepts.
 
-The truth drives its own speed as a driver does (``Plant(speed="drive")``),
-with drive and brake torques and their lag; the plant under validation follows
-the log's speed (see :mod:`plant.plant`).
+The structural truth's driver turns the steering wheel and works the pedals
+(:mod:`validation.synthetic.actuation`); the legacy truth drives its speed
+with the plant's PI controller (``Plant(speed="drive")``). The plant under
+validation follows the log's speed (see :mod:`plant.plant`).
 
 Each manoeuvre draws its own random numbers from ``(seed, index)``, so a
 campaign is the same whichever manoeuvres are made, in whatever order. Each
@@ -41,64 +42,31 @@ from pathlib import Path
 import numpy as np
 
 from mjcf.interface import InitialState
-from mjcf.vehicle import Vehicle, load_vehicle
-from mjcf.writer import updated, write_vehicle
+from mjcf.vehicle import Vehicle
 from plant import Plant, PlantWarning
 from validation.campaign import fingerprint
 from validation.logs.oxts import export_oxts
 from validation.logs.runfile import Run, new_frame
 from validation.steering import SteeringMap
+from validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
 from validation.synthetic.driver import DockingDriver, drive_to_dock
 from validation.synthetic.manoeuvres import make_profile
 from validation.synthetic.sensors import SensorModel, measure
 from validation.synthetic.testmatrix import MATRIX, Manoeuvre
+from validation.synthetic.truth import (
+    TRUTHS,
+    slope,
+    truth_configuration,
+    truth_vehicle,
+    write_truth_files,
+)
 
 META_FILE = "meta.json"
 
-LOADS = ("unloaded", "loaded")
-"""The campaign's load conditions."""
 
 
-def truth_configuration(seed: int) -> dict[str, float]:
-    """The truth configuration of a campaign (see the module docstring)."""
-    rng = np.random.default_rng([seed, 10_000])
-    return {"i_s_scale": float(1.0 + rng.normal(0.0, 0.02)),
-            "delta_h_offset": float(math.radians(5.0 + rng.normal(0.0, 0.5))),
-            "LKY": float(1.0 + rng.normal(0.0, 0.05)),
-            "LMUY": float(1.0 + rng.normal(0.0, 0.03))}
 
-
-def _truth_changes(v: Vehicle, truth: dict[str, float]) -> dict[str, dict[str, float]]:
-    s = v.steering_for("mbd")
-    return {"steering.mbd": {"i_s": s.i_s * truth["i_s_scale"], "q": s.q,
-                             "delta_h_offset": truth["delta_h_offset"]},
-            "tyre.scaling": {"LKY": truth["LKY"], "LMUY": truth["LMUY"]}}
-
-
-def truth_vehicle(v: Vehicle, truth: dict[str, float]) -> Vehicle:
-    """The vehicle in the truth configuration: its steering and its tyres' scaling."""
-    ch = _truth_changes(v, truth)
-    return dataclasses.replace(
-        v, steering_overrides={**v.steering_overrides, "mbd": ch["steering.mbd"]},
-        tyre_scaling=tuple(sorted(ch["tyre.scaling"].items())))
-
-
-def write_truth_files(out_dir: Path, seed: int) -> dict[str, Path]:
-    """Write ``truth-LOAD.toml`` per load condition into ``out_dir``; returns them by load."""
-    truth = truth_configuration(seed)
-    out = {}
-    for load in LOADS:
-        preset = f"gosar2022-{load}"
-        data = updated(preset, _truth_changes(load_vehicle(preset), truth),
-                       f"The truth configuration of artic's synthetic campaign, seed {seed} "
-                       "(validation.synthetic.generate)", name=f"truth-{load}")
-        path = Path(out_dir) / f"truth-{load}.toml"
-        write_vehicle(data, path)
-        out[load] = path
-    return out
-
-
-def _drive_profile(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
+def _drive_profile(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
                    rng: np.random.Generator):
     prof = make_profile(m.kind, amplitude_deg=m.amplitude_deg, speed_kph=m.speed_kph,
                         side=m.side, delta_h_offset=steering.delta_h_offset, L1=vt.L1,
@@ -106,10 +74,10 @@ def _drive_profile(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMa
                             40.0 if m.kind == "constant-steer" else None))
     u = prof.u1.copy()
     plant.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=float(u[0])))
-    # The driver brakes (1 m/s^2) at 30-38 deg, earlier the faster the
-    # combination goes; the articulation grows on while it stops, to 33-48 deg
+    # The driver brakes (1 m/s^2) at 33-40 deg, earlier the faster the
+    # combination goes; the articulation grows on while it stops, to about 33-40 deg
     # (the paper's runs peaked at 45 on average).
-    stop_at = math.radians(rng.uniform(30.0, 38.0) - 1.5 * (m.speed_kph - 3.0))
+    stop_at = math.radians(rng.uniform(33.0, 40.0) - 1.5 * (m.speed_kph - 3.0))
     n_max = prof.t.size if m.kind != "ramp-steer-reverse" else int(120 / 0.01)
     obs, dh, speed = [], [], []
     u_now, stopping, stopped_for = float(u[0]), False, 0
@@ -130,13 +98,13 @@ def _drive_profile(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMa
             target = float(u[min(k + 1, u.size - 1)])
         a_max = 0.01 if stopping else 0.005  # speed change per 10 ms step [m/s]
         u_next = u_now + max(-a_max, min(a_max, target - u_now))
-        plant.step(0.01, steering.road_wheel(d_h), u_now, (u_next - u_now) / 0.01)
+        plant.step_steering_wheel(0.01, d_h, u_now, (u_next - u_now) / 0.01)
         u_now = u_next
     t = np.arange(len(obs)) * 0.01
     return t, np.array(obs), np.array(dh), {}
 
 
-def _drive_dock(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
+def _drive_dock(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
                 rng: np.random.Generator):
     sign = 1.0 if m.side == "left" else -1.0
     if m.kind == "docking":
@@ -150,21 +118,34 @@ def _drive_dock(plant: Plant, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
     info = {"docked": bool(docked), "shuffles": driver.shuffles, "final_distance": dist,
             "final_lateral_error": e_y, "final_heading_error": e_psi,
             "start_lateral": sign * y0, "start_heading": sign * math.radians(psi0)}
-    return t, obs, np.asarray(steering.steering_wheel(delta)), info
+    # The steering wheel the driver held over each step; the last sample's is
+    # the one he would turn to next.
+    held = list(plant.delta_h[:len(t)])
+    held += [float(steering.steering_wheel(d)) for d in delta[len(held):]]
+    return t, obs, np.asarray(held), info
 
 
-def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None) -> Run:
+def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
+                       truth_kind: str = "structural") -> Run:
     """Drive and measure one manoeuvre; returns the measured run with its metadata.
 
     Pure computation, no files: it runs wherever an executor sends it.
     """
     sensors = sensors or SensorModel()
-    truth = truth_configuration(seed)
-    v = load_vehicle(f"gosar2022-{m.load}")
-    vt = truth_vehicle(v, truth)
+    truth = truth_configuration(seed, truth_kind)
+    structural = truth_kind != "legacy"
+    chain = sensors  # the measurement chain, with the truth's clock skew if it has one
+    if structural and not sensors.is_ideal:
+        chain = dataclasses.replace(sensors, trailer_skew=truth["trailer_clock_skew"])
+    where = slope(seed, m.index, truth)
+    vt = truth_vehicle(m.load, truth, seed, where)
     rng = np.random.default_rng([seed, m.index])
     steering = SteeringMap.from_steering(vt.steering_for("mbd"))
-    with Plant(vt, speed="drive") as plant:
+    column = SteeringColumn(truth.get("backlash", 0.0), truth.get("drift_rate", 0.0))
+    pedals = PedalDriver(vt.m1 + vt.m2, delay=truth["driver_delay"],
+                         gain=truth["driver_gain"]) if structural else None
+    with Plant(vt, speed="pedals" if structural else "drive") as p:
+        plant = TruthActuation(p, steering, column, pedals)
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
         # The driver may ask for more wheel angle than the linkage gives at
         # lock, as a real driver turns the wheel against its stop; the plant
@@ -173,11 +154,11 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)
             t, obs, delta_h, info = drive(plant, vt, m, steering, rng)
-        info["steer_limited_steps"] = plant.steer_limited
+        info["steer_limited_steps"] = p.steer_limited
     true = new_frame(t, delta_h, obs)
-    measured = measure(true, rng, sensors)
-    meta = {**m.meta(), **info, "vehicle": v.name, "load": m.load, "seed": seed,
-            "truth": truth, "source": "synthetic",
+    measured = measure(true, rng, chain)
+    meta = {**m.meta(), **info, "vehicle": f"gosar2022-{m.load}", "load": m.load,
+            "seed": seed, "truth": truth, "slope": where, "source": "synthetic",
             "peak_articulation": float(np.max(np.abs(obs[:, 12]))),
             "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
     return Run(measured, meta)
@@ -205,22 +186,24 @@ def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
     return write_export(simulate_manoeuvre(m, seed, sensors), out_dir)
 
 
-def _simulate_timed(m: Manoeuvre, seed: int,
-                    sensors: SensorModel | None = None) -> tuple[Run, float]:
+def _simulate_timed(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
+                    truth: str = "structural") -> tuple[Run, float]:
     t0 = time.perf_counter()
-    run = simulate_manoeuvre(m, seed, sensors)
+    run = simulate_manoeuvre(m, seed, sensors, truth)
     return run, time.perf_counter() - t0
 
 
-def _same(meta: dict, seed: int, sensors: SensorModel) -> bool:
+def _same(meta: dict, seed: int, sensors: SensorModel, truth: str) -> bool:
     return (meta.get("seed") == seed and meta.get("generator") == fingerprint.code()
-            and meta.get("sensors") == dataclasses.asdict(sensors))
+            and meta.get("sensors") == dataclasses.asdict(sensors)
+            and meta.get("truth", {}).get("kind") == truth)
 
 
 def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = None,
                       progress: Callable[[str], None] | None = None,
                       jobs: int = 1, executor: Executor | None = None,
-                      sensors: SensorModel | None = None) -> list[Path]:
+                      sensors: SensorModel | None = None,
+                      truth: str = "structural") -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -242,6 +225,8 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     sensors : SensorModel, optional
         The measurement chain; :class:`SensorModel` by default,
         ``SensorModel.ideal()`` for the truth itself.
+    truth : str
+        ``"structural"`` or ``"legacy"``; see :mod:`validation.synthetic.truth`.
 
     Returns
     -------
@@ -251,7 +236,9 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     sensors = sensors or SensorModel()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    write_truth_files(out_dir, seed)
+    if truth not in TRUTHS:
+        raise ValueError(f"truth {truth!r}: expected one of {', '.join(TRUTHS)}")
+    write_truth_files(out_dir, seed, truth)
     unknown = [o for o in only or [] if not any(m.name.startswith(o) for m in MATRIX)]
     if unknown:
         raise ValueError(f"no manoeuvre matches {', '.join(unknown)}; names look like "
@@ -261,7 +248,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     for m in todo:
         meta = out_dir / m.name / META_FILE
         # Reuse only what this seed and this code made (see validation.campaign.fingerprint).
-        if not (meta.is_file() and _same(json.loads(meta.read_text()), seed, sensors)):
+        if not (meta.is_file() and _same(json.loads(meta.read_text()), seed, sensors, truth)):
             missing.append(m)
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
@@ -269,9 +256,9 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     pool = ProcessPoolExecutor(max_workers=jobs) if own else executor
     try:
         if pool is None:
-            done = (_simulate_timed(m, seed, sensors) for m in missing)
+            done = (_simulate_timed(m, seed, sensors, truth) for m in missing)
         else:
-            futures = [pool.submit(_simulate_timed, m, seed, sensors) for m in missing]
+            futures = [pool.submit(_simulate_timed, m, seed, sensors, truth) for m in missing]
             done = (f.result() for f in as_completed(futures))
         for i, (run, wall) in enumerate(done, start=1):
             write_export(run, out_dir)

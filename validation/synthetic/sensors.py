@@ -37,6 +37,8 @@ class SensorModel:
     can_rate: float = 10.0
     can_delay: float = 0.05
     can_step: float = math.radians(0.1)
+    trailer_skew: float = 0.0
+    """Clock offset of the semitrailer's unit [s]: it stamps its samples this late."""
 
     @classmethod
     def ideal(cls) -> SensorModel:
@@ -96,6 +98,10 @@ def measure(frame: pd.DataFrame, rng: np.random.Generator,
             out[f"{c}_{i}"] = frame[f"{c}_{i}"] + rng.normal(0.0, model.vel_sigma, n)
         out[f"r_{i}"] = (frame[f"r_{i}"] + rng.normal(0.0, model.rate_sigma, n)
                          + rng.normal(0.0, model.rate_bias_sigma))
+    if model.trailer_skew:
+        # A sample stamped t was taken at t - skew: resample the trailer's signals.
+        for c in ("x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2"):
+            out[c] = np.interp(t - model.trailer_skew, t, out[c].to_numpy())
     out["gamma"] = wrap_angle(out["psi_1"].to_numpy() - out["psi_2"].to_numpy())
     step = max(1, round(1.0 / (model.can_rate * dt)))
     lag = round(model.can_delay / dt)

@@ -1,0 +1,209 @@
+"""How the synthetic truth's driver reaches the road: steering column and pedals.
+
+The structural truth does not hand the plant a road-wheel angle and a speed.
+Its driver turns a steering wheel and works two pedals:
+
+- :class:`SteeringColumn`: between the steering wheel (what the CAN bus
+  reports as ``delta_h``) and the steering box lie free play (backlash) and
+  an offset that drifts during the run (the column's centre creeping as the
+  tie rods and the box settle). The road wheels see
+  ``map(play(delta_h) - drift(t))``;
+- :class:`PedalDriver`: a driver who keeps a target speed with throttle and
+  brake, reacting after a delay, moving the pedals at a finite rate, and never
+  pressing both;
+- :class:`TruthActuation`: the plant behind those two, with the model
+  interface the generators drive. It records the steering-wheel angle the
+  driver held, which is what the log then reports.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mjcf.interface import InitialState
+from mjcf.vehicle import G
+from validation.steering import SteeringMap
+
+
+@dataclass
+class SteeringColumn:
+    """Free play and a drifting offset between the steering wheel and the box.
+
+    Parameters
+    ----------
+    backlash : float
+        Total free play at the steering wheel [rad]: the box follows only
+        when the wheel has taken up ``backlash / 2`` either way.
+    drift_rate : float
+        Rate at which the column's zero drifts [rad/s] (steering-wheel angle).
+    """
+
+    backlash: float = 0.0
+    drift_rate: float = 0.0
+    _out: float | None = None
+
+    def reset(self, delta_h: float) -> None:
+        """Start with the play centred on ``delta_h`` [rad]."""
+        self._out = delta_h
+
+    def __call__(self, delta_h: float, t: float) -> float:
+        """Steering-wheel angle that reaches the box at time ``t`` [rad]."""
+        if self._out is None:
+            self._out = delta_h
+        half = 0.5 * self.backlash
+        if delta_h - self._out > half:
+            self._out = delta_h - half
+        elif self._out - delta_h > half:
+            self._out = delta_h + half
+        return self._out - self.drift_rate * t
+
+
+@dataclass
+class PedalDriver:
+    """A driver keeping a target speed with throttle and brake.
+
+    Parameters
+    ----------
+    mass : float
+        Combination mass [kg]; the driver knows roughly how the truck pulls.
+    delay : float
+        Reaction time [s].
+    gain : float
+        Speed-error gain [1/s]: wanted acceleration per m/s of error. The
+        driver also trims out a lasting error (a slope, cornering drag) with
+        an integral gain ``gain^2 / 4`` [1/s^2], critically damped.
+    pedal_rate : float
+        Fastest pedal travel [1/s] (full travel in ``1 / pedal_rate`` s).
+    drive_force_max, brake_decel_max : float
+        What full throttle and full brake give: force over weight [-] and
+        deceleration [g] (the plant's :data:`plant.plant.DRIVE_FORCE_MAX` and
+        ``BRAKE_DECEL_MAX``).
+    resistance : float
+        Rolling resistance the driver expects, over weight [-].
+    dt : float
+        Step [s].
+    """
+
+    mass: float
+    delay: float = 0.4
+    gain: float = 1.5
+    pedal_rate: float = 2.0
+    drive_force_max: float = 0.15
+    brake_decel_max: float = 0.6
+    resistance: float = 0.006
+    dt: float = 0.01
+    throttle: float = 0.0
+    brake: float = 0.0
+    _trim: float = 0.0
+    _seen: deque = field(default_factory=deque)
+
+    def __post_init__(self) -> None:
+        self._seen = deque([0.0] * max(1, round(self.delay / self.dt)))
+
+    def reset(self, u: float) -> None:
+        """Start having seen speed ``u`` [m/s], pedals released."""
+        self._seen = deque([abs(u)] * len(self._seen))
+        self.throttle = self.brake = 0.0
+        self._trim = 0.0
+
+    def command(self, u_target: float, a_target: float, u: float) -> tuple[float, float]:
+        """Throttle and brake for the next step, from the speed seen ``delay`` ago.
+
+        Speeds are magnitudes along the travel direction (the gear decides it).
+        """
+        self._seen.append(abs(u))
+        seen = self._seen.popleft()
+        err = abs(u_target) - seen
+        if abs(u_target) > 0.05:
+            self._trim += 0.25 * self.gain ** 2 * err * self.dt
+        else:
+            self._trim = 0.0  # stopping or stopped: the brake does it
+        a = a_target + self.gain * err + self._trim
+        need = a / G + self.resistance * (1.0 if abs(u_target) > 0.05 else 0.0)
+        want_t = min(max(need / self.drive_force_max, 0.0), 1.0)
+        want_b = min(max(-need / self.brake_decel_max, 0.0), 1.0)
+        if abs(u_target) < 1e-3 and seen < 0.05:
+            want_t, want_b = 0.0, max(want_b, 0.3)  # stopped: hold it on the brake
+        step = self.pedal_rate * self.dt
+        # One foot: release one pedal before pressing the other.
+        if want_b > 0.0 and self.throttle > 0.0:
+            want_t = 0.0
+        if want_t > 0.0 and self.brake > 0.0:
+            want_b = 0.0
+        self.throttle += min(max(want_t - self.throttle, -step), step)
+        self.brake += min(max(want_b - self.brake, -step), step)
+        if self.throttle > 0.0 and self.brake > 0.0:  # still moving across
+            self.brake = max(self.brake - step, 0.0) if want_t > 0.0 else self.brake
+            self.throttle = max(self.throttle - step, 0.0) if want_b > 0.0 else self.throttle
+        return self.throttle, self.brake
+
+
+class TruthActuation:
+    """The truth's plant behind its steering column and pedals (a model for the drivers).
+
+    Parameters
+    ----------
+    plant : plant.Plant
+        Built with ``speed="pedals"`` when ``pedals`` is given.
+    steering : SteeringMap
+        The truth's own steering map (steering wheel to road wheel).
+    column : SteeringColumn
+        Free play and drift.
+    pedals : PedalDriver, optional
+        Without one, the plant's own ``speed`` mode takes the speed command.
+    """
+
+    name = "mbd"
+
+    def __init__(self, plant, steering: SteeringMap, column: SteeringColumn,
+                 pedals: PedalDriver | None = None) -> None:
+        self.plant = plant
+        self.steering = steering
+        self.column = column
+        self.pedals = pedals
+        self.delta_h: list[float] = []
+        self.t = 0.0
+
+    def reset(self, initial: InitialState) -> None:
+        """Reset the plant, the column and the driver."""
+        self.plant.reset(initial)
+        self.column.reset(self.steering.steering_wheel(0.0))
+        if self.pedals is not None:
+            self.pedals.reset(initial.u1)
+        self.delta_h = []
+        self.t = 0.0
+
+    def step_steering_wheel(self, dt: float, delta_h: float, u1: float, u1_dot: float) -> None:
+        """Advance ``dt`` [s]: steering wheel at ``delta_h`` [rad], target speed ``u1``."""
+        self.delta_h.append(delta_h)
+        delta = float(self.steering.road_wheel(self.column(delta_h, self.t)))
+        if self.pedals is not None:
+            self.plant.pedals = self.pedals.command(u1, math.copysign(1.0, u1) * u1_dot
+                                                    if u1 else 0.0,
+                                                    self.plant.observe()[3])
+        self.plant.step(dt, delta, u1, u1_dot)
+        self.t += dt
+
+    def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
+        """Advance with the road-wheel angle the driver wants: he turns the wheel for it."""
+        self.step_steering_wheel(dt, float(self.steering.steering_wheel(delta)), u1, u1_dot)
+
+    def observe(self, delta: float | None = None) -> np.ndarray:
+        """The plant's signals."""
+        return self.plant.observe(delta)
+
+    @property
+    def gamma(self) -> float:
+        """Articulation angle [rad]."""
+        return self.plant.gamma
+
+    def compiled(self) -> None:
+        """No compiled form."""
+        return None
+
+    def close(self) -> None:
+        """Nothing of its own to release; the plant is closed by its owner."""
