@@ -186,7 +186,7 @@ def _campaign(args: argparse.Namespace) -> int:
     run_campaign(Path(args.out_dir), models=tuple(parse_models(args.models)), seed=args.seed,
                  jobs=args.jobs, gain=args.gain, sweep_models=sweep,
                  recordings=not args.no_recordings, executor=args.executor,
-                 scheduler=args.scheduler)
+                 scheduler=args.scheduler, truth=args.truth)
     return 0
 
 
@@ -278,6 +278,10 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--models", default="kin,stm,mbd",
                       help="comma-separated, from kin, stm, mbd (default: %(default)s)")
     camp.add_argument("--seed", type=int, default=0, help="seed of the synthetic campaign")
+    camp.add_argument("--truth", choices=("structural", "legacy"), default="structural",
+                      help="the synthetic campaign's truth: one that differs from the presets "
+                           "in structure, or the first near-identical one, for regression "
+                           "(default: %(default)s)")
     camp.add_argument("--gain", type=float, default=DEFAULT_GAIN,
                       help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     camp.add_argument("--sweep-models", default="kin,stm",

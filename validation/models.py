@@ -96,6 +96,9 @@ class ModelSpec:
         Parameters that tuning fits (vehicle-file names).
     batched : bool
         Whether a batch of logs runs in one compiled call.
+    reference : bool
+        A reference row rather than a model under validation (the floor:
+        the truth's own plant); not tuned, not in ``--models``.
     """
 
     name: str
@@ -104,6 +107,7 @@ class ModelSpec:
     colour: tuple[int, int, int]
     tuned: tuple[str, ...]
     batched: bool
+    reference: bool = False
 
     @property
     def hex_colour(self) -> str:
@@ -116,12 +120,15 @@ REGISTRY: dict[str, ModelSpec] = {
         ModelSpec("kin", "KIN", _kin, (66, 133, 244), ("i_s", "q", "delta_h_offset"), True),
         ModelSpec("stm", "STM", _stm, (52, 168, 83), ("f", "i_s", "q", "delta_h_offset"), True),
         ModelSpec("mbd", "MBD", _mbd, (251, 140, 0), ("i_s", "q", "delta_h_offset"), False),
+        # The noise floor: the plant built from the truth's own vehicle file,
+        # through the same harness and sensors. No model can beat it.
+        ModelSpec("floor", "floor", _mbd, (150, 150, 150), (), False, reference=True),
     )
 }
-"""Every model artic validates, by name, in the order tables list them."""
+"""Every model artic validates, and the floor, by name, in the order tables list them."""
 
-NAMES: tuple[str, ...] = tuple(REGISTRY)
-"""Model names in table order."""
+NAMES: tuple[str, ...] = tuple(n for n, s in REGISTRY.items() if not s.reference)
+"""Names of the models under validation, in table order."""
 
 MEASURED_COLOUR = (230, 230, 230)
 """RGB of the measured combination in recordings and plots."""
@@ -163,6 +170,10 @@ def parse_models(text: str) -> list[str]:
         For an empty list or an unknown name.
     """
     names = [spec(m).name for m in text.split(",") if m.strip()]
+    refs = [n for n in names if REGISTRY[n].reference]
+    if refs:
+        raise ValueError(f"{', '.join(refs)} is a reference row the campaign adds, not a "
+                         f"model to validate; choose from {', '.join(NAMES)}")
     if not names:
         raise ValueError(f"no model given; use for example --models {','.join(NAMES)}")
     return names

@@ -10,12 +10,20 @@ Stages, each timed and each resumable:
    and one tuned vehicle file per load condition in ``OUT/params``;
 3. **validation**: every model through the closed-loop harness on every other
    log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``;
-4. **tables**: the paper's Table 2 and Table 3 columns, overall and per load
-   (``table2_forward``, ``table3_reverse``, ``.csv`` and ``.md``);
-5. **efficiency**: wall time per simulated second of each model (``efficiency.csv``);
-6. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
-7. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
-8. **report**: ``report.md``, written last.
+4. **references**: the two references' own numbers. The *floor*: the truth's
+   own plant (``truth-LOAD.toml``, with each manoeuvre's yard slope) through the
+   same harness against the same logs, a ``floor`` row in ``metrics.csv``; no
+   model can beat it, and a model's gap above it is its model-form error. And
+   *the plant as reference*: KIN and STM against the plant's runs of the same
+   manoeuvres (forward open loop, reverse under the harness), into
+   ``metrics_vs_plant.csv`` and ``OUT/vs_plant/runs``;
+5. **tables**: the paper's Table 2 and Table 3 columns, overall and per load,
+   with the floor row (``table2_forward``, ``table3_reverse``), and the same
+   against the plant (``table2_vs_plant``, ``table3_vs_plant``), ``.csv`` and ``.md``;
+6. **efficiency**: wall time per simulated second of each model (``efficiency.csv``);
+7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
+8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
+9. **report**: ``report.md``, written last.
 
 Resuming. Every cached result carries a key: the hash of artic's code, the
 seed, the models and the gain (:mod:`validation.campaign.fingerprint`). A rerun
@@ -80,10 +88,11 @@ class Stages:
 
 
 def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
-              only: list[str] | None = None, executor: Executor | None = None) -> list[Run]:
+              only: list[str] | None = None, executor: Executor | None = None,
+              truth: str = "structural") -> list[Run]:
     """Generate (or reuse) the synthetic campaign and import it (or reuse the import)."""
     exports = generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
-                                jobs=jobs, only=only, executor=executor)
+                                jobs=jobs, only=only, executor=executor, truth=truth)
     logs = []
     for folder in exports:
         target = out_dir / "logs" / f"{folder.name}.parquet"
@@ -163,7 +172,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
                  jobs: int | None = None, only: list[str] | None = None,
                  gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
                  recordings: bool = True, executor: str = "local",
-                 scheduler: str | None = None) -> dict[str, Path]:
+                 scheduler: str | None = None, truth: str = "structural") -> dict[str, Path]:
     """Run the campaign; see the module docstring.
 
     Parameters
@@ -188,6 +197,9 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
         Where generation and validation run: ``local`` or ``dask``, and a
         Dask scheduler's address (a local cluster when omitted); see
         :mod:`validation.campaign.executors`.
+    truth : str
+        The synthetic campaign's truth: ``"structural"`` or ``"legacy"``
+        (see :mod:`validation.synthetic.truth`).
 
     Returns
     -------
@@ -197,7 +209,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     jobs = jobs or os.cpu_count() or 1
-    key = fingerprint.key(seed, list(models), gain, only)
+    key = fingerprint.key(seed, list(models), gain, only, truth)
     (out_dir / "report.md").unlink(missing_ok=True)
     stage = Stages(stderr_progress)
     stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, K = {gain:g}, "
@@ -206,18 +218,18 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     with contextlib.ExitStack() as stack:
         pool = stack.enter_context(cluster_executor(executor, jobs, scheduler))
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
-                       key, stage)
+                           key, stage, truth)
 
 
 def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
-            stage) -> dict[str, Path]:
+                stage, truth) -> dict[str, Path]:
     from validation.campaign import report as rep
     from validation.campaign.efficiency import measure
     from validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
 
     paths: dict[str, Path] = {}
     with stage("logs"):
-        logs = load_logs(out_dir, seed, jobs, only, pool)
+        logs = load_logs(out_dir, seed, jobs, only, pool, truth)
     with stage("tuning"):
         tuned = _tune(out_dir, logs, models, key, jobs)
         vehicles = _tuned_vehicles(out_dir, tuned, seed)
@@ -234,14 +246,36 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                                            reuse_key=f"{key}.{load}", jobs=jobs,
                                            executor=pool))
         metrics = pd.concat(parts, ignore_index=True)
-        metrics["load"] = metrics["log"].map({log.name: log.meta.get("load") for log in logs})
+    load_of = {log.name: log.meta.get("load") for log in logs}
+    with stage("references"):
+        validated = [log for log in logs if log.name not in tuning_logs]
+        floor = _floor(out_dir, validated, seed, truth, gain, key, jobs, pool)
+        metrics = pd.concat([metrics, floor], ignore_index=True)
+        metrics["load"] = metrics["log"].map(load_of)
         paths["metrics"] = write_metrics(metrics, out_dir / "metrics.csv")
+        vs_plant = None
+        if "mbd" in models:
+            reduced = [m for m in models if m != "mbd"]
+            vs_plant = _versus_plant(out_dir, validated, vehicles, reduced, gain, key, jobs)
+            if vs_plant is not None:
+                vs_plant["load"] = vs_plant["log"].map(load_of)
+                paths["metrics_vs_plant"] = write_metrics(vs_plant,
+                                                          out_dir / "metrics_vs_plant.csv")
     with stage("tables"):
         forward, reverse = summary(metrics, "forward"), summary(metrics, "reverse")
         paths["table2"], _ = write_table(forward, out_dir / "table2_forward",
                                          "Forward driving (the paper's Table 2 columns)")
         paths["table3"], _ = write_table(reverse, out_dir / "table3_reverse",
                                          "Reverse driving (the paper's Table 3 columns)")
+        forward_p = reverse_p = None
+        if vs_plant is not None:
+            forward_p, reverse_p = summary(vs_plant, "forward"), summary(vs_plant, "reverse")
+            paths["table2_vs_plant"], _ = write_table(
+                forward_p, out_dir / "table2_vs_plant",
+                "Forward driving against the plant as reference (Table 2 columns)")
+            paths["table3_vs_plant"], _ = write_table(
+                reverse_p, out_dir / "table3_vs_plant",
+                "Reverse driving against the plant as reference (Table 3 columns)")
         per_load = {}
         for load in LOADS:
             part = metrics[metrics["load"] == load]
@@ -278,7 +312,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         seed=seed, models=tuple(models), gain=gain, metrics=metrics, forward=forward,
         reverse=reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep, stages=stage.times,
         fingerprint=fingerprint.code(), version=_version(), per_load=per_load,
-        files={k: str(v.relative_to(out_dir)) for k, v in paths.items()})
+        files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
+        forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth)
     with stage("report"):
         draft = rep.render(results)  # the summary recording's copy, before the last timing
         if recordings:
@@ -291,6 +326,50 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     print(text)
     stderr_progress(f"done in {sum(stage.times.values()):.0f} s; report in {paths['report']}")
     return paths
+
+
+def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
+           jobs: int, pool) -> pd.DataFrame:
+    """The truth's own plant against the logs: the ``floor`` rows of the tables against logs."""
+    from validation.synthetic.truth import truth_configuration, truth_vehicle
+
+    config = truth_configuration(seed, truth)
+
+    def vehicle_of(log: Run) -> Vehicle:
+        return truth_vehicle(log.meta["load"], config, seed, log.meta.get("slope"))
+
+    return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
+                         progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
+                         executor=pool)
+
+
+def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
+                  models: Sequence[str], gain: float, key: str,
+                  jobs: int) -> pd.DataFrame | None:
+    """KIN and STM against the plant's runs of the same manoeuvres, the plant as reference.
+
+    The plant's run of a log (``runs/LOG.mbd.parquet``) becomes the reference
+    log: its signals, the log's steering wheel and speed, and the log's
+    metadata. It ran forward open loop and in reverse under the harness; the
+    reduced models run through the same harness against it.
+    """
+    from validation.logs.schema import COLUMNS
+
+    if not models:
+        return None
+    refs = []
+    for log in logs:
+        run = read_run(out_dir / "runs" / f"{log.name}.mbd.parquet")
+        meta = {**log.meta, "source": "model:mbd", "reference": "mbd"}
+        refs.append(Run(run.frame[list(COLUMNS)].reset_index(drop=True), meta))
+    parts = []
+    for load in LOADS:
+        group = [r for r in refs if r.meta.get("load") == load]
+        if group:
+            parts.append(validate_runs(group, vehicles[load], models, gain=gain,
+                                       out_dir=out_dir / "vs_plant", progress=stderr_progress,
+                                       reuse_key=f"{key}.{load}.vs_plant", jobs=jobs))
+    return pd.concat(parts, ignore_index=True) if parts else None
 
 
 def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFrame | None:

@@ -23,7 +23,8 @@ from validation.metrics import CRITERIA, run_metrics
 from validation.models import build
 
 
-def validate_runs(logs: Sequence[Run], vehicle: Vehicle, models: Sequence[str],
+def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicle],
+                  models: Sequence[str],
                   gain: float = DEFAULT_GAIN, out_dir: Path | None = None,
                   progress: Callable[[str], None] | None = None,
                   reuse_key: str | None = None, jobs: int = 1,
@@ -34,8 +35,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle, models: Sequence[str],
     ----------
     logs : sequence of Run
         Measured (or synthetic) logs.
-    vehicle : Vehicle
-        Parameters the models are built from.
+    vehicle : Vehicle or callable
+        Parameters the models are built from, or a function giving them per
+        log (the floor's truth, whose yard slope changes per manoeuvre).
     models : sequence of str
         Model names.
     gain : float
@@ -107,7 +109,8 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle, models: Sequence[str],
             log, name = task
             target, key = _where(out_dir, log, name, reuse_key, gain)
             if _reusable(target, key) is None:
-                todo[(log.name, name)] = executor.submit(_simulate, name, log, vehicle, gain)
+                v = vehicle if isinstance(vehicle, Vehicle) else vehicle(log)  # pickles
+                todo[(log.name, name)] = executor.submit(_simulate, name, log, v, gain)
         remote.update({k: f.result() for k, f in todo.items()})
         rows = [one(t) for t in tasks]
     elif jobs > 1:
@@ -139,8 +142,11 @@ def _reusable(target: Path | None, key: str | None) -> Run | None:
     return run if run.meta.get("key") == key and "wall_s" in run.meta else None
 
 
-def _simulate(name: str, log: Run, vehicle: Vehicle, gain: float) -> tuple[Run, float]:
+def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
+              gain: float) -> tuple[Run, float]:
     """One harness run; returns the run and its wall time without model construction [s]."""
+    if not isinstance(vehicle, Vehicle):
+        vehicle = vehicle(log)
     model = build(name, vehicle)
     try:
         t0 = time.perf_counter()
