@@ -260,7 +260,7 @@ def _add_actuators(spec: mujoco.MjSpec, v: Vehicle, lay) -> None:
     follower.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
     for a in lay.axles:
         for side in nm.SIDES:
-            for direction in ("u", "v"):
+            for direction in ("u", "v", "w"):  # tread: along, across, twist
                 t = spec.add_actuator(name=nm.tread(a.axle.name, side, direction),
                                       target=nm.spin(a.axle.name, side),
                                       trntype=mujoco.mjtTrn.mjTRN_JOINT)

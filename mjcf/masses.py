@@ -120,7 +120,9 @@ def layout(v: Vehicle) -> Layout:
     axles = []
     for a, fz in zip(v.axles, loads, strict=True):
         n_t = 2 if a.dual else 1
-        r_static = R0 - fz / (2 * n_t) / k_t
+        own = read_tir(v.tyre_file_for(a)) if a.tyre_file else tyre
+        r_static = (own.number("UNLOADED_RADIUS")
+                    - fz / (2 * n_t) / own.number("VERTICAL_STIFFNESS"))
         z = r_static if a.unit == 1 else r_static - v.h5
         centre = np.array([a.x, 0.0, z])
         m_axle = AXLE_SHARE * a.unsprung_mass

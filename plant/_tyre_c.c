@@ -1,13 +1,17 @@
-/* The plant's tyre forces as MuJoCo's passive callback, in C.
+/* The plant's tyre forces and moments as MuJoCo's passive callback, in C.
  *
  * The same equations as plant/tyre.py (the reference) and the wheel
  * kinematics of plant/plant.py, term by term and in the same order, so the
  * two agree to rounding. The callback takes everything it needs from the
- * model itself: the numeric "artic.tyre" (numeric 0) holds the tyre
- * coefficients and, per wheel end, the ids of its hub site, bodies, spin dof
- * and tread actuators. Models without that block get no force from here.
- * There is no global state, so any number of models and threads can share
- * the callback, including mujoco.batch's copies of a model.
+ * model itself: the numeric "artic.tyre" (numeric 0) holds a header, one or
+ * more tyre coefficient sets (one per tyre file: steer, drive and trailer
+ * tyres may differ) and, per wheel end, the ids of its hub site, bodies, spin
+ * dof and tread actuators and its coefficient set. Models without that block
+ * get no force from here; so does a block that is not sealed with this
+ * process's key (plant/ctyre.py writes it), or that does not match the model
+ * it sits in: a foreign or damaged block is never followed. There is no
+ * mutable global state, so any number of models and threads can share the
+ * callback, including mujoco.batch's copies of a model.
  *
  * Per wheel end the callback writes the tread deflection rates to the tread
  * actuators' ctrl and the contact force [N] to d->userdata[3 i .. 3 i + 2].
@@ -15,27 +19,33 @@
  * the property file's ranges of Fz, kappa and alpha; Python resets the count.
  */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include <mujoco/mujoco.h>
 
-#define ARTIC_ABI 1
+#define ARTIC_ABI 2
 #define BLOCK_NAME "artic.tyre"
-#define HEADER 6   /* abi, n_wheels, R0, k_t, c_t, n_params */
-#define PER_WHEEL 11
+/* abi, key_hi, key_lo, n_wheels, n_params, n_sets, moments, checksum */
+#define HEADER 8
+#define PER_WHEEL 13
 
-/* Coefficient order of the block; plant/ctyre.py reads it from artic_param_names(). */
+/* Coefficient order of a set; plant/ctyre.py reads it from artic_param_names(). */
 #define PARAMS(X) \
-  X(UNLOADED_RADIUS) X(FNOMIN) X(LONGVL) X(VXLOW) X(FZMIN) X(LFZO) \
+  X(UNLOADED_RADIUS) X(VERTICAL_STIFFNESS) X(VERTICAL_DAMPING) X(FNOMIN) X(LONGVL) X(VXLOW) \
+  X(FZMIN) X(LFZO) \
   X(LCX) X(LEX) X(LKX) X(LHX) X(LVX) X(LMUX) X(LCY) X(LEY) X(LKY) X(LHY) X(LVY) X(LMUY) \
-  X(LXAL) X(LYKA) X(LVYKA) X(LMY) X(LSGKP) X(LSGAL) \
+  X(LXAL) X(LYKA) X(LVYKA) X(LMY) X(LSGKP) X(LSGAL) X(LTR) X(LRES) X(LS) \
   X(PCX1) X(PDX1) X(PDX2) X(PEX1) X(PEX2) X(PEX3) X(PEX4) X(PKX1) X(PKX2) X(PKX3) \
   X(PHX1) X(PHX2) X(PVX1) X(PVX2) X(RBX1) X(RBX2) X(RCX1) X(REX1) X(REX2) X(RHX1) \
   X(PTX1) X(PTX2) X(PTX3) X(PTX4) \
   X(PCY1) X(PDY1) X(PDY2) X(PEY1) X(PEY2) X(PEY3) X(PKY1) X(PKY2) X(PHY1) X(PHY2) \
   X(PVY1) X(PVY2) X(RBY1) X(RBY2) X(RBY3) X(RCY1) X(REY1) X(REY2) X(RHY1) X(RHY2) \
   X(RVY1) X(RVY2) X(RVY4) X(RVY5) X(RVY6) X(PTY1) X(PTY2) \
-  X(QSY1) X(QSY3) X(QSY4) X(FZMAX) X(KPUMIN) X(KPUMAX) X(ALPMIN) X(ALPMAX) X(FILE_SIDE)
+  X(QSY1) X(QSY2) X(QSY3) X(QSY4) \
+  X(QBZ1) X(QBZ2) X(QBZ3) X(QBZ9) X(QBZ10) X(QCZ1) X(QDZ1) X(QDZ2) X(QDZ6) X(QDZ7) \
+  X(QEZ1) X(QEZ2) X(QEZ3) X(QEZ4) X(QHZ1) X(QHZ2) X(SSZ1) X(SSZ2) \
+  X(FZMAX) X(KPUMIN) X(KPUMAX) X(ALPMIN) X(ALPMAX)
 
 #define ENUM(name) name,
 enum { PARAMS(ENUM) N_PARAMS };
@@ -43,8 +53,20 @@ enum { PARAMS(ENUM) N_PARAMS };
 static const char param_names[] = PARAMS(STR);
 
 static const double PI = 3.14159265358979323846;
+static const double EPS = 1e-6;          /* tyre.EPS */
+static const double V_SIGN = 0.05;       /* tyre.V_SIGN */
+static const double TWIST_STIFFNESS = 1.33;  /* tyre.TWIST_STIFFNESS */
+static const double PATCH_MIN = 0.02;    /* tyre.PATCH_MIN */
+static const double TINY = 1e-12;        /* floor of every divisor the data could zero */
+
+/* The process's key, set once by artic_set_key before any plant attaches. */
+static uint32_t key_hi = 0, key_lo = 0;
 
 static double sign(double x) { return (x > 0.0) - (x < 0.0); }
+
+static double sgn1(double x) { return x >= 0.0 ? 1.0 : -1.0; } /* sgn(0) = 1, the book's */
+
+static double nz(double x) { return fabs(x) > TINY ? x : (x < 0.0 ? -TINY : TINY); }
 
 static double mf(double B, double C, double D, double E, double x) {
   double bx = B * x;
@@ -58,7 +80,7 @@ static double g(double B, double C, double E, double z) {
 
 static double weight(double B, double C, double E, double x, double shift) {
   /* g(0) = cos(0) = 1 exactly: most files have no shift */
-  return shift == 0.0 ? g(B, C, E, x) : g(B, C, E, x + shift) / g(B, C, E, shift);
+  return shift == 0.0 ? g(B, C, E, x) : g(B, C, E, x + shift) / nz(g(B, C, E, shift));
 }
 
 /* cos(atan(x)) and sin(2 atan(x)), without the trigonometry */
@@ -66,31 +88,34 @@ static double cos_atan(double x) { return 1.0 / sqrt(1.0 + x * x); }
 
 static double sin_2atan(double x) { return 2.0 * x / (1.0 + x * x); }
 
-static double fz0(const double* p) { return p[FNOMIN] * p[LFZO]; }
+static double fz0(const double* p) { return nz(p[FNOMIN] * p[LFZO]); }
 
 static double sigma_alpha(const double* p, double Fz) {
-  return p[PTY1] * sin_2atan(Fz / (p[PTY2] * fz0(p))) * p[UNLOADED_RADIUS] * p[LFZO]
-         * p[LSGAL];
+  return nz(p[PTY1] * sin_2atan(Fz / nz(p[PTY2] * fz0(p))) * p[UNLOADED_RADIUS] * p[LFZO]
+            * p[LSGAL]);
 }
 
 static double sigma_kappa(const double* p, double Fz) {
   double Fz0 = fz0(p), dfz = (Fz - Fz0) / Fz0;
-  return Fz * (p[PTX1] + p[PTX2] * dfz) * (p[PTX3] == 0.0 ? 1.0 : exp(-p[PTX3] * dfz))
-         * p[UNLOADED_RADIUS] / Fz0
-         * p[LSGKP];
+  return nz(Fz * (p[PTX1] + p[PTX2] * dfz) * (p[PTX3] == 0.0 ? 1.0 : exp(-p[PTX3] * dfz))
+            * p[UNLOADED_RADIUS] / Fz0 * p[LSGKP]);
 }
 
 static double cornering_stiffness(const double* p, double Fz) {
   double Fz0 = fz0(p);
-  return fabs(p[PKY1] * Fz0 * sin_2atan(Fz / (p[PKY2] * Fz0)) * p[LFZO] * p[LKY]);
+  return fabs(p[PKY1] * Fz0 * sin_2atan(Fz / nz(p[PKY2] * Fz0)) * p[LKY]);
 }
 
-/* Steady-state forces, PAC2002 at zero camber (tyre.forces). */
-static void forces(const double* p, double Fz, double kappa, double alpha, double side,
-                   double* Fx_out, double* Fy_out) {
+static double patch_half_length(const double* p, double Fz) {
+  return fmax(sqrt(p[UNLOADED_RADIUS] * fmax(Fz, 0.0) / nz(p[VERTICAL_STIFFNESS])), PATCH_MIN);
+}
+
+/* Steady-state forces and aligning moment, PAC2002 at zero camber (tyre.steady_state). */
+static void steady_state(const double* p, double Fz, double kappa, double alpha,
+                         double v_sign, double* Fx_out, double* Fy_out, double* Mz_out) {
   Fz = fmax(Fz, 0.0);
-  double s = side * p[FILE_SIDE];
-  double a = -s * alpha, k = kappa;
+  double a = -alpha, k = kappa;
+  double ta = tan(a), ca = cos(a);
   double Fz0 = fz0(p), dfz = (Fz - Fz0) / Fz0;
   /* longitudinal, pure slip */
   double SHx = (p[PHX1] + p[PHX2] * dfz) * p[LHX];
@@ -98,59 +123,141 @@ static void forces(const double* p, double Fz, double kappa, double alpha, doubl
   double Cx = p[PCX1] * p[LCX];
   double Dx = (p[PDX1] + p[PDX2] * dfz) * p[LMUX] * Fz;
   double Ex = fmin((p[PEX1] + p[PEX2] * dfz + p[PEX3] * dfz * dfz)
-                   * (1.0 - p[PEX4] * sign(kx)) * p[LEX], 1.0);
+                   * (1.0 - p[PEX4] * sgn1(kx)) * p[LEX], 1.0);
   double Kx = Fz * (p[PKX1] + p[PKX2] * dfz) * (p[PKX3] == 0.0 ? 1.0 : exp(p[PKX3] * dfz))
               * p[LKX];
   double Bx = Kx / (Cx * Dx != 0.0 ? Cx * Dx : 1.0);
   double SVx = Fz * (p[PVX1] + p[PVX2] * dfz) * p[LVX] * p[LMUX];
   double Fx0 = mf(Bx, Cx, Dx, Ex, kx) + SVx;
-  /* lateral, pure slip */
+  /* lateral, pure slip, at alpha* = tan(alpha) */
   double SHy = (p[PHY1] + p[PHY2] * dfz) * p[LHY];
-  double ay = a + SHy;
+  double ay = ta + SHy;
   double Cy = p[PCY1] * p[LCY];
   double muy = (p[PDY1] + p[PDY2] * dfz) * p[LMUY];
   double Dy = muy * Fz;
-  double Ey = fmin((p[PEY1] + p[PEY2] * dfz) * (1.0 - p[PEY3] * sign(ay)) * p[LEY], 1.0);
-  double Ky = p[PKY1] * Fz0 * sin_2atan(Fz / (p[PKY2] * Fz0)) * p[LFZO] * p[LKY];
+  double Ey = fmin((p[PEY1] + p[PEY2] * dfz) * (1.0 - p[PEY3] * sgn1(ay)) * p[LEY], 1.0);
+  double Ky = p[PKY1] * Fz0 * sin_2atan(Fz / nz(p[PKY2] * Fz0)) * p[LKY];
   double By = Ky / (Cy * Dy != 0.0 ? Cy * Dy : 1.0);
   double SVy = Fz * (p[PVY1] + p[PVY2] * dfz) * p[LVY] * p[LMUY];
   double Fy0 = mf(By, Cy, Dy, Ey, ay) + SVy;
   /* combined slip */
   double Bxa = p[RBX1] * cos_atan(p[RBX2] * k) * p[LXAL];
-  double Gxa = weight(Bxa, p[RCX1], p[REX1] + p[REX2] * dfz, a, p[RHX1]);
-  double Byk = p[RBY1] * cos_atan(p[RBY2] * (a - p[RBY3])) * p[LYKA];
+  double Gxa = weight(Bxa, p[RCX1], p[REX1] + p[REX2] * dfz, ta, p[RHX1]);
+  double Byk = p[RBY1] * cos_atan(p[RBY2] * (ta - p[RBY3])) * p[LYKA];
   double Gyk = weight(Byk, p[RCY1], p[REY1] + p[REY2] * dfz, k, p[RHY1] + p[RHY2] * dfz);
-  double DVyk = muy * Fz * (p[RVY1] + p[RVY2] * dfz) * cos_atan(p[RVY4] * a);
+  double DVyk = muy * Fz * (p[RVY1] + p[RVY2] * dfz) * cos_atan(p[RVY4] * ta);
   double SVyk = DVyk == 0.0 ? 0.0 : DVyk * sin(p[RVY5] * atan(p[RVY6] * k)) * p[LVYKA];
-  *Fx_out = Gxa * Fx0;
-  *Fy_out = s * (Gyk * Fy0 + SVyk);
+  double Fx = Gxa * Fx0, Fy = Gyk * Fy0 + SVyk;
+  /* aligning moment */
+  double Kyp = Ky + EPS * (Ky < 0.0 ? -1.0 : 1.0);
+  double SHt = p[QHZ1] + p[QHZ2] * dfz;
+  double SHf = SHy + SVy / Kyp;
+  double a_t = ta + SHt, a_r = ta + SHf;
+  double kk = (Kx / Kyp) * (Kx / Kyp) * k * k;
+  double at_eq = sqrt(a_t * a_t + kk) * sgn1(a_t);
+  double ar_eq = sqrt(a_r * a_r + kk) * sgn1(a_r);
+  double lmuy = nz(p[LMUY]);
+  double Bt = (p[QBZ1] + p[QBZ2] * dfz + p[QBZ3] * dfz * dfz) * p[LKY] / lmuy;
+  double Ct = p[QCZ1];
+  double Dt = Fz * (p[UNLOADED_RADIUS] / Fz0) * (p[QDZ1] + p[QDZ2] * dfz) * p[LTR] * v_sign;
+  double Et = fmin((p[QEZ1] + p[QEZ2] * dfz + p[QEZ3] * dfz * dfz)
+                   * (1.0 + p[QEZ4] * (2.0 / PI) * atan(Bt * Ct * a_t)), 1.0);
+  double bt = Bt * at_eq;
+  double trail = Dt * cos(Ct * atan(bt - Et * (bt - atan(bt)))) * ca;
+  double Br = p[QBZ9] * p[LKY] / lmuy + p[QBZ10] * By * Cy;
+  double Dr = Fz * p[UNLOADED_RADIUS] * (p[QDZ6] + p[QDZ7] * dfz) * p[LRES] * p[LMUY] * v_sign
+              * ca;
+  double Mzr = Dr * cos_atan(Br * ar_eq);
+  double s_arm = p[UNLOADED_RADIUS] * (p[SSZ1] + p[SSZ2] * (Fy / Fz0)) * p[LS];
+  *Fx_out = Fx;
+  *Fy_out = Fy;
+  *Mz_out = -trail * (Gyk * Fy0) + Mzr + s_arm * Fx;
 }
 
-/* One wheel end: deflection rates, transient forces and rolling resistance.
+/* tyre.bore_torque */
+static double bore_torque(const double* p, double Fz, double phi) {
+  Fz = fmax(Fz, 0.0);
+  double Fz0 = fz0(p), dfz = (Fz - Fz0) / Fz0;
+  double mu = (p[PDY1] + p[PDY2] * dfz) * p[LMUY];
+  double m_max = (2.0 / 3.0) * mu * Fz * patch_half_length(p, Fz);
+  double k_phi = TWIST_STIFFNESS * fmax(Fz, p[FZMIN]);
+  return m_max * tanh(k_phi * phi / (m_max > 0.0 ? m_max : 1.0));
+}
+
+/* One wheel end: deflection rates, transient forces and moments, rolling resistance.
  * Returns 1 when a loaded wheel is outside the file's ranges. */
-static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, double u,
-                 double v, double side, double* Fx, double* Fy, double* My, double* du,
-                 double* dv) {
+static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, double omega_z,
+                 double u, double v, double phi, int moments, double* Fx, double* Fy,
+                 double* Mz, double* My, double* du, double* dv, double* dphi) {
   double Fzc = fmax(Fz, p[FZMIN]);
   double sk = sigma_kappa(p, Fzc), sa = sigma_alpha(p, Fzc), ax = fabs(Vx);
   double kappa = u / sk, alpha = atan(v / sa);
   /* tyre.deflection_rates */
   *du = -Vsx - ax * u / sk;
   *dv = -Vy - ax * v / sa;
+  *dphi = -omega_z - ax * phi / patch_half_length(p, Fzc);
   /* tyre.transient_forces */
-  forces(p, Fz, kappa, alpha, side, Fx, Fy);
-  double fade = ax < p[VXLOW] ? 0.5 * (1.0 + cos(PI * ax / p[VXLOW])) : 0.0;
-  double Kx = fmax(Fz, 0.0) * p[PKX1] * p[LKX];
-  double Ky = cornering_stiffness(p, fmax(Fz, 0.0));
+  steady_state(p, Fz, kappa, alpha, tanh(Vx / V_SIGN), Fx, Fy, Mz);
+  double vxlow = p[VXLOW] > 0.0 ? p[VXLOW] : TINY;
+  double fade = ax < vxlow ? 0.5 * (1.0 + cos(PI * ax / vxlow)) : 0.0;
+  double Fzp = fmax(Fz, 0.0);
+  double Kx = Fzp * p[PKX1] * p[LKX];
+  double Ky = cornering_stiffness(p, Fzp);
   *Fx = *Fx - fade * p[PTX4] * Kx / sk * Vsx * 0.25;
   *Fy = *Fy - fade * p[PTX4] * Ky / sa * Vy * 0.25;
-  /* tyre.rolling_resistance, v_smooth = 0.05 m/s */
-  double Fzp = fmax(Fz, 0.0), vr = ax / p[LONGVL];
-  double mag = p[UNLOADED_RADIUS] * Fzp * (p[QSY1] + p[QSY3] * vr + p[QSY4] * (vr * vr) * (vr * vr))
+  if (moments) {
+    *Mz = *Mz + bore_torque(p, Fz, phi) - fade * p[PTX4] * TWIST_STIFFNESS * Fzp * omega_z * 0.25;
+  } else {
+    *Mz = 0.0;
+  }
+  /* tyre.rolling_resistance */
+  double vr = ax / nz(p[LONGVL]);
+  double mag = p[UNLOADED_RADIUS] * Fzp
+               * (p[QSY1] + p[QSY2] * *Fx / fz0(p) + p[QSY3] * vr + p[QSY4] * (vr * vr) * (vr * vr))
                * p[LMY];
-  *My = -mag * tanh(Vx / 0.05);
+  *My = -mag * tanh(Vx / V_SIGN);
   return Fz > 0.0 && (Fz < p[FZMIN] || Fz > p[FZMAX] || kappa < p[KPUMIN] || kappa > p[KPUMAX]
                       || alpha < p[ALPMIN] || alpha > p[ALPMAX]);
+}
+
+/* ------------------------------------------------------------------ block */
+
+/* A weighted sum of the block after the header, sealing it against damage. */
+static double checksum(const double* body, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s += body[i] * (double)((i % 97) + 1);
+  return s;
+}
+
+static int id_ok(double x, int n) { return x >= 0.0 && x < n && x == floor(x); }
+
+/* The block of model m, or NULL when m carries none this process may follow. */
+static const double* valid_block(const mjModel* m, const mjData* d, int* nw_out) {
+  if (m->nnumeric < 1 || strcmp(m->names + m->name_numericadr[0], BLOCK_NAME) != 0) return NULL;
+  int size = m->numeric_size[0];
+  if (size < HEADER) return NULL;
+  const mjtNum* blk = m->numeric_data + m->numeric_adr[0];
+  if (blk[0] != ARTIC_ABI || (key_hi == 0 && key_lo == 0) || blk[1] != (double)key_hi
+      || blk[2] != (double)key_lo || blk[4] != N_PARAMS) {
+    return NULL;
+  }
+  double nw_d = blk[3], ns_d = blk[5];
+  if (!(nw_d >= 0.0 && nw_d <= 4096.0 && ns_d >= 1.0 && ns_d <= 64.0)) return NULL;
+  int nw = (int)nw_d, ns = (int)ns_d;
+  if (size != HEADER + ns * N_PARAMS + nw * PER_WHEEL) return NULL;
+  if (checksum(blk + HEADER, size - HEADER) != blk[7]) return NULL;
+  if (m->nuserdata < 3 * nw + 1 || d == NULL) return NULL;
+  const double* w = blk + HEADER + ns * N_PARAMS;
+  for (int i = 0; i < nw; i++, w += PER_WHEEL) {
+    if (!id_ok(w[0], m->nsite) || !id_ok(w[1], m->nbody) || !id_ok(w[2], m->nbody)
+        || !id_ok(w[3], m->nbody) || !id_ok(w[4], m->nv) || !id_ok(w[5], m->na)
+        || !id_ok(w[6], m->na) || !id_ok(w[7], m->na) || !id_ok(w[8], m->nu)
+        || !id_ok(w[9], m->nu) || !id_ok(w[10], m->nu) || !id_ok(w[12], ns)) {
+      return NULL;
+    }
+  }
+  *nw_out = nw;
+  return blk;
 }
 
 /* ------------------------------------------------------------------ exported */
@@ -163,37 +270,63 @@ const char* artic_param_names(void) { return param_names; }
 
 int artic_n_params(void) { return N_PARAMS; }
 
+int artic_header(void) { return HEADER; }
+
+int artic_per_wheel(void) { return PER_WHEEL; }
+
+/* Set the process's key once; later calls keep the first. */
+void artic_set_key(uint32_t hi, uint32_t lo) {
+  if (key_hi == 0 && key_lo == 0) {
+    key_hi = hi;
+    key_lo = lo;
+  }
+}
+
+double artic_checksum(const double* body, int n) { return checksum(body, n); }
+
+/* 1 when m's block is one the callback follows (for Python's checks). */
+int artic_block_ok(const mjModel* m, const mjData* d) {
+  int nw = 0;
+  return valid_block(m, d, &nw) != NULL;
+}
+
 /* Evaluate n wheel states (for tests against the numpy reference). */
-void artic_tyre_eval(const double* p, int n, const double* Fz, const double* Vx,
-                     const double* Vsx, const double* Vy, const double* u, const double* v,
-                     const double* side, double* Fx, double* Fy, double* My, double* du,
-                     double* dv) {
+void artic_tyre_eval(const double* p, int n, int moments, const double* Fz, const double* Vx,
+                     const double* Vsx, const double* Vy, const double* omega_z, const double* u,
+                     const double* v, const double* phi, double* Fx, double* Fy, double* Mz,
+                     double* My, double* du, double* dv, double* dphi) {
   for (int i = 0; i < n; i++) {
-    wheel(p, Fz[i], Vx[i], Vsx[i], Vy[i], u[i], v[i], side[i], Fx + i, Fy + i, My + i, du + i,
-          dv + i);
+    wheel(p, Fz[i], Vx[i], Vsx[i], Vy[i], omega_z[i], u[i], v[i], phi[i], moments, Fx + i,
+          Fy + i, Mz + i, My + i, du + i, dv + i, dphi + i);
   }
 }
 
 /* MuJoCo passive callback (mjfGeneric). */
 void artic_passive(const mjModel* m, mjData* d) {
-  if (m->nnumeric < 1 || strcmp(m->names + m->name_numericadr[0], BLOCK_NAME) != 0) return;
-  const mjtNum* blk = m->numeric_data + m->numeric_adr[0];
-  if ((int)blk[0] != ARTIC_ABI || (int)blk[5] != N_PARAMS) return;
-  int nw = (int)blk[1];
-  double R0 = blk[2], k_t = blk[3], c_t = blk[4];
-  const double* p = blk + HEADER;
-  const double* w = p + N_PARAMS;
-  if (m->nuserdata < 3 * nw + 1) return;
+  int nw = 0;
+  const mjtNum* blk = valid_block(m, d, &nw);
+  if (blk == NULL) return;
+  int moments = blk[6] != 0.0;
+  const double* sets = blk + HEADER;
+  const double* w = sets + (int)blk[5] * N_PARAMS;
   int outside = 0;
   for (int i = 0; i < nw; i++, w += PER_WHEEL) {
     int hub = (int)w[0], hub_body = (int)w[1], root = (int)w[2], wheel_body = (int)w[3];
-    int spin = (int)w[4], act_u = (int)w[5], act_v = (int)w[6], ctrl_u = (int)w[7];
-    int ctrl_v = (int)w[8];
-    double n = w[9], side = w[10];
+    int spin = (int)w[4], act_u = (int)w[5], act_v = (int)w[6], act_w = (int)w[7];
+    int ctrl_u = (int)w[8], ctrl_v = (int)w[9], ctrl_w = (int)w[10];
+    double n = w[11];
+    const double* p = sets + (int)w[12] * N_PARAMS;
+    double R0 = p[UNLOADED_RADIUS], k_t = p[VERTICAL_STIFFNESS], c_t = p[VERTICAL_DAMPING];
     const mjtNum* pos = d->site_xpos + 3 * hub;
     const mjtNum* R = d->site_xmat + 9 * hub;
     double hx[3] = {R[0], R[3], 0.0};
-    double norm = sqrt(hx[0] * hx[0] + hx[1] * hx[1] + hx[2] * hx[2]);
+    double norm = sqrt(hx[0] * hx[0] + hx[1] * hx[1]);
+    double F[3] = {0.0, 0.0, 0.0};
+    if (norm < 1e-9) { /* hub axis vertical: no heading, no tyre force */
+      d->userdata[3 * i] = d->userdata[3 * i + 1] = d->userdata[3 * i + 2] = 0.0;
+      d->ctrl[ctrl_u] = d->ctrl[ctrl_v] = d->ctrl[ctrl_w] = 0.0;
+      continue;
+    }
     hx[0] /= norm;
     hx[1] /= norm;
     double hy[3] = {-hx[1], hx[0], 0.0};
@@ -211,17 +344,19 @@ void artic_passive(const mjModel* m, mjData* d) {
     double Vy = vel[0] * hy[0] + vel[1] * hy[1] + vel[2] * hy[2];
     double Re = R0 - fmax(rho, 0.0) / 3.0;
     double Vsx = Vx - d->qvel[spin] * Re;
-    double Fx, Fy, My, du, dv;
-    outside += wheel(p, Fz, Vx, Vsx, Vy, d->act[act_u], d->act[act_v], side, &Fx, &Fy, &My, &du,
-                     &dv);
+    double Fx, Fy, Mz, My, du, dv, dphi;
+    outside += wheel(p, Fz, Vx, Vsx, Vy, om[2], d->act[act_u], d->act[act_v], d->act[act_w],
+                     moments, &Fx, &Fy, &Mz, &My, &du, &dv, &dphi);
     d->ctrl[ctrl_u] = du;
     d->ctrl[ctrl_v] = dv;
-    double F[3], torque[3], point[3] = {pos[0], pos[1], 0.0};
+    d->ctrl[ctrl_w] = dphi;
+    double torque[3], point[3] = {pos[0], pos[1], 0.0};
     for (int j = 0; j < 3; j++) {
       F[j] = n * Fx * hx[j] + n * Fy * hy[j];
       torque[j] = n * My * hy[j];
     }
     F[2] += n * Fz;
+    torque[2] += n * Mz;
     d->userdata[3 * i] = F[0];
     d->userdata[3 * i + 1] = F[1];
     d->userdata[3 * i + 2] = F[2];

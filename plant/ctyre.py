@@ -21,6 +21,7 @@ import functools
 import glob
 import importlib.util
 import os
+import secrets
 from typing import NamedTuple
 
 import mujoco
@@ -31,25 +32,40 @@ from plant.tyre import TyreParams
 BLOCK = "artic.tyre"
 """Name of the numeric that carries the callback's parameters; it must be numeric 0."""
 
-ABI = 1
-HEADER = 6
-"""Header entries: abi, n_wheels, R0 [m], k_t [N/m], c_t [N s/m], n_params."""
+ABI = 2
+HEADER_FIELDS = ("abi", "key_hi", "key_lo", "n_wheels", "n_params", "n_sets", "moments",
+                 "checksum")
+"""Header entries, in block order; then ``n_sets`` coefficient sets, then the wheels."""
 
 WHEEL_FIELDS = ("hub_site", "hub_body", "root_body", "wheel_body", "spin_dof", "act_u",
-                "act_v", "ctrl_u", "ctrl_v", "n_tyres", "side")
+                "act_v", "act_w", "ctrl_u", "ctrl_v", "ctrl_w", "n_tyres", "tyre_set")
 """Per wheel end, in block order."""
+
+_ID_LIMITS = {"hub_site": "nsite", "hub_body": "nbody", "root_body": "nbody",
+              "wheel_body": "nbody", "spin_dof": "nv", "act_u": "na", "act_v": "na",
+              "act_w": "na", "ctrl_u": "nu", "ctrl_v": "nu", "ctrl_w": "nu"}
+
+POSITIVE = ("UNLOADED_RADIUS", "VERTICAL_STIFFNESS", "FNOMIN", "LONGVL", "VXLOW", "FZMIN",
+            "LFZO", "PKY2", "PTY1", "PTY2", "PTX1")
+"""Coefficients a block refuses unless finite and positive (divisors of the callback)."""
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
 
+class TyreBlockError(ValueError):
+    """An ``artic.tyre`` block is malformed; the message names what is wrong."""
+
+
 class TyreOutputs(NamedTuple):
-    """Per wheel end: forces [N], rolling-resistance moment [N m], deflection rates [m/s]."""
+    """Per wheel end: forces [N], moments [N m], deflection rates [m/s, rad/s]."""
 
     Fx: np.ndarray
     Fy: np.ndarray
+    Mz: np.ndarray
     My: np.ndarray
     du: np.ndarray
     dv: np.ndarray
+    dphi: np.ndarray
 
 
 def _load() -> tuple[ctypes.CDLL | None, str]:
@@ -72,12 +88,25 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     if lib.artic_mj_version() != mujoco.mj_version():
         return None, (f"{spec.origin} was built against MuJoCo {lib.artic_mj_version()}, but "
                       f"{mujoco.mj_version()} is installed; reinstall artic")
+    if lib.artic_header() != len(HEADER_FIELDS) or lib.artic_per_wheel() != len(WHEEL_FIELDS):
+        return None, f"{spec.origin} lays its block out differently; reinstall artic"
     lib.artic_param_names.restype = ctypes.c_char_p
     lib.artic_tyre_eval.restype = None
-    lib.artic_tyre_eval.argtypes = [_DOUBLE_P, ctypes.c_int] + [_DOUBLE_P] * 12
+    lib.artic_tyre_eval.argtypes = [_DOUBLE_P, ctypes.c_int, ctypes.c_int] + [_DOUBLE_P] * 15
     lib.artic_passive.restype = None
     lib.artic_passive.argtypes = [ctypes.c_void_p, ctypes.c_void_p]
+    lib.artic_block_ok.restype = ctypes.c_int
+    lib.artic_block_ok.argtypes = [ctypes.c_void_p, ctypes.c_void_p]
+    lib.artic_checksum.restype = ctypes.c_double
+    lib.artic_checksum.argtypes = [_DOUBLE_P, ctypes.c_int]
+    lib.artic_set_key.restype = None
+    lib.artic_set_key.argtypes = [ctypes.c_uint32, ctypes.c_uint32]
+    lib.artic_set_key(*KEY)
     return lib, ""
+
+
+KEY = (secrets.randbits(31) + 1, secrets.randbits(31) + 1)
+"""This process's key: the callback follows only blocks sealed with it."""
 
 
 @functools.cache
@@ -95,65 +124,142 @@ def unavailable_reason() -> str:
     return _loaded()[1]
 
 
-def param_names() -> list[str]:
-    """Coefficient names in block order, as the C code defines them."""
+def _lib() -> ctypes.CDLL:
     lib = library()
     if lib is None:
         raise RuntimeError(unavailable_reason())
-    return lib.artic_param_names().decode().rstrip(",").split(",")
+    return lib
+
+
+def param_names() -> list[str]:
+    """Coefficient names in set order, as the C code defines them."""
+    return _lib().artic_param_names().decode().rstrip(",").split(",")
 
 
 def param_vector(p: TyreParams) -> np.ndarray:
-    """The coefficients of ``p`` in block order (``FILE_SIDE`` is ``p.side``)."""
-    return np.array([p.side if n == "FILE_SIDE" else getattr(p, n) for n in param_names()])
+    """The coefficients of ``p`` in set order."""
+    return np.array([getattr(p, n) for n in param_names()], dtype=float)
 
 
-def block_size(n_wheels: int) -> int:
-    """Length of the ``artic.tyre`` numeric for ``n_wheels`` wheel ends."""
-    return HEADER + len(param_names()) + len(WHEEL_FIELDS) * n_wheels
+def block_size(n_wheels: int, n_sets: int = 1) -> int:
+    """Length of the ``artic.tyre`` numeric for ``n_wheels`` wheel ends and ``n_sets`` tyres."""
+    return len(HEADER_FIELDS) + n_sets * len(param_names()) + len(WHEEL_FIELDS) * n_wheels
 
 
-def block(p: TyreParams, R0: float, k_t: float, c_t: float, wheels: np.ndarray) -> np.ndarray:
-    """The ``artic.tyre`` numeric.
+def check_set(p: TyreParams) -> None:
+    """Refuse a coefficient set the callback cannot evaluate, naming the coefficient.
+
+    Raises
+    ------
+    TyreBlockError
+        For a non-finite coefficient, or a non-positive divisor (:data:`POSITIVE`).
+    """
+    for n, x in zip(param_names(), param_vector(p), strict=True):
+        if not np.isfinite(x):
+            raise TyreBlockError(f"{p.path}: tyre coefficient {n} = {float(x)!r} is not finite")
+        if n in POSITIVE and x <= 0.0:
+            raise TyreBlockError(f"{p.path}: tyre coefficient {n} = {float(x)!r} must be positive")
+
+
+def block(sets: list[TyreParams], wheels: np.ndarray, moments: bool) -> np.ndarray:
+    """The ``artic.tyre`` numeric, sealed with this process's key.
 
     Parameters
     ----------
-    p : TyreParams
-        Tyre coefficients.
-    R0, k_t, c_t : float
-        Unloaded radius [m], vertical stiffness [N/m] and damping [N s/m].
+    sets : list of TyreParams
+        One coefficient set per tyre file in use.
     wheels : ndarray, shape (n_wheels, len(WHEEL_FIELDS))
         Per wheel end, the ids and values named by :data:`WHEEL_FIELDS`.
+    moments : bool
+        Whether the tyres' aligning and bore torques act.
     """
-    pv = param_vector(p)
-    head = [ABI, len(wheels), R0, k_t, c_t, len(pv)]
-    return np.concatenate([head, pv, np.asarray(wheels, dtype=float).ravel()])
+    for p in sets:
+        check_set(p)
+    wheels = np.asarray(wheels, dtype=float).reshape(-1, len(WHEEL_FIELDS))
+    body = np.concatenate([*(param_vector(p) for p in sets), wheels.ravel()])
+    head = [ABI, *KEY, len(wheels), len(param_names()), len(sets), float(moments), 0.0]
+    head[-1] = checksum(body)
+    return np.concatenate([head, body])
 
 
-def evaluate(p: TyreParams, Fz, Vx, Vsx, Vy, u, v, side) -> TyreOutputs:
+def checksum(body: np.ndarray) -> float:
+    """The C code's seal of a block's body."""
+    body = np.ascontiguousarray(body, dtype=float)
+    return float(_lib().artic_checksum(body.ctypes.data_as(_DOUBLE_P), body.size))
+
+
+def check_block(m: mujoco.MjModel, d: mujoco.MjData | None = None) -> None:
+    """Check the block a model carries against the model, before any callback runs.
+
+    Raises
+    ------
+    TyreBlockError
+        Naming what is wrong: no block, a size that disagrees with its counts,
+        an id outside the model's dimensions, a set index out of range, a
+        bad coefficient, or a seal that does not match.
+    """
+    if m.nnumeric < 1 or m.numeric(0).name != BLOCK:
+        raise TyreBlockError(f"the model has no '{BLOCK}' numeric as its numeric 0")
+    blk = np.asarray(m.numeric_data[m.numeric_adr[0]:m.numeric_adr[0] + m.numeric_size[0]])
+    nh = len(HEADER_FIELDS)
+    if blk.size < nh:
+        raise TyreBlockError(f"'{BLOCK}' has {blk.size} values, fewer than its header's {nh}")
+    h = dict(zip(HEADER_FIELDS, blk[:nh], strict=True))
+    if h["abi"] != ABI:
+        raise TyreBlockError(f"'{BLOCK}' has ABI {h['abi']:g}, this artic writes {ABI}")
+    if (h["key_hi"], h["key_lo"]) != KEY:
+        raise TyreBlockError(f"'{BLOCK}' is not sealed by this process (a foreign block)")
+    npar = len(param_names())
+    if h["n_params"] != npar:
+        raise TyreBlockError(f"'{BLOCK}' has sets of {h['n_params']:g} coefficients, not {npar}")
+    nw, ns = h["n_wheels"], h["n_sets"]
+    if not (nw >= 0 and nw == int(nw) and 1 <= ns <= 64 and ns == int(ns)):
+        raise TyreBlockError(f"'{BLOCK}': bad counts n_wheels = {nw:g}, n_sets = {ns:g}")
+    nw, ns = int(nw), int(ns)
+    want = block_size(nw, ns)
+    if blk.size != want:
+        raise TyreBlockError(f"'{BLOCK}' has {blk.size} values; {nw} wheels and {ns} tyre "
+                             f"sets need {want}")
+    if checksum(blk[nh:]) != h["checksum"]:
+        raise TyreBlockError(f"'{BLOCK}': its seal does not match its contents (damaged)")
+    if m.nuserdata < 3 * nw + 1:
+        raise TyreBlockError(f"the model has nuserdata = {m.nuserdata}; {nw} wheels need "
+                             f"{3 * nw + 1}")
+    wheels = blk[nh + ns * npar:].reshape(nw, len(WHEEL_FIELDS))
+    for i, row in enumerate(wheels):
+        for name, x in zip(WHEEL_FIELDS, row, strict=True):
+            limit = ns if name == "tyre_set" else getattr(m, _ID_LIMITS.get(name, ""), None)
+            if limit is None:  # n_tyres: a count, checked below
+                continue
+            if not (0 <= x < limit and x == int(x)):
+                raise TyreBlockError(f"'{BLOCK}' wheel {i}: {name} = {x:g} is outside the "
+                                     f"model's range [0, {limit})")
+    if np.any(wheels[:, WHEEL_FIELDS.index("n_tyres")] <= 0):
+        raise TyreBlockError(f"'{BLOCK}': a wheel end with no tyre (n_tyres <= 0)")
+    if d is not None and not _lib().artic_block_ok(m._address, d._address):
+        raise TyreBlockError(f"'{BLOCK}' is refused by the compiled callback")
+
+
+def evaluate(p: TyreParams, Fz, Vx, Vsx, Vy, omega_z, u, v, phi,
+             moments: bool = True) -> TyreOutputs:
     """Evaluate wheel states with the compiled code, for comparison with :mod:`plant.tyre`.
 
     Arguments are as in :func:`plant.tyre.transient_forces`, broadcast to one shape.
     """
-    lib = library()
-    if lib is None:
-        raise RuntimeError(unavailable_reason())
+    lib = _lib()
     args = [np.ascontiguousarray(a, dtype=float).ravel()
-            for a in np.broadcast_arrays(Fz, Vx, Vsx, Vy, u, v, side)]
+            for a in np.broadcast_arrays(Fz, Vx, Vsx, Vy, omega_z, u, v, phi)]
     n = args[0].size
-    out = [np.empty(n) for _ in range(5)]
+    out = [np.empty(n) for _ in range(7)]
     pv = param_vector(p)
-    lib.artic_tyre_eval(pv.ctypes.data_as(_DOUBLE_P), n,
+    lib.artic_tyre_eval(pv.ctypes.data_as(_DOUBLE_P), n, int(moments),
                         *(a.ctypes.data_as(_DOUBLE_P) for a in args + out))
     return TyreOutputs(*out)
 
 
 def passive_function():
     """The C callback as a ctypes function pointer, for ``mujoco.set_mjcb_passive``."""
-    lib = library()
-    if lib is None:
-        raise RuntimeError(unavailable_reason())
-    return lib.artic_passive
+    return _lib().artic_passive
 
 
 def call_passive(m: mujoco.MjModel, d: mujoco.MjData) -> None:

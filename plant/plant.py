@@ -156,13 +156,17 @@ class Plant:
             backend = "numpy"
         self.backend = "c" if backend == "auto" else backend
         self.vehicle = vehicle
-        self._tyre = scaled(TyreParams.from_tir(vehicle.tyre_file), vehicle.tyre_scaling)
+        # One coefficient set per tyre file in use; each wheel end names its set.
+        files = list(dict.fromkeys(vehicle.tyre_file_for(a) for a in vehicle.axles))
+        self._tyres = [scaled(TyreParams.from_tir(f), vehicle.tyre_scaling) for f in files]
+        self._tyre_set = np.array([files.index(vehicle.tyre_file_for(a))
+                                   for a in vehicle.axles for _ in nm.SIDES])
         spec = build_model(vehicle)  # with vehicle.with_payload(), as _index uses
         n_wheels = 2 * len(vehicle.axles)
         if self.backend == "c":
             if spec.numerics:
                 raise ValueError("the plant's spec must not carry numerics of its own")
-            spec.add_numeric(name=ctyre.BLOCK, size=ctyre.block_size(n_wheels))
+            spec.add_numeric(name=ctyre.BLOCK, size=ctyre.block_size(n_wheels, len(files)))
             spec.nuserdata = 3 * n_wheels + 1  # forces, then the out-of-range count
         self.model = callback.compile_spec(spec)
         if timestep is not None:
@@ -178,31 +182,50 @@ class Plant:
         self._last_forces = np.zeros((self.n_wheels, 3))
         self._closed = False
         if self.backend == "c":
-            self.tyre = self._tyre  # writes the C callback's block
+            self.tyres = self._tyres  # writes the C callback's block and checks it
             callback.install(self.model, callback.NATIVE)
         else:
             callback.install(self.model, self._passive)
 
     def _wheel_table(self) -> np.ndarray:
-        m = self.model
         cols = {"hub_site": self._hub, "hub_body": self._hub_body, "root_body": self._root,
                 "wheel_body": self._wheel_body, "spin_dof": self._spin_dof,
-                "act_u": self._act_u, "act_v": self._act_v, "ctrl_u": self._tread_u,
-                "ctrl_v": self._tread_v, "n_tyres": self._n_tyres, "side": self._side}
-        assert m.nu > max(self._tread_v)
+                "act_u": self._act_u, "act_v": self._act_v, "act_w": self._act_w,
+                "ctrl_u": self._tread_u, "ctrl_v": self._tread_v, "ctrl_w": self._tread_w,
+                "n_tyres": self._n_tyres, "tyre_set": self._tyre_set}
         return np.column_stack([cols[f] for f in ctyre.WHEEL_FIELDS])
 
     @property
+    def tyres(self) -> list[TyreParams]:
+        """The tyre coefficient sets in use, one per tyre file (``tyre_set`` of each wheel)."""
+        return list(self._tyres)
+
+    @tyres.setter
+    def tyres(self, sets: list[TyreParams]) -> None:
+        if len(sets) != len(self._tyres):
+            raise ValueError(f"the plant has {len(self._tyres)} tyre sets, got {len(sets)}")
+        self._tyres = list(sets)
+        self._per_wheel_tyre()
+        if self.backend == "c":
+            self.model.numeric_data[:] = ctyre.block(self._tyres, self._wheel_table(),
+                                                     self.vehicle.plant.tyre_moments)
+            ctyre.check_block(self.model, self.data)
+
+    @property
     def tyre(self) -> TyreParams:
-        """The tyre coefficients in use; assigning new ones takes effect at the next step."""
-        return self._tyre
+        """The vehicle's own tyre (``[tyre] file``); assigning one puts it on every axle."""
+        return self._tyres[0]
 
     @tyre.setter
     def tyre(self, p: TyreParams) -> None:
-        self._tyre = p
-        if self.backend == "c":
-            self.model.numeric_data[:] = ctyre.block(p, self.R0, self.k_t, self.c_t,
-                                                     self._wheel_table())
+        self.tyres = [p] * len(self._tyres)
+
+    def _per_wheel_tyre(self) -> None:
+        """Radius, vertical stiffness and damping of every wheel end's tyre."""
+        s = self._tyre_set
+        self.R0_w = np.array([self._tyres[i].UNLOADED_RADIUS for i in s])
+        self.k_t_w = np.array([self._tyres[i].VERTICAL_STIFFNESS for i in s])
+        self.c_t_w = np.array([self._tyres[i].VERTICAL_DAMPING for i in s])
 
     @property
     def parking_brake(self) -> bool:
@@ -242,11 +265,12 @@ class Plant:
         self._spin_dof = np.array([m.jnt_dofadr[m.joint(nm.spin(a.axle.name, s)).id]
                                    for a, s in ends])
         self._n_tyres = np.array([float(a.n_tyres) for a, _ in ends])
-        self._side = np.array([1.0 if s == "L" else -1.0 for _, s in ends])
         self._tread_u = np.array([m.actuator(nm.tread(a.axle.name, s, "u")).id for a, s in ends])
         self._tread_v = np.array([m.actuator(nm.tread(a.axle.name, s, "v")).id for a, s in ends])
+        self._tread_w = np.array([m.actuator(nm.tread(a.axle.name, s, "w")).id for a, s in ends])
         self._act_u = m.actuator_actadr[self._tread_u]
         self._act_v = m.actuator_actadr[self._tread_v]
+        self._act_w = m.actuator_actadr[self._tread_w]
         self._drive = [m.actuator(nm.drive(a.axle.name, s)).id for a, s in ends if a.axle.driven]
         self._brake = np.array([m.actuator(nm.brake(a.axle.name, s)).id for a, s in ends])
         static = np.array([a.static_load / 2.0 for a, _ in ends])
@@ -268,6 +292,7 @@ class Plant:
         self._sensor_yaw = (v.sensor1_yaw, v.sensor2_yaw)
         self.mass = v.m1 + v.m2
         self.R0, self.k_t, self.c_t = lay.R0, lay.k_tyre, lay.c_tyre
+        self._per_wheel_tyre()
 
     # ------------------------------------------------------------ tyres
     def _wheel_kinematics(self, d: mujoco.MjData):
@@ -288,23 +313,32 @@ class Plant:
 
     def _passive(self, m: mujoco.MjModel, d: mujoco.MjData) -> None:
         pos, hx, hy, vel = self._wheel_kinematics(d)
-        rho = self.R0 - pos[:, 2]
-        Fz = np.where(rho > 0.0, self.k_t * rho - self.c_t * vel[:, 2], 0.0)
+        rho = self.R0_w - pos[:, 2]
+        Fz = np.where(rho > 0.0, self.k_t_w * rho - self.c_t_w * vel[:, 2], 0.0)
         Fz = np.maximum(Fz, 0.0)
         Vx = np.einsum("ij,ij->i", vel, hx)
         Vy = np.einsum("ij,ij->i", vel, hy)
-        Re = self.R0 - np.maximum(rho, 0.0) / 3.0
+        Re = self.R0_w - np.maximum(rho, 0.0) / 3.0
         Vsx = Vx - d.qvel[self._spin_dof] * Re
-        u, v = d.act[self._act_u], d.act[self._act_v]
-        du, dv = deflection_rates(self.tyre, Fz, Vx, Vsx, Vy, u, v)
-        d.ctrl[self._tread_u] = du
-        d.ctrl[self._tread_v] = dv
-        Fx, Fy = transient_forces(self.tyre, Fz, Vx, Vsx, Vy, u, v, self._side)
-        My = rolling_resistance(self.tyre, Fz, Vx)
+        u, v, phi = d.act[self._act_u], d.act[self._act_v], d.act[self._act_w]
+        omega_z = d.cvel[self._hub_body][:, 2]  # the wheel's yaw rate about the ground normal
+        Fx, Fy, Mz, My = (np.empty(self.n_wheels) for _ in range(4))
+        for k, p in enumerate(self._tyres):  # each tyre file on its wheels
+            w = self._tyre_set == k
+            du, dv, dphi = deflection_rates(p, Fz[w], Vx[w], Vsx[w], Vy[w], omega_z[w], u[w],
+                                            v[w], phi[w])
+            d.ctrl[self._tread_u[w]] = du
+            d.ctrl[self._tread_v[w]] = dv
+            d.ctrl[self._tread_w[w]] = dphi
+            Fx[w], Fy[w], Mz[w] = transient_forces(p, Fz[w], Vx[w], Vsx[w], Vy[w], omega_z[w],
+                                                   u[w], v[w], phi[w],
+                                                   self.vehicle.plant.tyre_moments)
+            My[w] = rolling_resistance(p, Fz[w], Vx[w], Fx[w])
         n = self._n_tyres
         F = (n * Fx)[:, None] * hx + (n * Fy)[:, None] * hy
         F[:, 2] += n * Fz
         torque = (n * My)[:, None] * hy  # about the spin axis
+        torque[:, 2] += n * Mz  # aligning and bore torque about the ground normal
         contact = pos.copy()
         contact[:, 2] = 0.0
         self._last_forces = F
@@ -453,17 +487,19 @@ class Plant:
 
         Called after every step; a wheel in the air (no load) is not reported.
         """
-        n = self._n_tyres
-        Fz = self.last_forces[:, 2] / n
-        Fzc = np.maximum(Fz, self.tyre.FZMIN)  # as in the force evaluation
-        kappa = self.data.act[self._act_u] / self.tyre.sigma_kappa(Fzc)
-        alpha = np.arctan(self.data.act[self._act_v] / self.tyre.sigma_alpha(Fzc))
-        loaded = Fz > 0.0
-        if not loaded.any():
-            return []
-        names = [w for w, ok in zip(self.wheel_names, loaded, strict=True) if ok]
-        return check_ranges(self.tyre, Fz[loaded], kappa[loaded], alpha[loaded], names,
-                            f"t = {self.data.time:.2f} s")
+        out = []
+        Fz_all = self.last_forces[:, 2] / self._n_tyres
+        for k, p in enumerate(self._tyres):
+            idx = np.flatnonzero((self._tyre_set == k) & (Fz_all > 0.0))
+            if not idx.size:
+                continue
+            Fz = Fz_all[idx]
+            Fzc = np.maximum(Fz, p.FZMIN)  # as in the force evaluation
+            kappa = self.data.act[self._act_u[idx]] / p.sigma_kappa(Fzc)
+            alpha = np.arctan(self.data.act[self._act_v[idx]] / p.sigma_alpha(Fzc))
+            names = [self.wheel_names[i] for i in idx]
+            out += check_ranges(p, Fz, kappa, alpha, names, f"t = {self.data.time:.2f} s")
+        return out
 
     def compiled(self) -> None:
         """The plant has no compiled form for the harness's loop: ``None``."""

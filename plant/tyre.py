@@ -1,31 +1,63 @@
 """PAC2002 Magic Formula tyre with transient slip, for the multibody plant.
 
-Forces from a ``.tir`` property file: pure-slip longitudinal and lateral
-forces with load dependence, combined-slip weighting, and rolling resistance.
+Forces and moments from a ``.tir`` property file (MF-Tyre 5.2 level, zero
+camber): pure-slip longitudinal and lateral forces with load dependence,
+combined-slip weighting, the aligning moment (pneumatic trail and residual
+torque, combined slip), rolling resistance, and a bore (turn-slip) torque.
 Camber is taken as zero; the plant's wheels stay upright to within the
 suspension's roll, a fraction of a degree at yard speeds.
 
 Conventions. Inputs and outputs are in the wheel's ISO 8855 frame: x along
-the wheel heading, y to the left. The slip angle ``alpha = -atan(V_y / |V_x|)``
-is positive when the contact patch slides to the right. A positive slip angle
-gives a positive, leftward force, as in the reduced models. The property file
-uses the opposite slip-angle sign (its ``PKY1 < 0``); the evaluation mirrors the
-angle once, inside :func:`forces`. A tyre mounted on the other side from
-``TYRESIDE`` is mirrored, ``F_y(alpha) -> -F_y(-alpha)``, so that conicity and
-ply-steer shifts cancel across an axle.
+the wheel heading, y to the left, z up. The slip angle
+``alpha = -atan(V_y / |V_x|)`` is positive when the contact patch slides to the
+right. A positive slip angle gives a positive, leftward force, as in the
+reduced models. The property file uses the opposite slip-angle sign (its
+``PKY1 < 0``); the evaluation turns the angle once, inside
+:func:`steady_state`, and evaluates the lateral Magic Formula at its tangent,
+``alpha* = tan(alpha_file)`` (Pacejka 2006, eq. 4.E3), which is the
+tread-deflection ratio ``v / sigma_alpha`` itself. ``Mz`` is about the wheel's
+z-axis: a positive slip angle gives a negative, self-aligning moment here,
+which is the file's positive ``Mz`` at its positive slip angle.
 
-Transient slip. Each wheel carries two tread deflections, ``u`` (longitudinal)
-and ``v`` (lateral) [m], which obey
+Mounting side. A tyre's lateral offset at zero slip is conicity (which turns
+with the tyre when it is mounted the other way round) plus ply steer (which
+does not). A PAC2002 file has one offset and cannot tell them apart; artic
+treats it as ply steer, which dominates on radial truck tyres, so a tyre
+behaves alike on both sides and a straight-running combination with an
+offset drifts, as real ones do. (Mirroring the whole characteristic, as
+before, cancelled the offsets across every axle.)
 
-    du/dt = -V_sx - |V_x| u / sigma_kappa,     kappa' = u / sigma_kappa
-    dv/dt = -V_y  - |V_x| v / sigma_alpha,     alpha' = atan(v / sigma_alpha)
+Transient slip. Each wheel carries three tread deflections, ``u``
+(longitudinal) and ``v`` (lateral) [m] and the twist ``phi`` [rad], which obey
 
-with ``V_sx = V_x - Omega R_e`` the slip velocity. At speed they relax to the
-steady-state slips with time constants ``sigma / |V_x|``. At ``V_x = 0`` they
-turn into tread springs, so forces stay finite and smooth through standstill
-and change of direction, with no division by the speed anywhere. Below
-``VXLOW`` a damper proportional to the slip velocity, faded out
-with ``(1 + cos(pi |V_x| / VXLOW)) / 2``, damps the tread-spring oscillation.
+    du/dt   = -V_sx - |V_x| u / sigma_kappa,     kappa' = u / sigma_kappa
+    dv/dt   = -V_y  - |V_x| v / sigma_alpha,     tan(alpha') = v / sigma_alpha
+    dphi/dt = -omega_z - |V_x| phi / a
+
+with ``V_sx = V_x - Omega R_e`` the slip velocity, ``omega_z`` the wheel's yaw
+rate about the ground normal and ``a`` the contact patch's half-length. At
+speed they relax to the steady-state slips with time constants ``sigma / |V_x|``.
+At ``V_x = 0`` they turn into tread springs, so forces and moments stay finite
+and smooth through standstill and change of direction, with no division by
+the speed anywhere. Below ``VXLOW`` a damper proportional to the slip
+velocity, faded out with ``(1 + cos(pi |V_x| / VXLOW)) / 2``, damps the
+tread-spring oscillation. The sign of travel in the trail and the rolling
+resistance is smoothed over :data:`V_SIGN`.
+
+Bore torque (turn slip), a documented contact-patch model, as a PAC2002 file
+has no turn-slip coefficients: the twist ``phi`` gives a torque
+``M_bore = M_max tanh(phi / phi_s)`` about the ground normal, with
+
+- ``M_max = (2/3) mu_y Fz a``, the friction torque of a circular patch of
+  radius ``a`` under uniform pressure, so the torque is bounded by friction;
+- ``a = sqrt(R0 Fz / k_t)``, the half-chord of a tyre deflected by ``Fz / k_t``
+  (0.13 m for a truck tyre at 30 kN), at least :data:`PATCH_MIN`;
+- ``phi_s = M_max / K_phi``, with the torsional stiffness of a standing tyre
+  ``K_phi = TWIST_STIFFNESS Fz``.
+
+A steered, parked tyre holds its twist and so its torque, instead of
+chattering; rolling carries the twist away within the patch, so in a turn of
+radius ``R`` it settles at ``-a / R``.
 """
 
 from __future__ import annotations
@@ -38,6 +70,25 @@ from pathlib import Path
 import numpy as np
 
 from mjcf.tir import TirFile, read_tir
+
+TWIST_STIFFNESS = 1.33
+"""Torsional stiffness of a standing tyre per unit load [N m/rad per N]: about
+40 kN m/rad at 30 kN, as measured on truck tyres twisted at standstill."""
+
+PATCH_MIN = 0.02
+"""Smallest contact half-length used [m] (an unloaded wheel: no division by zero)."""
+
+EPS = 1e-6
+"""The Magic Formula's small number against division by zero (4.E39)."""
+
+V_SIGN = 0.05
+"""Speed over which the sign of travel is smoothed [m/s] (rolling resistance, trail)."""
+
+ZERO_DEFAULT = ("PTX4", "QSY2", "QSY3", "QSY4", "PEY3", "PEX4", "QBZ1", "QBZ2", "QBZ3",
+                "QBZ9", "QBZ10", "QCZ1", "QDZ1", "QDZ2", "QDZ6", "QDZ7", "QEZ1", "QEZ2",
+                "QEZ3", "QEZ4", "QHZ1", "QHZ2", "SSZ1", "SSZ2")
+"""Coefficients that default to zero when a file leaves them out (no aligning
+moment without the trail's coefficients)."""
 
 
 class TyreRangeWarning(UserWarning):
@@ -140,6 +191,27 @@ class TyreParams:
     QSY2: float
     QSY3: float
     QSY4: float
+    LTR: float
+    LRES: float
+    LS: float
+    QBZ1: float
+    QBZ2: float
+    QBZ3: float
+    QBZ9: float
+    QBZ10: float
+    QCZ1: float
+    QDZ1: float
+    QDZ2: float
+    QDZ6: float
+    QDZ7: float
+    QEZ1: float
+    QEZ2: float
+    QEZ3: float
+    QEZ4: float
+    QHZ1: float
+    QHZ2: float
+    SSZ1: float
+    SSZ2: float
 
     @classmethod
     def from_tir(cls, tir: TirFile | str | Path) -> TyreParams:
@@ -151,8 +223,10 @@ class TyreParams:
             if f.name in ("path", "side"):
                 continue
             default = 1.0 if f.name.startswith("L") and f.name != "LONGVL" else None
-            if f.name in ("VXLOW", "PTX4", "QSY2", "QSY3", "QSY4", "PEY3", "PEX4"):
-                default = {"VXLOW": 1.0}.get(f.name, 0.0)
+            if f.name == "VXLOW":
+                default = 1.0
+            elif f.name in ZERO_DEFAULT:
+                default = 0.0
             values[f.name] = tir.number(f.name, default)
         side = -1.0 if tir.text("TYRESIDE", "LEFT").upper().startswith("R") else 1.0
         return cls(path=tir.path, side=side, **values)
@@ -163,10 +237,18 @@ class TyreParams:
         return self.FNOMIN * self.LFZO
 
     def cornering_stiffness(self, Fz: np.ndarray | float) -> np.ndarray | float:
-        """Cornering stiffness ``|K_y_alpha|`` at zero camber [N/rad]."""
+        """Cornering stiffness ``|K_y_alpha|`` at zero camber [N/rad].
+
+        ``PKY1 Fz0' sin(2 atan(Fz / (PKY2 Fz0'))) LKY`` with ``Fz0' = LFZO FNOMIN``
+        (4.E25): LFZO enters through ``Fz0'`` only.
+        """
         Fz0 = self.Fz0
-        return abs(self.PKY1 * Fz0 * np.sin(2.0 * np.arctan(Fz / (self.PKY2 * Fz0)))
-                   * self.LFZO * self.LKY)
+        return abs(self.PKY1 * Fz0 * np.sin(2.0 * np.arctan(Fz / (self.PKY2 * Fz0))) * self.LKY)
+
+    def patch_half_length(self, Fz: np.ndarray | float) -> np.ndarray | float:
+        """Contact half-length ``a = sqrt(R0 Fz / k_t)``, at least PATCH_MIN [m]."""
+        return np.maximum(np.sqrt(self.UNLOADED_RADIUS * np.maximum(Fz, 0.0)
+                                  / self.VERTICAL_STIFFNESS), PATCH_MIN)
 
     def sigma_alpha(self, Fz: np.ndarray) -> np.ndarray:
         """Lateral relaxation length [m]."""
@@ -194,9 +276,9 @@ def _weight(B, C, E, x, shift):
     return g(x + shift) / g(shift)
 
 
-def forces(p: TyreParams, Fz: np.ndarray, kappa: np.ndarray, alpha: np.ndarray,
-           side: np.ndarray | float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """Steady-state tyre forces for given slips (PAC2002, zero camber).
+def steady_state(p: TyreParams, Fz: np.ndarray, kappa: np.ndarray, alpha: np.ndarray,
+                 v_sign: np.ndarray | float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Steady-state forces and aligning moment for given slips (PAC2002, zero camber).
 
     Parameters
     ----------
@@ -208,71 +290,104 @@ def forces(p: TyreParams, Fz: np.ndarray, kappa: np.ndarray, alpha: np.ndarray,
         Longitudinal slip ``-V_sx / |V_x|`` [-], positive when driving.
     alpha : ndarray
         ISO slip angle [rad], positive when sliding to the right.
-    side : ndarray or float
-        +1 where the tyre is mounted on the side its file was measured on.
+    v_sign : ndarray or float
+        Sign of travel, ``sign(V_x)`` (smoothed by the caller through standstill):
+        the pneumatic trail and the residual torque turn with it.
 
     Returns
     -------
-    Fx, Fy : ndarray
-        Longitudinal and lateral force in the wheel's ISO frame [N].
+    Fx, Fy, Mz : ndarray
+        Longitudinal and lateral force [N] and aligning moment [N m], wheel's ISO frame.
     """
     Fz = np.maximum(np.asarray(Fz, dtype=float), 0.0)
-    s = np.asarray(side, dtype=float) * p.side
-    a = -s * np.asarray(alpha, dtype=float)  # the file's slip angle, mirrored per side
+    a = -np.asarray(alpha, dtype=float)  # the file's slip angle
+    ta = np.tan(a)  # alpha* (4.E3)
+    ca = np.cos(a)  # cos'(alpha) = V_cx / V_c
     k = np.asarray(kappa, dtype=float)
     Fz0 = p.Fz0
     dfz = (Fz - Fz0) / Fz0
-    # Longitudinal, pure slip.
+    # Longitudinal, pure slip (4.E9-4.E18).
     SHx = (p.PHX1 + p.PHX2 * dfz) * p.LHX
     kx = k + SHx
     Cx = p.PCX1 * p.LCX
     Dx = (p.PDX1 + p.PDX2 * dfz) * p.LMUX * Fz
     Ex = np.minimum((p.PEX1 + p.PEX2 * dfz + p.PEX3 * dfz ** 2)
-                    * (1.0 - p.PEX4 * np.sign(kx)) * p.LEX, 1.0)
+                    * (1.0 - p.PEX4 * np.where(kx >= 0.0, 1.0, -1.0)) * p.LEX, 1.0)
     Kx = Fz * (p.PKX1 + p.PKX2 * dfz) * np.exp(p.PKX3 * dfz) * p.LKX
     Bx = Kx / np.where(Cx * Dx != 0.0, Cx * Dx, 1.0)
     SVx = Fz * (p.PVX1 + p.PVX2 * dfz) * p.LVX * p.LMUX
     Fx0 = _mf(Bx, Cx, Dx, Ex, kx) + SVx
-    # Lateral, pure slip.
+    # Lateral, pure slip (4.E19-4.E30).
     SHy = (p.PHY1 + p.PHY2 * dfz) * p.LHY
-    ay = a + SHy
+    ay = ta + SHy
     Cy = p.PCY1 * p.LCY
     muy = (p.PDY1 + p.PDY2 * dfz) * p.LMUY
     Dy = muy * Fz
-    Ey = np.minimum((p.PEY1 + p.PEY2 * dfz) * (1.0 - p.PEY3 * np.sign(ay)) * p.LEY, 1.0)
-    Ky = p.PKY1 * Fz0 * np.sin(2.0 * np.arctan(Fz / (p.PKY2 * Fz0))) * p.LFZO * p.LKY
+    Ey = np.minimum((p.PEY1 + p.PEY2 * dfz) * (1.0 - p.PEY3 * np.where(ay >= 0.0, 1.0, -1.0))
+                    * p.LEY, 1.0)
+    Ky = p.PKY1 * Fz0 * np.sin(2.0 * np.arctan(Fz / (p.PKY2 * Fz0))) * p.LKY
     By = Ky / np.where(Cy * Dy != 0.0, Cy * Dy, 1.0)
     SVy = Fz * (p.PVY1 + p.PVY2 * dfz) * p.LVY * p.LMUY
     Fy0 = _mf(By, Cy, Dy, Ey, ay) + SVy
-    # Combined slip.
+    # Combined slip (4.E50-4.E67).
     Bxa = p.RBX1 * np.cos(np.arctan(p.RBX2 * k)) * p.LXAL
-    Gxa = _weight(Bxa, p.RCX1, p.REX1 + p.REX2 * dfz, a, p.RHX1)
-    Byk = p.RBY1 * np.cos(np.arctan(p.RBY2 * (a - p.RBY3))) * p.LYKA
+    Gxa = _weight(Bxa, p.RCX1, p.REX1 + p.REX2 * dfz, ta, p.RHX1)
+    Byk = p.RBY1 * np.cos(np.arctan(p.RBY2 * (ta - p.RBY3))) * p.LYKA
     Gyk = _weight(Byk, p.RCY1, p.REY1 + p.REY2 * dfz, k, p.RHY1 + p.RHY2 * dfz)
-    DVyk = muy * Fz * (p.RVY1 + p.RVY2 * dfz) * np.cos(np.arctan(p.RVY4 * a))
+    DVyk = muy * Fz * (p.RVY1 + p.RVY2 * dfz) * np.cos(np.arctan(p.RVY4 * ta))
     SVyk = DVyk * np.sin(p.RVY5 * np.arctan(p.RVY6 * k)) * p.LVYKA
     Fx = Gxa * Fx0
-    Fy = s * (Gyk * Fy0 + SVyk)
+    Fy = Gyk * Fy0 + SVyk
+    # Aligning moment (4.E31-4.E49, combined 4.E71-4.E78), zero camber.
+    Kyp = Ky + EPS * np.where(Ky < 0.0, -1.0, 1.0)  # 4.E39
+    SHt = p.QHZ1 + p.QHZ2 * dfz
+    SHf = SHy + SVy / Kyp
+    a_t, a_r = ta + SHt, ta + SHf
+    kk = (Kx / Kyp) ** 2 * k ** 2
+    at_eq = np.sqrt(a_t ** 2 + kk) * np.where(a_t >= 0.0, 1.0, -1.0)  # 4.E77, sgn(0) = 1
+    ar_eq = np.sqrt(a_r ** 2 + kk) * np.where(a_r >= 0.0, 1.0, -1.0)  # 4.E78
+    Bt = (p.QBZ1 + p.QBZ2 * dfz + p.QBZ3 * dfz ** 2) * p.LKY / p.LMUY
+    Ct = p.QCZ1
+    Dt = Fz * (p.UNLOADED_RADIUS / Fz0) * (p.QDZ1 + p.QDZ2 * dfz) * p.LTR * v_sign
+    Et = np.minimum((p.QEZ1 + p.QEZ2 * dfz + p.QEZ3 * dfz ** 2)
+                    * (1.0 + p.QEZ4 * (2.0 / math.pi) * np.arctan(Bt * Ct * a_t)), 1.0)
+    bt = Bt * at_eq
+    trail = Dt * np.cos(Ct * np.arctan(bt - Et * (bt - np.arctan(bt)))) * ca  # 4.E73
+    Br = p.QBZ9 * p.LKY / p.LMUY + p.QBZ10 * By * Cy
+    Dr = Fz * p.UNLOADED_RADIUS * (p.QDZ6 + p.QDZ7 * dfz) * p.LRES * p.LMUY * v_sign * ca
+    Mzr = Dr * np.cos(np.arctan(Br * ar_eq))  # 4.E75
+    Fy_prime = Gyk * Fy0  # Fy at zero camber, without the kappa-induced SVyk
+    s_arm = p.UNLOADED_RADIUS * (p.SSZ1 + p.SSZ2 * (Fy / Fz0)) * p.LS
+    Mz = -trail * Fy_prime + Mzr + s_arm * Fx
+    return Fx, Fy, Mz
+
+
+def forces(p: TyreParams, Fz: np.ndarray, kappa: np.ndarray,
+           alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Steady-state ``(Fx, Fy)`` [N]; see :func:`steady_state`."""
+    Fx, Fy, _ = steady_state(p, Fz, kappa, alpha)
     return Fx, Fy
 
 
 def rolling_resistance(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray,
-                       v_smooth: float = 0.05) -> np.ndarray:
+                       Fx: np.ndarray | float = 0.0) -> np.ndarray:
     """Rolling-resistance moment about the wheel's spin axis [N m].
 
-    ``M_y = -R0 Fz (QSY1 + QSY3 |V_x| / LONGVL + QSY4 (V_x / LONGVL)^4) LMY``, with
-    the sign of rolling smoothed over ``v_smooth`` [m/s] so that it fades
-    to zero at standstill instead of switching.
+    ``M_y = -R0 Fz (QSY1 + QSY2 Fx / Fz0 + QSY3 |V_x| / LONGVL + QSY4 (V_x / LONGVL)^4) LMY``
+    (PAC2002's 4.E69 with the travel sign), the sign of rolling smoothed over
+    :data:`V_SIGN` so that it fades to zero at standstill instead of switching.
     """
     Fz = np.maximum(Fz, 0.0)
     vr = np.abs(Vx) / p.LONGVL
-    mag = p.UNLOADED_RADIUS * Fz * (p.QSY1 + p.QSY3 * vr + p.QSY4 * vr ** 4) * p.LMY
-    return -mag * np.tanh(Vx / v_smooth)
+    mag = p.UNLOADED_RADIUS * Fz * (p.QSY1 + p.QSY2 * np.asarray(Fx) / p.Fz0 + p.QSY3 * vr
+                                    + p.QSY4 * vr ** 4) * p.LMY
+    return -mag * np.tanh(Vx / V_SIGN)
 
 
 def deflection_rates(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndarray,
-                     Vy: np.ndarray, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rates of the tread deflections ``(du/dt, dv/dt)`` [m/s] (see the module docstring).
+                     Vy: np.ndarray, omega_z: np.ndarray, u: np.ndarray, v: np.ndarray,
+                     phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rates of the tread deflections ``(du/dt, dv/dt, dphi/dt)`` (see the module docstring).
 
     Parameters
     ----------
@@ -280,37 +395,65 @@ def deflection_rates(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndar
         Contact-point velocity in the wheel frame [m/s].
     Vsx : ndarray
         Longitudinal slip velocity ``V_x - Omega R_e`` [m/s].
+    omega_z : ndarray
+        The wheel's yaw rate about the ground normal [rad/s].
     u, v : ndarray
         Deflections [m].
+    phi : ndarray
+        Tread twist [rad].
     """
     Fz = np.maximum(Fz, p.FZMIN)
     ax = np.abs(Vx)
-    return (-Vsx - ax * u / p.sigma_kappa(Fz), -Vy - ax * v / p.sigma_alpha(Fz))
+    return (-Vsx - ax * u / p.sigma_kappa(Fz), -Vy - ax * v / p.sigma_alpha(Fz),
+            -omega_z - ax * phi / p.patch_half_length(Fz))
+
+
+def bore_torque(p: TyreParams, Fz: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Torque of the twisted tread about the ground normal [N m] (see the module docstring)."""
+    Fz = np.maximum(Fz, 0.0)
+    dfz = (Fz - p.Fz0) / p.Fz0
+    mu = (p.PDY1 + p.PDY2 * dfz) * p.LMUY
+    m_max = (2.0 / 3.0) * mu * Fz * p.patch_half_length(Fz)
+    k_phi = TWIST_STIFFNESS * np.maximum(Fz, p.FZMIN)
+    return m_max * np.tanh(k_phi * phi / np.where(m_max > 0.0, m_max, 1.0))
 
 
 def transient_forces(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndarray,
-                     Vy: np.ndarray, u: np.ndarray, v: np.ndarray,
-                     side: np.ndarray | float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """Forces from the deflection states, with low-speed damping [N].
+                     Vy: np.ndarray, omega_z: np.ndarray, u: np.ndarray, v: np.ndarray,
+                     phi: np.ndarray,
+                     moments: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Forces and moment from the deflection states, with low-speed damping.
+
+    Parameters
+    ----------
+    moments : bool
+        With the aligning moment and the bore torque; ``Mz`` is zero without.
 
     Returns
     -------
     Fx, Fy : ndarray
         In the wheel's ISO frame [N].
+    Mz : ndarray
+        Aligning moment plus bore torque about the ground normal [N m].
     """
     Fzc = np.maximum(Fz, p.FZMIN)
-    kappa = u / p.sigma_kappa(Fzc)
-    alpha = np.arctan(v / p.sigma_alpha(Fzc))
-    Fx, Fy = forces(p, Fz, kappa, alpha, side)
+    sk, sa = p.sigma_kappa(Fzc), p.sigma_alpha(Fzc)
+    kappa = u / sk
+    alpha = np.arctan(v / sa)
+    Fx, Fy, Mz = steady_state(p, Fz, kappa, alpha, np.tanh(Vx / V_SIGN))
     # Damping of the tread springs below VXLOW: the tyre's own stiffness over
     # its relaxation length, a quarter of it as a damping rate [1/s].
     fade = np.where(np.abs(Vx) < p.VXLOW,
                     0.5 * (1.0 + np.cos(math.pi * np.abs(Vx) / p.VXLOW)), 0.0)
-    Kx = np.maximum(Fz, 0.0) * p.PKX1 * p.LKX
-    Ky = p.cornering_stiffness(np.maximum(Fz, 0.0))
-    Fx = Fx - fade * p.PTX4 * Kx / p.sigma_kappa(Fzc) * Vsx * 0.25
-    Fy = Fy - fade * p.PTX4 * Ky / p.sigma_alpha(Fzc) * Vy * 0.25
-    return Fx, Fy
+    Fzp = np.maximum(Fz, 0.0)
+    Kx = Fzp * p.PKX1 * p.LKX
+    Ky = p.cornering_stiffness(Fzp)
+    Fx = Fx - fade * p.PTX4 * Kx / sk * Vsx * 0.25
+    Fy = Fy - fade * p.PTX4 * Ky / sa * Vy * 0.25
+    if not moments:
+        return Fx, Fy, np.zeros_like(Fx)
+    Mz = Mz + bore_torque(p, Fz, phi) - fade * p.PTX4 * TWIST_STIFFNESS * Fzp * omega_z * 0.25
+    return Fx, Fy, Mz
 
 
 def check_ranges(p: TyreParams, Fz: np.ndarray, kappa: np.ndarray, alpha: np.ndarray,

@@ -32,30 +32,41 @@ def random_states(n: int, seed: int = 0) -> dict[str, np.ndarray]:
         "Vx": Vx,
         "Vsx": rng.normal(0.0, 1.0, n),
         "Vy": rng.normal(0.0, 1.5, n),
+        "omega_z": rng.normal(0.0, 0.5, n),  # the wheel's yaw rate, steering included
         "u": rng.normal(0.0, 0.05, n),  # kappa up to about +-0.3 at 20 kN
         "v": rng.normal(0.0, 0.3, n),  # alpha up to about +-60 deg
-        "side": rng.choice([-1.0, 1.0], n),
+        "phi": rng.normal(0.0, 0.1, n),  # twist past its sliding angle
     }
 
 
-@pytest.mark.parametrize("which", ["artic", pytest.param("shared", marks=needs(REFERENCE_TYRE))])
-def test_compiled_forces_equal_the_numpy_reference(which, unloaded):
-    p = TyreParams.from_tir(unloaded.tyre_file if which == "artic" else REFERENCE_TYRE)
+@pytest.mark.parametrize("moments", [True, False])
+@pytest.mark.parametrize("which", ["artic", "trailer",
+                                   pytest.param("shared", marks=needs(REFERENCE_TYRE))])
+def test_compiled_forces_equal_the_numpy_reference(which, moments, unloaded):
+    from importlib import resources
+
+    path = {"artic": unloaded.tyre_file, "shared": REFERENCE_TYRE,
+            "trailer": resources.files("mjcf") / "tyres" / "artic-trailer-385-65R22.5.tir"}[which]
+    p = TyreParams.from_tir(path)
     s = random_states(10_000)
-    c = ctyre.evaluate(p, **s)
-    Fx, Fy = transient_forces(p, s["Fz"], s["Vx"], s["Vsx"], s["Vy"], s["u"], s["v"], s["side"])
-    du, dv = deflection_rates(p, s["Fz"], s["Vx"], s["Vsx"], s["Vy"], s["u"], s["v"])
-    My = rolling_resistance(p, s["Fz"], s["Vx"])
+    args = [s[k] for k in ("Fz", "Vx", "Vsx", "Vy", "omega_z", "u", "v", "phi")]
+    c = ctyre.evaluate(p, *args, moments=moments)
+    Fx, Fy, Mz = transient_forces(p, *args, moments=moments)
+    du, dv, dphi = deflection_rates(p, *args)
+    My = rolling_resistance(p, s["Fz"], s["Vx"], Fx)
     # Both evaluate the same formulas in double precision; the C code replaces
     # cos(atan x) and sin(2 atan x) by their algebraic forms, so they differ by
     # rounding only. 1e-9 relative, on a floor of 1 N (1 N m, 1 um/s) so that
     # forces that vanish at zero load or slip are compared absolutely.
-    for name, ref, got in (("Fx", Fx, c.Fx), ("Fy", Fy, c.Fy), ("My", My, c.My),
-                           ("du", du, c.du), ("dv", dv, c.dv)):
-        floor = 1e-6 if name in ("du", "dv") else 1.0
+    for name, ref, got in (("Fx", Fx, c.Fx), ("Fy", Fy, c.Fy), ("Mz", Mz, c.Mz),
+                           ("My", My, c.My), ("du", du, c.du), ("dv", dv, c.dv),
+                           ("dphi", dphi, c.dphi)):
+        floor = 1e-6 if name in ("du", "dv", "dphi") else 1.0
         err = np.abs(got - ref) / np.maximum(np.abs(ref), floor)
         assert np.all(np.isfinite(got)), name
         assert err.max() < 1e-9, f"{name}: worst relative error {err.max():.2e}"
+    if moments:
+        assert np.abs(Mz).max() > 1e3  # the moments are there to compare
     # The sample reaches large slip and both directions, as it claims.
     alpha = np.arctan(s["v"] / p.sigma_alpha(np.maximum(s["Fz"], p.FZMIN)))
     assert np.abs(alpha).max() > 1.0 and (s["Vx"] < -1).any() and (s["Vx"] == 0).sum() >= 2000
@@ -74,11 +85,16 @@ def trajectory(vehicle, backend, seconds=10.0):
         return np.array(out)
 
 
-def test_plant_trajectories_agree_between_backends(unloaded):
+@pytest.mark.parametrize("moments", [False, True])
+def test_plant_trajectories_agree_between_backends(unloaded, moments):
     # Same equations, same integrator: over 10 s, through a stop and into
     # reverse, rounding differences must stay at rounding level. 1e-9 m and rad
     # is six orders above double rounding and far below any physical effect.
-    a, b = trajectory(unloaded, "c"), trajectory(unloaded, "numpy")
+    import dataclasses
+
+    v = dataclasses.replace(unloaded, plant=dataclasses.replace(unloaded.plant,
+                                                                tyre_moments=moments))
+    a, b = trajectory(v, "c"), trajectory(v, "numpy")
     assert np.abs(a - b).max() < 1e-9
     assert a[:, 3].min() < -0.5 and a[:, 3].max() > 1.5
 

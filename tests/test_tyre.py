@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -55,13 +56,14 @@ def test_reader_refuses_bad_lines(tmp_path, line, words):
 
 def test_cornering_stiffness_at_nominal_load(p):
     # K_y = PKY1 * FNOMIN * sin(2 atan(1 / PKY2)) at Fz = FNOMIN, in magnitude.
-    # The slope of F_y(alpha) equals it where the horizontal shift is undone,
-    # alpha = SHy = PHY1 (ISO sign).
+    # The Magic Formula runs in tan(alpha), so the slope of F_y(alpha) is
+    # K_y / cos^2(alpha) where the horizontal shift is undone, tan(alpha) = PHY1
+    # (ISO sign); evaluated at alpha itself it would be K_y.
     K = abs(-10.289 * 35000.0 * math.sin(2.0 * math.atan(1.0 / 3.3343)))
     assert p.cornering_stiffness(35000.0) == pytest.approx(K, rel=1e-12)
-    Fz, a0, h = np.array([35000.0]), 0.0056509, 1e-6
+    Fz, a0, h = np.array([35000.0]), math.atan(0.0056509), 1e-6
     slope = (forces(p, Fz, [0.0], [a0 + h])[1] - forces(p, Fz, [0.0], [a0 - h])[1]) / (2 * h)
-    assert slope[0] == pytest.approx(K, rel=1e-6)
+    assert slope[0] == pytest.approx(K / math.cos(a0) ** 2, rel=1e-8)
     # Normalised: about 5.8 /rad at 30 kN, the paper's f = 6 /rad.
     assert p.cornering_stiffness(30e3) / 30e3 == pytest.approx(5.79, abs=0.01)
 
@@ -85,14 +87,23 @@ def test_positive_slip_angle_pushes_left(p):
         assert np.all(forces(p, Fz, np.zeros(3), np.full(3, -alpha))[1] < 0)
 
 
-def test_mirror_symmetry_left_right(p):
-    Fz = np.full(50, 30e3)
-    rng = np.random.default_rng(3)
-    a, k = rng.uniform(-0.3, 0.3, 50), rng.uniform(-0.2, 0.2, 50)
-    fx_l, fy_l = forces(p, Fz, k, a, side=1.0)
-    fx_r, fy_r = forces(p, Fz, k, -a, side=-1.0)
-    np.testing.assert_allclose(fx_r, fx_l, rtol=1e-12)
-    np.testing.assert_allclose(fy_r, -fy_l, rtol=1e-12)
+def test_the_lateral_formula_runs_in_the_tangent(p):
+    # At 40 deg, tan(alpha) is 19 % past alpha: evaluated at alpha the force
+    # would differ by the Magic Formula's slope over that distance.
+    Fz = np.array([35000.0])
+    a = math.radians(40.0)
+    fy = forces(p, Fz, [0.0], [a])[1][0]
+    q = dataclasses.replace(p, PHY1=0.0, PHY2=0.0, PVY1=0.0, PVY2=0.0)
+    fy_shiftless = forces(q, Fz, [0.0], [math.atan(math.tan(a))])[1][0]
+    assert fy_shiftless != pytest.approx(fy, rel=1e-9)  # the shifts matter here
+    # With no shifts, F_y(alpha) is the pure Magic Formula at tan(alpha).
+    C, mu = q.PCY1, q.PDY1
+    Ky = q.cornering_stiffness(35000.0)
+    # The file's slip angle is -alpha: its curvature factor takes PEY3 with sgn = -1.
+    B, D, E = Ky / (C * mu * 35000.0), mu * 35000.0, q.PEY1 * (1.0 + q.PEY3)
+    x = B * math.tan(a)
+    assert fy_shiftless == pytest.approx(D * math.sin(C * math.atan(x - E * (x - math.atan(x)))),
+                                         rel=1e-12)
 
 
 def test_mirror_symmetry_for_reverse_travel(p):
@@ -105,9 +116,10 @@ def test_mirror_symmetry_for_reverse_travel(p):
         for sgn in (1.0, -1.0):
             # Solve du/dt = dv/dt = 0 for free rolling (V_sx = 0).
             v = -Vy * p.sigma_alpha(Fz) / Vx
-            du, dv = deflection_rates(p, Fz, np.full(3, sgn * Vx), 0 * Vy, Vy, 0 * Vy, v)
+            z = 0 * Vy
+            du, dv, _ = deflection_rates(p, Fz, np.full(3, sgn * Vx), z, Vy, z, z, v, z)
             np.testing.assert_allclose(dv, 0.0, atol=1e-15)
-            ss.append(transient_forces(p, Fz, np.full(3, sgn * Vx), 0 * Vy, Vy, 0 * Vy, v))
+            ss.append(transient_forces(p, Fz, np.full(3, sgn * Vx), z, Vy, z, z, v, z))
         np.testing.assert_allclose(ss[0][1], ss[1][1], rtol=1e-12)
         assert np.all(np.sign(ss[0][1]) == -np.sign(Vy))
 
@@ -119,7 +131,7 @@ def test_relaxation_time_constant(p):
     sigma = p.sigma_alpha(Fz)
     v, dt = np.zeros(1), 1e-5
     for _ in range(int(round(sigma[0] / Vx[0] / dt))):
-        v = v + dt * deflection_rates(p, Fz, Vx, 0 * Vx, Vy, 0 * v, v)[1]
+        v = v + dt * deflection_rates(p, Fz, Vx, 0 * Vx, Vy, 0 * Vx, 0 * v, v, 0 * v)[1]
     v_ss = -Vy * sigma / Vx
     assert v[0] / v_ss[0] == pytest.approx(1 - math.exp(-1), abs=1e-3)
 
@@ -132,19 +144,25 @@ def test_finite_and_smooth_through_zero_speed(p):
     t = np.arange(0.0, 4.0, dt)
     Vx = 2.0 - t
     Fz = np.array([30e3])
-    u, v = np.zeros(1), np.zeros(1)
-    Fx_hist, Fy_hist = [], []
+    u, v, phi = np.zeros(1), np.zeros(1), np.zeros(1)
+    Fx_hist, Fy_hist, Mz_hist = [], [], []
     for vx in Vx:
-        args = (p, Fz, np.array([vx]), np.array([-0.01]), np.array([0.05]))
-        du, dv = deflection_rates(*args, u, v)
-        u, v = u + dt * du, v + dt * dv
-        fx, fy = transient_forces(*args, u, v)
+        # ... and yawing at 0.05 rad/s, as a steered wheel does.
+        args = (p, Fz, np.array([vx]), np.array([-0.01]), np.array([0.05]), np.array([0.05]))
+        du, dv, dphi = deflection_rates(*args, u, v, phi)
+        u, v, phi = u + dt * du, v + dt * dv, phi + dt * dphi
+        fx, fy, mz = transient_forces(*args, u, v, phi)
         Fx_hist.append(fx[0])
         Fy_hist.append(fy[0])
+        Mz_hist.append(mz[0])
     Fx_hist, Fy_hist = np.array(Fx_hist), np.array(Fy_hist)
     assert np.all(np.isfinite(Fx_hist)) and np.all(np.isfinite(Fy_hist))
     assert np.max(np.abs(np.diff(Fy_hist))) < 0.005 * Fz[0]
     assert np.max(np.abs(np.diff(Fx_hist))) < 0.005 * Fz[0]
+    # The moment too: within 0.5 % of its friction bound mu Fz R0 per millisecond.
+    Mz_hist = np.array(Mz_hist)
+    assert np.all(np.isfinite(Mz_hist))
+    assert np.max(np.abs(np.diff(Mz_hist))) < 0.005 * Fz[0] * p.UNLOADED_RADIUS
     # Sliding left throughout: the force pushes right throughout.
     assert np.all(Fy_hist[100:] < 0)
 

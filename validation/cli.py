@@ -178,6 +178,34 @@ def _logs_generate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _tyre_curves(args: argparse.Namespace) -> int:
+    import math
+
+    from mjcf.vehicle import resolve_tyre_file
+    from plant.curves import curves, plot_curves
+    from plant.tyre import TyreParams
+    from validation.logs.runfile import atomic_write
+
+    try:
+        loads = [float(x) for x in args.fz.split(",") if x.strip()]
+    except ValueError:
+        raise ValueError(f"--fz {args.fz!r}: expected loads in newtons, such as "
+                         "10e3,30e3,50e3") from None
+    if not loads or not all(math.isfinite(f) and f > 0.0 for f in loads):
+        raise ValueError(f"--fz {args.fz!r}: every load must be a positive number of newtons")
+    path = resolve_tyre_file(args.tyre, Path.cwd() / "command-line", "--tyre")
+    p = TyreParams.from_tir(path)  # a TirError (a ValueError) names the file and key
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    table = curves(p, loads)
+    csv = atomic_write(out / f"{path.stem}.curves.csv",
+                       lambda f: table.to_csv(f, index=False, float_format="%.6g"))
+    png = atomic_write(out / f"{path.stem}.curves.png",
+                       lambda f: plot_curves(table, f, path.name))
+    print(f"wrote {csv} ({len(table)} points) and {png}")
+    return 0
+
+
 def _campaign(args: argparse.Namespace) -> int:
     from validation.campaign.main import run_campaign
     from validation.models import parse_models
@@ -271,6 +299,17 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                      help="processes (default: the number of cores, %(default)s)")
     gen.set_defaults(func=_logs_generate)
+
+    tyre = sub.add_parser("tyre", help="inspect tyre property files")
+    tsub = tyre.add_subparsers(dest="tyre_command", required=True)
+    tc = tsub.add_parser("curves", help="steady-state Fx, Fy and Mz curves as CSV and PNG")
+    tc.add_argument("--tyre", default="artic-truck-315-80R22.5.tir",
+                    help="a .tir file, or the name of one shipped with artic (default: "
+                         "%(default)s)")
+    tc.add_argument("--fz", default="10e3,30e3,50e3",
+                    help="comma-separated vertical loads [N] (default: %(default)s)")
+    tc.add_argument("--out", required=True, type=Path, help="output folder")
+    tc.set_defaults(func=_tyre_curves)
 
     camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
