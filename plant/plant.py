@@ -162,6 +162,8 @@ class Plant:
         self._tyre_set = np.array([files.index(vehicle.tyre_file_for(a))
                                    for a in vehicle.axles for _ in nm.SIDES])
         spec = build_model(vehicle)  # with vehicle.with_payload(), as _index uses
+        self.spec = spec
+        """The model's spec, as compiled (:mod:`plant.standalone` writes it out)."""
         n_wheels = 2 * len(vehicle.axles)
         if self.backend == "c":
             if spec.numerics:

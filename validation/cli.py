@@ -146,12 +146,19 @@ def _tune(args: argparse.Namespace) -> int:
 
 
 def _mjcf(args: argparse.Namespace) -> int:
-    from mjcf.builder import to_xml
     from validation.logs.runfile import atomic_write_text
 
     v = load_vehicle(args.vehicle)
-    path = atomic_write_text(args.output, to_xml(v, scene=not args.no_scene))
-    print(f"wrote {path} ({v.name}: {len(v.axles)} axles)")
+    if args.no_scene:  # the vehicle's geometry alone, for viewing or for other scenes
+        from mjcf.builder import to_xml
+
+        text, what = to_xml(v, scene=False), "no tyre data; plant.load needs the full file"
+    else:
+        from plant.standalone import to_xml
+
+        text, what = to_xml(v), "with its tyre data: plant.load(path) simulates it"
+    path = atomic_write_text(args.output, text)
+    print(f"wrote {path} ({v.name}: {len(v.axles)} axles; {what})")
     return 0
 
 
