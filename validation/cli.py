@@ -42,7 +42,7 @@ from validation.logs.consistency import CHECKS, parse_accept
 from validation.logs.importers import read_log
 from validation.logs.runfile import LogError, atomic_write, write_run
 from validation.models import NAMES
-from validation.outputs import OutDirLock, check_output_dir, check_output_file
+from validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
 from validation.steering import SteeringRangeError
 from validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
 
@@ -105,8 +105,12 @@ def _simulate(args: argparse.Namespace) -> int:
         model.close()
     write_run(run, out)
     status = run.meta["status"]
-    print(f"wrote {out}: {len(run.frame)} samples, {run.frame.t.iloc[-1]:.2f} s"
+    end = f", {run.frame.t.iloc[-1]:.2f} s" if len(run.frame) else ""
+    print(f"wrote {out}: {len(run.frame)} samples{end}"
           + ("" if status == "ok" else f"; {status}"))
+    if "stopped being finite" in status:
+        print(f"artic: simulation failed: {status}", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -130,6 +134,7 @@ def _validate(args: argparse.Namespace) -> int:
     out = check_output_dir(args.out_dir)
     logs = _read_logs(args, v)
     with OutDirLock(out, "validate"):
+        clean_stale(out)
         metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
                                 progress=stderr_progress, jobs=args.jobs)
         path = write_metrics(metrics, out / "metrics.csv")
@@ -254,8 +259,8 @@ class _Parser(argparse.ArgumentParser):
     """``argparse`` with the one-line errors of the rest of the command line."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        """Print ``PROG: error: MESSAGE`` and exit with code 2 (no usage block)."""
-        self.exit(2, f"{self.prog}: error: {message}; see {self.prog} --help\n")
+        """Print ``artic: error: MESSAGE`` and exit with code 2 (no usage block)."""
+        self.exit(2, f"artic: error: {message}; see {self.prog} --help\n")
 
 
 def _add_accept(p: argparse.ArgumentParser) -> None:

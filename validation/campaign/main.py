@@ -267,10 +267,10 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
         if stale:
             stderr_progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
+        pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
         stage = Stages(stderr_progress)
         stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
                         f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}")
-        pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
                            key, stage)
 

@@ -31,8 +31,10 @@ the likely cause when they disagree:
 ``steering``
     The steering-wheel angle through the vehicle's steering map, eq. (3):
     within the linkage's reach, and with the kinematic curvature
-    ``tan(delta) / L1`` that the tractor's ``r_1 / v_x_1`` shows (sign and
-    scale, tolerant of understeer and of a driver holding the wheel at lock).
+    ``tan(delta) / L1`` that the tractor shows (heading rate over speed along
+    the heading, both from ``psi_1`` and the track, so that this check does not
+    repeat the others; sign and scale, tolerant of understeer and of a
+    driver holding the wheel at lock).
 ``hitch``
     The semitrailer's position and heading against the tractor's: both
     sensors must put the hitch at one point. Fitted freely (the hitch's
@@ -120,7 +122,7 @@ STEER_NOISE = 0.005
 off the map's at 10 km/h, with margin; the floor grows with its root-sum-square."""
 
 STEER_SLOPE = (0.3, 3.0)
-"""Accepted slope of ``r_1 L1`` on ``v_x_1 tan(delta)``: understeer, tyre slip at lock and a
+"""Accepted slope of ``psi_1' L1`` on ``u tan(delta)``: understeer, tyre slip at lock and a
 driver turning against the stop lower it; a different tractor moves it by tens of percent,
 never by the factor 57.3 of a unit mistake."""
 
@@ -402,13 +404,19 @@ def check_yaw(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> Finding 
         return Finding("yaw-rate", ctx.name(f"psi_{i}"), span0, span1, problem,
                        explain(1.0 / fit.factor, f"psi_{i}", ctx)
                        + "; the position track turns with the yaw rate")
-    cause = explain(fit.factor, f"r_{i}", ctx)
-    other = "" if judged or abs(math.log(abs(fit.factor))) < 0.5 else explain(
-        1.0 / fit.factor, f"psi_{i}", ctx, known_only=True)
-    if other:  # too little travel to tell which: name both
+    if judged or abs(math.log(abs(fit.factor))) < 0.5:
+        return Finding("yaw-rate", ctx.name(f"r_{i}"), span0, span1, problem,
+                       explain(fit.factor, f"r_{i}", ctx))
+    # Too little travel to tell which is wrong: name the known mistakes that fit.
+    rate = explain(fit.factor, f"r_{i}", ctx, known_only=True)
+    head = explain(1.0 / fit.factor, f"psi_{i}", ctx, known_only=True)
+    if rate and head:
         return Finding("yaw-rate", f"{ctx.name(f'r_{i}')} or {ctx.name(f'psi_{i}')}", span0,
-                       span1, problem, f"{cause}, or {other}")
-    return Finding("yaw-rate", ctx.name(f"r_{i}"), span0, span1, problem, cause)
+                       span1, problem, f"{rate}, or {head}")
+    if head:
+        return Finding("yaw-rate", ctx.name(f"psi_{i}"), span0, span1, problem, head)
+    return Finding("yaw-rate", ctx.name(f"r_{i}"), span0, span1, problem,
+                   rate or explain(fit.factor, f"r_{i}", ctx))
 
 
 def _ratio(f: float) -> str:
@@ -473,7 +481,10 @@ def check_velocity(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> _Ve
     idx = np.flatnonzero(use)
     angle = np.arctan2(dv[:, 0] * dm[:, 1] - dv[:, 1] * dm[:, 0],
                        dv[:, 0] * dm[:, 0] + dv[:, 1] * dm[:, 1])
-    scale = float(lv.sum() / lm.sum()) if lm.sum() > 0 else math.inf
+    # The median of the windows' ratios: a single jump (the jump check's business) or a
+    # stop does not move it; a unit or scale mistake moves every window alike.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = float(np.median(np.where(lm > 0, lv / lm, np.inf)))
     agree = np.abs(angle) <= VELOCITY_ANGLE_TOL
     same_scale = 0.0 < scale < math.inf and abs(math.log(scale)) <= math.log1p(
         VELOCITY_SCALE_TOL)
@@ -543,22 +554,24 @@ def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Fi
     i0, i1 = _windows(t, STEER_WINDOW)
     if not i0.size:
         return None
-    u = df["v_x_1"].to_numpy(float)
+    # Speed and turning from the track and the heading alone, so that this check
+    # does not repeat the velocity and yaw-rate checks: the tractor sensor's
+    # displacement along the heading, and the heading's change, per window.
     span = t[i1] - t[i0]
-
-    def mean(y: np.ndarray) -> np.ndarray:
-        integ = _cumtrapz(t, y)
-        return (integ[i1] - integ[i0]) / span
-
-    u_w = mean(u)
+    x, y = df["x_1"].to_numpy(float), df["y_1"].to_numpy(float)
+    psi = df["psi_1"].to_numpy(float)
+    mid = 0.5 * (psi[i0] + psi[i1])
+    u_w = ((x[i1] - x[i0]) * np.cos(mid) + (y[i1] - y[i0]) * np.sin(mid)) / span
     moving = np.abs(u_w) >= STEER_MIN_SPEED
     if moving.sum() < 3:
         return None
-    # r_1 L1 = k u tan(delta) + c u: c takes up a steering-wheel offset other than the
+    tan_w = (_cumtrapz(t, np.tan(np.clip(delta, -1.5, 1.5))))
+    tan_w = (tan_w[i1] - tan_w[i0]) / span
+    # psi_1' L1 = k u tan(delta) + c u: c takes up a steering-wheel offset other than the
     # map's; k is the slope that a unit or sign mistake changes.
-    a = mean(df["r_1"].to_numpy(float) * vehicle.L1)[moving]
-    b = mean(u * np.tan(np.clip(delta, -1.5, 1.5)))[moving]
+    a = ((psi[i1] - psi[i0]) / span * vehicle.L1)[moving]
     uw = u_w[moving]
+    b = uw * tan_w[moving]
     a_perp, b_perp = a - uw * (uw @ a) / (uw @ uw), b - uw * (uw @ b) / (uw @ uw)
     floor = max(STEER_FLOOR, STEER_NOISE * math.sqrt(a.size))
     fit = _fit(b_perp, a_perp)  # factor: observed turning over the map's
@@ -568,10 +581,10 @@ def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Fi
     j = idx[fit.worst]
     return Finding("steering", name, float(t[i0[idx[0]]]), float(t[i1[idx[-1]]]),
                    f"the tractor turns {_ratio(fit.factor)} times as much as the steering "
-                   f"map of {vehicle.name} gives for it (r_1 L1 against v_x_1 tan(delta), "
-                   f"correlation {fit.corr:.2f}; worst over t = {t[i0[j]]:.2f} to "
-                   f"{t[i1[j]]:.2f} s)", explain(1.0 / fit.factor if fit.factor else 0.0,
-                                                 "delta_h", ctx))
+                   f"map of {vehicle.name} gives for it (heading rate times L1 against speed "
+                   f"times tan(delta), correlation {fit.corr:.2f}; worst over t = "
+                   f"{t[i0[j]]:.2f} to {t[i1[j]]:.2f} s)",
+                   explain(1.0 / fit.factor if fit.factor else 0.0, "delta_h", ctx))
 
 
 def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Finding | None:
