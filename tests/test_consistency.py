@@ -175,6 +175,10 @@ def test_gap_in_a_canonical_log_refused(tmp_path):
     run.frame.to_csv(csv, index=False)
     with pytest.raises(LogError, match="without samples"):
         import_source(csv)
+    # tune no longer writes a tuned vehicle file from it (eps_p was 3e26 m).
+    out = tmp_path / "tuned.toml"
+    assert main(["tune", str(p), "--models", "kin", "--out", str(out)]) == 2
+    assert not out.exists()
 
 
 def test_accept_records_the_override(tmp_path):

@@ -141,6 +141,12 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
                          f"{dask.timeout:g} s ({type(exc).__name__}); check the address, or "
                          "raise --scheduler-timeout") from None
     try:
+        from validation.runtime import route_mujoco_warnings
+
+        client.run(route_mujoco_warnings)  # no MUJOCO_LOG.TXT in the workers' folders
+    except Exception:  # noqa: BLE001 - a worker without mujoco, or gone: nothing to route
+        pass
+    try:
         yield client.get_executor()
     finally:
         client.close()
