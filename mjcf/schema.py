@@ -214,10 +214,9 @@ def check_value(path: Path | str, key: str, field: Field, value: Any) -> Any:
         return value
     if kind == "vec3":
         if (not isinstance(value, list) or len(value) != 3
-                or not all(_is_number(v) for v in value)):
-            raise _fail(path, key, f"expected three numbers [x, y, z]{unit}, got {value!r}")
-        if not all(math.isfinite(float(v)) for v in value):
-            raise _fail(path, key, f"expected three finite numbers{unit}, got {value!r}")
+                or not all(_is_number(v) and math.isfinite(v) for v in value)):
+            raise _fail(path, key, f"expected three finite numbers [x, y, z]{unit}, got "
+                                   f"{value!r}")
         return tuple(float(v) for v in value)
     if not _is_number(value):
         raise _fail(path, key, f"expected a number{unit}, got {value!r}")

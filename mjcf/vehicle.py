@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from mjcf import schema
+from mjcf.plausible import check_plausible, check_tir_file
 from mjcf.schema import VehicleFileError
 
 G = 9.81
@@ -368,12 +369,15 @@ def resolve_tyre_file(name: str, vehicle_path: str | Path, key: str = "tyre.file
     VehicleFileError
         Naming the vehicle file and the key ``tyre.file``.
     """
+    if not name.lower().endswith(".tir") or "\0" in name:
+        raise VehicleFileError(f"{vehicle_path}: key 'tyre.file': {name!r} is not a .tir "
+                               "file; name a PAC2002 tyre property file (.tir)")
     here = Path(vehicle_path).parent / name
     if here.is_file():
-        return here
+        return check_tir_file(here, f"{vehicle_path}: key 'tyre.file'")
     shipped = Path(str(resources.files("mjcf") / "tyres" / name))
     if shipped.is_file():
-        return shipped
+        return check_tir_file(shipped, f"{vehicle_path}: key 'tyre.file'")
     raise VehicleFileError(
         f"{vehicle_path}: key '{key}': {name!r} is neither beside the vehicle file nor "
         f"shipped with artic (shipped: {', '.join(tyre_names())})")
@@ -406,11 +410,35 @@ def load_vehicle(name_or_path: str | Path) -> Vehicle:
         the key.
     """
     path = resolve_vehicle_path(name_or_path)
+    return vehicle_from_dict(read_vehicle_toml(path), path)
+
+
+MAX_FILE_BYTES = 1 << 20
+"""Largest vehicle or tyre file read [B]; real ones are a few kilobytes."""
+
+
+def read_vehicle_toml(path: Path) -> dict[str, Any]:
+    """Parse a vehicle file; every failure is a :class:`VehicleFileError` naming it.
+
+    Raises
+    ------
+    VehicleFileError
+        For an unreadable, oversized, non-UTF-8, malformed or too deeply nested file.
+    """
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        if path.stat().st_size > MAX_FILE_BYTES:
+            raise VehicleFileError(f"{path}: {path.stat().st_size} bytes; a vehicle file is "
+                                   f"at most {MAX_FILE_BYTES} bytes")
+        return tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise VehicleFileError(f"{path}: not valid TOML: {exc}") from exc
-    return vehicle_from_dict(data, path)
+    except UnicodeDecodeError as exc:
+        raise VehicleFileError(f"{path}: not UTF-8 text (byte {exc.start}); save it as "
+                               "UTF-8") from exc
+    except RecursionError as exc:
+        raise VehicleFileError(f"{path}: not valid TOML: nested too deeply") from exc
+    except OSError as exc:
+        raise VehicleFileError(f"{path}: cannot read ({exc.strerror or exc})") from exc
 
 
 def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehicle:
@@ -473,6 +501,7 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
         tyre_scaling=tuple(sorted((k, float(val)) for k, val in scaling.items())),
     )
     check_geometry(v, path)
+    check_plausible(v, path)
     return v
 
 

@@ -4,18 +4,31 @@ Used by tuning, which writes the fitted steering parameters and cornering
 stiffness into a copy of the vehicle file it tuned, with a line in
 ``vehicle.sources`` that says where the new numbers came from. The file is
 re-read and checked before it replaces anything on disk.
+
+The copy names its tyre file portably: by its bare name when it is one
+shipped with artic, otherwise by a path relative to the copy's folder, so the
+copy works on another machine and from another installation.
 """
 
 from __future__ import annotations
 
 import copy
-import tomllib
+import os
+import tempfile
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import tomli_w
 
-from mjcf.vehicle import Vehicle, load_vehicle, resolve_tyre_file, resolve_vehicle_path
+from mjcf.files import TEMP_SUFFIX, public_mode
+from mjcf.vehicle import (
+    Vehicle,
+    load_vehicle,
+    read_vehicle_toml,
+    resolve_tyre_file,
+    resolve_vehicle_path,
+)
 
 
 def updated(base: str | Path, changes: dict[str, dict[str, Any]], source: str,
@@ -34,7 +47,7 @@ def updated(base: str | Path, changes: dict[str, dict[str, Any]], source: str,
         New ``vehicle.name``.
     """
     path = resolve_vehicle_path(base)
-    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    data = read_vehicle_toml(path)
     out = copy.deepcopy(data)
     for section, values in changes.items():
         node = out
@@ -47,13 +60,27 @@ def updated(base: str | Path, changes: dict[str, dict[str, Any]], source: str,
     if name:
         vehicle["name"] = name
     tyre = out.get("tyre", {})
-    if "file" in tyre:  # keep the tyre reachable from wherever the copy goes
+    if isinstance(tyre.get("file"), str):  # resolved now; made portable by write_vehicle
         tyre["file"] = str(resolve_tyre_file(tyre["file"], path).resolve())
     return out
 
 
+def portable_tyre(tyre_file: str | Path, target: str | Path) -> str:
+    """How a vehicle file at ``target`` names ``tyre_file``: shipped name or relative path."""
+    tyre_file = Path(tyre_file).resolve()
+    shipped = Path(str(resources.files("mjcf") / "tyres" / tyre_file.name))
+    beside = Path(target).resolve().parent / tyre_file.name
+    if shipped.is_file() and shipped.resolve() == tyre_file and not beside.is_file():
+        return tyre_file.name
+    return Path(os.path.relpath(tyre_file, Path(target).resolve().parent)).as_posix()
+
+
 def write_vehicle(data: dict[str, Any], path: str | Path) -> Vehicle:
     """Write ``data`` as a vehicle file, atomically, after checking it loads.
+
+    The temporary has a unique name (concurrent writers of one target never
+    share it) and gets the umask's mode; ``tyre.file`` is written portably
+    (see :func:`portable_tyre`).
 
     Returns
     -------
@@ -62,12 +89,21 @@ def write_vehicle(data: dict[str, Any], path: str | Path) -> Vehicle:
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp.toml")
+    data = copy.deepcopy(data)
+    tyre = data.get("tyre", {})
+    if isinstance(tyre, dict) and isinstance(tyre.get("file"), str) \
+            and Path(tyre["file"]).is_absolute():
+        tyre["file"] = portable_tyre(tyre["file"], path)
+    text = ("# Written by artic; see vehicle.sources for the origin of every value.\n"
+            + tomli_w.dumps(data))
+    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=TEMP_SUFFIX, dir=path.parent)
+    tmp = Path(name)
     try:
-        tmp.write_text("# Written by artic; see vehicle.sources for the origin of every value.\n"
-                       + tomli_w.dumps(data), encoding="utf-8")
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
         load_vehicle(tmp)
-        tmp.replace(path)
+        public_mode(tmp)
+        os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
     return load_vehicle(path)

@@ -36,8 +36,8 @@ trapezoid, which gives the left/right asymmetry of eq. (3) by itself, so
 the plant's steering map has ``q = 0``.
 
 After every step the plant checks MuJoCo's warning counters and the state.
-Anything non-finite raises :class:`PlantError` naming the time and the
-wheel; nothing is reset silently.
+Anything non-finite raises :class:`PlantError` naming the last sound time
+and the wheel with the largest tyre force then; nothing is reset silently.
 """
 
 from __future__ import annotations
@@ -431,27 +431,35 @@ class Plant:
         # The speed controller is sampled once per call (zero-order hold over
         # dt), at the middle of the interval, so MuJoCo runs n steps uninterrupted.
         self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
+        # MuJoCo resets a diverged simulation to t = 0 by itself: keep what a report needs.
+        good_time, good_forces = d.time, self.last_forces.copy()
         mujoco.mj_step(m, d, nstep=n)
-        self._check()
+        self._check(good_time, good_forces, n * h)
         if self.backend == "numpy":
             self.check_tyre_ranges()
         elif d.userdata[-1]:  # the C callback counted wheels outside the file's ranges
             d.userdata[-1] = 0.0
             self.check_tyre_ranges()
 
-    def _check(self) -> None:
+    def _check(self, good_time: float, good_forces: np.ndarray, span: float) -> None:
+        """Raise :class:`PlantError` if the step diverged.
+
+        The message gives the last time the state was sound (MuJoCo has reset
+        ``d.time`` by now) and the wheel whose tyre force was largest then.
+        """
         d = self.data
         if not d.warning.number.any() and np.isfinite(d.qvel).all():
             return
         bad = [mujoco.mjtWarning(i).name for i in range(len(d.warning)) if d.warning[i].number]
         finite = np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))
         if bad or not finite:
-            F = np.linalg.norm(self.last_forces, axis=1)
+            F = np.linalg.norm(good_forces, axis=1)
             F = np.where(np.isfinite(F), F, np.inf)
-            wheel = self.wheel_names[int(np.argmax(F))]
-            raise PlantError(f"t = {d.time:.3f} s: the simulation diverged "
-                             f"({', '.join(bad) or 'non-finite state'}); largest tyre force at "
-                             f"wheel {wheel}")
+            k = int(np.argmax(F))
+            raise PlantError(f"t = {good_time:.3f} s: the simulation diverged within the next "
+                             f"{1e3 * span:.0f} ms ({', '.join(bad) or 'non-finite state'}); "
+                             f"largest tyre force then at wheel {self.wheel_names[k]} "
+                             f"({F[k]:.3g} N)")
 
     def observe(self, delta: float | None = None) -> np.ndarray:
         """Signals at the sensor points, in ``OBSERVATION`` order."""

@@ -127,20 +127,27 @@ def test_gnss_jump_refused(export):
 
 
 def test_yaw_rate_in_wrong_unit_refused(export):
+    # The export's yaw rate in rad/s where deg/s is expected: the slalom's own
+    # heading changes judge it; the message gives the ratio, never "0.0 times".
     export["tractor"]["AngRateZ"] = np.radians(export["tractor"]["AngRateZ"])
-    # A slalom turns little in total; give the run a net heading change.
-    with pytest.raises(LogError, match="rad/s where deg/s was expected"):
-        t = export["tractor"]
-        t["AngleHeading"] = np.mod(t["AngleHeading"] - 2.0 * t["Time"], 360.0)
-        t["AngRateZ"] = np.radians(np.degrees(t["AngRateZ"]) - 2.0)
+    with pytest.raises(LogError) as err:
         imported(export)
+    msg = str(err.value)
+    assert "tractor.csv: AngRateZ looks like rad/s where deg/s is expected" in msg, msg
+    assert "1/57.3 times the change of psi_1" in msg and "0.0 times" not in msg
+    assert "--accept yaw-rate" in msg
 
 
 def test_heading_wraps_through_north(canonical, tmp_path):
     # Heading 358 deg -> 2 deg is a 4 deg turn, not -356 deg.
+    # The whole run turned about the origin so that it starts heading 1 deg west of north.
     run = Run(canonical.frame.copy(), {})
-    run.frame["psi_1"] += math.pi / 2 - run.frame["psi_1"].iloc[0] + math.radians(1.0)
-    run.frame["psi_2"] = run.frame["psi_1"] - run.frame["gamma"]
+    turn = math.pi / 2 - run.frame["psi_1"].iloc[0] + math.radians(1.0)
+    c, s = math.cos(turn), math.sin(turn)
+    for i in (1, 2):
+        x, y = run.frame[f"x_{i}"].copy(), run.frame[f"y_{i}"].copy()
+        run.frame[f"x_{i}"], run.frame[f"y_{i}"] = c * x - s * y, s * x + c * y
+        run.frame[f"psi_{i}"] += turn
     export_oxts(run, tmp_path)
     heading = pd.read_csv(tmp_path / "tractor.csv")["AngleHeading"]
     assert heading.max() > 350 and heading.min() < 10

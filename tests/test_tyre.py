@@ -43,7 +43,7 @@ def test_reader_sections_and_values():
 
 @pytest.mark.parametrize("line,words", [
     ("FNOMIN = 35000 kN", "is not a number"),
-    ("this is not a line", "cannot read line"),
+    ("this is not a line", "line 2 is neither"),
     ("PROPERTY_FILE_FORMAT = 'MF62'", "not PAC2002"),
 ])
 def test_reader_refuses_bad_lines(tmp_path, line, words):

@@ -13,35 +13,58 @@ Subcommands:
 - ``artic campaign [--out-dir DIR]``: the main job.
 
 Errors in the user's input end with exit code 2 and a one-line message that
-names the file and what to change; no traceback.
+names the file and what to change; no traceback. That covers the options
+(every number finite and in range, see :mod:`validation.options`), the
+output locations (checked before the work starts; a read-only, full or
+wrong-type path is named with the system's reason), the input files
+(malformed CSV, Parquet, ``.mat``, JSON or TOML), a run too long for the
+memory, and an unreachable Dask scheduler. Warnings are one line each, too.
+A simulation that diverges ends with exit code 1.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
 from mjcf import schema
 from mjcf.schema import VehicleFileError
 from mjcf.vehicle import load_vehicle
+from validation import options
 from validation.harness import DEFAULT_GAIN
-from validation.logs.runfile import LogError, read_run, write_run
+from validation.logs.consistency import CHECKS, parse_accept
+from validation.logs.importers import read_log
+from validation.logs.runfile import LogError, atomic_write, write_run
 from validation.models import NAMES
+from validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
 from validation.steering import SteeringRangeError
-from validation.synthetic.manoeuvres import KINDS, make_profile
+from validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
 
 USER_ERRORS = (VehicleFileError, LogError, SteeringRangeError, ValueError, FileNotFoundError)
+
+
+def finite_json(value):
+    """``value`` with every non-finite float replaced by ``None`` (JSON has no NaN)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: finite_json(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [finite_json(v) for v in value]
+    return value
 
 
 def _vehicle_show(args: argparse.Namespace) -> int:
     v = load_vehicle(args.vehicle)
     flat = v.flat()
     if args.json:
-        print(json.dumps(flat, indent=2))
+        print(json.dumps(finite_json(flat), indent=2, allow_nan=False))
     else:
         width = max(map(len, flat))
         for k, val in flat.items():
@@ -59,8 +82,19 @@ def _simulate(args: argparse.Namespace) -> int:
     from validation.models import build
     from validation.simulate import simulate
 
+    out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
     s = v.steering_for(args.model)
+    reverse = args.manoeuvre.endswith("reverse")
+    speed = args.speed_kph if args.speed_kph is not None else (3.0 if reverse else 5.0)
+    amplitude = args.amplitude_deg if args.amplitude_deg is not None else (
+        90.0 if reverse else 200.0)
+    duration = args.duration if args.duration is not None else default_duration(
+        args.manoeuvre, amplitude, speed, L1=v.L1, i_s=s.i_s)
+    what = "--duration" if args.duration is not None else (
+        f"--speed-kph {speed:g} and --amplitude-deg {amplitude:g} (a {args.manoeuvre} lasts "
+        f"{duration:.3g} s at them)")
+    options.check_memory(int(duration / 0.01) + 1, what)
     profile = make_profile(args.manoeuvre, amplitude_deg=args.amplitude_deg,
                            speed_kph=args.speed_kph, side=args.side, duration=args.duration,
                            delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
@@ -69,51 +103,71 @@ def _simulate(args: argparse.Namespace) -> int:
         run = simulate(model, v, profile)
     finally:
         model.close()
-    write_run(run, args.out)
+    write_run(run, out)
     status = run.meta["status"]
-    print(f"wrote {args.out}: {len(run.frame)} samples, {run.frame.t.iloc[-1]:.2f} s"
+    end = f", {run.frame.t.iloc[-1]:.2f} s" if len(run.frame) else ""
+    print(f"wrote {out}: {len(run.frame)} samples{end}"
           + ("" if status == "ok" else f"; {status}"))
+    if "stopped being finite" in status:
+        print(f"artic: simulation failed: {status}", file=sys.stderr)
+        return 1
     return 0
+
+
+def _read_logs(args: argparse.Namespace, vehicle) -> list:
+    accept = parse_accept(args.accept)
+    return [read_log(p, vehicle, accept) for p in args.logs]
 
 
 def _validate(args: argparse.Namespace) -> int:
     from validation.campaign.tables import markdown, summary, write_table
-    from validation.campaign.validate import stderr_progress, validate_runs, write_metrics
+    from validation.campaign.validate import (
+        FAILED,
+        stderr_progress,
+        validate_runs,
+        write_metrics,
+    )
     from validation.models import parse_models
 
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
-    logs = [read_run(p) for p in args.logs]
-    out = Path(args.out_dir)
-    metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
-                            progress=stderr_progress, jobs=args.jobs)
-    path = write_metrics(metrics, out / "metrics.csv")
-    print(f"wrote {path} ({len(metrics)} rows) and {len(metrics)} runs in {out / 'runs'}")
-    for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
-                                   ("reverse", "table3_reverse", "Reverse (Table 3 columns)")):
-        table = summary(metrics, direction)
-        if len(table):
-            write_table(table, out / stem, title)
-            print(f"\n{title}\n\n{markdown(table)}")
-    if args.gain_sweep:
-        from validation.campaign.gainsweep import (
-            DEFAULT_GAINS,
-            gain_sweep,
-            plot_gain_sweep,
-            sweep_table,
-        )
+    out = check_output_dir(args.out_dir)
+    logs = _read_logs(args, v)
+    with OutDirLock(out, "validate"):
+        clean_stale(out)
+        metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
+                                progress=stderr_progress, jobs=args.jobs)
+        path = write_metrics(metrics, out / "metrics.csv")
+        failed = metrics[metrics["status"].astype(str).str.startswith(FAILED)]
+        print(f"wrote {path} ({len(metrics)} rows) and {len(metrics) - len(failed)} runs in "
+              f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
+                                   "status in metrics.csv" if len(failed) else ""))
+        for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
+                                       ("reverse", "table3_reverse", "Reverse (Table 3 columns)")):
+            table = summary(metrics, direction)
+            if len(table):
+                write_table(table, out / stem, title)
+                print(f"\n{title}\n\n{markdown(table)}")
+        if args.gain_sweep:
+            from validation.campaign.gainsweep import (
+                DEFAULT_GAINS,
+                gain_sweep,
+                plot_gain_sweep,
+                sweep_table,
+            )
 
-        rev = [log for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
-        if not rev:
-            raise ValueError("--gain-sweep needs reverse logs (the tractor reversing for most "
-                             "of the log); none of the given logs is one")
-        sweep = gain_sweep({"logs": (v, rev)}, models, DEFAULT_GAINS, args.jobs,
-                           stderr_progress)
-        sweep.to_csv(out / "gain_sweep.csv", index=False, float_format="%.6g")
-        plot_gain_sweep(sweep, out / "gain_sweep.png", args.gain)
-        print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
-              f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
-    return 0
+            rev = [log for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
+            if not rev:
+                raise ValueError("--gain-sweep needs reverse logs (the tractor reversing for "
+                                 "most of the log); none of the given logs is one")
+            sweep = gain_sweep({"logs": (v, rev)}, models, DEFAULT_GAINS, args.jobs,
+                               stderr_progress)
+            atomic_write(out / "gain_sweep.csv",
+                         lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
+            plot_gain_sweep(sweep, out / "gain_sweep.png", args.gain)
+            print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
+                  f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
+    return 1 if len(failed) else 0
 
 
 def _tune(args: argparse.Namespace) -> int:
@@ -122,13 +176,15 @@ def _tune(args: argparse.Namespace) -> int:
     from validation.campaign.validate import stderr_progress
     from validation.models import parse_models
 
+    out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
-    logs = [read_run(p) for p in args.logs]
+    models = parse_models(args.models)
+    logs = _read_logs(args, v)
     reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
     if reverse:
         raise ValueError(f"tuning uses forward manoeuvres; {', '.join(reverse)} reverse(s) "
                          "for most of the log: leave it out")
-    _, fits = tune(v, logs, parse_models(args.models), args.jobs, stderr_progress)
+    _, fits = tune(v, logs, models, args.jobs, stderr_progress)
     print("model  parameter        nominal      fitted       bounds")
     for fit in fits:
         for row in fit.rows():
@@ -137,17 +193,21 @@ def _tune(args: argparse.Namespace) -> int:
                   f"{row['fitted']:<12.6g} [{row['lo']:.4g}, {row['hi']:.4g}]{flag}")
         print(f"{fit.model:<6} eps_n before {fit.eps_n_before:.3f} %, after "
               f"{fit.eps_n_after:.3f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)")
+    accepted = sorted({line.split(":", 1)[0].removeprefix("accepted ")
+                       for log in logs for line in log.meta.get("accepted_checks", [])})
+    source = f"Tuned by artic on {', '.join(log.name for log in logs)}" + (
+        f" (checks accepted with --accept: {', '.join(accepted)})" if accepted else "")
     data = updated(args.vehicle, fitted_changes(v, {f.model: f.fitted for f in fits}),
-                   f"Tuned by artic on {', '.join(log.name for log in logs)}",
-                   name=f"{v.name}-tuned")
-    write_vehicle(data, args.out)
-    print(f"wrote {args.out}")
+                   source, name=f"{v.name}-tuned")
+    write_vehicle(data, out)
+    print(f"wrote {out}")
     return 0
 
 
 def _mjcf(args: argparse.Namespace) -> int:
     from validation.logs.runfile import atomic_write_text
 
+    check_output_file(args.output, "-o")
     v = load_vehicle(args.vehicle)
     if args.no_scene:  # the vehicle's geometry alone, for viewing or for other scenes
         from mjcf.builder import to_xml
@@ -165,7 +225,10 @@ def _mjcf(args: argparse.Namespace) -> int:
 def _logs_import(args: argparse.Namespace) -> int:
     from validation.logs.importers import import_sources
 
-    for path in import_sources(args.sources, args.out_dir):
+    accept = parse_accept(args.accept)
+    vehicle = load_vehicle(args.vehicle) if args.vehicle else None
+    out = check_output_dir(args.out_dir)
+    for path in import_sources(args.sources, out, accept, vehicle):
         print(f"wrote {path}")
     return 0
 
@@ -175,6 +238,7 @@ def _logs_generate(args: argparse.Namespace) -> int:
     from validation.synthetic.generate import generate_campaign
 
     only = [o for o in args.only.split(",") if o] if args.only else None
+    check_output_dir(args.out_dir)
     from validation.synthetic.sensors import SensorModel
 
     sensors = SensorModel.ideal() if args.sensors == "ideal" else SensorModel()
@@ -214,26 +278,46 @@ def _tyre_curves(args: argparse.Namespace) -> int:
 
 
 def _campaign(args: argparse.Namespace) -> int:
+    from validation.campaign.executors import DaskOptions
     from validation.campaign.main import run_campaign
     from validation.models import parse_models
 
     sweep = tuple(parse_models(args.sweep_models)) if args.sweep_models else ()
-    run_campaign(Path(args.out_dir), models=tuple(parse_models(args.models)), seed=args.seed,
-                 jobs=args.jobs, gain=args.gain, sweep_models=sweep,
-                 recordings=not args.no_recordings, executor=args.executor,
-                 scheduler=args.scheduler, truth=args.truth)
+    models = tuple(parse_models(args.models))
+    dask = DaskOptions(timeout=args.scheduler_timeout, tls_ca_file=args.tls_ca_file,
+                       tls_cert=args.tls_cert, tls_key=args.tls_key)
+    dask.check(args.executor, args.scheduler)
+    out = check_output_dir(args.out_dir)
+    run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
+                 sweep_models=sweep, recordings=not args.no_recordings,
+                 executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth)
     return 0
+
+
+class _Parser(argparse.ArgumentParser):
+    """``argparse`` with the one-line errors of the rest of the command line."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        """Print ``artic: error: MESSAGE`` and exit with code 2 (no usage block)."""
+        self.exit(2, f"artic: error: {message}; see {self.prog} --help\n")
+
+
+def _add_accept(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--accept", action="append", default=[], metavar="CHECK",
+                   help="use the logs although this consistency check refuses them "
+                        "(recorded in the run's metadata); repeat or comma-separate; "
+                        f"checks: {', '.join(CHECKS)}")
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``artic``."""
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
         "in reverse, and their validation.")
-    sub = p.add_subparsers(dest="command", required=True)
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")
-    vsub = veh.add_subparsers(dest="vehicle_command", required=True)
+    vsub = veh.add_subparsers(dest="vehicle_command", required=True, parser_class=_Parser)
     show = vsub.add_parser("show", help="print the resolved parameters")
     show.add_argument("vehicle", help="preset name or TOML file")
     show.add_argument("--json", action="store_true", help="print JSON")
@@ -246,12 +330,12 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--vehicle", default="gosar2022-unloaded",
                      help="preset name or TOML file (default: %(default)s)")
     sim.add_argument("--manoeuvre", required=True, choices=KINDS)
-    sim.add_argument("--amplitude-deg", type=float, default=None,
+    sim.add_argument("--amplitude-deg", type=options.AMPLITUDE_DEG, default=None,
                      help="steering-wheel amplitude [deg] (default 200 forward, 90 reverse)")
-    sim.add_argument("--speed-kph", type=float, default=None,
+    sim.add_argument("--speed-kph", type=options.SPEED_KPH, default=None,
                      help="speed [km/h], positive (default 5 forward, 3 reverse)")
     sim.add_argument("--side", choices=("left", "right"), default="left")
-    sim.add_argument("--duration", type=float, default=None, help="length [s]")
+    sim.add_argument("--duration", type=options.DURATION, default=None, help="length [s]")
     sim.add_argument("--out", required=True, type=Path, help="output .parquet")
     sim.set_defaults(func=_simulate)
 
@@ -260,12 +344,14 @@ def build_parser() -> argparse.ArgumentParser:
     val.add_argument("--vehicle", default="gosar2022-unloaded",
                      help="preset name or TOML file (default: %(default)s)")
     val.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
-    val.add_argument("--gain", type=float, default=DEFAULT_GAIN,
+    val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     val.add_argument("--out-dir", required=True, type=Path)
     val.add_argument("--gain-sweep", action="store_true",
                      help="also sweep K over the reverse logs; marks the stability bound")
-    val.add_argument("--jobs", type=int, default=1, help="threads (default: %(default)s)")
+    val.add_argument("--jobs", type=options.JOBS, default=1,
+                     help="threads (default: %(default)s)")
+    _add_accept(val)
     val.set_defaults(func=_validate)
 
     tun = sub.add_parser("tune", help="fit f, i_s, q and the offset on forward logs")
@@ -274,8 +360,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="preset name or TOML file (default: %(default)s)")
     tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
     tun.add_argument("--out", required=True, type=Path, help="tuned vehicle file (.toml)")
-    tun.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+    tun.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
                      help="threads for the plant (default: %(default)s)")
+    _add_accept(tun)
     tun.set_defaults(func=_tune)
 
     mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
@@ -286,15 +373,20 @@ def build_parser() -> argparse.ArgumentParser:
     mj.set_defaults(func=_mjcf)
 
     logs = sub.add_parser("logs", help="import measured logs")
-    lsub = logs.add_subparsers(dest="logs_command", required=True)
+    lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path,
                      help="canonical .parquet/.csv, .mat, or a folder with tractor.csv, "
                           "trailer.csv, can.csv")
     imp.add_argument("--out-dir", required=True, type=Path)
+    imp.add_argument("--vehicle", default=None,
+                     help="preset name or TOML file for the steering and hitch checks "
+                          "(default: the steering check with the gosar2022-unloaded map, "
+                          "the hitch fitted)")
+    _add_accept(imp)
     imp.set_defaults(func=_logs_import)
     gen = lsub.add_parser("generate", help="the synthetic measured campaign")
-    gen.add_argument("--seed", type=int, default=0)
+    gen.add_argument("--seed", type=options.SEED, default=0)
     gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
     gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
     gen.add_argument("--truth", choices=("structural", "legacy"), default="structural",
@@ -303,7 +395,7 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--sensors", choices=("default", "ideal"), default="default",
                      help="the measurement chain: noisy RTK/INS/CAN models, or the truth "
                           "itself (default: %(default)s)")
-    gen.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+    gen.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
                      help="processes (default: the number of cores, %(default)s)")
     gen.set_defaults(func=_logs_generate)
 
@@ -323,12 +415,13 @@ def build_parser() -> argparse.ArgumentParser:
                       help="output folder (default: %(default)s)")
     camp.add_argument("--models", default="kin,stm,mbd",
                       help="comma-separated, from kin, stm, mbd (default: %(default)s)")
-    camp.add_argument("--seed", type=int, default=0, help="seed of the synthetic campaign")
+    camp.add_argument("--seed", type=options.SEED, default=0,
+                      help="seed of the synthetic campaign")
     camp.add_argument("--truth", choices=("structural", "legacy"), default="structural",
                       help="the synthetic campaign's truth: one that differs from the presets "
                            "in structure, or the first near-identical one, for regression "
                            "(default: %(default)s)")
-    camp.add_argument("--gain", type=float, default=DEFAULT_GAIN,
+    camp.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                       help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     camp.add_argument("--sweep-models", default="kin,stm",
                       help="models in the gain sweep; empty to skip it (default: %(default)s)")
@@ -336,31 +429,69 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--executor", choices=("local", "dask"), default="local",
                       help="where generation and validation run (default: %(default)s)")
     camp.add_argument("--scheduler", default=None,
-                      help="address of a running Dask scheduler (with --executor dask); "
-                           "a local cluster otherwise")
-    camp.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                      help="address of a running Dask scheduler, tcp://HOST:PORT or "
+                           "tls://HOST:PORT (with --executor dask); a local cluster otherwise. "
+                           "The cluster must be trusted: its results are unpickled here")
+    camp.add_argument("--scheduler-timeout", type=options.TIMEOUT, default=10.0,
+                      help="seconds to wait for the scheduler (default: %(default)s)")
+    camp.add_argument("--tls-ca-file", type=Path, default=None,
+                      help="with a tls:// scheduler: the CA certificate (PEM)")
+    camp.add_argument("--tls-cert", type=Path, default=None,
+                      help="with a tls:// scheduler: this client's certificate (PEM)")
+    camp.add_argument("--tls-key", type=Path, default=None,
+                      help="with a tls:// scheduler: this client's private key (PEM)")
+    camp.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
                       help="processes and threads (default: the number of cores, %(default)s)")
     camp.set_defaults(func=_campaign)
     return p
 
 
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _os_error(exc: OSError) -> str:
+    where = exc.filename if exc.filename is not None else ""
+    if exc.filename2 is not None:
+        where = f"{where} -> {exc.filename2}"
+    reason = exc.strerror or str(exc)
+    return _one_line(f"{where}: {reason}" if where else reason)
+
+
+def _warning_line(message, category, filename, lineno, line=None) -> str:
+    return f"artic: warning: {_one_line(message)}\n"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``artic``; returns the exit code."""
-    args = build_parser().parse_args(argv)
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # --help, or a one-line option error (exit 2)
+        return int(exc.code or 0) if isinstance(exc.code, int | None) else 2
+    previous = warnings.formatwarning
+    warnings.formatwarning = _warning_line
     try:
         return int(args.func(args))
     except USER_ERRORS as exc:
-        print(f"artic: error: {exc}", file=sys.stderr)
+        print(f"artic: error: {_one_line(exc)}", file=sys.stderr)
         return 2
-    except RuntimeError as exc:
-        if type(exc).__name__ != "PlantError":
-            raise
-        print(f"artic: simulation failed: {exc}", file=sys.stderr)
-        return 1
     except BrokenPipeError:
         # The reader (head, less) left early: not an error of artic's.
         sys.stderr.close()
         return 0
+    except OSError as exc:
+        print(f"artic: error: {_os_error(exc)}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("artic: error: out of memory; give a shorter run or fewer jobs", file=sys.stderr)
+        return 2
+    except RuntimeError as exc:
+        if type(exc).__name__ != "PlantError":
+            raise
+        print(f"artic: simulation failed: {_one_line(exc)}", file=sys.stderr)
+        return 1
+    finally:
+        warnings.formatwarning = previous
 
 
 if __name__ == "__main__":  # pragma: no cover

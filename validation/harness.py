@@ -274,7 +274,7 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
     if n < inputs.t.size:
         g = obs[n - 1, 12]
         why = (f"articulation {math.degrees(g):.1f} deg passed the jackknife limit "
-               f"{math.degrees(vehicle.gamma_max):.1f} deg" if np.isfinite(g)
+               f"{math.degrees(vehicle.gamma_max):.1f} deg" if np.all(np.isfinite(obs[n - 1]))
                else "the state stopped being finite")
         status = f"stopped at t = {inputs.t[n - 1]:.2f} s: {why}"
     meta = {

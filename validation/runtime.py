@@ -15,6 +15,12 @@ editing any equation moves it to a fresh folder. Folders no version has used
 for :data:`STALE_DAYS` are removed. Setting ``NUMBA_CACHE_DIR`` yourself
 overrides this.
 
+**MuJoCo's log.** MuJoCo reports its warnings (a simulation gone unstable)
+through a process-wide handler; without one it appends them to
+``MUJOCO_LOG.TXT`` in the current folder, wherever the user happens to be.
+:func:`route_mujoco_warnings` turns them into Python warnings of class
+:class:`MujocoWarning` instead, which the command line prints as one line.
+
 matplotlib needs no setting: artic draws on ``matplotlib.figure.Figure``
 objects with the Agg canvas, never through pyplot's global backend.
 """
@@ -31,7 +37,7 @@ from pathlib import Path
 STALE_DAYS = 30
 """Cache folders unused for this long are removed [days]."""
 
-COMPILED_MODULES = ("harness.py", "batch.py")
+COMPILED_MODULES = ("harness.py", "batch.py", "pathdist.py")
 """Modules of :mod:`validation` that define compiled (numba) functions."""
 
 
@@ -59,12 +65,34 @@ def source_hash(files: list[Path] | None = None) -> str:
     return h.hexdigest()[:12]
 
 
+class MujocoWarning(UserWarning):
+    """A warning MuJoCo itself raised (see :func:`route_mujoco_warnings`)."""
+
+
+def _mujoco_warning(message: str) -> None:
+    import warnings
+
+    warnings.warn(f"MuJoCo: {message}", MujocoWarning, stacklevel=2)
+
+
+def route_mujoco_warnings() -> None:
+    """Send MuJoCo's warnings to Python's ``warnings`` instead of ``./MUJOCO_LOG.TXT``."""
+    try:
+        import mujoco
+    except ImportError:  # pragma: no cover - mujoco is a dependency
+        return
+    mujoco.set_mju_user_warning(_mujoco_warning)
+
+
 def configure() -> Path | None:
     """Point numba's cache at ``$XDG_CACHE_HOME/artic/numba/<hash>`` (or ~/.cache).
+
+    Also routes MuJoCo's warnings (:func:`route_mujoco_warnings`).
 
     Returns the folder, or ``None`` when ``NUMBA_CACHE_DIR`` is set by the
     user or the home folder is read-only (numba then uses its own locations).
     """
+    route_mujoco_warnings()
     if os.environ.get("NUMBA_CACHE_DIR"):
         return None
     import numba

@@ -53,14 +53,17 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
         u1_dot=u1_dot, gamma_meas=np.zeros(n), reversing=np.zeros(n, dtype=bool),
         initial=InitialState(0.0, 0.0, 0.0, 0.0, u1=float(profile.u1[0])))
     obs, delta, _, sat, k = run_inputs(model, inputs, vehicle, gain=0.0)
-    frame = new_frame(profile.t[:k], profile.delta_h[:k], obs[:k])
-    frame["delta"] = delta[:k]
-    frame["delta_saturated"] = sat[:k]
     status = "ok"
-    if k < n:
+    if k < n and not np.all(np.isfinite(obs[k - 1])):
+        status = f"stopped at t = {profile.t[k - 1]:.2f} s: the state stopped being finite"
+        k -= 1  # the run keeps its sound samples only
+    elif k < n:
         status = (f"stopped at t = {profile.t[k - 1]:.2f} s: articulation "
                   f"{math.degrees(obs[k - 1, 12]):.1f} deg passed the jackknife limit "
                   f"{math.degrees(vehicle.gamma_max):.1f} deg")
+    frame = new_frame(profile.t[:k], profile.delta_h[:k], obs[:k])
+    frame["delta"] = delta[:k]
+    frame["delta_saturated"] = sat[:k]
     meta = {"name": f"{profile.kind}.{model.name}", "source": f"model:{model.name}",
             "model": model.name, "vehicle": vehicle.name, "vehicle_path": vehicle.path,
             "status": status, **profile.meta}

@@ -15,6 +15,18 @@ Each run is a pure function of its inputs (a manoeuvre and a seed, or a log,
 a vehicle, a model and a gain) that returns its result to the caller, which
 writes the files. Workers therefore need no shared file system, and the
 results do not depend on where or in which order the runs execute.
+
+**A cluster must be trusted.** Dask sends results back pickled, and
+unpickling runs code: whoever controls a worker or the scheduler can run code
+in the process that started the campaign. Use a cluster that only you and
+people you trust can join, and reach it over ``tls://`` (:class:`DaskOptions`)
+when the network between you is not yours. What artic itself takes from a
+result is limited: every file name, folder and cache key comes from what the
+client submitted (the manoeuvre, the log's name, the model), never from the
+returned result, so a worker cannot direct a write or a deletion elsewhere.
+
+An unreachable scheduler is reported after :attr:`DaskOptions.timeout`
+seconds in one line, instead of a traceback or a wait without end.
 """
 
 from __future__ import annotations
@@ -22,13 +34,69 @@ from __future__ import annotations
 import contextlib
 from collections.abc import Iterator
 from concurrent.futures import Executor
+from dataclasses import dataclass
+from pathlib import Path
 
 EXECUTORS = ("local", "dask")
 
 
+@dataclass(frozen=True)
+class DaskOptions:
+    """How to reach a Dask scheduler.
+
+    Parameters
+    ----------
+    timeout : float
+        Seconds to wait for the scheduler before giving up.
+    tls_ca_file, tls_cert, tls_key : Path, optional
+        With a ``tls://`` address: the CA certificate that signs the cluster's
+        certificates, and this client's certificate and private key (PEM);
+        all three are needed, and encryption is then required.
+    """
+
+    timeout: float = 10.0
+    tls_ca_file: Path | None = None
+    tls_cert: Path | None = None
+    tls_key: Path | None = None
+
+    @property
+    def tls(self) -> tuple[Path | None, Path | None, Path | None]:
+        """The three TLS files."""
+        return (self.tls_ca_file, self.tls_cert, self.tls_key)
+
+    def check(self, kind: str, address: str | None) -> None:
+        """Refuse options that do not fit the address (one-line ``ValueError``)."""
+        given = [p for p in self.tls if p is not None]
+        scheme = (address or "").split("://", 1)[0] if address and "://" in address else "tcp"
+        if address and scheme not in ("tcp", "tls"):
+            raise ValueError(f"--scheduler {address}: expected tcp://HOST:PORT or "
+                             "tls://HOST:PORT")
+        if scheme == "tls" and len(given) != 3:
+            raise ValueError(f"--scheduler {address}: a tls:// scheduler needs --tls-ca-file, "
+                             "--tls-cert and --tls-key")
+        if given and scheme != "tls":
+            raise ValueError("--tls-ca-file, --tls-cert and --tls-key need a tls:// "
+                             "--scheduler address")
+        if address and kind != "dask":
+            raise ValueError("--scheduler needs --executor dask")
+        for opt, p in zip(("--tls-ca-file", "--tls-cert", "--tls-key"), self.tls, strict=True):
+            if p is not None and not Path(p).is_file():
+                raise ValueError(f"{opt} {p}: no such file")
+
+    def security(self):
+        """A ``distributed.Security`` for the TLS files, or ``None`` without them."""
+        if self.tls_ca_file is None:
+            return None
+        from distributed.security import Security
+
+        return Security(tls_ca_file=str(self.tls_ca_file),
+                        tls_client_cert=str(self.tls_cert), tls_client_key=str(self.tls_key),
+                        require_encryption=True)
+
+
 @contextlib.contextmanager
-def cluster_executor(kind: str = "local", jobs: int = 1,
-                     address: str | None = None) -> Iterator[Executor | None]:
+def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = None,
+                     dask: DaskOptions | None = None) -> Iterator[Executor | None]:
     """An executor for the campaign's runs, closed on exit.
 
     Parameters
@@ -39,18 +107,22 @@ def cluster_executor(kind: str = "local", jobs: int = 1,
     jobs : int
         Worker processes of a local Dask cluster.
     address : str, optional
-        Scheduler of a running Dask cluster (``tcp://host:8786``).
+        Scheduler of a running Dask cluster (``tcp://host:8786``, ``tls://host:8786``).
+    dask : DaskOptions, optional
+        Timeout and TLS files for ``address``.
 
     Raises
     ------
     ValueError
-        For an unknown kind, or ``dask`` without the ``distributed`` package.
+        For an unknown kind, ``dask`` without the ``distributed`` package,
+        options that do not fit the address, or a scheduler not reached within
+        the timeout.
     """
+    dask = dask or DaskOptions()
     if kind not in EXECUTORS:
         raise ValueError(f"executor {kind!r}: expected one of {', '.join(EXECUTORS)}")
+    dask.check(kind, address)
     if kind == "local":
-        if address:
-            raise ValueError("--scheduler needs --executor dask")
         yield None
         return
     try:
@@ -60,7 +132,20 @@ def cluster_executor(kind: str = "local", jobs: int = 1,
                          'pip install "artic[distributed]"') from exc
     cluster = None if address else LocalCluster(n_workers=max(1, jobs), threads_per_worker=1,
                                                 processes=True, dashboard_address=None)
-    client = Client(address or cluster)
+    try:
+        client = Client(address or cluster, timeout=dask.timeout, security=dask.security())
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise ValueError(f"--scheduler {address or 'local'}: not reached within "
+                         f"{dask.timeout:g} s ({type(exc).__name__}); check the address, or "
+                         "raise --scheduler-timeout") from None
+    try:
+        from validation.runtime import route_mujoco_warnings
+
+        client.run(route_mujoco_warnings)  # no MUJOCO_LOG.TXT in the workers' folders
+    except Exception:  # noqa: BLE001 - a worker without mujoco, or gone: nothing to route
+        pass
     try:
         yield client.get_executor()
     finally:

@@ -30,7 +30,17 @@ seed, the models and the gain (:mod:`validation.campaign.fingerprint`). A rerun
 reuses what matches and redoes the rest, so an interrupted campaign picks up
 where it stopped. ``report.md`` is deleted when a run starts and written only
 when every stage has finished, and every file is written atomically, so no
-half-written result looks complete.
+half-written result looks complete. Tuning is saved after every (load, model)
+fit, so a campaign killed while tuning keeps the fits it finished. A cached
+log that no longer reads is imported again from its export.
+
+One campaign at a time per output folder: a second one is refused, naming the
+first (:class:`validation.outputs.OutDirLock`). The temporaries a killed
+campaign left behind are removed when the next one starts.
+
+A (log, model) pair that fails becomes a row of ``metrics.csv`` with its
+status; a model whose tuning fails keeps the preset's values and says so.
+The tables and the report use the pairs with results.
 """
 
 from __future__ import annotations
@@ -48,13 +58,21 @@ import pandas as pd
 from mjcf.vehicle import Vehicle, load_vehicle
 from mjcf.writer import fitted_changes, updated, write_vehicle
 from validation.campaign import fingerprint
-from validation.campaign.executors import cluster_executor
+from validation.campaign.executors import DaskOptions, cluster_executor
 from validation.campaign.tables import summary, write_table
-from validation.campaign.validate import stderr_progress, validate_runs, write_metrics
+from validation.campaign.validate import is_failed, stderr_progress, validate_runs, write_metrics
 from validation.harness import DEFAULT_GAIN
 from validation.logs.importers import import_source
-from validation.logs.runfile import Run, atomic_write_text, read_run, write_run
+from validation.logs.runfile import (
+    LogError,
+    Run,
+    atomic_write,
+    atomic_write_text,
+    read_run,
+    write_run,
+)
 from validation.models import NAMES
+from validation.outputs import OutDirLock, clean_stale
 from validation.synthetic.generate import generate_campaign
 from validation.synthetic.testmatrix import TUNING
 
@@ -97,8 +115,11 @@ def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
     for folder in exports:
         target = out_dir / "logs" / f"{folder.name}.parquet"
         if target.is_file() and target.stat().st_mtime >= (folder / "meta.json").stat().st_mtime:
-            logs.append(read_run(target))
-            continue
+            try:
+                logs.append(read_run(target))
+                continue
+            except LogError as exc:  # a damaged cache: the export is the source
+                stderr_progress(f"re-importing {folder.name}: {exc}")
         run, report = import_source(folder)
         for line in report:
             stderr_progress(f"repaired: {line}")
@@ -107,23 +128,39 @@ def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
     return logs
 
 
+def _read_json(path: Path) -> dict | None:
+    """A JSON object saved by an earlier run, or ``None`` if absent or unreadable."""
+    if not path.is_file():
+        return None
+    try:
+        saved = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError) as exc:
+        stderr_progress(f"{path}: unreadable ({type(exc).__name__}); computed again")
+        return None
+    return saved if isinstance(saved, dict) else None
+
+
 def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
           jobs: int) -> dict:
-    """Tuning per load condition, reused from ``tuning.json`` when its key matches.
+    """Tuning per load condition, resumable per (load, model) from ``tuning.json``.
 
     Each load condition is tuned on its own tuning manoeuvres with its own
     preset. A load condition without tuning logs (a part of the campaign)
-    keeps the preset's values, and says so.
+    keeps the preset's values, and says so. ``tuning.json`` is written after
+    every (load, model) fit with the fits so far; a rerun with the same key
+    reuses them and fits only the rest. A model whose fit fails keeps the
+    preset's values; its summary row says why.
     """
     from validation.campaign.tuning import tune_model
 
     path = out_dir / "tuning.json"
-    if path.is_file():
-        saved = json.loads(path.read_text())
-        if saved.get("key") == key:
-            stderr_progress(f"tuning reused from {path}")
-            return saved
-    out: dict = {"key": key, "loads": {}}
+    saved = _read_json(path)
+    if saved is None or saved.get("key") != key or not isinstance(saved.get("loads"), dict):
+        saved = {"key": key, "loads": {}}
+    elif saved.get("complete"):
+        stderr_progress(f"tuning reused from {path}")
+        return saved
+    out: dict = {"key": key, "loads": {}, "complete": False}
     for load in LOADS:
         tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
         if not tuning:
@@ -131,23 +168,46 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                             "parameters are used untuned")
             continue
         vehicle = load_vehicle(PRESET.format(load=load))
-        rows, summary_rows, fitted = [], [], {}
+        names = [log.name for log in tuning]
+        part = saved["loads"].get(load)
+        if not (isinstance(part, dict) and part.get("logs") == names):
+            part = None
+        entry = {"logs": names, "rows": [], "summary": [], "fitted": {},
+                 "truth": tuning[0].meta.get("truth", {}),
+                 "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
+        out["loads"][load] = entry
         for m in models:
-            fit = tune_model(m, vehicle, tuning, jobs,
-                             lambda line, load=load: stderr_progress(f"{load}: {line}"))
-            rows += [{"load": load, **row} for row in fit.rows()]
-            fitted[m] = fit.fitted
-            summary_rows.append({"load": load, "model": m, "eps_n_before": fit.eps_n_before,
-                                 "eps_n_after": fit.eps_n_after,
-                                 "cost_before": fit.cost_before, "cost_after": fit.cost_after,
-                                 "evaluations": fit.evaluations, "wall_s": fit.wall_s})
-        out["loads"][load] = {"logs": [log.name for log in tuning], "rows": rows,
-                              "summary": summary_rows, "fitted": fitted,
-                              "truth": tuning[0].meta.get("truth", {}),
-                              "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
+            done = [r for r in (part or {}).get("summary", []) if r.get("model") == m]
+            if done:
+                entry["rows"] += [r for r in part.get("rows", []) if r.get("model") == m]
+                entry["summary"] += done
+                if m in part.get("fitted", {}):
+                    entry["fitted"][m] = part["fitted"][m]
+                stderr_progress(f"{load}: tuning of {m} reused from {path}")
+                continue
+            try:
+                fit = tune_model(m, vehicle, tuning, jobs,
+                                 lambda line, load=load: stderr_progress(f"{load}: {line}"))
+            except (MemoryError, RecursionError):
+                raise
+            except Exception as exc:  # noqa: BLE001 - one model's failure is a row
+                why = " ".join(str(exc).split()) or type(exc).__name__
+                stderr_progress(f"{load}: tuning {m} failed ({why}); its preset values are "
+                                "used")
+                entry["summary"].append({"load": load, "model": m, "status": f"failed: {why}"})
+            else:
+                entry["rows"] += [{"load": load, **row} for row in fit.rows()]
+                entry["fitted"][m] = fit.fitted
+                entry["summary"].append(
+                    {"load": load, "model": m, "eps_n_before": fit.eps_n_before,
+                     "eps_n_after": fit.eps_n_after, "cost_before": fit.cost_before,
+                     "cost_after": fit.cost_after, "evaluations": fit.evaluations,
+                     "wall_s": fit.wall_s, "status": "ok"})
+            atomic_write_text(path, json.dumps(out, indent=1) + "\n")
     if not out["loads"]:
         raise ValueError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
                          f"({', '.join(TUNING[:2])}, ...)")
+    out["complete"] = True
     atomic_write_text(path, json.dumps(out, indent=1) + "\n")
     return out
 
@@ -172,7 +232,8 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
                  jobs: int | None = None, only: list[str] | None = None,
                  gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
                  recordings: bool = True, executor: str = "local",
-                 scheduler: str | None = None, truth: str = "structural") -> dict[str, Path]:
+                 scheduler: str | None = None, dask: DaskOptions | None = None,
+                 truth: str = "structural") -> dict[str, Path]:
     """Run the campaign; see the module docstring.
 
     Parameters
@@ -200,6 +261,8 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     truth : str
         The synthetic campaign's truth: ``"structural"`` or ``"legacy"``
         (see :mod:`validation.synthetic.truth`).
+    dask : DaskOptions, optional
+        The scheduler's timeout and TLS files.
 
     Returns
     -------
@@ -210,13 +273,16 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     out_dir.mkdir(parents=True, exist_ok=True)
     jobs = jobs or os.cpu_count() or 1
     key = fingerprint.key(seed, list(models), gain, only, truth)
-    (out_dir / "report.md").unlink(missing_ok=True)
-    stage = Stages(stderr_progress)
-    stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, K = {gain:g}, "
-                    f"{jobs} jobs ({executor}), output {out_dir}")
-
     with contextlib.ExitStack() as stack:
-        pool = stack.enter_context(cluster_executor(executor, jobs, scheduler))
+        stack.enter_context(OutDirLock(out_dir, "campaign"))
+        stale = clean_stale(out_dir)
+        if stale:
+            stderr_progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
+        (out_dir / "report.md").unlink(missing_ok=True)
+        pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
+        stage = Stages(stderr_progress)
+        stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
+                        f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}")
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
                            key, stage, truth)
 
@@ -287,7 +353,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     with stage("efficiency"):
         sample = _efficiency_sample(metrics, by_name, vehicles)
         eff = measure(sample, models, repeat=2)
-        eff.to_csv(out_dir / "efficiency.csv", float_format="%.6g")
+        atomic_write(out_dir / "efficiency.csv", lambda p: eff.to_csv(p, float_format="%.6g"))
         paths["efficiency"] = out_dir / "efficiency.csv"
     sweep = None
     if sweep_models:
@@ -302,7 +368,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 atomic_write_text(out_dir / "gain_sweep.json", json.dumps(
                     {"key": key, "models": list(sweep_models), "K_min": sweep.attrs["K_min"],
                      "rows": sweep.to_dict(orient="records")}) + "\n")
-            sweep.to_csv(out_dir / "gain_sweep.csv", index=False, float_format="%.6g")
+            atomic_write(out_dir / "gain_sweep.csv",
+                         lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
             plot_gain_sweep(sweep, out_dir / "plots" / "gain_sweep.png", gain)
             paths["gain_sweep"] = out_dir / "gain_sweep.csv"
     if recordings:
@@ -375,10 +442,8 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
 def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFrame | None:
     """The gain sweep of an earlier run with the same key and models, if any."""
     path = out_dir / "gain_sweep.json"
-    if not path.is_file():
-        return None
-    saved = json.loads(path.read_text())
-    if saved.get("key") != key or saved.get("models") != list(models):
+    saved = _read_json(path)
+    if saved is None or saved.get("key") != key or saved.get("models") != list(models):
         return None
     stderr_progress(f"gain sweep reused from {path}")
     sweep = pd.DataFrame(saved["rows"])
@@ -394,10 +459,12 @@ def _version() -> str:
 
 def _efficiency_sample(metrics: pd.DataFrame, logs: dict[str, Run],
                        vehicles: dict[str, Vehicle]) -> list[tuple[Vehicle, Run]]:
-    """Two forward and two reverse logs (the first of each kind) for timing."""
+    """Two forward and two reverse logs (the first of each kind that every model ran)."""
     out = []
+    failed = set(metrics.loc[metrics["status"].map(is_failed), "log"])
     for direction in ("forward", "reverse"):
-        names = list(dict.fromkeys(metrics.loc[metrics.direction == direction, "log"]))[:2]
+        names = [n for n in dict.fromkeys(metrics.loc[metrics.direction == direction, "log"])
+                 if n not in failed][:2]
         out += [(vehicles[logs[n].meta.get("load", "unloaded")], logs[n]) for n in names]
     return out
 
@@ -409,9 +476,13 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
     from validation.campaign.recording import record_manoeuvre
 
     names = list(dict.fromkeys(metrics["log"]))
+    failed = {(r.log, r.model) for r in metrics.itertuples() if is_failed(r.status)}
     out = {}
     for i, name in enumerate(names, start=1):
-        runs = {m: out_dir / "runs" / f"{name}.{m}.parquet" for m in models}
+        runs = {m: out_dir / "runs" / f"{name}.{m}.parquet" for m in models
+                if (name, m) not in failed}
+        if not runs:
+            continue
         target = out_dir / "recordings" / f"{name}.rrd"
         newest = max(p.stat().st_mtime for p in runs.values())
         if target.is_file() and target.stat().st_mtime >= newest:

@@ -32,9 +32,15 @@ PAPER_REVERSE = pd.DataFrame(
 
 
 def summary(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
-    """Mean criteria per model over one direction's manoeuvres, with their count ``n``."""
+    """Mean criteria per model over one direction's manoeuvres, with their count ``n``.
+
+    Pairs without a result (status ``failed: ...`` or ``refused: ...``) are left out
+    of the means and of ``n``; ``metrics.csv`` lists them.
+    """
     cols = list(FORWARD_COLUMNS if direction == "forward" else REVERSE_COLUMNS)
-    part = metrics[metrics["direction"] == direction]
+    ok = ~metrics["status"].astype(str).str.startswith(("failed", "refused")) \
+        if "status" in metrics else True
+    part = metrics[(metrics["direction"] == direction) & ok]
     out = part.groupby("model", sort=False)[cols].mean()
     out["n"] = part.groupby("model", sort=False).size()
     out.index.name = "model"

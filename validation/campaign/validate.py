@@ -3,6 +3,12 @@
 For each (log, model) pair the model runs through the closed-loop harness
 and the criteria of eqs. (8)-(10) compare it with the log. The results are
 one metrics row per pair and one run file per pair.
+
+A pair that fails (the plant diverges, the vehicle or tyre file is refused
+for that model, the steering map folds inside the log's range) does not stop
+the batch: its row carries the status ``failed: ...`` or ``refused: ...``
+with the message, its criteria are empty (NaN), and its run file holds no
+samples, so that a resumed batch reuses the failure instead of repeating it.
 """
 
 from __future__ import annotations
@@ -18,9 +24,18 @@ import pandas as pd
 
 from mjcf.vehicle import Vehicle
 from validation.harness import DEFAULT_GAIN, run_closed_loop
-from validation.logs.runfile import Run, atomic_write, read_run, write_run
+from validation.logs.runfile import LogError, Run, atomic_write, check_frame, read_run, write_run
+from validation.logs.schema import COLUMNS, MODEL_SIGNALS
 from validation.metrics import CRITERIA, run_metrics
 from validation.models import build
+
+FAILED = ("failed", "refused")
+"""Status prefixes of a (log, model) pair without a result."""
+
+
+def is_failed(status: str) -> bool:
+    """Whether a run's status says it has no result (see :data:`FAILED`)."""
+    return str(status).startswith(FAILED)
 
 
 def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicle],
@@ -82,15 +97,22 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             got = remote.pop((log.name, name), None)
             run, wall = got if got is not None else _simulate(name, log, vehicle, gain)
             run.meta["wall_s"] = wall
+            if log.meta.get("accepted_checks"):
+                run.meta["accepted_checks"] = log.meta["accepted_checks"]
             if key is not None:
                 run.meta["key"] = key
             if target is not None:
                 write_run(run, target)
         wall = float(run.meta["wall_s"])
         t = log.frame["t"]
-        row = {"log": log.name, "model": name, **run_metrics(log.frame, run.frame),
-               "status": run.meta["status"], "wall_s": wall,
-               "duration_s": float(t.iloc[len(run.frame) - 1] - t.iloc[0]),
+        if is_failed(run.meta["status"]) or len(run.frame) < 2:
+            criteria = {c: float("nan") for c in CRITERIA} | {"s_max": 0.0}
+            duration = 0.0
+        else:
+            criteria = run_metrics(log.frame, run.frame)
+            duration = float(t.iloc[len(run.frame) - 1] - t.iloc[0])
+        row = {"log": log.name, "model": name, **criteria,
+               "status": run.meta["status"], "wall_s": wall, "duration_s": duration,
                "direction": log.meta.get("direction", ""),
                "manoeuvre": log.meta.get("manoeuvre", "")}
         if progress is not None:
@@ -132,28 +154,69 @@ def _where(out_dir, log: Run, name: str, reuse_key: str | None,
 
 
 def _reusable(target: Path | None, key: str | None) -> Run | None:
-    """The run file at ``target`` if it was made with ``key``."""
+    """The run file at ``target`` if it was made with ``key`` (a failure's too)."""
     if target is None or key is None or not target.is_file():
         return None
     try:
-        run = read_run(target)
+        run = read_run(target, check=False)
     except ValueError:  # unreadable or foreign: simulate again, overwrite
         return None
-    return run if run.meta.get("key") == key and "wall_s" in run.meta else None
+    if run.meta.get("key") != key or "wall_s" not in run.meta or "status" not in run.meta:
+        return None
+    if not is_failed(run.meta["status"]):
+        try:
+            check_frame(run.frame, str(target))
+        except LogError:
+            return None
+    return run
 
 
 def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
               gain: float) -> tuple[Run, float]:
-    """One harness run; returns the run and its wall time without model construction [s]."""
+    """One harness run; returns the run and its wall time without model construction [s].
+
+    ``vehicle`` may be a function of the log (the floor's truth). A failure is
+    returned as a run without samples whose status says what failed (see the
+    module docstring); nothing is raised for it.
+    """
+    t0 = time.perf_counter()
     if not isinstance(vehicle, Vehicle):
         vehicle = vehicle(log)
-    model = build(name, vehicle)
     try:
-        t0 = time.perf_counter()
-        run = run_closed_loop(model, log, vehicle, gain)
-        return run, time.perf_counter() - t0
-    finally:
-        model.close()
+        model = build(name, vehicle)
+        try:
+            t0 = time.perf_counter()
+            run = run_closed_loop(model, log, vehicle, gain)
+            return run, time.perf_counter() - t0
+        finally:
+            model.close()
+    except (MemoryError, RecursionError):
+        raise
+    except ValueError as exc:  # the model refuses its input: vehicle, tyre, steering range
+        return failed_run(log, name, vehicle, gain, f"refused: {_one_line(exc)}"), \
+            time.perf_counter() - t0
+    except Exception as exc:  # noqa: BLE001 - a diverging plant, or any other failure
+        what = "" if type(exc).__name__ == "PlantError" else f"{type(exc).__name__}: "
+        return failed_run(log, name, vehicle, gain, f"failed: {what}{_one_line(exc)}"), \
+            time.perf_counter() - t0
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def failed_run(log: Run, name: str, vehicle: Vehicle, gain: float, status: str) -> Run:
+    """A run without samples that records why the pair has no result."""
+    import numpy as np
+
+    frame = pd.DataFrame({c: np.zeros(0) for c in (*COLUMNS, *MODEL_SIGNALS)})
+    frame["delta_saturated"] = frame["delta_saturated"].astype(bool)
+    meta = {"name": f"{log.name}.{name}", "source": f"model:{name}", "log": log.name,
+            "model": name, "gain": float(gain), "vehicle": vehicle.name,
+            "vehicle_path": vehicle.path, "status": status,
+            **{k: log.meta[k] for k in ("manoeuvre", "direction", "load", "accepted_checks")
+               if k in log.meta}}
+    return Run(frame, meta)
 
 
 def write_metrics(df: pd.DataFrame, path: Path) -> Path:

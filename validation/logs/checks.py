@@ -14,14 +14,14 @@ What is refused:
   values; a gap longer than :data:`MAX_GAP`; a NaN run longer than
   :data:`MAX_NAN_GAP`;
 - a position jump that the measured velocity cannot explain (a GNSS
-  jump), larger than :data:`MAX_JUMP`;
-- a yaw rate whose integral disagrees with the heading change by the
-  degree/radian factor (deg/s read as rad/s, or the reverse).
+  jump), larger than :data:`MAX_JUMP`.
+
+Whether the channels describe one motion (units, signs, the hitch) is
+checked on the canonical log by :mod:`validation.logs.consistency`.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -174,26 +174,3 @@ def check_jumps(t: np.ndarray, x: np.ndarray, y: np.ndarray, vx: np.ndarray, vy:
         raise LogError(f"{report.source}: position jumps {step[i]:.2f} m at t = {t[i + 1]:g} s "
                        f"more than the velocity explains (limit {MAX_JUMP} m): a GNSS jump; "
                        "cut the run there or correct the position")
-
-
-def check_rate_unit(t: np.ndarray, heading: np.ndarray, rate: np.ndarray, rate_name: str,
-                    report: Report) -> None:
-    """Refuse a yaw rate whose integral is the heading change times 57.3 or 1/57.3.
-
-    Both arguments in the same unit convention (radians and rad/s after conversion).
-    Needs at least 0.2 rad of heading change to judge.
-    """
-    dpsi = float(heading[-1] - heading[0])
-    if abs(dpsi) < 0.2:
-        return
-    integral = float(np.sum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t)))
-    ratio = integral / dpsi
-    factor = math.degrees(1.0)
-    # The rate arrives converted as if its column held deg/s: a column that
-    # held rad/s integrates to 1/57.3 of the heading change.
-    for f, wrong in ((1 / factor, "rad/s where deg/s was expected"),
-                     (factor, "values 57.3 times too large (degrees read as radians)")):
-        if abs(ratio / f - 1.0) < 0.2:
-            raise LogError(f"{report.source}: channel {rate_name}: its integral is "
-                           f"{ratio:.1f} times the heading change: it looks like {wrong}; "
-                           "fix the unit in the export")

@@ -7,21 +7,79 @@ Accepted sources:
   and ``can.csv`` (see :mod:`validation.logs.oxts`), and optionally ``meta.json``
   with the run's metadata (manoeuvre, load, ...);
 - a MATLAB ``.mat`` (v5) file with structs ``tractor``, ``trailer``, ``can``.
+
+Every source, canonical ones included, passes the structural checks of
+:func:`validation.logs.runfile.check_frame` and the consistency checks of
+:mod:`validation.logs.consistency` (gaps, jumps, units and signs, the hitch).
+:func:`read_log` is the same reader for the commands that take canonical
+logs (``validate``, ``tune``).
 """
 
 from __future__ import annotations
 
-import json
+from collections.abc import Collection
 from pathlib import Path
 
-import pandas as pd
+from validation.logs import consistency
+from validation.logs.oxts import import_mat, import_oxts, read_csv
+from validation.logs.runfile import LogError, Run, check_frame, parse_meta, read_run, write_run
 
-from validation.logs.oxts import import_mat, import_oxts
-from validation.logs.runfile import LogError, Run, check_frame, read_run, write_run
+
+def _checked(run: Run, source: str, vehicle, accept: Collection[str]) -> Run:
+    """The run, after the consistency checks; accepted findings recorded in its metadata."""
+    accepted = consistency.check_log(run.frame, source, vehicle, tuple(accept))
+    if accepted:
+        run.meta["accepted_checks"] = [*run.meta.get("accepted_checks", []), *accepted]
+    return run
 
 
-def import_source(path: Path) -> tuple[Run, list[str]]:
+def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Run:
+    """Read a canonical log and run every check on it.
+
+    Parameters
+    ----------
+    path : Path or str
+        A ``.parquet`` log in the signal schema.
+    vehicle : Vehicle, optional
+        For the steering and hitch checks (see :func:`validation.logs.consistency.findings`).
+    accept : collection of str
+        Checks whose findings are accepted knowingly; recorded in
+        ``meta["accepted_checks"]``.
+
+    Raises
+    ------
+    LogError
+        For an unreadable file or the first finding not accepted.
+    """
+    return _checked(read_run(path), str(path), vehicle, accept)
+
+
+def _meta_json(path: Path) -> dict:
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise LogError(f"{path}: cannot read ({exc.strerror})") from exc
+    return parse_meta(raw, str(path))
+
+
+def source_name(path: Path) -> str:
+    """The name a source's canonical log gets: its file stem or folder name."""
+    path = Path(path)
+    return path.name if path.is_dir() else path.stem
+
+
+def import_source(path: Path, accept: Collection[str] = (), vehicle=None) -> tuple[Run,
+                                                                                  list[str]]:
     """Import one source into a canonical run.
+
+    Parameters
+    ----------
+    path : Path
+        The source (see the module docstring).
+    accept : collection of str
+        Consistency checks accepted knowingly (see :mod:`validation.logs.consistency`).
+    vehicle : Vehicle, optional
+        For the steering and hitch checks.
 
     Returns
     -------
@@ -36,42 +94,56 @@ def import_source(path: Path) -> tuple[Run, list[str]]:
         For an unknown or unusable source, naming it and the fix.
     """
     path = Path(path)
+    accept = tuple(accept)
     if path.is_dir():
         files = [path / f"{n}.csv" for n in ("tractor", "trailer", "can")]
         missing = [f.name for f in files if not f.is_file()]
         if missing:
             raise LogError(f"{path}: an OXTS-style export folder needs tractor.csv, trailer.csv "
                            f"and can.csv; missing {', '.join(missing)}")
-        run, report = import_oxts(*files)
+        run, report = import_oxts(*files, accept=accept, vehicle=vehicle)
         meta = path / "meta.json"
         if meta.is_file():
-            run.meta = {**json.loads(meta.read_text()), **run.meta}
+            run.meta = {**_meta_json(meta), **run.meta}
     elif path.suffix == ".mat":
-        run, report = import_mat(path)
+        run, report = import_mat(path, accept=accept, vehicle=vehicle)
     elif path.suffix == ".parquet":
-        run, report = read_run(path), []
+        run, report = read_log(path, vehicle, accept), []
     elif path.suffix == ".csv":
         if not path.is_file():
             raise LogError(f"{path}: no such file")
-        try:
-            frame = pd.read_csv(path)
-        except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
-            raise LogError(f"{path}: cannot read as CSV ({exc})") from exc
+        frame = read_csv(path)
         check_frame(frame, str(path))
-        run, report = Run(frame, {"source": "measured"}), []
+        run, report = _checked(Run(frame, {"source": "measured"}), str(path), vehicle,
+                               accept), []
     else:
         raise LogError(f"{path}: not a log: give a .parquet or .csv canonical log, a .mat file, "
                        "or a folder with tractor.csv, trailer.csv and can.csv")
-    run.meta["name"] = path.stem if path.is_file() else path.name
+    run.meta["name"] = source_name(path)
     return run, report
 
 
-def import_sources(paths: list[Path], out_dir: Path) -> list[Path]:
-    """Import every source and write it as ``out_dir/NAME.parquet``, atomically."""
+def import_sources(paths: list[Path], out_dir: Path, accept: Collection[str] = (),
+                   vehicle=None) -> list[Path]:
+    """Import every source and write it as ``out_dir/NAME.parquet``, atomically.
+
+    Two sources that would get the same name are refused before anything is
+    written: the second would silently replace the first.
+    """
+    targets: dict[str, Path] = {}
+    for p in paths:
+        name = source_name(p)
+        if name in targets:
+            raise LogError(f"{p} and {targets[name]} would both be written as "
+                           f"{Path(out_dir) / (name + '.parquet')}; rename one of them or "
+                           "import them into different folders")
+        targets[name] = Path(p)
     out = []
     for p in paths:
-        run, report = import_source(p)
+        run, report = import_source(p, accept, vehicle)
         for line in report:
             print(f"repaired: {line}")
+        for line in run.meta.get("accepted_checks", []):
+            print(line)
         out.append(write_run(run, Path(out_dir) / f"{run.name}.parquet"))
     return out

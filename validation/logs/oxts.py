@@ -40,11 +40,12 @@ import pandas as pd
 import scipy.io
 
 from mjcf.interface import wrap_angle
+from validation.logs import consistency
 from validation.logs.checks import (
+    MAX_GAP,
     MAX_GAP_CAN,
     Report,
     check_jumps,
-    check_rate_unit,
     clean_time,
     fill_nan_runs,
     require,
@@ -77,20 +78,39 @@ def radii(lat0: float) -> tuple[float, float]:
     return WGS84_A * (1.0 - WGS84_E2) / w ** 3, WGS84_A / w
 
 
-def _read_table(path: Path) -> pd.DataFrame:
+def read_csv(path: Path) -> pd.DataFrame:
+    """Read a CSV table; any failure is a :class:`LogError` naming the file.
+
+    Raises
+    ------
+    LogError
+        For a missing, unreadable, empty or non-UTF-8 file, or a malformed table.
+    """
     try:
-        return pd.read_csv(path)
-    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise LogError(f"{path}: cannot read as CSV ({exc})") from exc
+        return pd.read_csv(path, encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise LogError(f"{path}: not UTF-8 text (byte {exc.start}); save it as UTF-8 "
+                       "CSV") from exc
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
+        raise LogError(f"{path}: cannot read as CSV ({str(exc).splitlines()[0]})") from exc
+
+
+
+def _enough_rows(df: pd.DataFrame, source: str) -> None:
+    if len(df) < 2:
+        raise LogError(f"{source}: {len(df)} data row(s) after the header; a run needs at "
+                       "least two: the file may be truncated")
 
 
 def _unit(df: pd.DataFrame, origin: tuple[float, float] | None, source: str,
-          report: Report) -> tuple[pd.DataFrame, tuple[float, float] | None]:
+          report: Report, accept: tuple[str, ...] = ()) -> tuple[pd.DataFrame,
+                                                              tuple[float, float] | None]:
     """One inertial unit's channels in ISO conventions, time cleaned."""
     cols = require(df, UNIT, source)
     uses_latlon = all(any(n in df.columns for n in names) for names in LATLON.values())
     pos = require(df, LATLON if uses_latlon else LOCAL, source)
-    df = clean_time(df, cols["time"], report)
+    _enough_rows(df, source)
+    df = clean_time(df, cols["time"], report, max_gap=math.inf if "gap" in accept else MAX_GAP)
     wanted = [cols[k] for k in ("heading", "vel_forward", "vel_lateral", "yaw_rate")]
     df = fill_nan_runs(df, wanted + list(pos.values()), cols["time"], report)
     t = df[cols["time"]].to_numpy(dtype=float)
@@ -109,25 +129,29 @@ def _unit(df: pd.DataFrame, origin: tuple[float, float] | None, source: str,
     vx = df[cols["vel_forward"]].to_numpy(dtype=float)
     vy = -df[cols["vel_lateral"]].to_numpy(dtype=float)
     r = -np.radians(df[cols["yaw_rate"]].to_numpy(dtype=float))
-    check_rate_unit(t, psi, r, cols["yaw_rate"], report)
-    ve = np.cos(psi) * vx - np.sin(psi) * vy
-    vn = np.sin(psi) * vx + np.cos(psi) * vy
-    check_jumps(t, east, north, ve, vn, report)
+    if "jump" not in accept:
+        ve = np.cos(psi) * vx - np.sin(psi) * vy
+        vn = np.sin(psi) * vx + np.cos(psi) * vy
+        check_jumps(t, east, north, ve, vn, report)
     out = pd.DataFrame({"t": t, "x": east, "y": north, "psi": psi, "v_x": vx, "v_y": vy, "r": r})
+    out.attrs["columns"] = {**cols, "pos": "/".join(pos.values())}
     return out, origin
 
 
-def import_oxts(tractor: Path, trailer: Path, can: Path) -> tuple[Run, list[str]]:
+def import_oxts(tractor: Path, trailer: Path, can: Path, accept: tuple[str, ...] = (),
+                vehicle=None) -> tuple[Run, list[str]]:
     """Import an OXTS-style export (three CSV files) into a canonical run.
 
-    See :func:`import_tables` for what is returned and raised.
+    See :func:`import_tables` for the arguments, what is returned and raised.
     """
-    tables = [_read_table(Path(p)) for p in (tractor, trailer, can)]
-    return import_tables(*tables, sources=(str(tractor), str(trailer), str(can)))
+    tables = [read_csv(Path(p)) for p in (tractor, trailer, can)]
+    return import_tables(*tables, sources=(str(tractor), str(trailer), str(can)),
+                         accept=accept, vehicle=vehicle)
 
 
 def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFrame,
-                  sources: tuple[str, str, str]) -> tuple[Run, list[str]]:
+                  sources: tuple[str, str, str], accept: tuple[str, ...] = (),
+                  vehicle=None) -> tuple[Run, list[str]]:
     """Import the three raw tables of an export into a canonical run.
 
     Parameters
@@ -138,6 +162,11 @@ def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFram
         CAN channels with the steering-wheel angle.
     sources : tuple of str
         Where each table came from, for messages.
+    accept : tuple of str
+        Consistency checks whose findings are accepted knowingly (see
+        :mod:`validation.logs.consistency`); recorded in ``meta["accepted_checks"]``.
+    vehicle : Vehicle, optional
+        For the steering and hitch checks.
 
     Returns
     -------
@@ -154,13 +183,15 @@ def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFram
     """
     s1, s2, s3 = sources
     report = Report(s1)
-    u1, origin = _unit(tractor, None, s1, report)
+    u1, origin = _unit(tractor, None, s1, report, accept)
     r2 = Report(s2)
-    u2, _ = _unit(trailer, origin, s2, r2)
+    u2, _ = _unit(trailer, origin, s2, r2, accept)
     r3 = Report(s3)
     cdf = can
     ccols = require(cdf, CAN, s3)
-    cdf = clean_time(cdf, ccols["time"], r3, max_gap=MAX_GAP_CAN)
+    _enough_rows(cdf, s3)
+    cdf = clean_time(cdf, ccols["time"], r3,
+                     max_gap=math.inf if "gap" in accept else MAX_GAP_CAN)
     cdf = fill_nan_runs(cdf, [ccols["swa"]], ccols["time"], r3)
     tc = cdf[ccols["time"]].to_numpy(dtype=float)
     swa = np.radians(cdf[ccols["swa"]].to_numpy(dtype=float))
@@ -186,8 +217,13 @@ def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFram
     frame["gamma"] = wrap_angle(frame["psi_1"] - frame["psi_2"])
     df = pd.DataFrame(frame)[list(COLUMNS)]
     check_frame(df, f"{s1} (imported)")
+    cols = {**u1.attrs["columns"], "swa": ccols["swa"]}
+    ctx = consistency.export_context(s1, s2, s3, cols)
+    accepted = consistency.check_log(df, f"{s1} (imported)", vehicle, accept, ctx)
     meta = {"source": "measured", "import": {"tractor": s1, "trailer": s2, "can": s3,
                                              "origin_lat_lon_rad": origin, "report": lines}}
+    if accepted:
+        meta["accepted_checks"] = accepted
     return Run(df, meta), lines
 
 
@@ -231,24 +267,64 @@ def export_oxts(run: Run, out_dir: Path, origin_deg: tuple[float, float] = (51.4
     return paths
 
 
-def import_mat(path: Path) -> tuple[Run, list[str]]:
+def import_mat(path: Path, accept: tuple[str, ...] = (), vehicle=None) -> tuple[Run, list[str]]:
     """Import a ``.mat`` (v5) file with structs ``tractor``, ``trailer`` and ``can``.
 
-    The structs' fields are the CSV channel names; the import then runs as
-    for CSVs.
+    The structs' fields are the CSV channel names, each a vector of one
+    sample per row; the import then runs as for CSVs (see :func:`import_tables`).
+
+    Raises
+    ------
+    LogError
+        For a file that is not MATLAB v5, a missing struct, a struct array or a
+        variable that is not a struct, or a field that is not a numeric vector
+        as long as the others; naming the file, the struct and the field.
     """
+    path = Path(path)
     try:
+        if path.stat().st_size == 0:
+            raise LogError(f"{path}: the file is empty (0 bytes); export it again")
         data = scipy.io.loadmat(path, squeeze_me=True, struct_as_record=False)
-    except (OSError, ValueError, NotImplementedError) as exc:
-        raise LogError(f"{path}: cannot read as a MATLAB v5 file ({exc})") from exc
+    except LogError:
+        raise
+    except (OSError, ValueError, NotImplementedError, TypeError, KeyError,
+            IndexError) as exc:
+        raise LogError(f"{path}: cannot read as a MATLAB v5 file "
+                       f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
+                       ) from exc
     tables = {}
     for name in ("tractor", "trailer", "can"):
         if name not in data:
             raise LogError(f"{path}: missing struct {name}; expected tractor, trailer and can")
-        s = data[name]
-        tables[name] = pd.DataFrame({f: np.atleast_1d(getattr(s, f)) for f in s._fieldnames})
+        tables[name] = _struct_table(data[name], f"{path}:{name}")
     return import_tables(tables["tractor"], tables["trailer"], tables["can"],
-                         sources=tuple(f"{path}:{n}" for n in ("tractor", "trailer", "can")))
+                         sources=tuple(f"{path}:{n}" for n in ("tractor", "trailer", "can")),
+                         accept=accept, vehicle=vehicle)
+
+
+def _struct_table(s, source: str) -> pd.DataFrame:
+    """A scalar MATLAB struct of equally long numeric vectors as a table."""
+    fields = getattr(s, "_fieldnames", None)
+    if fields is None:
+        kind = (f"a struct array of {s.size} elements" if isinstance(s, np.ndarray)
+                and s.dtype == object else f"a {type(s).__name__}")
+        raise LogError(f"{source}: expected a scalar struct whose fields are channels, got "
+                       f"{kind}; save one struct per unit")
+    cols, length = {}, None
+    for f in fields:
+        raw = getattr(s, f)
+        value = np.atleast_1d(np.asarray(raw))
+        if value.ndim != 1 or not (np.issubdtype(value.dtype, np.number)
+                                   or value.dtype == bool):
+            raise LogError(f"{source}: field {f}: expected a numeric vector, got "
+                           f"{type(raw).__name__} of shape {np.shape(raw)}; a field holds one "
+                           "channel, one sample per row")
+        if length is not None and value.size != length:
+            raise LogError(f"{source}: field {f}: {value.size} samples where the fields before "
+                           f"it have {length}")
+        length = value.size
+        cols[f] = value.astype(float)
+    return pd.DataFrame(cols)
 
 
 def export_mat(run: Run, path: Path, **kw) -> Path:

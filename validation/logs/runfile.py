@@ -23,6 +23,7 @@ import pyarrow.parquet as pq
 
 from mjcf.interface import wrap_angle
 from validation.logs.schema import COLUMNS, PLAUSIBLE, UNIT_HINT
+from validation.outputs import TEMP_SUFFIX, public_mode
 
 META_KEY = b"artic"
 
@@ -55,6 +56,9 @@ class Run:
 def atomic_write(path: Path | str, write: Callable[[Path], None]) -> Path:
     """Write a file atomically: ``write(tmp)`` then rename ``tmp`` onto ``path``.
 
+    The temporary ``.NAME.XXXX.part`` has a unique name, so concurrent writers never
+    share one, and gets the mode the umask allows before it takes the target's name.
+
     Parameters
     ----------
     path : Path or str
@@ -64,10 +68,11 @@ def atomic_write(path: Path | str, write: Callable[[Path], None]) -> Path:
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=TEMP_SUFFIX, dir=path.parent)
     os.close(fd)
     try:
         write(Path(tmp))
+        public_mode(tmp)  # mkstemp's 0600 would ignore the umask
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -131,13 +136,29 @@ def read_run(path: Path | str, check: bool = True) -> Run:
         raise LogError(f"{path}: not a readable Parquet file ({exc}); it may be truncated: "
                        "write it again") from exc
     raw = (table.schema.metadata or {}).get(META_KEY)
-    meta = json.loads(raw) if raw else {}
+    meta = parse_meta(raw, f"{path}: Parquet metadata '{META_KEY.decode()}'") if raw else {}
     # A run read from disk is known by its file: two files never share a name.
     meta["name"] = path.stem
     frame = table.to_pandas()
     if check:
         check_frame(frame, str(path))
     return Run(frame, meta)
+
+
+def parse_meta(raw: bytes | str, source: str) -> dict[str, Any]:
+    """Run metadata from JSON text: an object, or a :class:`LogError` naming ``source``."""
+    try:
+        meta = json.loads(raw)
+    except UnicodeDecodeError as exc:
+        raise LogError(f"{source}: not UTF-8 text (byte {exc.start})") from exc
+    except ValueError as exc:
+        raise LogError(f"{source}: not valid JSON ({exc})") from exc
+    except RecursionError as exc:
+        raise LogError(f"{source}: JSON nested too deeply") from exc
+    if not isinstance(meta, dict):
+        raise LogError(f"{source}: expected a JSON object of run metadata "
+                       f"({{\"manoeuvre\": ..., \"load\": ...}}), got {type(meta).__name__}")
+    return meta
 
 
 def check_frame(df: pd.DataFrame, source: str = "log") -> None:

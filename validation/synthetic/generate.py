@@ -28,12 +28,14 @@ resumes where it stopped. The same seed gives byte-identical files.
 from __future__ import annotations
 
 import dataclasses
+import errno
 import json
 import math
 import os
 import shutil
 import tempfile
 import time
+import uuid
 import warnings
 from collections.abc import Callable
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
@@ -47,6 +49,7 @@ from plant import Plant, PlantWarning
 from validation.campaign import fingerprint
 from validation.logs.oxts import export_oxts
 from validation.logs.runfile import Run, new_frame
+from validation.outputs import TEMP_SUFFIX, public_mode
 from validation.steering import SteeringMap
 from validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
 from validation.synthetic.driver import DockingDriver, drive_to_dock
@@ -60,6 +63,7 @@ from validation.synthetic.truth import (
     truth_vehicle,
     write_truth_files,
 )
+from validation.workers import init_worker
 
 META_FILE = "meta.json"
 
@@ -164,20 +168,59 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     return Run(measured, meta)
 
 
-def write_export(run: Run, out_dir: Path) -> Path:
-    """Export a measured run into ``out_dir/NAME``, whole or not at all."""
-    final = Path(out_dir) / run.meta["name"]
-    tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.", dir=out_dir))
+def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
+    """Export a measured run into ``out_dir/NAME``, whole or not at all.
+
+    Parameters
+    ----------
+    run : Run
+        The measured run.
+    out_dir : Path
+        Campaign folder.
+    name : str, optional
+        The folder's name; ``run.meta["name"]`` by default. The campaign passes
+        the name of the manoeuvre it submitted, never one a worker returned.
+
+    The export is written into a uniquely named temporary folder and renamed
+    into place. An existing export is first renamed aside under a unique
+    name, so two writers of one export never delete a folder the other is
+    writing: the last rename wins, and both exports are whole.
+    """
+    name = str(run.meta["name"] if name is None else name)
+    if not name or name in (".", "..") or name.startswith(".") or any(
+            c in name for c in "/\\\0"):
+        raise ValueError(f"export name {name!r}: not a plain folder name")
+    out_dir = Path(out_dir)
+    final = out_dir / name
+    tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=TEMP_SUFFIX, dir=out_dir))
     try:
         export_oxts(run, tmp)
-        (tmp / META_FILE).write_text(json.dumps(run.meta, sort_keys=True, indent=1) + "\n")
-        if final.exists():
-            shutil.rmtree(final)
-        os.replace(tmp, final)
+        meta = {**run.meta, "name": name}
+        (tmp / META_FILE).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n")
+        public_mode(tmp)
+        _rename_into_place(tmp, final)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return final
+
+
+def _rename_into_place(tmp: Path, final: Path) -> None:
+    """Rename folder ``tmp`` to ``final``, moving an existing ``final`` aside first."""
+    for _ in range(20):
+        try:
+            os.rename(tmp, final)
+            return
+        except OSError as exc:
+            if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
+                raise
+        old = final.parent / f".{final.name}.{uuid.uuid4().hex[:12]}.old{TEMP_SUFFIX}"
+        try:
+            os.rename(final, old)
+        except FileNotFoundError:  # another writer moved it first
+            continue
+        shutil.rmtree(old, ignore_errors=True)
+    raise OSError(errno.EBUSY, "other writers keep replacing the export", str(final))
 
 
 def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
@@ -193,10 +236,16 @@ def _simulate_timed(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
     return run, time.perf_counter() - t0
 
 
-def _same(meta: dict, seed: int, sensors: SensorModel, truth: str) -> bool:
-    return (meta.get("seed") == seed and meta.get("generator") == fingerprint.code()
+def _same(meta_file: Path, seed: int, sensors: SensorModel, truth: str) -> bool:
+    """Whether an export's metadata says this seed, chain, truth and code made it."""
+    try:
+        meta = json.loads(meta_file.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return False
+    return (isinstance(meta, dict) and meta.get("seed") == seed
+            and meta.get("generator") == fingerprint.code()
             and meta.get("sensors") == dataclasses.asdict(sensors)
-            and meta.get("truth", {}).get("kind") == truth)
+            and isinstance(meta.get("truth"), dict) and meta["truth"].get("kind") == truth)
 
 
 def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = None,
@@ -248,22 +297,24 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     for m in todo:
         meta = out_dir / m.name / META_FILE
         # Reuse only what this seed and this code made (see validation.campaign.fingerprint).
-        if not (meta.is_file() and _same(json.loads(meta.read_text()), seed, sensors, truth)):
+        if not (meta.is_file() and _same(meta, seed, sensors, truth)):
             missing.append(m)
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
     own = executor is None and jobs > 1 and len(missing) > 1
-    pool = ProcessPoolExecutor(max_workers=jobs) if own else executor
+    pool = ProcessPoolExecutor(max_workers=jobs, initializer=init_worker,
+                               initargs=(os.getpid(),)) if own else executor
     try:
+        # Each result is written under the name of the manoeuvre submitted for it.
         if pool is None:
-            done = (_simulate_timed(m, seed, sensors, truth) for m in missing)
+            done = ((m, _simulate_timed(m, seed, sensors, truth)) for m in missing)
         else:
-            futures = [pool.submit(_simulate_timed, m, seed, sensors, truth) for m in missing]
-            done = (f.result() for f in as_completed(futures))
-        for i, (run, wall) in enumerate(done, start=1):
-            write_export(run, out_dir)
+            futures = {pool.submit(_simulate_timed, m, seed, sensors, truth): m for m in missing}
+            done = ((futures[f], f.result()) for f in as_completed(futures))
+        for i, (m, (run, wall)) in enumerate(done, start=1):
+            write_export(run, out_dir, name=m.name)
             if progress:
-                progress(f"[{i}/{len(missing)}] {run.meta['name']} ({wall:.1f} s)")
+                progress(f"[{i}/{len(missing)}] {m.name} ({wall:.1f} s)")
     finally:
         if own:
             pool.shutdown(cancel_futures=True)

@@ -51,6 +51,20 @@ def _smoothstep(x: np.ndarray) -> np.ndarray:
     return x * x * (3.0 - 2.0 * x)
 
 
+def _circle_time(amp: float, u: float, L1: float, i_s: float) -> float:
+    """Time to drive one steady circle at steering-wheel amplitude ``amp`` [deg] [s]."""
+    return 2.0 * math.pi * L1 / max(math.tan(abs(math.radians(amp)) / i_s), 1e-3) / u
+
+
+def default_duration(kind: str, amplitude_deg: float, speed_kph: float, L1: float = 3.8,
+                     i_s: float = 21.0) -> float:
+    """Length of a manoeuvre when none is given: one that completes it [s]."""
+    u = speed_kph / 3.6
+    return {"straight": 30.0, "constant-steer": 60.0, "slalom": 6.0 * SLALOM_PITCH / u,
+            "figure-8": 2.0 * _circle_time(amplitude_deg, u, L1, i_s) + 3.0 * RAMP_TIME,
+            "ramp-steer-reverse": 60.0}[kind]
+
+
 def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: float | None = None,
                  side: str = "left", duration: float | None = None,
                  delta_h_offset: float = 0.0, L1: float = 3.8, i_s: float = 21.0) -> Profile:
@@ -92,10 +106,8 @@ def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: fl
         raise ValueError(f"amplitude {amp} deg is beyond three steering-wheel turns")
     u = speed / 3.6
     A = math.radians(amp) * (1.0 if side == "left" else -1.0)
-    circle = 2.0 * math.pi * L1 / max(math.tan(abs(math.radians(amp)) / i_s), 1e-3) / u
-    default = {"straight": 30.0, "constant-steer": 60.0, "slalom": 6.0 * SLALOM_PITCH / u,
-               "figure-8": 2.0 * circle + 3.0 * RAMP_TIME, "ramp-steer-reverse": 60.0}[kind]
-    T = default if duration is None else float(duration)
+    circle = _circle_time(amp, u, L1, i_s)
+    T = default_duration(kind, amp, speed, L1, i_s) if duration is None else float(duration)
     if T <= 0:
         raise ValueError(f"duration must be positive [s], got {T}")
     t = np.arange(0.0, T + 0.5 * DT, DT)

@@ -1,0 +1,189 @@
+"""Plausibility ranges of the vehicle's parameters: refuse the impossible, warn on the odd.
+
+The parameter file's schema (:mod:`mjcf.schema`) checks types, signs and
+finiteness, and :func:`mjcf.vehicle.check_geometry` that the symbols and the
+axle list describe one geometry. What they let through can still be no
+tractor-semitrailer at all: a trailer centre of gravity 100 m up, a steering
+ratio of 0.001, a 2 kg tractor. Every number here has two ranges:
+
+- outside the *possible* range the file is refused (:class:`VehicleFileError`
+  naming the file and the key): no road vehicle has such a value, and the
+  models would run into nonsense or divergence;
+- outside the *plausible* range a :class:`PlausibilityWarning` names the key
+  and the usual range: a special vehicle may have such a value, a typing
+  mistake more often does.
+
+The plausible ranges span European and North American tractors and
+semitrailers (EU and FMVSS dimension rules, published inertia and tyre data),
+with margin; the possible ranges are ten times wider or physical limits.
+Inertias are judged by their radius of gyration ``sqrt(J / m)``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from mjcf.schema import VehicleFileError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from mjcf.vehicle import Vehicle
+
+
+class PlausibilityWarning(UserWarning):
+    """A parameter lies outside the range usual for a tractor-semitrailer."""
+
+
+@dataclass(frozen=True)
+class Range:
+    """Possible ``[lo, hi]`` and plausible ``[plo, phi]`` values of one number, in its unit."""
+
+    lo: float
+    plo: float
+    phi: float
+    hi: float
+    unit: str = ""
+
+    def judge(self, value: float, where: str) -> None:
+        """Refuse ``value`` outside the possible range, warn outside the plausible one.
+
+        Parameters
+        ----------
+        value : float
+            The number.
+        where : str
+            ``"FILE: key 'KEY'"``, for the messages.
+
+        Raises
+        ------
+        ValueError
+            Outside the possible range (the caller turns it into its file error).
+        """
+        u = f" {self.unit}" if self.unit else ""
+        if not math.isfinite(value):
+            raise ValueError(f"{where}: {value!r} is not a finite number")
+        if not self.lo <= value <= self.hi:
+            raise ValueError(f"{where}: {value:g}{u} is impossible for a tractor-semitrailer "
+                             f"(possible: {self.lo:g} to {self.hi:g}{u}); check the value and "
+                             "its unit")
+        if not self.plo <= value <= self.phi:
+            warnings.warn(f"{where}: {value:g}{u} is unusual (usual: {self.plo:g} to "
+                          f"{self.phi:g}{u}); check it", PlausibilityWarning, stacklevel=3)
+
+
+INF = math.inf
+
+VEHICLE_RANGES: dict[str, Range] = {
+    "tractor.m1": Range(500.0, 3000.0, 25000.0, 60000.0, "kg"),
+    "tractor.J1 (radius of gyration)": Range(0.2, 0.6, 3.0, 10.0, "m"),
+    "tractor.a1 + tractor.b1 (wheelbase L1)": Range(1.0, 2.5, 7.0, 15.0, "m"),
+    "tractor.L1c": Range(-5.0, -1.0, 2.0, 5.0, "m"),
+    "tractor.h1": Range(0.1, 0.5, 2.0, 5.0, "m"),
+    "tractor.h5": Range(0.2, 0.8, 1.6, 5.0, "m"),
+    "trailer.m2": Range(300.0, 1500.0, 50000.0, 150000.0, "kg"),
+    "trailer.J2 (radius of gyration)": Range(0.2, 1.0, 6.0, 20.0, "m"),
+    "trailer.a2": Range(0.1, 1.0, 12.0, 30.0, "m"),
+    "trailer.L2": Range(1.0, 3.0, 15.0, 30.0, "m"),
+    "trailer.j": Range(0.0, 0.0, 2.5, 5.0, "m"),
+    "trailer.h2": Range(0.1, 0.5, 2.6, 5.0, "m"),
+    "axle.track": Range(0.5, 1.5, 2.6, 5.0, "m"),
+    "axle.unsprung_mass": Range(1.0, 100.0, 3000.0, 10000.0, "kg"),
+    "axle.suspension_stiffness": Range(1e3, 5e4, 1e7, 1e9, "N/m"),
+    "axle.suspension_damping": Range(10.0, 1e3, 3e5, 1e8, "N s/m"),
+    "axle.wheel_inertia": Range(0.01, 2.0, 80.0, 1000.0, "kg m^2"),
+    "steering.i_s": Range(1.0, 10.0, 40.0, 200.0, ""),
+    "steering.q": Range(0.0, 0.0, 0.05, 1.0, "1/rad"),
+    "steering.delta_h_offset": Range(-math.pi, -0.35, 0.35, math.pi, "rad"),
+    "steering.delta_max": Range(0.05, 0.4, 0.95, 1.5, "rad"),
+    "steering.steering_arm": Range(0.02, 0.1, 0.5, 2.0, "m"),
+    "tyre.f": Range(0.1, 2.0, 20.0, 100.0, "1/rad"),
+    "tyre.sigma_alpha": Range(0.01, 0.1, 2.0, 20.0, "m"),
+    "limits.gamma_max": Range(0.1, 0.8, 1.6, math.pi, "rad"),
+    "limits.hitch_pitch": Range(0.0, 0.02, 0.4, 1.5, "rad"),
+    "sensor.x": Range(-40.0, -20.0, 10.0, 40.0, "m"),
+    "sensor.y": Range(-5.0, -2.0, 2.0, 5.0, "m"),
+    "sensor.z": Range(-2.0, 0.0, 4.5, 10.0, "m"),
+}
+"""Keys (or derived quantities) and their ranges."""
+
+
+def _values(v: Vehicle) -> list[tuple[str, str, float]]:
+    """``(range key, key as the file names it, value)`` for every judged number."""
+    out = [
+        ("tractor.m1", "tractor.m1", v.m1),
+        ("tractor.J1 (radius of gyration)", "tractor.J1", math.sqrt(v.J1 / v.m1)),
+        ("tractor.a1 + tractor.b1 (wheelbase L1)", "tractor.a1 + tractor.b1", v.L1),
+        ("tractor.L1c", "tractor.L1c", v.L1c),
+        ("tractor.h1", "tractor.h1", v.h1),
+        ("tractor.h5", "tractor.h5", v.h5),
+        ("trailer.m2", "trailer.m2", v.m2),
+        ("trailer.J2 (radius of gyration)", "trailer.J2", math.sqrt(v.J2 / v.m2)),
+        ("trailer.a2", "trailer.a2", v.a2),
+        ("trailer.L2", "trailer.L2", v.L2),
+        ("trailer.j", "trailer.j", v.j),
+        ("trailer.h2", "trailer.h2", v.h2),
+        ("tyre.f", "tyre.f", v.f),
+        ("tyre.sigma_alpha", "tyre.sigma_alpha", v.sigma_alpha),
+        ("limits.gamma_max", "limits.gamma_max", v.gamma_max),
+        ("limits.hitch_pitch", "limits.hitch_pitch", v.hitch_pitch),
+        ("steering.delta_max", "steering.delta_max", v.steering.delta_max),
+        ("steering.steering_arm", "steering.steering_arm", v.steering.steering_arm),
+    ]
+    for unit, sensor in (("tractor", v.sensor1), ("trailer", v.sensor2)):
+        for axis, x in zip("xyz", sensor, strict=True):
+            out.append((f"sensor.{axis}", f"{unit}.sensor ({axis})", x))
+    for model in ("", "kin", "stm", "mbd"):
+        s = v.steering if not model else v.steering_for(model)
+        prefix = "steering" if not model else f"steering.{model}"
+        if model and not v.steering_overrides.get(model):
+            continue
+        for key in ("i_s", "q", "delta_h_offset"):
+            if model and key not in v.steering_overrides[model]:
+                continue
+            out.append((f"steering.{key}", f"{prefix}.{key}", getattr(s, key)))
+    for a in v.axles:
+        unit = "tractor" if a.unit == 1 else "trailer"
+        for key in ("track", "unsprung_mass", "suspension_stiffness", "suspension_damping",
+                    "wheel_inertia"):
+            out.append((f"axle.{key}", f"{unit}.axle '{a.name}'.{key}", getattr(a, key)))
+    return out
+
+
+def check_plausible(v: Vehicle, path: str | Path) -> None:
+    """Judge every number of a vehicle against :data:`VEHICLE_RANGES`.
+
+    Raises
+    ------
+    VehicleFileError
+        For an impossible value, naming the file and the key.
+    """
+    for rng, key, value in _values(v):
+        try:
+            VEHICLE_RANGES[rng].judge(float(value), f"{path}: key '{key}'")
+        except ValueError as exc:
+            raise VehicleFileError(str(exc)) from None
+
+
+def check_tir_file(path: Path, context: str) -> Path:
+    """Read a tyre property file and judge its coefficients (see :mod:`mjcf.tir`).
+
+    Returns
+    -------
+    Path
+        ``path``, once it passed.
+
+    Raises
+    ------
+    VehicleFileError
+        ``context`` (the vehicle file and key) followed by the tyre file's error.
+    """
+    from mjcf.tir import TirError, read_tir
+
+    try:
+        read_tir(path)
+    except TirError as exc:
+        raise VehicleFileError(f"{context}: {exc}") from None
+    return path

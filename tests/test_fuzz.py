@@ -1,0 +1,414 @@
+"""Fuzzing the command line with hostile input: every case ends well or with exit 2 and one line.
+
+Property-based (hypothesis, derandomised so the cases are the same on every
+run) generation of four kinds of input, each fed to ``artic`` in-process:
+
+- vehicle files: the presets with keys set to hostile values (NaN, infinities,
+  zero, negative, huge, wrong types), deleted, added, or the text damaged;
+- ``.tir`` files: the shipped tyre with coefficients set to hostile values,
+  lines deleted or garbled;
+- command-line options of ``simulate``: any text where a number goes;
+- damaged logs: a measured slalom with NaN runs, scaled or flipped channels,
+  gaps, jumps, shuffled or repeated rows, text in number columns, truncated
+  rows, or damaged bytes, as CSV or Parquet, through ``logs import`` and
+  ``validate``.
+
+The property, per case: the command exits 0 with a sound result (strict JSON;
+a run whose status is ``ok`` holds only finite numbers; an imported log that
+passes every check; metrics rows whose criteria are finite where the status
+is ``ok``) or exits 2 with exactly one line on standard error and no
+traceback. The slow variants only differ in the number of cases and also
+run the plant (where a diverging simulation is a third, one-line outcome:
+exit 1). ``OUTCOMES`` counts the cases; ``pytest -s`` prints them.
+"""
+
+from __future__ import annotations
+
+import copy
+import io
+import json
+import math
+import re
+import tempfile
+import tomllib
+import warnings
+from collections import Counter
+from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import tomli_w
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from hostile_logs import slalom
+from mjcf import load_vehicle
+from validation.cli import main
+from validation.logs.runfile import check_frame, read_run, write_run
+from validation.logs.schema import COLUMNS
+
+OUTCOMES: dict[str, Counter] = {}
+"""Per input kind, the count of cases by outcome."""
+
+EXAMPLES: dict[tuple[str, str], list[str]] = {}
+"""A few messages per (input kind, outcome), for the printed report."""
+
+FAST = settings(max_examples=12, deadline=None, derandomize=True, database=None,
+                suppress_health_check=[HealthCheck.function_scoped_fixture,
+                                       HealthCheck.too_slow])
+SLOW = settings(FAST, max_examples=150)
+
+PRESET = Path(load_vehicle("gosar2022-unloaded").path)
+TYRE = Path(load_vehicle("gosar2022-unloaded").tyre_file)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def report_outcomes(request):
+    yield
+    if OUTCOMES:
+        capture = request.config.pluginmanager.get_plugin("capturemanager")
+        with capture.global_and_fixture_disabled():
+            total = sum(sum(c.values()) for c in OUTCOMES.values())
+            print(f"\nfuzz cases: {total}")
+            for kind, c in sorted(OUTCOMES.items()):
+                print(f"  {kind}: {sum(c.values())} cases, " + ", ".join(
+                    f"{k} {v}" for k, v in sorted(c.items())))
+                if request.config.getoption("verbose") > 0:
+                    for (k, outcome), msgs in sorted(EXAMPLES.items()):
+                        if k == kind:
+                            print("\n".join(f"      {outcome}: {m[:160]}" for m in msgs))
+
+
+def artic(*argv) -> tuple[int, str, str]:
+    """Run the command line in-process; returns (exit code, stdout, stderr)."""
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        code = main([str(a) for a in argv])
+    return code, out.getvalue(), err.getvalue()
+
+
+def judge(kind: str, code: int, err: str, allow_divergence: bool = False) -> str:
+    """Assert the property's error side and count the case; returns the outcome."""
+    assert "Traceback" not in err, err
+    if code == 0:
+        outcome = "ok"
+    elif code == 2:
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("artic: error: "), err
+        outcome = "exit 2"
+    elif code == 1 and allow_divergence:
+        lines = err.strip().splitlines()
+        assert lines and lines[-1].startswith("artic: simulation failed: "), err
+        outcome = "exit 1 (diverged)"
+    else:
+        raise AssertionError(f"exit {code}: {err}")
+    OUTCOMES.setdefault(kind, Counter())[outcome] += 1
+    examples = EXAMPLES.setdefault((kind, outcome), [])
+    if code and len(examples) < 4:
+        examples.append(err.strip().splitlines()[-1])
+    return outcome
+
+
+def strict_json(text: str):
+    def refuse(name):
+        raise AssertionError(f"{name} in JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def sound_run(path: Path) -> None:
+    """A run written with status ok holds finite numbers only."""
+    run = read_run(path, check=False)
+    if run.meta.get("status") == "ok":
+        values = run.frame.drop(columns=["delta_saturated"], errors="ignore").to_numpy(float)
+        assert np.all(np.isfinite(values)), path
+
+
+# ------------------------------------------------------------------ strategies
+HOSTILE_NUMBERS = st.one_of(
+    st.sampled_from([math.nan, math.inf, -math.inf, 0.0, -1.0, 1e300, -1e300, 1e-300, 1e9]),
+    st.floats(allow_nan=True, allow_infinity=True, width=64),
+    st.integers(-10 ** 20, 10 ** 20),
+)
+HOSTILE_VALUES = st.one_of(
+    HOSTILE_NUMBERS, st.booleans(), st.text(max_size=12),
+    st.lists(HOSTILE_NUMBERS, max_size=4), st.just({"nested": {"deeper": 1.0}}),
+)
+
+
+def _keys(data: dict, prefix: str = "") -> list[str]:
+    out = []
+    for k, v in data.items():
+        path = f"{prefix}{k}"
+        if isinstance(v, dict):
+            out += _keys(v, path + ".")
+        elif isinstance(v, list) and v and isinstance(v[0], dict):
+            for i, item in enumerate(v):
+                out += _keys(item, f"{path}.{i}.")
+        else:
+            out.append(path)
+    return out
+
+
+BASE_VEHICLE = tomllib.loads(PRESET.read_text())
+VEHICLE_KEYS = _keys(BASE_VEHICLE)
+
+
+def _get(data: dict, dotted: str):
+    node = data
+    for part in dotted.split("."):
+        node = node[int(part)] if isinstance(node, list) else node[part]
+    return node
+
+
+def _set(data: dict, dotted: str, value, delete: bool = False) -> None:
+    *head, last = dotted.split(".")
+    node = data
+    for part in head:
+        node = node[int(part)] if isinstance(node, list) else node[part]
+    if delete:
+        if isinstance(node, dict):
+            node.pop(last, None)
+    elif isinstance(node, list):
+        node[int(last)] = value
+    else:
+        node[last] = value
+
+
+VEHICLE_EDITS = st.lists(st.one_of(
+    st.tuples(st.sampled_from(["set", "delete", "add"]), st.sampled_from(VEHICLE_KEYS),
+              HOSTILE_VALUES),
+    st.tuples(st.just("scale"), st.sampled_from(VEHICLE_KEYS), st.floats(0.3, 3.0)),
+), min_size=1, max_size=3)
+
+
+def vehicle_text(edits, damage: int | None) -> str:
+    data = copy.deepcopy(BASE_VEHICLE)
+    data["tyre"]["file"] = str(TYRE)
+    for op, key, value in edits:
+        if op == "scale":
+            old = _get(data, key)
+            if isinstance(old, float):
+                _set(data, key, old * value)
+            continue
+        if op == "add":
+            _set(data, key.rsplit(".", 1)[0] + ".unknown_key" if "." in key else "x", value)
+        else:
+            _set(data, key, value, delete=op == "delete")
+    try:
+        text = tomli_w.dumps(data)
+    except (TypeError, ValueError):
+        text = PRESET.read_text()
+    if damage is not None:
+        text = text[:damage % max(1, len(text))]
+    return text
+
+
+TYRE_TEXT = TYRE.read_text(encoding="latin-1")
+TYRE_KEYS = re.findall(r"^([A-Z][A-Z0-9_]*)\s*=", TYRE_TEXT, flags=re.M)
+TYRE_EDITS = st.lists(st.one_of(
+    st.tuples(st.just("set"), st.sampled_from(TYRE_KEYS),
+              st.one_of(HOSTILE_NUMBERS.map(repr), st.sampled_from(["'text'", "1e999", "",
+                                                                      "nan", "-inf", "0"]))),
+    st.tuples(st.just("delete"), st.sampled_from(TYRE_KEYS), st.just("")),
+    st.tuples(st.just("garble"), st.sampled_from(TYRE_KEYS), st.text(max_size=20)),
+), min_size=1, max_size=3)
+
+
+def tyre_text(edits) -> str:
+    text = TYRE_TEXT
+    for op, key, value in edits:
+        pattern = rf"^{key}\s*=.*$"
+        repl = {"set": f"{key} = {value}", "delete": "", "garble": value.replace("\\", "")}[op]
+        text = re.sub(pattern, lambda _m, r=repl: r, text, count=1, flags=re.M)
+    return text
+
+
+NUMBER_TEXT = st.integers(0, 9).flatmap(
+    lambda i: st.floats(0.5, 20.0).map(repr) if i < 7 else st.one_of(
+        HOSTILE_NUMBERS.map(repr), st.text(max_size=8)))
+"""A number's text: a sensible one seven times in ten, else anything."""
+SIM_OPTIONS = st.fixed_dictionaries({
+    "--model": st.sampled_from(["kin", "stm", "KIN", "stm", "xyz"]),
+    "--manoeuvre": st.sampled_from(["straight", "constant-steer", "slalom", "figure-8",
+                                    "ramp-steer-reverse", "slalom", "nothing"]),
+    "--speed-kph": NUMBER_TEXT, "--amplitude-deg": NUMBER_TEXT,
+    "--duration": st.one_of(st.floats(0.05, 3.0).map(repr), NUMBER_TEXT),
+    "--side": st.sampled_from(["left", "right", "right", "up"]),
+})
+
+LOG_DAMAGE = st.lists(st.tuples(
+    st.sampled_from(["nan", "scale", "flip", "gap", "jump", "shuffle", "repeat", "text",
+                     "drop", "truncate", "swap"]),
+    st.sampled_from(list(COLUMNS)), st.integers(0, 999), st.integers(1, 300),
+    st.sampled_from([57.29577951308232, 1 / 57.29577951308232, 3.6, -1.0, 0.0, 1e6])),
+    min_size=1, max_size=3)
+
+
+def damaged_log(damage) -> pd.DataFrame:
+    f = slalom().frame.iloc[:1000].copy().reset_index(drop=True)
+    for kind, col, row, n, factor in damage:
+        if col not in f.columns:
+            continue
+        end = min(len(f), row + n)
+        if kind == "nan":
+            f.loc[row:end, col] = np.nan
+        elif kind == "scale":
+            f[col] = f[col] * factor
+        elif kind == "flip":
+            f[col] = -f[col]
+        elif kind == "gap":
+            f.loc[row:, "t"] = f.loc[row:, "t"] + n
+        elif kind == "jump":
+            f.loc[row:, col] = f.loc[row:, col] + n
+        elif kind == "shuffle":
+            idx = f.index.to_numpy().copy()
+            idx[row:end] = idx[row:end][::-1]
+            f = f.loc[idx].reset_index(drop=True)
+        elif kind == "repeat":
+            f = pd.concat([f.iloc[:end], f.iloc[row:end], f.iloc[end:]], ignore_index=True)
+        elif kind == "text":
+            f[col] = f[col].astype(object)
+            f.loc[row, col] = "x"
+        elif kind == "drop":
+            f = f.drop(columns=[col])
+        elif kind == "truncate":
+            f = f.iloc[: row % 3]
+        elif kind == "swap" and col in ("x_1", "x_2"):
+            y = col.replace("x", "y")
+            f[[col, y]] = f[[y, col]].to_numpy()
+    return f
+
+
+# ------------------------------------------------------------------ properties
+def check_vehicle(edits, damage, with_plant: bool = False) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        p = Path(tmp) / "v.toml"
+        p.write_text(vehicle_text(edits, damage))
+        code, out, err = artic("vehicle", "show", p, "--json")
+        if judge("vehicle files", code, err) == "ok":
+            flat = strict_json(out)
+            assert isinstance(flat, dict)
+            for model in (["kin", "stm"] + (["mbd"] if with_plant else [])):
+                r = Path(tmp) / f"{model}.parquet"
+                code, _, err = artic("simulate", "--model", model, "--vehicle", p,
+                                     "--manoeuvre", "slalom", "--duration", "2", "--out", r)
+                if judge(f"vehicle files, simulate {model}", code, err,
+                         allow_divergence=True) == "ok":
+                    sound_run(r)
+
+
+def check_tyre(edits, with_plant: bool = False) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "t.tir").write_bytes(tyre_text(edits).encode("utf-8"))
+        v = Path(tmp) / "v.toml"
+        v.write_text(PRESET.read_text().replace('file = "artic-truck-315-80R22.5.tir"',
+                                                'file = "t.tir"'))
+        code, out, err = artic("vehicle", "show", v, "--json")
+        if judge(".tir files", code, err) == "ok" and with_plant:
+            r = Path(tmp) / "r.parquet"
+            code, _, err = artic("simulate", "--model", "mbd", "--vehicle", v, "--manoeuvre",
+                                 "constant-steer", "--duration", "3", "--out", r)
+            if judge(".tir files, simulate mbd", code, err, allow_divergence=True) == "ok":
+                sound_run(r)
+
+
+def check_options(opts) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        r = Path(tmp) / "r.parquet"
+        argv = ["simulate", "--out", r]
+        for k, val in opts.items():
+            argv += [k, val]
+        code, _, err = artic(*argv)
+        if judge("simulate options", code, err) == "ok":
+            sound_run(r)
+
+
+def check_log(damage, fmt: str, byte_damage: int | None) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        f = damaged_log(damage)
+        p = Path(tmp) / f"log.{fmt}"
+        if fmt == "csv":
+            f.to_csv(p, index=False)
+        else:
+            try:
+                write_run(type(slalom())(f, {"name": "log"}), p)
+            except Exception:  # noqa: BLE001 - not writable as Parquet (mixed types)
+                f.astype(str).to_csv(p.with_suffix(".csv"), index=False)
+                p = p.with_suffix(".csv")
+        if byte_damage is not None:
+            data = bytearray(p.read_bytes())
+            if data:
+                data[byte_damage % len(data)] ^= 0xFF
+            p.write_bytes(bytes(data[: max(0, len(data) - byte_damage % 7)]))
+        out = Path(tmp) / "out"
+        code, _, err = artic("logs", "import", p, "--out-dir", out)
+        if judge("damaged logs, import", code, err) != "ok":
+            return
+        imported = out / "log.parquet"
+        check_frame(read_run(imported).frame)
+        code, _, err = artic("validate", imported, "--models", "kin,stm", "--out-dir",
+                             Path(tmp) / "val")
+        if judge("damaged logs, validate", code, err) == "ok":
+            m = pd.read_csv(Path(tmp) / "val" / "metrics.csv")
+            ok = m[m.status == "ok"]
+            assert np.all(np.isfinite(ok[["eps_p", "eps_a", "eps_v"]].to_numpy(float)))
+
+
+# ------------------------------------------------------------------ the fast part
+@FAST
+@given(edits=VEHICLE_EDITS, damage=st.one_of(st.none(), st.integers(0, 10 ** 6)))
+def test_fuzz_vehicle_files(edits, damage):
+    check_vehicle(edits, damage)
+
+
+@FAST
+@given(edits=TYRE_EDITS)
+def test_fuzz_tir_files(edits):
+    check_tyre(edits)
+
+
+@FAST
+@given(opts=SIM_OPTIONS)
+def test_fuzz_cli_options(opts):
+    check_options(opts)
+
+
+@FAST
+@given(damage=LOG_DAMAGE, fmt=st.sampled_from(["csv", "parquet"]),
+       byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)))
+def test_fuzz_damaged_logs(damage, fmt, byte_damage):
+    check_log(damage, fmt, byte_damage)
+
+
+# ------------------------------------------------------------------ the slow part
+@pytest.mark.slow
+@SLOW
+@given(edits=VEHICLE_EDITS, damage=st.one_of(st.none(), st.integers(0, 10 ** 6)))
+def test_fuzz_vehicle_files_with_the_plant(edits, damage):
+    check_vehicle(edits, damage, with_plant=True)
+
+
+@pytest.mark.slow
+@SLOW
+@given(edits=TYRE_EDITS)
+def test_fuzz_tir_files_with_the_plant(edits):
+    check_tyre(edits, with_plant=True)
+
+
+@pytest.mark.slow
+@SLOW
+@given(opts=SIM_OPTIONS)
+def test_fuzz_cli_options_many(opts):
+    check_options(opts)
+
+
+@pytest.mark.slow
+@SLOW
+@given(damage=LOG_DAMAGE, fmt=st.sampled_from(["csv", "parquet"]),
+       byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)))
+def test_fuzz_damaged_logs_many(damage, fmt, byte_damage):
+    check_log(damage, fmt, byte_damage)

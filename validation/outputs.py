@@ -1,0 +1,161 @@
+"""Output folders and files: checked before the work, locked while in use, tidy after a crash.
+
+- :func:`check_output_dir` and :func:`check_output_file` try the output
+  location before any long computation, so a read-only, missing or wrong-type
+  path is a one-line error at once, not a traceback an hour later.
+- :class:`OutDirLock` holds ``DIR/.artic.lock`` while a command writes into
+  ``DIR``. A second command on the same folder is refused with the holder's
+  process id, host, command and start time. The lock is an advisory
+  ``flock`` on the open file, so a killed holder releases it with its last
+  file descriptor: a crash never leaves the folder locked.
+- :func:`clean_stale` removes the temporaries (``.NAME.XXXX.part``) that a
+  killed writer left behind. Every atomic write in artic writes such a
+  temporary beside its target and renames it; under the lock nobody else
+  writes into the folder, so any temporary there is stale.
+- :func:`public_mode` gives a new file or folder the permissions the umask
+  allows, as ``open`` would: the temporaries of ``tempfile`` are 0600 and
+  0700 whatever the umask.
+"""
+
+from __future__ import annotations
+
+import datetime
+import errno
+import json
+import os
+import shutil
+import socket
+import sys
+import tempfile
+from pathlib import Path
+
+from mjcf.files import TEMP_SUFFIX, public_mode, umask
+
+__all__ = ["LOCK_NAME", "TEMP_SUFFIX", "LockedError", "OutDirLock", "OutputError",
+           "check_output_dir", "check_output_file", "clean_stale", "public_mode", "umask"]
+
+LOCK_NAME = ".artic.lock"
+"""The lock file in an output folder."""
+
+class OutputError(ValueError):
+    """An output location cannot be used; the message names it and the fix."""
+
+
+def _describe(exc: OSError) -> str:
+    return exc.strerror or str(exc)
+
+
+def check_output_dir(path: Path | str, option: str = "--out-dir") -> Path:
+    """Create ``path`` if needed and prove it writable; one-line :class:`OutputError` if not."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise OutputError(f"{option} {path}: exists and is not a folder; choose a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".artic-probe.", suffix=TEMP_SUFFIX, dir=path)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise OutputError(f"{option} {path}: cannot write there ({_describe(exc)}); choose a "
+                          "writable folder") from exc
+    return path
+
+
+def check_output_file(path: Path | str, option: str = "--out") -> Path:
+    """Check that ``path`` can be written atomically: a writable folder, not a folder itself."""
+    path = Path(path)
+    if path.is_dir():
+        raise OutputError(f"{option} {path}: is a folder; give a file name")
+    check_output_dir(path.parent if str(path.parent) else Path("."), option=f"{option} folder")
+    return path
+
+
+class LockedError(OutputError):
+    """Another artic process is writing into the same output folder."""
+
+
+class OutDirLock:
+    """Exclusive use of an output folder for one command (see the module docstring).
+
+    Parameters
+    ----------
+    out_dir : Path
+        The folder; created if needed.
+    what : str
+        What holds it (``"campaign"``), written into the lock file.
+    """
+
+    def __init__(self, out_dir: Path | str, what: str) -> None:
+        self.out_dir = Path(out_dir)
+        self.what = what
+        self.path = self.out_dir / LOCK_NAME
+        self._fd: int | None = None
+
+    def __enter__(self) -> OutDirLock:
+        import fcntl
+
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666 & ~umask())
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            holder = _read_holder(fd)
+            os.close(fd)
+            if exc.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+                raise LockedError(f"{self.out_dir}: in use by another artic {holder}; wait for "
+                                  "it to finish or choose another --out-dir") from None
+            raise
+        info = {"what": self.what, "pid": os.getpid(), "host": socket.gethostname(),
+                "started": datetime.datetime.now().isoformat(timespec="seconds"),
+                "command": " ".join(os.path.basename(a) if i == 0 else a
+                                    for i, a in enumerate(sys.argv))}
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, (json.dumps(info) + "\n").encode(), 0)
+        self._fd = fd
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._fd is not None:
+            os.close(self._fd)  # releases the flock
+            self._fd = None
+
+
+def _read_holder(fd: int) -> str:
+    try:
+        info = json.loads(os.pread(fd, 4096, 0) or b"{}")
+        return (f"{info.get('what', 'command')} (process {info.get('pid', '?')} on "
+                f"{info.get('host', '?')}, started {info.get('started', '?')}: "
+                f"{info.get('command', '?')})")
+    except (OSError, ValueError, AttributeError):
+        return "command (its lock file does not say which)"
+
+
+def clean_stale(out_dir: Path | str) -> list[Path]:
+    """Remove the temporaries (``.*.part``) left in ``out_dir`` by killed writers.
+
+    Call it only while holding :class:`OutDirLock` on ``out_dir``.
+
+    Returns
+    -------
+    list of Path
+        What was removed.
+    """
+    removed = []
+    root = Path(out_dir)
+    if not root.is_dir():
+        return removed
+    for dirpath, dirnames, filenames in os.walk(root):
+        here = Path(dirpath)
+        for name in [*filenames, *dirnames]:
+            if name.startswith(".") and name.endswith(TEMP_SUFFIX):
+                p = here / name
+                try:
+                    if p.is_dir() and not p.is_symlink():
+                        shutil.rmtree(p)
+                    else:
+                        p.unlink()
+                    removed.append(p)
+                except OSError:
+                    continue
+        dirnames[:] = [d for d in dirnames if not (d.startswith(".") and d.endswith(TEMP_SUFFIX))]
+    return removed
