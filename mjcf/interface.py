@@ -1,19 +1,9 @@
 """What every model shares with the harness: signals, initial state, angle helpers.
 
-The harness (:mod:`validation.models` holds its protocol) drives KIN, STM and
-the multibody plant alike. Each is built from a :class:`mjcf.vehicle.Vehicle`
-and offers these calls:
-
-- ``reset(initial)`` places the combination at an :class:`InitialState`,
-  taken from a log's first sample;
-- ``step(dt, delta, u1, u1_dot)`` advances by ``dt`` [s] with the road-wheel
-  angle ``delta`` [rad] held and the tractor's longitudinal speed rising
-  linearly from ``u1`` [m/s] at rate ``u1_dot`` [m/s^2];
-- ``observe(delta)`` returns the signals a measured log has, in
-  :data:`OBSERVATION` order, at the two sensor points, with ``delta`` the
-  road-wheel angle about to be held (a kinematic model's yaw rate follows it
-  at once);
-- ``gamma`` is the current articulation angle [rad].
+KIN, STM and the multibody plant are each built from a
+:class:`mjcf.vehicle.Vehicle` and driven by the harness through the calls of
+:class:`validation.models.Model`: reset to an :class:`InitialState`, step, and
+observe the :data:`OBSERVATION` signals at the two sensor points.
 
 ``u1`` is the longitudinal velocity of the tractor in its own axes. For a rigid
 tractor it is the same at every point on its centre line, so the drive axle,

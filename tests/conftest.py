@@ -58,3 +58,17 @@ def straight_log(n: int = 2000, u: float = -0.8, gamma0: float = 0.0, dt: float 
     df.loc[0, "gamma"] = gamma0
     df.loc[0, "psi_2"] = -gamma0
     return Run(df, {"name": "straight", "direction": "reverse" if u < 0 else "forward"})
+
+
+def steady_turn(model, delta: float, u: float, seconds: float, tail: int) -> tuple[float, float]:
+    """Mean tractor yaw rate [rad/s] and articulation [rad] over the last ``tail`` samples
+    of ``seconds`` at a fixed road-wheel angle ``delta`` and speed ``u``, from straight."""
+    from mjcf.interface import InitialState
+
+    model.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
+    out = []
+    for _ in range(int(seconds / 0.01)):
+        model.step(0.01, delta, u, 0.0)
+        out.append(model.observe())
+    y = np.array(out)[-tail:]
+    return float(y[:, 5].mean()), float(y[:, 12].mean())

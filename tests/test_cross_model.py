@@ -12,27 +12,21 @@ import math
 import numpy as np
 import pytest
 
-from conftest import straight_log
+from conftest import steady_turn, straight_log
 from mjcf.linkage import centre_angle
 from mjcf.vehicle import G
 from plant import Plant
 from plant.tyre import TyreParams
-from reduced import InitialState, KinematicModel, SingleTrackModel
+from reduced import KinematicModel, SingleTrackModel
 from validation.harness import run_closed_loop
 
 U = 5 / 3.6
 """Speed of the linear-regime runs [m/s]."""
 
 
-def steady(model, delta, seconds=90.0):
+def steady(model, delta):
     """Steady tractor yaw rate and articulation at a fixed steering angle and 5 km/h."""
-    model.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=U))
-    out = []
-    for _ in range(int(seconds / 0.01)):
-        model.step(0.01, delta, U, 0.0)
-        out.append(model.observe())
-    y = np.array(out)[-500:]
-    return float(y[:, 5].mean()), float(y[:, 12].mean())
+    return steady_turn(model, delta, U, seconds=90.0, tail=500)
 
 
 def trailer_equivalent_length(v):

@@ -9,8 +9,8 @@ import warnings
 import numpy as np
 import pytest
 
+from conftest import steady_turn
 from mjcf import load_vehicle
-from mjcf.interface import InitialState
 from reduced import KinematicModel, SingleTrackModel
 from reduced.kinematic import kin_parameters, wheelbases
 
@@ -53,15 +53,9 @@ def test_a_tag_axle_lengthens_the_tractor():
     assert L1 > v.L1 and L1c > v.L1c
 
 
-def steady(model, delta, seconds=60.0):
-    """Steady tractor yaw rate [rad/s] and articulation [rad] at 5 km/h."""
-    model.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=U))
-    out = []
-    for _ in range(int(seconds / 0.01)):
-        model.step(0.01, delta, U, 0.0)
-        out.append(model.observe())
-    y = np.array(out)[-300:]
-    return float(y[:, 5].mean()), float(y[:, 12].mean())
+def steady(model, delta):
+    """Steady tractor yaw rate [rad/s] and articulation [rad] at 5 km/h, after 60 s."""
+    return steady_turn(model, delta, U, seconds=60.0, tail=300)
 
 
 @pytest.mark.parametrize("preset", ["gosar2022-unloaded", "six-axle"])
