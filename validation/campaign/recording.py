@@ -602,3 +602,38 @@ def read_text(path: Path, entity: str) -> str:
                 if name.endswith(":text"):
                     return str(batch.column(name)[0][0])
     raise KeyError(f"{path}: no text document at {entity}")
+
+
+def read_column(path: Path, entity: str, component: str) -> list:
+    """One component of an entity, read back: per row on its timelines, statics apart.
+
+    ``component`` is Rerun's column name, such as ``Transform3D:quaternion``
+    or ``Scalars:scalars``; each row's value is a list (a batch). Static
+    values come first when there are no temporal ones.
+    """
+    rows: list = []
+    static: list = []
+    for chunk in RrdReader(Path(path)).stream():
+        if chunk.entity_path != entity:
+            continue
+        batch = chunk.to_record_batch()
+        if component in batch.schema.names:
+            (static if chunk.is_static else rows).extend(batch.column(component).to_pylist())
+    if not rows and not static:
+        raise KeyError(f"{path}: no {component} at {entity}")
+    return rows or static
+
+
+def read_views(path: Path) -> dict[str, str]:
+    """The default blueprint's views, read back: origin to title."""
+    reader = RrdReader(Path(path))
+    out = {}
+    for store in reader.blueprints():
+        for chunk in reader.stream(store=store):
+            batch = chunk.to_record_batch()
+            if "ViewBlueprint:display_name" in batch.schema.names:
+                for name, origin in zip(batch.column("ViewBlueprint:display_name").to_pylist(),
+                                        batch.column("ViewBlueprint:space_origin").to_pylist(),
+                                        strict=True):
+                    out[origin[0]] = name[0]
+    return out

@@ -144,6 +144,7 @@ def read_map(path: Path | dict) -> dict:
     if bad:
         raise LogError(f"{path}: channels.{bad[0]}: not a channel; the map can name "
                        f"{', '.join(DIMENSION)}")
+    parsed = {c: entry(f"channels.{c}", spec, DIMENSION[c]) for c, spec in channels.items()}
     missing = [c for c in ("delta_h", *TRACTOR) if c not in channels]
     if missing:
         raise LogError(f"{path}: [channels] is missing {', '.join(missing)}; a log needs the "
@@ -153,8 +154,7 @@ def read_map(path: Path | dict) -> dict:
         raise LogError(f"{path}: [channels] has neither the semitrailer's "
                        f"{', '.join(TRAILER)} nor gamma (the articulation angle) to derive them")
     return {"time": (t_col, t_factor), "max_gap": None if max_gap is None else float(max_gap),
-            "channels": {c: entry(f"channels.{c}", spec, DIMENSION[c])
-                         for c, spec in channels.items()}}
+            "channels": parsed}
 
 
 def import_mapped(csv: Path, map_path: Path | dict,
