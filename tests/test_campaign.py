@@ -12,7 +12,7 @@ import pytest
 
 from mjcf import load_vehicle
 from validation.campaign.main import run_campaign
-from validation.campaign.recording import read_rows
+from validation.campaign.recording import PLOT_RATE, read_rows
 from validation.logs.runfile import read_run
 from validation.synthetic.testmatrix import MATRIX, TUNING
 
@@ -28,10 +28,13 @@ def check_recordings(out):
         if path.stem == "campaign":
             assert rows["/criteria/eps_n/kin"] == metrics.log.nunique()
             continue
-        for model in metrics.model.unique():
-            run = read_run(out / "runs" / f"{path.stem}.{model}.parquet")
-            assert rows[f"/signals/articulation/{model}"] == len(run.frame), path.name
-        assert rows["/signals/articulation/measured"] >= len(run.frame)
+        log = read_run(out / "logs" / f"{path.stem}.parquet")
+        # One plot row per PLOT_RATE sample of the log, every model's line in it.
+        every = round(1.0 / (PLOT_RATE * 0.01))
+        assert rows["/signals/articulation"] == math.ceil(len(log.frame) / every), path.name
+        if "mbd" in set(metrics.model):
+            assert rows["/yard/mbd/axle.front/wheel.front.L"] > 0
+            assert rows["/yard/mbd/tyre_forces"] > 0
 
 
 @pytest.mark.slow
@@ -76,13 +79,27 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     lost.unlink()
     capsys.readouterr()
     run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2)
-    err = capsys.readouterr().err
+    captured = capsys.readouterr()
+    err = captured.err
     assert "5 of 5 manoeuvres already generated" in err and "tuning reused" in err
-    assert "gain sweep reused" in err
+    assert "gain sweep reused" in err and "8 of 9 runs reused" in err
+    assert "efficiency reused" in err
     assert lost.is_file() and kept.stat().st_mtime_ns == stamp
+    # The run ends with the two tables and where the report is, not the report.
+    assert "Table 2 columns" in captured.out and "Table 3 columns" in captured.out
+    assert "## Discussion" not in captured.out and str(out / "report.md") in captured.out
     # Same inputs, same numbers: the re-simulated run gives the same criteria.
     again = pd.read_csv(out / "metrics.csv")
     pd.testing.assert_frame_equal(again.drop(columns="wall_s"), m.drop(columns="wall_s"))
+    # Two identical runs give the same report but for its time stamp: a run that
+    # reuses everything keeps the stage times and efficiency of the run that computed them.
+    first = (out / "report.md").read_text().splitlines()
+    run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2)
+    second = (out / "report.md").read_text().splitlines()
+    stamp_line = next(i for i, line in enumerate(first) if "UTC" in line)
+    assert [x for i, x in enumerate(first) if i != stamp_line] == \
+        [x for i, x in enumerate(second) if i != stamp_line]
+    assert "reused (" in capsys.readouterr().err
 
     # A run that fails part way leaves no report behind to be mistaken for its own.
     import validation.campaign.efficiency as eff_module

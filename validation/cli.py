@@ -6,10 +6,12 @@ Subcommands:
 - ``artic vehicle keys``: the parameter file format;
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
 - ``artic validate LOG.parquet ... --vehicle V --models kin,stm,mbd [--gain K]
-  [--gain-sweep] --out-dir DIR``: metrics and the Table 2/3 summaries;
+  [--gain-sweep] [--no-recordings] --out-dir DIR``: metrics, the Table 2/3
+  summaries and one Rerun recording per log;
 - ``artic tune LOG.parquet ... --vehicle V --models kin,stm,mbd --out PARAMS.toml``;
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
-- ``artic logs import SRC... --out-dir DIR``: exports to canonical Parquet;
+- ``artic logs import SRC... [--channels MAP.toml] [--vehicle V] --out-dir DIR``:
+  exports (or CSVs through a channel map) to canonical Parquet;
 - ``artic campaign [--out-dir DIR]``: the main job.
 
 Errors in the user's input end with exit code 2 and a one-line message that
