@@ -23,8 +23,9 @@ sensor's travelled distance [cm], the variable of the error criteria):
   degrees, and every plot's title carries its unit;
 - ``/description``: the vehicle file, the parameters of each model, the
   criteria, and the artic version;
-- a default blueprint: the yard seen from behind and above the whole path,
-  beside the plots, each showing the whole run with its legend in a corner.
+- a default blueprint: the yard, seen from beside and above the combination
+  and following it, beside the plots on three tabs, each showing the whole
+  run with its legend in a corner.
 
 The 3-D yard is logged at :data:`YARD_RATE` and the plots at
 :data:`PLOT_RATE`, which keeps a minute of manoeuvre near 1 MB. Files are
@@ -192,7 +193,7 @@ def _log_boxes(rec: rr.RecordingStream, base: str, frame: pd.DataFrame, geo: _Ge
                 static=True)
         rec.log(f"{base}/{unit}/wheels",
                 rr.Boxes3D(centers=wheels, half_sizes=[[geo.R0, 0.15, geo.R0]] * len(wheels),
-                           colors=[colour], fill_mode="solid"), static=True)
+                           colors=[colour], fill_mode="majorwireframe"), static=True)
 
 
 def _rgb(rgba: np.ndarray) -> list[int]:
@@ -292,26 +293,26 @@ def _running_rms(eps: np.ndarray, w: np.ndarray) -> np.ndarray:
 
 
 PLOTS = (
-    ("steering_wheel", "Steering wheel delta_h [deg]"),
-    ("road_wheel", "Road-wheel angle delta [deg]"),
-    ("feedback", "Harness feedback delta_fb [deg]"),
-    ("speed", "Speed v_x_1 [km/h]"),
-    ("articulation", "Articulation gamma [deg]"),
-    ("yaw_rate/tractor", "Tractor yaw rate r_1 [deg/s]"),
-    ("yaw_rate/trailer", "Semitrailer yaw rate r_2 [deg/s]"),
-    ("lateral_velocity/tractor", "Tractor lateral velocity v_y_1 [m/s]"),
-    ("lateral_velocity/trailer", "Semitrailer lateral velocity v_y_2 [m/s]"),
-    ("error/lateral_position", "Running error eps_y1, eq. (8) [m]"),
-    ("error/yaw_rate", "Running error eps_r1, eq. (8) [deg/s]"),
+    ("Signals", (
+        ("steering_wheel", "Steering wheel delta_h [deg]"),
+        ("road_wheel", "Road-wheel angle delta [deg]"),
+        ("feedback", "Harness feedback delta_fb [deg]"),
+        ("speed", "Speed v_x_1 [km/h]"),
+        ("articulation", "Articulation gamma [deg]"),
+        ("yaw_rate/tractor", "Tractor yaw rate r_1 [deg/s]"))),
+    ("More signals", (
+        ("yaw_rate/trailer", "Semitrailer yaw rate r_2 [deg/s]"),
+        ("lateral_velocity/tractor", "Tractor lateral velocity v_y_1 [m/s]"),
+        ("lateral_velocity/trailer", "Semitrailer lateral velocity v_y_2 [m/s]"),
+        ("error/lateral_position", "Running error eps_y1, eq. (8) [m]"),
+        ("error/yaw_rate", "Running error eps_r1, eq. (8) [deg/s]"))),
+    ("Plant tyres", (
+        ("wheel_load", "Plant wheel loads Fz [kN]"),
+        ("slip_angle", "Plant tyre slip angles alpha [deg]"),
+        ("steer_torque", "Plant steering servo torque [kN m]"))),
 )
-"""The plots: their entity under ``/signals`` and their title, unit included."""
-
-TYRE_PLOTS = (
-    ("wheel_load", "Plant wheel loads Fz [kN]"),
-    ("slip_angle", "Plant tyre slip angles alpha [deg]"),
-    ("steer_torque", "Plant steering servo torque [kN m]"),
-)
-"""The plant's plots, on their own tab."""
+"""The plots by tab: their entity under ``/signals`` and their title, unit included.
+Six to a tab at most, so that every legend has room."""
 
 
 def _frame_box(log: Run, vehicle: Vehicle) -> tuple[np.ndarray, np.ndarray]:
@@ -331,8 +332,14 @@ def _frame_box(log: Run, vehicle: Vehicle) -> tuple[np.ndarray, np.ndarray]:
     return xy.min(axis=0), xy.max(axis=0)
 
 
-def _blueprint(name: str, lo: np.ndarray, hi: np.ndarray, plant: bool) -> rrb.Blueprint:
-    """The layout: the yard framing the whole path, beside the plots of the whole run."""
+def _blueprint(name: str, start: np.ndarray, plant: bool) -> rrb.Blueprint:
+    """The layout: the yard following the combination, beside the plots of the whole run.
+
+    ``start`` is the kingpin's position and the semitrailer's yaw at the
+    first sample [m, m, rad]: the eye starts beside and above it and then
+    tracks the measured semitrailer, so the combination stays in the middle
+    of the view with its path around it.
+    """
     whole = [rrb.VisibleTimeRange(tl, start=rrb.TimeRangeBoundary.infinite(),
                                   end=rrb.TimeRangeBoundary.infinite())
              for tl in ("time", "distance_cm")]
@@ -343,24 +350,24 @@ def _blueprint(name: str, lo: np.ndarray, hi: np.ndarray, plant: bool) -> rrb.Bl
                                                          end=rrb.TimeRangeBoundary.infinite())),
             plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=True))
 
-    panels = [rrb.Grid(*[view(g, title) for g, title in PLOTS], grid_columns=2, name="Signals")]
-    if plant:
-        panels.append(rrb.Vertical(*[view(g, title) for g, title in TYRE_PLOTS],
-                                   name="Plant tyres"))
-    centre = (lo + hi) / 2
-    span = float(max(hi - lo)) + 10.0
-    # From the south-south-east and above, far enough that the path's box fills
-    # most of the view (the viewer's vertical field of view is about 60 deg).
-    eye = rrb.EyeControls3D(position=[centre[0] + 0.25 * span, centre[1] - 0.8 * span,
-                                      0.6 * span],
-                            look_target=[centre[0], centre[1], 0.0], eye_up=[0.0, 0.0, 1.0])
+    panels = [rrb.Grid(*[view(g, title) for g, title in plots], grid_columns=2, name=tab)
+              for tab, plots in PLOTS if plant or tab != "Plant tyres"]
+    x, y, psi = start
+    # 26 m to the right of the kingpin, 8 m behind it and 20 m up: the ~17 m
+    # combination fills about half the view's width.
+    c, sn = np.cos(psi), np.sin(psi)
+    off = np.array([-8.0 * c + 26.0 * sn, -8.0 * sn - 26.0 * c])
+    target = np.array([x, y])
+    eye = rrb.EyeControls3D(position=[target[0] + off[0], target[1] + off[1], 20.0],
+                            look_target=[target[0], target[1], 1.0], eye_up=[0.0, 0.0, 1.0],
+                            tracking_entity="/yard/measured/trailer")
     return rrb.Blueprint(
         rrb.Horizontal(
             rrb.Vertical(rrb.Spatial3DView(origin="/yard", name=f"{name}: yard",
                                            eye_controls=eye),
                          rrb.TextDocumentView(origin="/description", name=f"{name}: description"),
                          row_shares=[4, 1]),
-            rrb.Tabs(*panels) if plant else panels[0],
+            rrb.Tabs(*panels),
             column_shares=[1, 1]),
         rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
         rrb.TimePanel(state="collapsed", timeline="time"))
@@ -439,7 +446,10 @@ def record_manoeuvre(path: Path, log: Run, runs: Mapping[str, Run], vehicle: Veh
     """
     lo, hi = _frame_box(log, vehicle)
     plant = any(has_pose(r.frame.columns) for r in runs.values())
-    with _recording(path, f"artic-{log.name}", _blueprint(log.name, lo, hi, plant),
+    f0 = log.frame.iloc[0]
+    ox, oy = _origin(f0["x_2"], f0["y_2"], f0["psi_2"], np.array(vehicle.sensor2[:2]))
+    with _recording(path, f"artic-{log.name}",
+                    _blueprint(log.name, np.array([ox, oy, f0["psi_2"]]), plant),
                     log.name) as rec:
         _log_manoeuvre(rec, log, runs, vehicle, metrics, extra, lo, hi)
     return Path(path)
@@ -472,7 +482,7 @@ def _log_manoeuvre(rec: rr.RecordingStream, log: Run, runs: Mapping[str, Run], v
     path_1 = f[["x_1", "y_1"]].to_numpy()
     # Every plot is one entity whose lines are the sources' columns: one row per
     # sample for all of them, so the recording stays small.
-    lines: dict[str, list] = {g: [] for g, _ in PLOTS}
+    lines: dict[str, list] = {g: [] for _, plots in PLOTS for g, _ in plots}
 
     def add(group, values, names, colours):
         v = np.full((len(t), np.size(names)), np.nan)
