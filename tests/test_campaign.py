@@ -108,8 +108,8 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
         raise RuntimeError("interrupted")
 
     monkeypatch.setattr(eff_module, "measure", broken)
-    with pytest.raises(RuntimeError, match="interrupted"):
-        run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2)
+    with pytest.raises(RuntimeError, match="interrupted"):  # --remeasure: measure again
+        run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2, remeasure=True)
     assert not (out / "report.md").exists()
 
 

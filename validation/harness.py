@@ -252,7 +252,7 @@ def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
 
 
 def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
-                    gain: float = DEFAULT_GAIN) -> Run:
+                    gain: float = DEFAULT_GAIN, extras: bool = True) -> Run:
     """Drive a model from a log with the reversing feedback.
 
     Parameters
@@ -266,6 +266,8 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
         ``model.name`` turns ``delta_h`` into ``delta_center``.
     gain : float
         K [rad/rad]; 0 runs open loop.
+    extras : bool
+        Record the plant's ``extras()`` columns (about a fifth of its step time).
 
     Returns
     -------
@@ -277,14 +279,14 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
     """
     steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
     inputs = loop_inputs(run, vehicle, steering)
-    extras: dict[str, np.ndarray] = {}
-    obs, delta, delta_fb, sat, n = run_inputs(model, inputs, vehicle, gain, extras)
+    extra: dict[str, np.ndarray] | None = {} if extras else None
+    obs, delta, delta_fb, sat, n = run_inputs(model, inputs, vehicle, gain, extra)
     frame = new_frame(inputs.t[:n], inputs.delta_h[:n], obs[:n])
     frame["delta"] = delta[:n]
     frame["delta_fb"] = delta_fb[:n]
     frame["delta_saturated"] = sat[:n]
-    if extras:  # the plant's outputs beyond the schema (see plant.Plant.extras)
-        frame = pd.concat([frame, pd.DataFrame({c: a[:n] for c, a in extras.items()})],
+    if extra:  # the plant's outputs beyond the schema (see plant.Plant.extras)
+        frame = pd.concat([frame, pd.DataFrame({c: a[:n] for c, a in extra.items()})],
                           axis=1)
     status = "ok"
     if n < inputs.t.size:
