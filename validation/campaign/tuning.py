@@ -219,13 +219,16 @@ def tune_model(model: str, vehicle: Vehicle, logs: Sequence[Run], jobs: int = 1,
     # step in max_nfev, nor the start, evaluated here once more.
     bound = 1 + max_nfev * (1 + len(obj.bounds))
     last = [t0]
+    first = [0.0]  # end of the first evaluation, which may include compiling
 
     def report(o: Objective) -> None:
         now = time.perf_counter()
-        if progress is None or now - last[0] < TUNING_EVERY:
+        if o.evaluations == 1:
+            first[0] = now
+        if progress is None or o.evaluations < 3 or now - last[0] < TUNING_EVERY:
             return
         last[0] = now
-        per = (now - t0) / o.evaluations
+        per = (now - first[0]) / (o.evaluations - 1)
         progress(f"tuning {model} on {len(logs)} logs: evaluation {o.evaluations} of at most "
                  f"{bound} ({duration(now - t0)} so far, {duration(per)} each; at most "
                  f"{duration(per * (bound - o.evaluations))} left, usually far less)")
