@@ -337,8 +337,11 @@ class Plant:
         contact = d.site_xpos[self._hub].copy()
         contact[:, 2] = 0.0
         F = self.last_forces
-        Fz = np.maximum(F[:, 2] / self._n_tyres, self.tyre.FZMIN)
-        slip = np.arctan(d.act[self._act_v] / self.tyre.sigma_alpha(Fz))
+        Fz = F[:, 2] / self._n_tyres
+        slip = np.empty(self.n_wheels)
+        for k, p in enumerate(self._tyres):  # each tyre file on its wheels
+            w = self._tyre_set == k
+            slip[w] = np.arctan(d.act[self._act_v[w]] / p.sigma_alpha(np.maximum(Fz[w], p.FZMIN)))
         torque = d.actuator_force[self._servo[0]] if self._servo else 0.0
         return np.concatenate([pose, d.qpos[self._steer_qpos], d.qpos[self._spin_qpos],
                                contact.ravel(), F.ravel(), slip, [torque]])
