@@ -29,9 +29,10 @@ out, and the report says which.
 The time stamps may be irregular. The import runs the same checks and
 repairs as for exports (:mod:`validation.logs.checks`): exact duplicates
 dropped, short NaN runs interpolated, time going back, gaps (longer than
-``max_gap`` in ``[time]``, by default 2.5 times the median interval), GNSS
-jumps and a yaw rate in the wrong unit refused; then every channel is
-interpolated linearly onto the 100 Hz base, and the report says so.
+``max_gap`` in ``[time]``, by default 2.5 times the median interval) and GNSS
+jumps refused; then every channel is interpolated linearly onto the 100 Hz
+base, and the report says so. The importer then runs the consistency checks
+(:mod:`validation.logs.consistency`: units, signs, the hitch) on the result.
 """
 
 from __future__ import annotations
@@ -48,7 +49,6 @@ from mjcf.vehicle import Vehicle
 from validation.logs.checks import (
     Report,
     check_jumps,
-    check_rate_unit,
     clean_time,
     fill_nan_runs,
 )
@@ -217,7 +217,6 @@ def import_mapped(csv: Path, map_path: Path | dict,
         if f"psi_{i}" not in si:
             continue
         psi = si[f"psi_{i}"]
-        check_rate_unit(t, psi, si[f"r_{i}"], spec["channels"][f"r_{i}"][0], report)
         ve, vn = _world(psi, si[f"v_x_{i}"], si[f"v_y_{i}"])
         check_jumps(t, si[f"x_{i}"], si[f"y_{i}"], ve, vn, report)
     if len(t) < 2:
