@@ -282,14 +282,16 @@ def check_table(path: Path | str, prefix: str, table: Any,
 def describe() -> str:
     """Return the file format as text, one line per key."""
     lines = []
-    for section, fields in [*SECTIONS.items(), *OPTIONAL_SECTIONS.items(),
-                            ("tractor.axle / trailer.axle", AXLE),
-                            ("steering.kin / .stm / .mbd", STEERING_OVERRIDE)]:
+    groups = [*SECTIONS.items(), *OPTIONAL_SECTIONS.items(),
+              ("tractor.axle / trailer.axle", AXLE),
+              ("steering.kin / .stm / .mbd", STEERING_OVERRIDE)]
+    width = max(len(key) for _, fields in groups for key in fields) + 2  # the longest key fits
+    for section, fields in groups:
         lines.append(f"[{section}]")
         for key, f in fields.items():
             unit = f" [{f.unit}]" if f.unit else ""
             opt = " (optional)" if f.optional else ""
-            lines.append(f"  {key:<15}{f.doc}{unit}{opt}")
+            lines.append(f"  {key:<{width}}{f.doc}{unit}{opt}")
     lines.append("[tyre.scaling]  (optional, plant) a factor per Magic Formula scaling "
                  f"coefficient: {', '.join(TYRE_SCALING)}")
     return "\n".join(lines)

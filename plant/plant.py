@@ -290,11 +290,61 @@ class Plant:
         self._trailer = m.body(nm.TRAILER).id
         self._hitch_yaw = m.joint(nm.HITCH_YAW).id
         self._sensor = [m.site(nm.sensor(1)).id, m.site(nm.sensor(2)).id]
+        self._index_extras(lay, ends)
         self._s1 = np.array(v.sensor1[:2])
         self._sensor_yaw = (v.sensor1_yaw, v.sensor2_yaw)
         self.mass = v.m1 + v.m2
         self.R0, self.k_t, self.c_t = lay.R0, lay.k_tyre, lay.c_tyre
         self._per_wheel_tyre()
+
+    def _index_extras(self, lay, ends) -> None:
+        """Addresses and column names of :meth:`extras`."""
+        m = self.model
+        names = [nm.TRACTOR, nm.TRAILER, *(nm.axle(a.axle.name) for a in lay.axles)]
+        self._pose_bodies = np.array([m.body(b).id for b in names])
+        self._spin_qpos = np.array([m.jnt_qposadr[m.joint(nm.spin(a.axle.name, s)).id]
+                                    for a, s in ends])
+        steered = [(a, s) for a, s in ends if a.axle.steered]
+        self._steer_qpos = np.array([m.jnt_qposadr[m.joint(nm.steer(a.axle.name, s)).id]
+                                     for a, s in steered], dtype=int)
+        wheels = [f"{a.axle.name}.{s}" for a, s in ends]
+        cols = [f"pose.{b}.{c}" for b in names for c in ("x", "y", "z", "qw", "qx", "qy", "qz")]
+        cols += [f"steer.{a.axle.name}.{s}" for a, s in steered]
+        cols += [f"spin.{w}" for w in wheels]
+        for what in ("contact", "force"):
+            cols += [f"{what}.{w}.{c}" for w in wheels for c in ("x", "y", "z")]
+        cols += [f"slip.{w}" for w in wheels]
+        cols.append("steer_torque")
+        self.extra_columns: tuple[str, ...] = tuple(cols)
+
+    def extras(self) -> np.ndarray:
+        """Outputs beyond the signal schema, for drawings and plots, in :attr:`extra_columns` order.
+
+        - ``pose.BODY.{x,y,z,qw,qx,qy,qz}``: world position [m] and orientation
+          (MuJoCo's w, x, y, z quaternion) of the tractor, the semitrailer and
+          every axle body;
+        - ``steer.AXLE.SIDE``: steering-hinge angle of each steered wheel [rad];
+        - ``spin.AXLE.SIDE``: wheel spin angle [rad];
+        - ``contact.AXLE.SIDE.{x,y,z}``: contact point, world frame [m];
+        - ``force.AXLE.SIDE.{x,y,z}``: tyre force of the wheel end there from
+          the last callback, world frame [N] (``z`` is the wheel load);
+        - ``slip.AXLE.SIDE``: transient slip angle alpha of the tyre [rad];
+        - ``steer_torque``: the front steering servo's actuator torque [N m].
+        """
+        d = self.data
+        b = self._pose_bodies
+        pose = np.concatenate([d.xpos[b], d.xquat[b]], axis=1).ravel()
+        contact = d.site_xpos[self._hub].copy()
+        contact[:, 2] = 0.0
+        F = self.last_forces
+        Fz = F[:, 2] / self._n_tyres
+        slip = np.empty(self.n_wheels)
+        for k, p in enumerate(self._tyres):  # each tyre file on its wheels
+            w = self._tyre_set == k
+            slip[w] = np.arctan(d.act[self._act_v[w]] / p.sigma_alpha(np.maximum(Fz[w], p.FZMIN)))
+        torque = d.actuator_force[self._servo[0]] if self._servo else 0.0
+        return np.concatenate([pose, d.qpos[self._steer_qpos], d.qpos[self._spin_qpos],
+                               contact.ravel(), F.ravel(), slip, [torque]])
 
     # ------------------------------------------------------------ tyres
     def _wheel_kinematics(self, d: mujoco.MjData):

@@ -12,7 +12,7 @@ import pytest
 
 from mjcf import load_vehicle
 from validation.campaign.main import run_campaign
-from validation.campaign.recording import read_rows
+from validation.campaign.recording import PLOT_RATE, read_rows
 from validation.logs.runfile import read_run
 from validation.synthetic.testmatrix import MATRIX, TUNING
 
@@ -28,10 +28,13 @@ def check_recordings(out):
         if path.stem == "campaign":
             assert rows["/criteria/eps_n/kin"] == metrics.log.nunique()
             continue
-        for model in metrics.model.unique():
-            run = read_run(out / "runs" / f"{path.stem}.{model}.parquet")
-            assert rows[f"/signals/articulation/{model}"] == len(run.frame), path.name
-        assert rows["/signals/articulation/measured"] >= len(run.frame)
+        log = read_run(out / "logs" / f"{path.stem}.parquet")
+        # One plot row per PLOT_RATE sample of the log, every model's line in it.
+        every = round(1.0 / (PLOT_RATE * 0.01))
+        assert rows["/signals/articulation"] == math.ceil(len(log.frame) / every), path.name
+        if "mbd" in set(metrics.model):
+            assert rows["/yard/mbd/axle.front/wheel.front.L"] > 0
+            assert rows["/yard/mbd/tyre_forces"] > 0
 
 
 @pytest.mark.slow
@@ -39,6 +42,8 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     out = tmp_path / "out"
     paths = run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2)
     m = pd.read_csv(paths["metrics"])
+    assert (m.model == "floor").sum() == 3  # the truth's own plant, one row per validated log
+    m = m[m.model != "floor"].reset_index(drop=True)
     validated = ["02-constant-steer-unloaded-200deg-10kph-left",
                  "27-ramp-steer-reverse-unloaded-30deg-6kph-left", "45-docking-unloaded-left"]
     assert sorted(m.log.unique()) == validated  # the tuning logs are not validated
@@ -54,7 +59,7 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     t3 = pd.read_csv(out / "table3_reverse.csv", index_col=0)
     assert list(t2.columns) == ["eps_a", "eps_v", "eps_p", "eps_n", "n"]
     assert list(t3.columns) == ["eps_a", "eps_v", "J_steer", "eps_n", "n"]
-    assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd"}
+    assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
     eff = pd.read_csv(out / "efficiency.csv", index_col=0)
     assert eff.loc["mbd", "ratio_to_mbd"] == 1.0 and eff.loc["kin", "ratio_to_mbd"] < 1.0
     tuned = load_vehicle(out / "params" / "gosar2022-unloaded.tuned.toml")
@@ -76,13 +81,28 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     lost.unlink()
     capsys.readouterr()
     run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2)
-    err = capsys.readouterr().err
+    captured = capsys.readouterr()
+    err = captured.err
     assert "5 of 5 manoeuvres already generated" in err and "tuning reused" in err
-    assert "gain sweep reused" in err
+    assert "gain sweep reused" in err and "8 of 9 runs reused" in err
+    assert "efficiency reused" in err
     assert lost.is_file() and kept.stat().st_mtime_ns == stamp
+    # The run ends with the two tables and where the report is, not the report.
+    assert "Table 2 columns" in captured.out and "Table 3 columns" in captured.out
+    assert "## Discussion" not in captured.out and str(out / "report.md") in captured.out
     # Same inputs, same numbers: the re-simulated run gives the same criteria.
     again = pd.read_csv(out / "metrics.csv")
+    again = again[again.model != "floor"].reset_index(drop=True)
     pd.testing.assert_frame_equal(again.drop(columns="wall_s"), m.drop(columns="wall_s"))
+    # Two identical runs give the same report but for its time stamp: a run that
+    # reuses everything keeps the stage times and efficiency of the run that computed them.
+    first = (out / "report.md").read_text().splitlines()
+    run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2)
+    second = (out / "report.md").read_text().splitlines()
+    stamp_line = next(i for i, line in enumerate(first) if "UTC" in line)
+    assert [x for i, x in enumerate(first) if i != stamp_line] == \
+        [x for i, x in enumerate(second) if i != stamp_line]
+    assert "reused (" in capsys.readouterr().err
 
     # A run that fails part way leaves no report behind to be mistaken for its own.
     import validation.campaign.efficiency as eff_module
@@ -91,8 +111,8 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
         raise RuntimeError("interrupted")
 
     monkeypatch.setattr(eff_module, "measure", broken)
-    with pytest.raises(RuntimeError, match="interrupted"):
-        run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2)
+    with pytest.raises(RuntimeError, match="interrupted"):  # --remeasure: measure again
+        run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2, remeasure=True)
     assert not (out / "report.md").exists()
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -25,6 +26,11 @@ def test_vehicle_keys(capsys):
     assert main(["vehicle", "keys"]) == 0
     out = capsys.readouterr().out
     assert "delta_h_offset" in out and "[rad]" in out
+    # Every description starts in one column, after the longest key and two spaces.
+    rows = [line for line in out.splitlines() if line.startswith("  ")]
+    starts = {len(line) - len(line[2:].split(None, 1)[1]) for line in rows}
+    assert len(starts) == 1
+    assert "suspension_stiffness  vertical rate" in out
 
 
 @pytest.mark.parametrize("model", ["kin", "stm"])
@@ -61,8 +67,14 @@ def constant_steer_logs(tmp_path) -> list[str]:
 def test_validate_writes_metrics_and_runs(tmp_path, capsys):
     logs = constant_steer_logs(tmp_path)
     out = tmp_path / "val"
-    assert main(["validate", *logs, "--models", "kin,stm", "--gain", "3",
+    assert main(["validate", *logs, "--models", "KIN,stm", "--gain", "3",
                  "--out-dir", str(out)]) == 0
+    # Recordings by default, one per log, for the user's own logs too.
+    assert sorted(p.name for p in (out / "recordings").glob("*.rrd")) == \
+        sorted(f"{Path(p).stem}.rrd" for p in logs)
+    assert main(["validate", *logs, "--models", "kin", "--no-recordings",
+                 "--out-dir", str(tmp_path / "quiet")]) == 0
+    assert not (tmp_path / "quiet" / "recordings").exists()
     m = pd.read_csv(out / "metrics.csv")
     assert list(m.columns[:2]) == ["log", "model"]
     assert set(CRITERIA) <= set(m.columns)

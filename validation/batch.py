@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit, prange
@@ -74,13 +74,18 @@ def batch_loop(kind, X0, P, s1, s2, starts, dt, delta_c, u1, u1_dot, gamma_meas,
 
 @dataclass(frozen=True)
 class BatchResult:
-    """Per log: observations, applied and feedback steering, saturation, rows computed."""
+    """Per log: observations, applied and feedback steering, saturation, rows computed.
+
+    ``limited`` holds, per log, what the model had to limit (the plant's
+    warnings as one line, :mod:`validation.plantnotes`), or ``""``.
+    """
 
     obs: list[np.ndarray]
     delta: list[np.ndarray]
     delta_fb: list[np.ndarray]
     saturated: list[np.ndarray]
     n_done: np.ndarray
+    limited: list[str] = field(default_factory=list)
 
 
 def _split(starts, *arrays):
@@ -125,15 +130,18 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
             vehicle.steering.delta_max, vehicle.gamma_max)
         return BatchResult(*_split(starts, obs, d, f, s), n_done)
     probe.close()
+    from validation.plantnotes import collect, summary
 
     def one(inp):
-        model = model_factory(vehicle)
-        try:
-            return run_inputs(model, inp, vehicle, gain)
-        finally:
-            model.close()
+        with collect() as notes:
+            model = model_factory(vehicle)
+            try:
+                return (*run_inputs(model, inp, vehicle, gain), summary(notes))
+            finally:
+                model.close()
 
     with ThreadPoolExecutor(max(1, jobs)) as pool:
         out = list(pool.map(one, inputs))
     return BatchResult([o[0] for o in out], [o[1] for o in out], [o[2] for o in out],
-                       [o[3] for o in out], np.array([o[4] for o in out]))
+                       [o[3] for o in out], np.array([o[4] for o in out]),
+                       [o[5] for o in out])

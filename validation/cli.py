@@ -6,10 +6,12 @@ Subcommands:
 - ``artic vehicle keys``: the parameter file format;
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
 - ``artic validate LOG.parquet ... --vehicle V --models kin,stm,mbd [--gain K]
-  [--gain-sweep] --out-dir DIR``: metrics and the Table 2/3 summaries;
+  [--gain-sweep] [--no-recordings] --out-dir DIR``: metrics, the Table 2/3
+  summaries and one Rerun recording per log;
 - ``artic tune LOG.parquet ... --vehicle V --models kin,stm,mbd --out PARAMS.toml``;
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
-- ``artic logs import SRC... --out-dir DIR``: exports to canonical Parquet;
+- ``artic logs import SRC... [--channels MAP.toml] [--vehicle V] --out-dir DIR``:
+  exports (or CSVs through a channel map) to canonical Parquet;
 - ``artic campaign [--out-dir DIR]``: the main job.
 
 Errors in the user's input end with exit code 2 and a one-line message that
@@ -45,6 +47,9 @@ from validation.models import NAMES
 from validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
 from validation.steering import SteeringRangeError
 from validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
+
+JOBS = os.cpu_count() or 1
+"""Default of every ``--jobs``: the number of cores."""
 
 USER_ERRORS = (VehicleFileError, LogError, SteeringRangeError, ValueError, FileNotFoundError)
 
@@ -133,6 +138,9 @@ def _validate(args: argparse.Namespace) -> int:
     models = parse_models(args.models)
     out = check_output_dir(args.out_dir)
     logs = _read_logs(args, v)
+    for log in logs:
+        if log.meta.get("derived"):
+            print(f"note: {log.name}: {log.meta['derived']['note']}")
     with OutDirLock(out, "validate"):
         clean_stale(out)
         metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
@@ -142,6 +150,8 @@ def _validate(args: argparse.Namespace) -> int:
         print(f"wrote {path} ({len(metrics)} rows) and {len(metrics) - len(failed)} runs in "
               f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
                                    "status in metrics.csv" if len(failed) else ""))
+        if args.recordings:
+            _validate_recordings(out, logs, v, models, metrics)
         for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
                                        ("reverse", "table3_reverse", "Reverse (Table 3 columns)")):
             table = summary(metrics, direction)
@@ -168,6 +178,22 @@ def _validate(args: argparse.Namespace) -> int:
             print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
                   f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
     return 1 if len(failed) else 0
+
+
+def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
+    """One Rerun recording per log, with every model that has a result on it."""
+    from validation.campaign.recording import record_manoeuvre
+    from validation.campaign.validate import is_failed
+    from validation.logs.runfile import read_run
+
+    for log in logs:
+        rows = metrics[metrics["log"] == log.name]
+        ok = [r.model for r in rows.itertuples() if not is_failed(r.status)]
+        runs = {m: read_run(out / "runs" / f"{log.name}.{m}.parquet") for m in models if m in ok}
+        target = record_manoeuvre(out / "recordings" / f"{log.name}.rrd", log, runs, vehicle,
+                                  rows)
+        print(f"wrote {target} ({target.stat().st_size / 1e6:.1f} MB; open it with "
+              f"`rerun {target}`)")
 
 
 def _tune(args: argparse.Namespace) -> int:
@@ -228,7 +254,7 @@ def _logs_import(args: argparse.Namespace) -> int:
     accept = parse_accept(args.accept)
     vehicle = load_vehicle(args.vehicle) if args.vehicle else None
     out = check_output_dir(args.out_dir)
-    for path in import_sources(args.sources, out, accept, vehicle):
+    for path in import_sources(args.sources, out, accept, vehicle, channels=args.channels):
         print(f"wrote {path}")
     return 0
 
@@ -288,9 +314,11 @@ def _campaign(args: argparse.Namespace) -> int:
                        tls_cert=args.tls_cert, tls_key=args.tls_key)
     dask.check(args.executor, args.scheduler)
     out = check_output_dir(args.out_dir)
+    only = [o for o in args.only.split(",") if o] if args.only else None
     run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
-                 sweep_models=sweep, recordings=not args.no_recordings,
-                 executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth)
+                 sweep_models=sweep, only=only, recordings=args.recordings,
+                 executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth,
+                 remeasure=args.remeasure)
     return 0
 
 
@@ -349,8 +377,11 @@ def build_parser() -> argparse.ArgumentParser:
     val.add_argument("--out-dir", required=True, type=Path)
     val.add_argument("--gain-sweep", action="store_true",
                      help="also sweep K over the reverse logs; marks the stability bound")
-    val.add_argument("--jobs", type=options.JOBS, default=1,
-                     help="threads (default: %(default)s)")
+    val.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
+                     help="write one Rerun recording per log in OUT_DIR/recordings "
+                          "(default: on)")
+    val.add_argument("--jobs", type=options.JOBS, default=JOBS,
+                     help="threads (default: the number of cores, %(default)s)")
     _add_accept(val)
     val.set_defaults(func=_validate)
 
@@ -360,8 +391,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="preset name or TOML file (default: %(default)s)")
     tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
     tun.add_argument("--out", required=True, type=Path, help="tuned vehicle file (.toml)")
-    tun.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
-                     help="threads for the plant (default: %(default)s)")
+    tun.add_argument("--jobs", type=options.JOBS, default=JOBS,
+                     help="threads for the plant (default: the number of cores, %(default)s)")
     _add_accept(tun)
     tun.set_defaults(func=_tune)
 
@@ -380,9 +411,13 @@ def build_parser() -> argparse.ArgumentParser:
                           "trailer.csv, can.csv")
     imp.add_argument("--out-dir", required=True, type=Path)
     imp.add_argument("--vehicle", default=None,
-                     help="preset name or TOML file for the steering and hitch checks "
-                          "(default: the steering check with the gosar2022-unloaded map, "
-                          "the hitch fitted)")
+                     help="preset name or TOML file for the steering and hitch checks, and "
+                          "whose geometry derives the semitrailer's channels of a tractor-only "
+                          "log (default: the steering check with the gosar2022-unloaded map, "
+                          "the hitch fitted, and gosar2022-unloaded's geometry)")
+    imp.add_argument("--channels", type=Path, default=None,
+                     help="a channel map (.toml) for a CSV with other column names and units; "
+                          "see docs/channels-example.toml")
     _add_accept(imp)
     imp.set_defaults(func=_logs_import)
     gen = lsub.add_parser("generate", help="the synthetic measured campaign")
@@ -395,7 +430,7 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--sensors", choices=("default", "ideal"), default="default",
                      help="the measurement chain: noisy RTK/INS/CAN models, or the truth "
                           "itself (default: %(default)s)")
-    gen.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
+    gen.add_argument("--jobs", type=options.JOBS, default=JOBS,
                      help="processes (default: the number of cores, %(default)s)")
     gen.set_defaults(func=_logs_generate)
 
@@ -425,7 +460,14 @@ def build_parser() -> argparse.ArgumentParser:
                       help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     camp.add_argument("--sweep-models", default="kin,stm",
                       help="models in the gain sweep; empty to skip it (default: %(default)s)")
-    camp.add_argument("--no-recordings", action="store_true", help="skip the .rrd files")
+    camp.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
+                      help="write the Rerun recordings (default: on)")
+    camp.add_argument("--only", default="",
+                      help="a part of the campaign: comma-separated manoeuvre names or prefixes "
+                           "(include tuning manoeuvres such as 00-,01-,06-,07- to tune)")
+    camp.add_argument("--remeasure", action="store_true",
+                      help="measure the efficiency again on a resumed run (it keeps the "
+                           "original run's figures otherwise)")
     camp.add_argument("--executor", choices=("local", "dask"), default="local",
                       help="where generation and validation run (default: %(default)s)")
     camp.add_argument("--scheduler", default=None,
@@ -440,7 +482,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="with a tls:// scheduler: this client's certificate (PEM)")
     camp.add_argument("--tls-key", type=Path, default=None,
                       help="with a tls:// scheduler: this client's private key (PEM)")
-    camp.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
+    camp.add_argument("--jobs", type=options.JOBS, default=JOBS,
                       help="processes and threads (default: the number of cores, %(default)s)")
     camp.set_defaults(func=_campaign)
     return p

@@ -34,6 +34,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 from numba import njit
 from scipy.signal import savgol_filter
 
@@ -201,8 +202,12 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
 
 
 def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
-               gain: float = DEFAULT_GAIN) -> tuple[np.ndarray, ...]:
+               gain: float = DEFAULT_GAIN,
+               extras: dict[str, np.ndarray] | None = None) -> tuple[np.ndarray, ...]:
     """Drive a model through prepared inputs.
+
+    With ``extras`` (a dict), a model with ``extras()`` (the plant) has its
+    per-sample outputs beyond the schema stored there by column name, as float32.
 
     Returns
     -------
@@ -219,20 +224,26 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
     form = model.compiled()
     if form is not None:
         return compiled_loop(*form, *args)
-    return _python_loop(model, *args)
+    return _python_loop(model, *args, extras=extras)
 
 
 def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
-                 delta_max, gamma_max):
+                 delta_max, gamma_max, extras=None):
     n = delta_c.size
     obs = np.full((n, 13), np.nan)
     delta, delta_fb = np.full(n, np.nan), np.full(n, np.nan)
     sat = np.zeros(n, dtype=bool)
+    names = getattr(model, "extra_columns", ()) if extras is not None else ()
+    ext = np.full((n, len(names)), np.nan, dtype=np.float32)
+    if names:
+        extras.update((c, ext[:, j]) for j, c in enumerate(names))
     for k in range(n):
         d, f, s = feedback_law(delta_c[k], model.gamma, gamma_meas[k], reversing[k], gain,
                                delta_max)
         o = model.observe(d)
         obs[k], delta[k], delta_fb[k], sat[k] = o, d, f, s
+        if names:
+            ext[k] = model.extras()
         if abs(o[12]) > gamma_max or not np.all(np.isfinite(o)):
             return obs, delta, delta_fb, sat, k + 1
         if k + 1 < n:
@@ -241,7 +252,7 @@ def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
 
 
 def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
-                    gain: float = DEFAULT_GAIN) -> Run:
+                    gain: float = DEFAULT_GAIN, extras: bool = True) -> Run:
     """Drive a model from a log with the reversing feedback.
 
     Parameters
@@ -255,21 +266,28 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
         ``model.name`` turns ``delta_h`` into ``delta_center``.
     gain : float
         K [rad/rad]; 0 runs open loop.
+    extras : bool
+        Record the plant's ``extras()`` columns (about a fifth of its step time).
 
     Returns
     -------
     Run
         The model's run in the signal schema plus ``delta``, ``delta_fb`` and
-        ``delta_saturated``. ``meta["status"]`` is ``"ok"``, or says where
-        and why the run stopped early; the rows after that are not written.
+        ``delta_saturated`` (and the plant's ``extras()`` columns).
+        ``meta["status"]`` is ``"ok"``, or says where and why the run stopped
+        early; the rows after that are not written.
     """
     steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
     inputs = loop_inputs(run, vehicle, steering)
-    obs, delta, delta_fb, sat, n = run_inputs(model, inputs, vehicle, gain)
+    extra: dict[str, np.ndarray] | None = {} if extras else None
+    obs, delta, delta_fb, sat, n = run_inputs(model, inputs, vehicle, gain, extra)
     frame = new_frame(inputs.t[:n], inputs.delta_h[:n], obs[:n])
     frame["delta"] = delta[:n]
     frame["delta_fb"] = delta_fb[:n]
     frame["delta_saturated"] = sat[:n]
+    if extra:  # the plant's outputs beyond the schema (see plant.Plant.extras)
+        frame = pd.concat([frame, pd.DataFrame({c: a[:n] for c, a in extra.items()})],
+                          axis=1)
     status = "ok"
     if n < inputs.t.size:
         g = obs[n - 1, 12]

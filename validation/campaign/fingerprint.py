@@ -27,7 +27,8 @@ SUFFIXES = (".py", ".c", ".toml", ".tir")
 PRESENTATION = frozenset({
     "validation/campaign/report.py", "validation/campaign/tables.py",
     "validation/campaign/plots.py", "validation/campaign/recording.py",
-    "validation/cli.py", "validation/entry.py",
+    "validation/cli.py", "validation/entry.py", "validation/campaign/plantshape.py",
+    "validation/progress.py",
 })
 """Files that turn results into text and pictures; no cached result depends on them."""
 

@@ -27,6 +27,7 @@ from validation.harness import loop_inputs
 from validation.logs.runfile import Run, new_frame
 from validation.metrics import run_metrics
 from validation.models import spec
+from validation.progress import Counter
 from validation.steering import SteeringMap
 
 DEFAULT_GAINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
@@ -53,6 +54,9 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
         K values [rad/rad]; each vehicle's ``K_min`` is added.
     jobs : int
         Threads for the plant.
+    progress : callable, optional
+        Receives progress lines with counts and the time left, and one line
+        per (model, log) on which the model had to limit something.
 
     Returns
     -------
@@ -64,7 +68,9 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
     bounds = [stability_bound(v) for v, _ in logs_by_vehicle.values()]
     ks = sorted(set(map(float, gains)) | set(bounds))
     rows = []
+    counter = Counter(len(models) * len(ks), "gain sweep", progress)
     for model in models:
+        limited: dict[str, str] = {}
         for k in ks:
             per_log = []
             stopped = 0
@@ -75,6 +81,8 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
                 inputs = [loop_inputs(log, vehicle, steering) for log in logs]
                 res = run_batch(spec(model).build, vehicle, inputs, k, jobs)
                 for i, log in enumerate(logs):
+                    if res.limited and res.limited[i]:
+                        limited.setdefault(log.name, f"K = {k:.3g}: {res.limited[i]}")
                     n = int(res.n_done[i])
                     stopped += n < inputs[i].t.size
                     frame = new_frame(inputs[i].t[:n], inputs[i].delta_h[:n], res.obs[i][:n])
@@ -85,9 +93,11 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
             rows.append({"model": model, "K": k, "J_steer": m["J_steer"].mean(),
                          "eps_n": m["eps_n"].mean(), "eps_a": m["eps_a"].mean(),
                          "eps_v": m["eps_v"].mean(), "stopped": stopped, "n": len(m)})
-            if progress is not None:
-                progress(f"gain sweep {model} K = {k:.3g}: J_steer {rows[-1]['J_steer']:.1f} %, "
-                         f"eps_n {rows[-1]['eps_n']:.1f} %, {stopped} of {len(m)} stopped")
+            counter.step(f"{model} K = {k:.3g}: J_steer {rows[-1]['J_steer']:.1f} %, eps_n "
+                         f"{rows[-1]['eps_n']:.1f} %, {stopped} of {len(m)} stopped")
+        if progress is not None:
+            for name, text in limited.items():
+                progress(f"gain sweep {model} on {name}: limited (first at {text})")
     out = pd.DataFrame(rows)
     out.attrs["K_min"] = float(max(bounds))
     return out

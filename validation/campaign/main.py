@@ -73,6 +73,7 @@ from validation.logs.runfile import (
 )
 from validation.models import NAMES
 from validation.outputs import OutDirLock, clean_stale
+from validation.progress import Counter
 from validation.synthetic.generate import generate_campaign
 from validation.synthetic.testmatrix import TUNING
 
@@ -80,38 +81,80 @@ LOADS = ("unloaded", "loaded")
 PRESET = "gosar2022-{load}"
 
 
-class Stages:
-    """Wall time per stage, with progress lines."""
+TIMINGS = "timings.json"
+"""Wall times of the stages and the efficiency figures as first measured, with the run's key."""
 
-    def __init__(self, progress: Callable[[str], None]) -> None:
+
+class Stages:
+    """Wall time per stage, with progress lines.
+
+    A stage that only reused earlier results (see :meth:`reused`) reports the
+    wall time it took when it was computed, from ``saved``, so that a resumed
+    campaign's report matches the original run's. ``save`` receives the
+    times after every stage.
+    """
+
+    def __init__(self, progress: Callable[[str], None], saved: dict[str, float] | None = None,
+                 save: Callable[[dict[str, float]], None] | None = None) -> None:
         self.times: dict[str, float] = {}
         self.progress = progress
+        self.saved = dict(saved or {})
+        self.save = save
         self._name = ""
         self._t0 = 0.0
+        self._reused = False
 
     def __call__(self, name: str) -> Stages:
         """Name the stage the next ``with`` block times."""
         self._name = name
         return self
 
+    def reused(self, yes: bool = True) -> None:
+        """Mark the current stage as one that computed nothing new."""
+        self._reused = yes
+
+    def all_reused(self) -> bool:
+        """Whether every stage so far was reused."""
+        return all(self._was.values())
+
     def __enter__(self) -> Stages:
         self._t0 = time.perf_counter()
+        self._reused = False
+        if not hasattr(self, "_was"):
+            self._was: dict[str, bool] = {}
         self.progress(f"== {self._name}")
         return self
 
     def __exit__(self, *exc) -> None:
-        self.times[self._name] = time.perf_counter() - self._t0
-        if exc[0] is None:
-            self.progress(f"== {self._name}: {self.times[self._name]:.1f} s")
+        measured = time.perf_counter() - self._t0
+        if exc[0] is not None:
+            return
+        name = self._name
+        self._was[name] = self._reused
+        if self._reused and name in self.saved:
+            self.times[name] = self.saved[name]
+            self.progress(f"== {name}: reused ({measured:.1f} s now; the {self.saved[name]:.1f} s "
+                          "it took when computed are kept)")
+        else:
+            self.times[name] = measured
+            self.progress(f"== {name}: {measured:.1f} s")
+        if self.save is not None:
+            self.save(self.times)
 
 
 def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
               only: list[str] | None = None, executor: Executor | None = None,
               truth: str = "structural") -> list[Run]:
     """Generate (or reuse) the synthetic campaign and import it (or reuse the import)."""
+    return _load_logs(out_dir, seed, jobs, only, executor, truth)[0]
+
+
+def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
+               executor: Executor | None, truth: str = "structural") -> tuple[list[Run], bool]:
+    """:func:`load_logs`, and whether every log was reused as it was."""
     exports = generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
                                 jobs=jobs, only=only, executor=executor, truth=truth)
-    logs = []
+    logs, imported = [], 0
     for folder in exports:
         target = out_dir / "logs" / f"{folder.name}.parquet"
         if target.is_file() and target.stat().st_mtime >= (folder / "meta.json").stat().st_mtime:
@@ -125,7 +168,11 @@ def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
             stderr_progress(f"repaired: {line}")
         write_run(run, target)
         logs.append(run)
-    return logs
+        imported += 1
+    if imported < len(exports):
+        stderr_progress(f"{len(exports) - imported} of {len(exports)} imported logs reused from "
+                        f"{out_dir / 'logs'}")
+    return logs, imported == 0
 
 
 def _read_json(path: Path) -> dict | None:
@@ -158,7 +205,9 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
     if saved is None or saved.get("key") != key or not isinstance(saved.get("loads"), dict):
         saved = {"key": key, "loads": {}}
     elif saved.get("complete"):
-        stderr_progress(f"tuning reused from {path}")
+        stderr_progress(f"tuning reused from {path} (fitted earlier with the same code and "
+                        "settings)")
+        saved["reused"] = True
         return saved
     out: dict = {"key": key, "loads": {}, "complete": False}
     for load in LOADS:
@@ -185,6 +234,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                     entry["fitted"][m] = part["fitted"][m]
                 stderr_progress(f"{load}: tuning of {m} reused from {path}")
                 continue
+            stderr_progress(f"{load}: tuning {m} on {len(tuning)} logs")
             try:
                 fit = tune_model(m, vehicle, tuning, jobs,
                                  lambda line, load=load: stderr_progress(f"{load}: {line}"))
@@ -209,6 +259,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                          f"({', '.join(TUNING[:2])}, ...)")
     out["complete"] = True
     atomic_write_text(path, json.dumps(out, indent=1) + "\n")
+    out["reused"] = False
     return out
 
 
@@ -233,7 +284,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
                  gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
                  recordings: bool = True, executor: str = "local",
                  scheduler: str | None = None, dask: DaskOptions | None = None,
-                 truth: str = "structural") -> dict[str, Path]:
+                 truth: str = "structural", remeasure: bool = False) -> dict[str, Path]:
     """Run the campaign; see the module docstring.
 
     Parameters
@@ -263,6 +314,9 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
         (see :mod:`validation.synthetic.truth`).
     dask : DaskOptions, optional
         The scheduler's timeout and TLS files.
+    remeasure : bool
+        Measure the efficiency again even when an earlier run with the same
+        key measured it (a resumed run keeps the original figures otherwise).
 
     Returns
     -------
@@ -273,6 +327,14 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     out_dir.mkdir(parents=True, exist_ok=True)
     jobs = jobs or os.cpu_count() or 1
     key = fingerprint.key(seed, list(models), gain, only, truth)
+    state = _saved_timings(out_dir, key)
+    if remeasure:
+        state["efficiency"] = None
+
+    def save(times: dict[str, float]) -> None:
+        state["stages"] = {**state["stages"], **times}
+        atomic_write_text(out_dir / TIMINGS, json.dumps(state, indent=1) + "\n")
+
     with contextlib.ExitStack() as stack:
         stack.enter_context(OutDirLock(out_dir, "campaign"))
         stale = clean_stale(out_dir)
@@ -280,24 +342,39 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
             stderr_progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
         pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
-        stage = Stages(stderr_progress)
+        stage = Stages(stderr_progress, state["stages"], save)
         stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
                         f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}")
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
-                           key, stage, truth)
+                           key, stage, truth, state)
+
+
+def _saved_timings(out_dir: Path, key: str) -> dict:
+    """The stage times and efficiency an earlier run with ``key`` measured, if any."""
+    path = out_dir / TIMINGS
+    empty = {"key": key, "stages": {}, "efficiency": None}
+    if not path.is_file():
+        return empty
+    try:
+        saved = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return empty
+    return saved if saved.get("key") == key else empty
 
 
 def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
-                stage, truth) -> dict[str, Path]:
+                stage, truth, state) -> dict[str, Path]:
     from validation.campaign import report as rep
     from validation.campaign.efficiency import measure
     from validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
 
     paths: dict[str, Path] = {}
     with stage("logs"):
-        logs = load_logs(out_dir, seed, jobs, only, pool, truth)
+        logs, reused = _load_logs(out_dir, seed, jobs, only, pool, truth)
+        stage.reused(reused)
     with stage("tuning"):
         tuned = _tune(out_dir, logs, models, key, jobs)
+        stage.reused(tuned["reused"])
         vehicles = _tuned_vehicles(out_dir, tuned, seed)
         tuning_logs = {n for part in tuned["loads"].values() for n in part["logs"]}
         paths["tuning"] = out_dir / "tuning.json"
@@ -310,12 +387,14 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                            out_dir=out_dir, progress=stderr_progress,
                                            reuse_key=f"{key}.{load}", jobs=jobs,
-                                           executor=pool))
+                                           executor=pool, label=f"validation, {load}"))
+        stage.reused(all(p.attrs.get("reused") == len(p) for p in parts))
         metrics = pd.concat(parts, ignore_index=True)
     load_of = {log.name: log.meta.get("load") for log in logs}
     with stage("references"):
         validated = [log for log in logs if log.name not in tuning_logs]
         floor = _floor(out_dir, validated, seed, truth, gain, key, jobs, pool)
+        all_reused = floor.attrs.get("reused") == len(floor)
         metrics = pd.concat([metrics, floor], ignore_index=True)
         metrics["load"] = metrics["log"].map(load_of)
         paths["metrics"] = write_metrics(metrics, out_dir / "metrics.csv")
@@ -324,10 +403,13 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
             reduced = [m for m in models if m != "mbd"]
             vs_plant = _versus_plant(out_dir, validated, vehicles, reduced, gain, key, jobs)
             if vs_plant is not None:
+                all_reused = all_reused and vs_plant.attrs.get("reused") == len(vs_plant)
                 vs_plant["load"] = vs_plant["log"].map(load_of)
                 paths["metrics_vs_plant"] = write_metrics(vs_plant,
                                                           out_dir / "metrics_vs_plant.csv")
+        stage.reused(all_reused)
     with stage("tables"):
+        stage.reused(stage.all_reused())
         forward, reverse = summary(metrics, "forward"), summary(metrics, "reverse")
         paths["table2"], _ = write_table(forward, out_dir / "table2_forward",
                                          "Forward driving (the paper's Table 2 columns)")
@@ -351,8 +433,15 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                     per_load[f"{load}, {direction}"] = t
     by_name = {log.name: log for log in logs}
     with stage("efficiency"):
-        sample = _efficiency_sample(metrics, by_name, vehicles)
-        eff = measure(sample, models, repeat=2)
+        if state.get("efficiency") is not None:
+            eff = pd.DataFrame(state["efficiency"]).set_index("model")
+            stderr_progress(f"efficiency reused from {out_dir / TIMINGS} (measured by the "
+                            "original run; --remeasure measures it again)")
+            stage.reused()
+        else:
+            sample = _efficiency_sample(metrics, by_name, vehicles)
+            eff = measure(sample, models, repeat=2, progress=stderr_progress)
+            state["efficiency"] = eff.reset_index().to_dict(orient="records")
         atomic_write(out_dir / "efficiency.csv", lambda p: eff.to_csv(p, float_format="%.6g"))
         paths["efficiency"] = out_dir / "efficiency.csv"
     sweep = None
@@ -362,9 +451,10 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                                            and log.meta.get("direction") == "reverse"])
                    for load in LOADS}
             sweep = _cached_sweep(out_dir, key, sweep_models)
+            stage.reused(sweep is not None)
             if sweep is None:
                 sweep = gain_sweep(rev, [m for m in sweep_models if m in models],
-                                   DEFAULT_GAINS, jobs)
+                                   DEFAULT_GAINS, jobs, stderr_progress)
                 atomic_write_text(out_dir / "gain_sweep.json", json.dumps(
                     {"key": key, "models": list(sweep_models), "K_min": sweep.attrs["K_min"],
                      "rows": sweep.to_dict(orient="records")}) + "\n")
@@ -374,7 +464,9 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
             paths["gain_sweep"] = out_dir / "gain_sweep.csv"
     if recordings:
         with stage("recordings"):
-            paths.update(_recordings(out_dir, metrics, by_name, vehicles, models))
+            rec_paths, made = _recordings(out_dir, metrics, by_name, vehicles, models)
+            paths.update(rec_paths)
+            stage.reused(made == 0)
     results = rep.CampaignResults(
         seed=seed, models=tuple(models), gain=gain, metrics=metrics, forward=forward,
         reverse=reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep, stages=stage.times,
@@ -382,6 +474,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
         forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth)
     with stage("report"):
+        stage.reused(stage.all_reused())
         draft = rep.render(results)  # the summary recording's copy, before the last timing
         if recordings:
             from validation.campaign.recording import record_summary
@@ -390,8 +483,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 out_dir / "recordings" / "campaign.rrd", metrics, draft)
     text = rep.render(results)
     paths["report"] = atomic_write_text(out_dir / "report.md", text)
-    print(text)
-    stderr_progress(f"done in {sum(stage.times.values()):.0f} s; report in {paths['report']}")
+    failed = metrics[[is_failed(st) for st in metrics["status"]]]
+    print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed)))
     return paths
 
 
@@ -407,7 +500,7 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
 
     return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
-                         executor=pool)
+                         executor=pool, label="references, the truth's plant")
 
 
 def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
@@ -435,8 +528,34 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
         if group:
             parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                        out_dir=out_dir / "vs_plant", progress=stderr_progress,
-                                       reuse_key=f"{key}.{load}.vs_plant", jobs=jobs))
-    return pd.concat(parts, ignore_index=True) if parts else None
+                                       reuse_key=f"{key}.{load}.vs_plant", jobs=jobs,
+                                       label=f"references, {load}, against the plant"))
+    if not parts:
+        return None
+    out = pd.concat(parts, ignore_index=True)
+    out.attrs["reused"] = sum(p.attrs.get("reused", 0) for p in parts)
+    return out
+
+
+def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[str, float],
+                     report: Path, failed: int = 0) -> str:
+    """What the campaign prints at the end: the two tables, the stage times, the report."""
+    from validation.campaign.tables import markdown
+
+    lines = []
+    for title, table in (("Forward, mean over the validation manoeuvres (Table 2 columns)",
+                          forward),
+                         ("Reverse, mean over the validation manoeuvres (Table 3 columns)",
+                          reverse)):
+        if len(table):
+            lines += [title, "", markdown(table, digits=3), ""]
+    lines.append("Wall time: " + ", ".join(f"{k} {v:.0f} s" for k, v in times.items())
+                 + f"; total {sum(times.values()):.0f} s.")
+    if failed:
+        lines.append(f"{failed} (manoeuvre, model) pair(s) have no result; report.md lists "
+                     "them and why.")
+    lines.append(f"The whole report, with the paper's values beside ours: {report}")
+    return "\n".join(lines)
 
 
 def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFrame | None:
@@ -470,30 +589,37 @@ def _efficiency_sample(metrics: pd.DataFrame, logs: dict[str, Run],
 
 
 def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
-                vehicles: dict[str, Vehicle], models: Sequence[str]) -> dict[str, Path]:
-    """One recording per validated manoeuvre, skipped when newer than its runs; a few plots."""
+                vehicles: dict[str, Vehicle], models: Sequence[str]) -> tuple[dict[str, Path], int]:
+    """One recording per validated manoeuvre, skipped when newer than its runs; a few plots.
+
+    Returns the paths and the number of recordings written.
+    """
     from validation.campaign.plots import plot_manoeuvre
     from validation.campaign.recording import record_manoeuvre
 
     names = list(dict.fromkeys(metrics["log"]))
     failed = {(r.log, r.model) for r in metrics.itertuples() if is_failed(r.status)}
-    out = {}
-    for i, name in enumerate(names, start=1):
+    todo = []
+    for name in names:
         runs = {m: out_dir / "runs" / f"{name}.{m}.parquet" for m in models
                 if (name, m) not in failed}
         if not runs:
             continue
         target = out_dir / "recordings" / f"{name}.rrd"
         newest = max(p.stat().st_mtime for p in runs.values())
-        if target.is_file() and target.stat().st_mtime >= newest:
-            continue
+        if not (target.is_file() and target.stat().st_mtime >= newest):
+            todo.append((name, runs, target))
+    if len(todo) < len(names):
+        stderr_progress(f"{len(names) - len(todo)} of {len(names)} recordings reused from "
+                        f"{out_dir / 'recordings'} (newer than their runs)")
+    counter = Counter(len(todo), "recordings", stderr_progress)
+    for name, runs, target in todo:
         loaded = {m: read_run(p) for m, p in runs.items()}
         log = logs[name]
         record_manoeuvre(target, log, loaded, vehicles[log.meta.get("load", "unloaded")],
                          metrics[metrics["log"] == name])
-        stderr_progress(f"[{i}/{len(names)}] recorded {target.name}")
+        counter.step(f"{target.name} ({target.stat().st_size / 1e6:.1f} MB)")
         if log.meta.get("manoeuvre") in ("docking", "constant-steer") and \
                 not (out_dir / "plots" / f"{log.meta['manoeuvre']}.png").is_file():
             plot_manoeuvre(out_dir / "plots" / f"{log.meta['manoeuvre']}.png", log, loaded)
-    out["recordings"] = out_dir / "recordings"
-    return out
+    return {"recordings": out_dir / "recordings"}, len(todo)

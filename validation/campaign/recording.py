@@ -2,31 +2,41 @@
 
 This is artic's only module that imports rerun.
 
-A manoeuvre recording holds, on two timelines, ``time`` (a duration [s]) and
-``distance_cm`` (the measured tractor sensor's travelled distance [cm], the
-variable of the error criteria):
+A manoeuvre recording is named after its manoeuvre and holds, on two
+timelines, ``time`` (a duration [s]) and ``distance_cm`` (the measured tractor
+sensor's travelled distance [cm], the variable of the error criteria):
 
-- ``/yard``: the measured combination and every model's, as boxes for the
-  bodies and the wheels, moving with their own poses; their sensor paths; the
-  swept envelope (the tracks of the tractor's front and the semitrailer's
-  rear corners); the ground and,
-  for docking and parking, the dock;
-- ``/signals``: steering inputs (the measured steering-wheel angle; each
-  model's centre road-wheel angle and the feedback the harness added), yaw
-  rates and lateral velocities of both units, articulation, and the running
-  errors of eq. (8) (lateral position and yaw rate of the tractor);
+- ``/yard``: the measured combination, KIN and STM as boxes for the bodies
+  and the wheels, moving with their own poses; the plant drawn from its own
+  MuJoCo bodies and geoms (:mod:`validation.campaign.plantshape`): chassis,
+  semitrailer, axles on their suspension, wheels that steer and spin, and
+  the fifth wheel, posed from the plant's state at every logged step; the
+  plant's tyre forces in the ground plane as arrows at the contact points;
+  every combination's sensor paths and swept envelope (the tracks of the
+  tractor's front and the semitrailer's rear corners); the ground and, for
+  docking and parking, the dock;
+- ``/signals``: the steering inputs (the measured steering-wheel angle; each
+  model's centre road-wheel angle and the feedback the harness added), the
+  tractor speed, yaw rates and lateral velocities of both units,
+  articulation, the running errors of eq. (8), and for the plant the wheel
+  loads, the tyre slip angles and the steering servo's torque. Angles are in
+  degrees, and every plot's title carries its unit;
 - ``/description``: the vehicle file, the parameters of each model, the
   criteria, and the artic version;
-- a default blueprint, so the viewer opens on the yard, seen from behind and
-  above the paths, beside the plots.
+- a default blueprint: the yard, seen from beside and above the combination
+  and following it, beside the plots on three tabs, each showing the whole
+  run with its legend in a corner.
 
-Files are written to a temporary name and renamed when complete.
+The 3-D yard is logged at :data:`YARD_RATE` and the plots at
+:data:`PLOT_RATE`, which keeps a minute of manoeuvre near 1 MB. Files are
+written to a temporary name and renamed when complete.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import re
 from collections.abc import Mapping
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -40,15 +50,37 @@ from rerun.chunk import RrdReader
 from mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from mjcf.tir import read_tir
 from mjcf.vehicle import Vehicle
+from validation.campaign.plantshape import (
+    Geom,
+    Part,
+    has_pose,
+    plant_shape,
+    rad2deg,
+    wheel_names,
+    wheel_quat,
+    xyzw,
+)
 from validation.logs.runfile import Run
 from validation.metrics import distance_weights, travelled
 from validation.models import colour as model_colour
 from validation.pathdist import distance_to_polyline
 
 YARD_RATE = 10.0
-"""Samples per second of the 3-D yard (the plots keep every sample) [Hz]."""
+"""Samples per second of the 3-D yard [Hz]."""
+
+PLOT_RATE = 10.0
+"""Samples per second of the plots [Hz]: the CAN steering comes at 10 Hz, and
+the yard's yaw rates and speeds change over seconds."""
+
+FORCE_SCALE = 1.0 / 5000.0
+"""Length of the tyre-force arrows per newton [m/N]: 1 m per 5 kN."""
 
 APPLICATION = "artic"
+
+WHEEL_COLOURS = ((230, 25, 75), (60, 180, 75), (255, 225, 25), (0, 130, 200), (245, 130, 48),
+                 (145, 30, 180), (70, 240, 240), (240, 50, 230), (210, 245, 60),
+                 (250, 190, 212), (0, 128, 128), (170, 110, 40), (128, 0, 0), (0, 0, 128))
+"""Colours of the wheels' lines in the tyre plots."""
 
 
 def artic_version() -> str:
@@ -116,19 +148,41 @@ def _origin(x, y, psi, s):
     return x - (c * s[0] - sn * s[1]), y - (sn * s[0] + c * s[1])
 
 
-def _log_combination(rec: rr.RecordingStream, src: str, frame: pd.DataFrame, geo: _Geometry,
-                     t: np.ndarray, s_cm: np.ndarray, every: int) -> None:
-    colour = model_colour(src)
-    base = f"/yard/{src}"
+def _tracks(frame: pd.DataFrame, geo: _Geometry, i: int, unit: str, s) -> tuple:
+    """Unit origin and its swept-envelope corner tracks [m]."""
+    x, y, psi = (frame[f"{c}_{i}"].to_numpy() for c in ("x", "y", "psi"))
+    ox, oy = _origin(x, y, psi, s)
+    c, sn = np.cos(psi), np.sin(psi)
+    tracks = [np.column_stack([ox + c * px - sn * py, oy + sn * px + c * py,
+                               np.full_like(ox, 0.02)]) for px, py in geo.corners(unit)]
+    return ox, oy, psi, tracks
+
+
+def _log_paths(rec: rr.RecordingStream, base: str, frame: pd.DataFrame, geo: _Geometry,
+               every: int, colour) -> None:
+    """The sensor paths and the swept envelope, static, at the yard's rate."""
+    sel = slice(None, None, every)
     paths = []
+    for i, unit, s in ((1, "tractor", geo.s1), (2, "trailer", geo.s2)):
+        _, _, _, tracks = _tracks(frame, geo, i, unit, s)
+        rec.log(f"{base}/envelope/{unit}",
+                rr.LineStrips3D([tr[sel] for tr in tracks], colors=[colour], radii=0.015),
+                static=True)
+        paths.append(np.column_stack([frame[f"x_{i}"], frame[f"y_{i}"],
+                                      np.full(len(frame), 0.05)])[sel])
+    rec.log(f"{base}/path", rr.LineStrips3D(paths, colors=[colour], radii=0.05), static=True)
+
+
+def _log_boxes(rec: rr.RecordingStream, base: str, frame: pd.DataFrame, geo: _Geometry,
+               times, every: int, colour) -> None:
+    """A combination as boxes for the bodies and the wheels (measured, KIN, STM)."""
+    sel = slice(None, None, every)
     for i, unit, s, body, wheels in ((1, "tractor", geo.s1, geo.tractor_body,
                                       geo.tractor_wheels),
                                      (2, "trailer", geo.s2, geo.trailer_body,
                                       geo.trailer_wheels)):
-        x, y, psi = (frame[f"{c}_{i}"].to_numpy() for c in ("x", "y", "psi"))
-        ox, oy = _origin(x, y, psi, s)
-        sel = slice(None, None, every)
-        rec.send_columns(f"{base}/{unit}", indexes=_timelines(t[sel], s_cm[sel]),
+        ox, oy, psi, _ = _tracks(frame, geo, i, unit, s)
+        rec.send_columns(f"{base}/{unit}", indexes=times,
                          columns=rr.Transform3D.columns(
                              translation=np.column_stack([ox, oy, np.zeros_like(ox)])[sel],
                              quaternion=_quat_z(psi)[sel]))
@@ -139,19 +193,97 @@ def _log_combination(rec: rr.RecordingStream, src: str, frame: pd.DataFrame, geo
                 static=True)
         rec.log(f"{base}/{unit}/wheels",
                 rr.Boxes3D(centers=wheels, half_sizes=[[geo.R0, 0.15, geo.R0]] * len(wheels),
-                           colors=[colour], fill_mode="solid"), static=True)
-        paths.append(np.column_stack([x, y, np.full_like(x, 0.05)]))
-        c, sn = np.cos(psi), np.sin(psi)
-        tracks = [np.column_stack([ox + c * px - sn * py, oy + sn * px + c * py,
-                                   np.full_like(ox, 0.02)]) for px, py in geo.corners(unit)]
-        rec.log(f"{base}/envelope/{unit}", rr.LineStrips3D(tracks, colors=[colour],
-                                                           radii=0.015), static=True)
-    rec.log(f"{base}/path", rr.LineStrips3D(paths, colors=[colour], radii=0.05), static=True)
+                           colors=[colour], fill_mode="majorwireframe"), static=True)
 
 
-def _series(rec, path: str, times, values: np.ndarray, name: str, colour) -> None:
-    rec.send_columns(path, indexes=times, columns=rr.Scalars.columns(scalars=values))
-    rec.log(path, rr.SeriesLines(colors=[colour], names=[name]), static=True)
+def _rgb(rgba: np.ndarray) -> list[int]:
+    return [int(round(255 * c)) for c in rgba]
+
+
+def _log_geoms(rec: rr.RecordingStream, path: str, part: Part, tint) -> None:
+    """A part's MuJoCo geoms, static in its frame; chassis geoms take the model's colour."""
+    chassis = part.name in ("tractor", "trailer")
+    groups: dict[str, list] = {"box": [], "cylinder": [], "capsule": []}
+    for g in part.geoms:
+        rgba = g.rgba.copy()
+        colour = [*tint, int(round(255 * rgba[3]))] if chassis else _rgb(rgba)
+        groups[g.kind].append((g, xyzw(g.quat), colour))
+    if part.spin is not None:  # a spoke in the model's colour, so that the spin shows
+        r = part.geoms[0].size[0]
+        spoke = Geom("cylinder", np.array([0.06, 0.5 * r, 0.0]), np.array([0.0, 0.0, 0.5 * r]),
+                     np.array([1.0, 0.0, 0.0, 0.0]), np.ones(4))
+        groups["cylinder"].append((spoke, xyzw(spoke.quat), list(tint)))
+    if groups["box"]:
+        gs = groups["box"]
+        rec.log(f"{path}/boxes", rr.Boxes3D(
+            centers=[g.pos for g, _, _ in gs], half_sizes=[g.size for g, _, _ in gs],
+            quaternions=[q for _, q, _ in gs], colors=[c for _, _, c in gs],
+            fill_mode="solid"), static=True)
+    if groups["cylinder"]:
+        gs = groups["cylinder"]
+        rec.log(f"{path}/cylinders", rr.Cylinders3D(
+            lengths=[2 * g.size[1] for g, _, _ in gs], radii=[g.size[0] for g, _, _ in gs],
+            centers=[g.pos for g, _, _ in gs], quaternions=[q for _, q, _ in gs],
+            colors=[c for _, _, c in gs], fill_mode="solid"), static=True)
+    if groups["capsule"]:  # Rerun's capsule runs from its translation along +z
+        gs = groups["capsule"]
+        starts = []
+        for g, _, _ in gs:
+            w, x, y, z = g.quat
+            axis = np.array([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)])
+            starts.append(g.pos - g.size[1] * axis)
+        rec.log(f"{path}/capsules", rr.Capsules3D(
+            lengths=[2 * g.size[1] for g, _, _ in gs], radii=[g.size[0] for g, _, _ in gs],
+            translations=starts, quaternions=[q for _, q, _ in gs],
+            colors=[c for _, _, c in gs]), static=True)
+
+
+def _log_plant(rec: rr.RecordingStream, base: str, frame: pd.DataFrame, vehicle: Vehicle,
+               times, sel: np.ndarray, colour) -> None:
+    """The plant from its own bodies and geoms, posed from its run's columns at rows ``sel``."""
+    for part in plant_shape(vehicle):
+        path = f"{base}/{part.name}" if part.parent is None else f"{base}/{part.parent}/{part.name}"
+        _log_geoms(rec, path, part, colour)
+        if part.parent is None:
+            cols = [f"pose.{part.name}.{c}" for c in ("x", "y", "z", "qw", "qx", "qy", "qz")]
+            pose = frame[cols].to_numpy(dtype=float)[sel]
+            rec.send_columns(path, indexes=times, columns=rr.Transform3D.columns(
+                translation=pose[:, :3], quaternion=xyzw(pose[:, 3:])))
+        elif part.spin is not None:
+            spin = frame[part.spin].to_numpy(dtype=float)[sel]
+            steer = (frame[part.steer].to_numpy(dtype=float)[sel] if part.steer
+                     else np.zeros_like(spin))
+            rec.send_columns(path, indexes=times, columns=rr.Transform3D.columns(
+                translation=np.tile(part.offset, (spin.size, 1)),
+                quaternion=xyzw(wheel_quat(steer, spin))))
+        else:
+            rec.log(path, rr.Transform3D(translation=part.offset), static=True)
+    wheels = wheel_names(frame.columns)
+    origins = np.stack([frame[[f"contact.{w}.{c}" for c in "xyz"]].to_numpy(dtype=float)[sel]
+                        for w in wheels], axis=1)
+    forces = np.stack([frame[[f"force.{w}.{c}" for c in "xy"]].to_numpy(dtype=float)[sel]
+                       for w in wheels], axis=1)
+    vectors = np.concatenate([forces * FORCE_SCALE, np.zeros(forces.shape[:2] + (1,))], axis=2)
+    origins[:, :, 2] = 0.05
+    n = len(wheels)
+    rec.send_columns(f"{base}/tyre_forces", indexes=times, columns=rr.Arrows3D.columns(
+        origins=origins.reshape(-1, 3), vectors=vectors.reshape(-1, 3)).partition(
+        [n] * origins.shape[0]))
+    rec.log(f"{base}/tyre_forces", rr.Arrows3D.from_fields(colors=[(255, 60, 60)], radii=[0.04]),
+            static=True)
+
+
+def _series(rec, path: str, times, values, names, colours) -> None:
+    """Lines on one entity: ``values`` one column per line (several lines share the row cost)."""
+    names = [names] if isinstance(names, str) else list(names)
+    colours = [colours] if np.ndim(colours) == 1 else list(colours)
+    v = np.asarray(values, dtype=float).reshape(len(times[0].as_arrow_array()), -1)
+    cols = rr.Scalars.columns(scalars=v.ravel())
+    if v.shape[1] > 1:
+        cols = cols.partition([v.shape[1]] * v.shape[0])
+    rec.send_columns(path, indexes=times, columns=cols)
+    rec.log(path, rr.SeriesLines(colors=colours, names=names, widths=[1.5] * len(names)),
+            static=True)
 
 
 def _running_rms(eps: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -160,32 +292,95 @@ def _running_rms(eps: np.ndarray, w: np.ndarray) -> np.ndarray:
         return np.sqrt(np.cumsum(w * eps ** 2) / np.where(cw > 0, cw, np.nan))
 
 
-def _blueprint(lo: np.ndarray, hi: np.ndarray) -> rrb.Blueprint:
-    """The layout: the yard, looked at from behind and above its paths, beside the plots."""
-    plots = [rrb.TimeSeriesView(origin=f"/signals/{g}", name=title) for g, title in (
-        ("steering_wheel", "Steering wheel [rad]"),
-        ("steering", "Road-wheel angle and harness feedback [rad]"),
-        ("yaw_rate", "Yaw rate [rad/s]"), ("lateral_velocity", "Lateral velocity [m/s]"),
-        ("articulation", "Articulation [rad]"), ("error", "Running errors, eq. (8) [m, rad/s]"))]
-    centre = (lo + hi) / 2
-    span = float(max(hi - lo))
-    eye = rrb.EyeControls3D(position=[centre[0] + 0.15 * span, centre[1] - 0.55 * span,
-                                      0.45 * span],
-                            look_target=[centre[0], centre[1], 0.0], eye_up=[0.0, 0.0, 1.0])
+PLOTS = (
+    ("Signals", (
+        ("steering_wheel", "Steering wheel delta_h [deg]"),
+        ("road_wheel", "Road-wheel angle delta [deg]"),
+        ("feedback", "Harness feedback delta_fb [deg]"),
+        ("speed", "Speed v_x_1 [km/h]"),
+        ("articulation", "Articulation gamma [deg]"),
+        ("yaw_rate/tractor", "Tractor yaw rate r_1 [deg/s]"))),
+    ("More signals", (
+        ("yaw_rate/trailer", "Semitrailer yaw rate r_2 [deg/s]"),
+        ("lateral_velocity/tractor", "Tractor lateral velocity v_y_1 [m/s]"),
+        ("lateral_velocity/trailer", "Semitrailer lateral velocity v_y_2 [m/s]"),
+        ("error/lateral_position", "Running error eps_y1, eq. (8) [m]"),
+        ("error/yaw_rate", "Running error eps_r1, eq. (8) [deg/s]"))),
+    ("Plant tyres", (
+        ("wheel_load", "Plant wheel loads Fz [kN]"),
+        ("slip_angle", "Plant tyre slip angles alpha [deg]"),
+        ("steer_torque", "Plant steering servo torque [kN m]"))),
+)
+"""The plots by tab: their entity under ``/signals`` and their title, unit included.
+Six to a tab at most, so that every legend has room."""
+
+
+def _frame_box(log: Run, vehicle: Vehicle) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds in the plane of everything the combination covers on its path [m]."""
+    f = log.frame
+    o = outline(vehicle)
+    pts = []
+    for i, xs in ((1, (o.tractor_front, o.tractor_rear)), (2, (o.trailer_front, o.trailer_rear))):
+        s = np.array(vehicle.sensor1[:2] if i == 1 else vehicle.sensor2[:2])
+        x, y, psi = (f[f"{c}_{i}"].to_numpy() for c in ("x", "y", "psi"))
+        ox, oy = _origin(x, y, psi, s)
+        for px in xs:
+            for py in (o.width / 2, -o.width / 2):
+                pts.append(np.column_stack([ox + np.cos(psi) * px - np.sin(psi) * py,
+                                            oy + np.sin(psi) * px + np.cos(psi) * py]))
+    xy = np.concatenate(pts)
+    return xy.min(axis=0), xy.max(axis=0)
+
+
+def _blueprint(name: str, start: np.ndarray, plant: bool) -> rrb.Blueprint:
+    """The layout: the yard following the combination, beside the plots of the whole run.
+
+    ``start`` is the kingpin's position and the semitrailer's yaw at the
+    first sample [m, m, rad]: the eye starts beside and above it and then
+    tracks the measured semitrailer, so the combination stays in the middle
+    of the view with its path around it.
+    """
+    whole = [rrb.VisibleTimeRange(tl, start=rrb.TimeRangeBoundary.infinite(),
+                                  end=rrb.TimeRangeBoundary.infinite())
+             for tl in ("time", "distance_cm")]
+    def view(g, title):
+        return rrb.TimeSeriesView(
+            origin=f"/signals/{g}", name=title, time_ranges=whole,
+            axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(start=rrb.TimeRangeBoundary.infinite(),
+                                                         end=rrb.TimeRangeBoundary.infinite())),
+            plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=True))
+
+    panels = [rrb.Grid(*[view(g, title) for g, title in plots], grid_columns=2, name=tab)
+              for tab, plots in PLOTS if plant or tab != "Plant tyres"]
+    x, y, psi = start
+    # 26 m to the right of the kingpin, 8 m behind it and 20 m up: the ~17 m
+    # combination fills about half the view's width.
+    c, sn = np.cos(psi), np.sin(psi)
+    off = np.array([-8.0 * c + 26.0 * sn, -8.0 * sn - 26.0 * c])
+    target = np.array([x, y])
+    eye = rrb.EyeControls3D(position=[target[0] + off[0], target[1] + off[1], 20.0],
+                            look_target=[target[0], target[1], 1.0], eye_up=[0.0, 0.0, 1.0],
+                            tracking_entity="/yard/measured/trailer")
     return rrb.Blueprint(
         rrb.Horizontal(
-            rrb.Vertical(rrb.Spatial3DView(origin="/yard", name="Yard", eye_controls=eye),
-                         rrb.TextDocumentView(origin="/description", name="Description"),
-                         row_shares=[3, 1]),
-            rrb.Vertical(*plots),
-            column_shares=[3, 2]),
-        collapse_panels=True)
+            rrb.Vertical(rrb.Spatial3DView(origin="/yard", name=f"{name}: yard",
+                                           eye_controls=eye),
+                         rrb.TextDocumentView(origin="/description", name=f"{name}: description"),
+                         row_shares=[4, 1]),
+            rrb.Tabs(*panels),
+            column_shares=[1, 1]),
+        rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
+        rrb.TimePanel(state="collapsed", timeline="time"))
 
 
 def _description(log: Run, runs: Mapping[str, Run], vehicle: Vehicle,
                  metrics: pd.DataFrame | None, extra: str) -> str:
     lines = [f"# {log.name}", "",
              f"artic {artic_version()}; vehicle `{vehicle.name}` from `{vehicle.path}`.", "",
+             "The measured combination is white, KIN blue, STM green and the plant (MBD) "
+             "orange, drawn from its own MuJoCo bodies; the red arrows are the plant's tyre "
+             f"forces in the ground plane, {1 / FORCE_SCALE / 1000:g} kN per metre. Angles "
+             "are in degrees.", "",
              "| model | i_s | q [1/rad] | offset [deg] | f [1/rad] | status |",
              "|---|---|---|---|---|---|"]
     for name, run in runs.items():
@@ -207,8 +402,8 @@ def _description(log: Run, runs: Mapping[str, Run], vehicle: Vehicle,
 
 
 @contextlib.contextmanager
-def _recording(path: Path, recording_id: str, blueprint: rrb.Blueprint):
-    """A recording stream saved to ``path``: complete, or not at all.
+def _recording(path: Path, recording_id: str, blueprint: rrb.Blueprint, name: str):
+    """A recording stream named ``name``, saved to ``path``: complete, or not at all.
 
     The stream writes to a temporary file beside ``path``, which is renamed
     onto it once everything is logged and flushed; on any error the
@@ -220,6 +415,7 @@ def _recording(path: Path, recording_id: str, blueprint: rrb.Blueprint):
     rec = rr.RecordingStream(APPLICATION, recording_id=recording_id, send_properties=False)
     try:
         rec.save(tmp, default_blueprint=blueprint)
+        rec.send_recording_name(name)
         yield rec
         rec.flush()
         rec.disconnect()
@@ -242,29 +438,36 @@ def record_manoeuvre(path: Path, log: Run, runs: Mapping[str, Run], vehicle: Veh
     runs : mapping of str to Run
         Each model's run from the harness, by model name.
     vehicle : Vehicle
-        The parameters the models ran with (geometry of the boxes).
+        The parameters the models ran with (geometry of the boxes and of the plant).
     metrics : DataFrame, optional
         The manoeuvre's metrics rows, for the description.
     extra : str
         Further Markdown for the description.
     """
-    f = log.frame
-    xy = np.concatenate([f[["x_1", "y_1"]].to_numpy(), f[["x_2", "y_2"]].to_numpy()])
-    with _recording(path, f"artic-{log.name}", _blueprint(xy.min(axis=0), xy.max(axis=0))) as rec:
-        _log_manoeuvre(rec, log, runs, vehicle, metrics, extra)
+    lo, hi = _frame_box(log, vehicle)
+    plant = any(has_pose(r.frame.columns) for r in runs.values())
+    f0 = log.frame.iloc[0]
+    ox, oy = _origin(f0["x_2"], f0["y_2"], f0["psi_2"], np.array(vehicle.sensor2[:2]))
+    with _recording(path, f"artic-{log.name}",
+                    _blueprint(log.name, np.array([ox, oy, f0["psi_2"]]), plant),
+                    log.name) as rec:
+        _log_manoeuvre(rec, log, runs, vehicle, metrics, extra, lo, hi)
     return Path(path)
 
 
+def _every(t: np.ndarray, rate: float) -> int:
+    return max(1, round(1.0 / (rate * float(np.median(np.diff(t))))))
+
+
 def _log_manoeuvre(rec: rr.RecordingStream, log: Run, runs: Mapping[str, Run], vehicle: Vehicle,
-                   metrics: pd.DataFrame | None, extra: str) -> None:
+                   metrics: pd.DataFrame | None, extra: str, lo: np.ndarray,
+                   hi: np.ndarray) -> None:
     f = log.frame
     t = f["t"].to_numpy()
     s = travelled(f)
-    every = max(1, round(1.0 / (YARD_RATE * float(np.median(np.diff(t))))))
+    every, pe = _every(t, YARD_RATE), _every(t, PLOT_RATE)
     geo = _Geometry(vehicle)
-    margin = 15.0
-    xy = np.concatenate([f[["x_1", "y_1"]].to_numpy(), f[["x_2", "y_2"]].to_numpy()])
-    lo, hi = xy.min(axis=0) - margin, xy.max(axis=0) + margin
+    lo, hi = lo - 15.0, hi + 15.0
     rec.log("/yard/ground", rr.Boxes3D(centers=[[*(lo + hi) / 2, -0.05]],
                                        half_sizes=[[*(hi - lo) / 2, 0.05]],
                                        colors=[(90, 90, 85)], fill_mode="solid"), static=True)
@@ -277,57 +480,111 @@ def _log_manoeuvre(rec: rr.RecordingStream, log: Run, runs: Mapping[str, Run], v
     sources = {"measured": log.frame, **{k: r.frame for k, r in runs.items()}}
     w = distance_weights(t, np.hypot(f["v_x_1"], f["v_y_1"]))
     path_1 = f[["x_1", "y_1"]].to_numpy()
+    # Every plot is one entity whose lines are the sources' columns: one row per
+    # sample for all of them, so the recording stays small.
+    lines: dict[str, list] = {g: [] for _, plots in PLOTS for g, _ in plots}
+
+    def add(group, values, names, colours):
+        v = np.full((len(t), np.size(names)), np.nan)
+        v[:len(values)] = np.asarray(values, dtype=float).reshape(len(values), -1)
+        lines[group].append((v, names, colours))
+
     for src, frame in sources.items():
         n = len(frame)
-        tt = _timelines(t[:n], s[:n])
         colour = model_colour(src)
-        _log_combination(rec, src, frame, geo, t[:n], s[:n], every)
-        for sig, group, unit in (("r", "yaw_rate", "tractor"), ("r", "yaw_rate", "trailer"),
-                                 ("v_y", "lateral_velocity", "tractor"),
-                                 ("v_y", "lateral_velocity", "trailer")):
-            i = 1 if unit == "tractor" else 2
-            _series(rec, f"/signals/{group}/{unit}/{src}", tt,
-                    frame[f"{sig}_{i}"].to_numpy(), f"{src} {unit}", colour)
-        _series(rec, f"/signals/articulation/{src}", tt, frame["gamma"].to_numpy(), src, colour)
+        base = f"/yard/{src}"
+        _log_paths(rec, base, frame, geo, every, colour)
+        if has_pose(frame.columns):
+            # The plant's extra columns may be stored at a lower rate (NaN between).
+            rows = np.flatnonzero(np.isfinite(frame["pose.tractor.x"].to_numpy(dtype=float)))
+            if rows.size > 1:
+                yr = rows[::_every(t[rows], YARD_RATE)]
+                pr = rows[::_every(t[rows], PLOT_RATE)]
+                _log_plant(rec, base, frame, vehicle, _timelines(t[yr], s[yr]), yr, colour)
+                _log_tyre_plots(rec, frame, _timelines(t[pr], s[pr]), pr)
+        else:
+            _log_boxes(rec, base, frame, geo, _timelines(t[:n:every], s[:n:every]), every,
+                       colour)
+        for i, unit in ((1, "tractor"), (2, "trailer")):
+            add(f"yaw_rate/{unit}", rad2deg(frame[f"r_{i}"].to_numpy()), [src], [colour])
+            add(f"lateral_velocity/{unit}", frame[f"v_y_{i}"].to_numpy(), [src], [colour])
+        add("articulation", rad2deg(frame["gamma"].to_numpy()), [src], [colour])
+        add("speed", 3.6 * frame["v_x_1"].to_numpy(), [src], [colour])
         if src == "measured":
-            _series(rec, "/signals/steering_wheel/delta_h", tt, frame["delta_h"].to_numpy(),
-                    "steering wheel (measured)", colour)
+            add("steering_wheel", rad2deg(frame["delta_h"].to_numpy()), [src], [colour])
             continue
-        delta = frame["delta"].to_numpy()
-        fb = frame["delta_fb"].to_numpy()
-        _series(rec, f"/signals/steering/delta_center/{src}", tt, delta - fb,
-                f"{src} centre angle", colour)
-        _series(rec, f"/signals/steering/delta_fb/{src}", tt, fb, f"{src} feedback", colour)
+        add("road_wheel", rad2deg(frame["delta"].to_numpy()), [src], [colour])
+        add("feedback", rad2deg(frame["delta_fb"].to_numpy()), [src], [colour])
         e_y = distance_to_polyline(frame[["x_1", "y_1"]].to_numpy(), path_1)
         e_r = frame["r_1"].to_numpy() - f["r_1"].to_numpy()[:n]
-        _series(rec, f"/signals/error/lateral_position/{src}", tt, _running_rms(e_y, w[:n]),
-                f"{src} eps_y1", colour)
-        _series(rec, f"/signals/error/yaw_rate/{src}", tt, _running_rms(e_r, w[:n]),
-                f"{src} eps_r1", colour)
+        add("error/lateral_position", _running_rms(e_y, w[:n]), [src], [colour])
+        add("error/yaw_rate", rad2deg(_running_rms(e_r, w[:n])), [src], [colour])
+    tt = _timelines(t[::pe], s[::pe])
+    for group, parts in lines.items():
+        if parts:
+            _series(rec, f"/signals/{group}", tt,
+                    np.concatenate([v for v, _, _ in parts], axis=1)[::pe],
+                    [x for _, names, _ in parts for x in names],
+                    [c for _, _, cs in parts for c in cs])
     rec.log("/description", rr.TextDocument(_description(log, runs, vehicle, metrics, extra),
                                             media_type=rr.MediaType.MARKDOWN), static=True)
+
+
+def _log_tyre_plots(rec: rr.RecordingStream, frame: pd.DataFrame, times,
+                    sel: np.ndarray) -> None:
+    """The plant's wheel loads, slip angles and steering torque at rows ``sel``."""
+    wheels = wheel_names(frame.columns)
+    colours = [WHEEL_COLOURS[k % len(WHEEL_COLOURS)] for k in range(len(wheels))]
+    labels = [w.replace(".", " ") for w in wheels]
+    loads = frame[[f"force.{w}.z" for w in wheels]].to_numpy(dtype=float)[sel] / 1000.0
+    slips = frame[[f"slip.{w}" for w in wheels]].to_numpy(dtype=float)[sel]
+    _series(rec, "/signals/wheel_load", times, loads, labels, colours)
+    _series(rec, "/signals/slip_angle", times, rad2deg(slips), labels, colours)
+    if "steer_torque" in frame.columns:
+        _series(rec, "/signals/steer_torque", times,
+                frame["steer_torque"].to_numpy(dtype=float)[sel] / 1000.0, "servo",
+                model_colour("mbd"))
+
+
+def _index_of(name: str, fallback: int) -> int:
+    """The manoeuvre number that starts a campaign name (``45-docking-...``), or ``fallback``."""
+    m = re.match(r"(\d+)-", name)
+    return int(m.group(1)) if m else fallback
 
 
 def record_summary(path: Path, metrics: pd.DataFrame, text: str) -> Path:
     """Write the campaign summary: the report as text, and the criteria per manoeuvre.
 
-    Each model's criteria are scalars on the ``manoeuvre`` timeline (the
-    manoeuvres in campaign order), one plot per criterion.
+    Each model's criteria are scalars on the ``manoeuvre`` timeline, at the
+    number that starts each manoeuvre's name (``45`` for
+    ``45-docking-unloaded-left``, its recording's file name), and
+    ``/manoeuvre`` logs the name itself there, so the timeline reads by name.
     """
     crit = ("eps_p", "eps_a", "eps_v", "eps_n", "J_steer")
+    units = {"eps_p": "m", "eps_a": "rad/s", "eps_v": "m/s", "eps_n": "%", "J_steer": "%"}
     bp = rrb.Blueprint(rrb.Horizontal(
-        rrb.TextDocumentView(origin="/report", name="Report"),
-        rrb.Vertical(*[rrb.TimeSeriesView(origin=f"/criteria/{c}", name=c) for c in crit])),
-        collapse_panels=True)
-    with _recording(path, "artic-campaign", bp) as rec:
+        rrb.Vertical(rrb.TextDocumentView(origin="/report", name="Report"),
+                     rrb.TextLogView(origin="/manoeuvre", name="Manoeuvres"), row_shares=[3, 1]),
+        rrb.Vertical(*[rrb.TimeSeriesView(
+            origin=f"/criteria/{c}", name=f"{c} [{units[c]}] per manoeuvre",
+            plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=True))
+            for c in crit])),
+        rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
+        rrb.TimePanel(timeline="manoeuvre"))
+    with _recording(path, "artic-campaign", bp, "artic campaign") as rec:
         logs = list(dict.fromkeys(metrics["log"]))
-        index = {name: i for i, name in enumerate(logs)}
+        index = {name: _index_of(name, i) for i, name in enumerate(logs)}
+        if len(set(index.values())) < len(index):  # not campaign names: number them in order
+            index = {name: i for i, name in enumerate(logs)}
+        rec.send_columns("/manoeuvre",
+                         indexes=[rr.TimeColumn("manoeuvre", sequence=list(index.values()))],
+                         columns=rr.TextLog.columns(text=list(index)))
         for model, group in metrics.groupby("model", sort=False):
             idx = [rr.TimeColumn("manoeuvre", sequence=group["log"].map(index).to_numpy())]
             for c in crit:
                 _series(rec, f"/criteria/{c}/{model}", idx, group[c].to_numpy(dtype=float),
                         model, model_colour(model))
-        names = "\n".join(f"{i}. {name}" for i, name in enumerate(logs))
+        names = "\n".join(f"- {index[name]}: `{name}`" for name in logs)
         rec.log("/report", rr.TextDocument(text + "\n\n## Manoeuvre index\n\n" + names,
                                            media_type=rr.MediaType.MARKDOWN), static=True)
     return Path(path)
@@ -355,3 +612,38 @@ def read_text(path: Path, entity: str) -> str:
                 if name.endswith(":text"):
                     return str(batch.column(name)[0][0])
     raise KeyError(f"{path}: no text document at {entity}")
+
+
+def read_column(path: Path, entity: str, component: str) -> list:
+    """One component of an entity, read back: per row on its timelines, statics apart.
+
+    ``component`` is Rerun's column name, such as ``Transform3D:quaternion``
+    or ``Scalars:scalars``; each row's value is a list (a batch). Static
+    values come first when there are no temporal ones.
+    """
+    rows: list = []
+    static: list = []
+    for chunk in RrdReader(Path(path)).stream():
+        if chunk.entity_path != entity:
+            continue
+        batch = chunk.to_record_batch()
+        if component in batch.schema.names:
+            (static if chunk.is_static else rows).extend(batch.column(component).to_pylist())
+    if not rows and not static:
+        raise KeyError(f"{path}: no {component} at {entity}")
+    return rows or static
+
+
+def read_views(path: Path) -> dict[str, str]:
+    """The default blueprint's views, read back: origin to title."""
+    reader = RrdReader(Path(path))
+    out = {}
+    for store in reader.blueprints():
+        for chunk in reader.stream(store=store):
+            batch = chunk.to_record_batch()
+            if "ViewBlueprint:display_name" in batch.schema.names:
+                for name, origin in zip(batch.column("ViewBlueprint:display_name").to_pylist(),
+                                        batch.column("ViewBlueprint:space_origin").to_pylist(),
+                                        strict=True):
+                    out[origin[0]] = name[0]
+    return out

@@ -255,8 +255,10 @@ def render(r: CampaignResults) -> str:
                   "One Rerun recording per validated manoeuvre, and `campaign.rrd` with "
                   "this report and every criterion per manoeuvre. Open one with "
                   "`rerun recordings/NAME.rrd`; the viewer opens on the yard (the measured "
-                  "combination in white, KIN blue, STM green, MBD orange) beside the "
-                  "steering, yaw-rate, lateral-velocity, articulation and running-error "
-                  "plots. The time panel switches between time and travelled distance "
-                  "(`distance_cm`).", ""]
+                  "combination in white, KIN blue, STM green, and the plant in orange, drawn "
+                  "from its own MuJoCo bodies with wheels that steer and spin and its tyre "
+                  "forces as arrows) beside the steering, speed, yaw-rate, lateral-velocity, "
+                  "articulation and running-error plots, angles in degrees, and the plant's "
+                  "wheel loads, slip angles and steering torque. The time panel switches "
+                  "between time and travelled distance (`distance_cm`).", ""]
     return "\n".join(lines)

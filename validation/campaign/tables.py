@@ -52,14 +52,13 @@ def markdown(df: pd.DataFrame, digits: int = 4) -> str:
     head = [df.index.name or ""] + [f"{c} [{UNITS[c]}]" if c in UNITS else str(c)
                                     for c in df.columns]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    def cell(v) -> str:
+        if isinstance(v, float):
+            return "-" if pd.isna(v) else f"{v:.{digits}g}"
+        return str(v)
+
     for idx, row in df.iterrows():
-        cells = []
-        for v in row:
-            if isinstance(v, float):
-                cells.append("-" if pd.isna(v) else f"{v:.{digits}g}")
-            else:
-                cells.append(str(v))
-        lines.append("| " + " | ".join([str(idx), *cells]) + " |")
+        lines.append("| " + " | ".join([cell(idx), *map(cell, row)]) + " |")
     return "\n".join(lines)
 
 

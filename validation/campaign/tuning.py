@@ -48,12 +48,16 @@ from validation.harness import DEFAULT_GAIN, loop_inputs
 from validation.logs.runfile import Run
 from validation.metrics import distance_mean_abs, distance_weights
 from validation.models import spec
+from validation.progress import duration
 from validation.steering import SteeringMap
 
 SIGNALS = (("r_1", "r"), ("r_2", "r"), ("v_y_1", "v_y"), ("v_y_2", "v_y"))
 
 MBD_MAX_EVALUATIONS = 40
 """Cap on objective evaluations for the plant (8 plant runs each)."""
+
+TUNING_EVERY = 10.0
+"""Shortest time between two progress lines of one fit [s]."""
 
 
 @dataclass(frozen=True)
@@ -126,6 +130,8 @@ class Objective:
         self.model, self.vehicle, self.logs, self.jobs, self.gain = model, vehicle, logs, jobs, gain
         self.bounds = bounds_for(model, vehicle, logs)
         self.evaluations = 0
+        self.limited: dict[str, str] = {}  # log -> what the model limited, first seen
+        self.on_evaluation: Callable[[Objective], None] | None = None
         self._meas = []
         for log in logs:
             f = log.frame
@@ -154,7 +160,13 @@ class Objective:
         steering = SteeringMap.from_steering(v.steering_for(self.model))
         inputs = [loop_inputs(log, v, steering) for log in self.logs]
         self.evaluations += 1
-        return run_batch(spec(self.model).build, v, inputs, self.gain, self.jobs)
+        res = run_batch(spec(self.model).build, v, inputs, self.gain, self.jobs)
+        for log, text in zip(self.logs, res.limited, strict=False):
+            if text:
+                self.limited.setdefault(log.name, text)
+        if self.on_evaluation is not None:
+            self.on_evaluation(self)
+        return res
 
     def residuals(self, x: np.ndarray) -> np.ndarray:
         """The stacked, normalised residuals (see the module docstring)."""
@@ -202,9 +214,29 @@ def tune_model(model: str, vehicle: Vehicle, logs: Sequence[Run], jobs: int = 1,
         return obj.residuals(lo + span * z)
 
     z0 = (x0 - lo) / span
+    max_nfev = MBD_MAX_EVALUATIONS if model == "mbd" else 100 * len(obj.bounds)
+    # least_squares counts neither the Jacobian's len(bounds) evaluations per
+    # step in max_nfev, nor the start, evaluated here once more.
+    bound = 1 + max_nfev * (1 + len(obj.bounds))
+    last = [t0]
+    first = [0.0]  # end of the first evaluation, which may include compiling
+
+    def report(o: Objective) -> None:
+        now = time.perf_counter()
+        if o.evaluations == 1:
+            first[0] = now
+        if progress is None or o.evaluations < 3 or now - last[0] < TUNING_EVERY:
+            return
+        last[0] = now
+        per = (now - first[0]) / (o.evaluations - 1)
+        progress(f"tuning {model} on {len(logs)} logs: evaluation {o.evaluations} of at most "
+                 f"{bound} ({duration(now - t0)} so far, {duration(per)} each; at most "
+                 f"{duration(per * (bound - o.evaluations))} left, usually far less)")
+
+    obj.on_evaluation = report
     r0 = fun(z0)
     before = float(np.sum(r0 ** 2))
-    kw = {"max_nfev": MBD_MAX_EVALUATIONS} if model == "mbd" else {}
+    kw = {"max_nfev": max_nfev}
     sol = least_squares(fun, z0, bounds=(0.0, 1.0), method="trf", diff_step=1e-3,
                         x_scale=1.0, xtol=1e-6, ftol=1e-8, **kw)
     x = lo + span * sol.x
@@ -216,6 +248,8 @@ def tune_model(model: str, vehicle: Vehicle, logs: Sequence[Run], jobs: int = 1,
               at_bound=[n for n, z in zip(obj.names, sol.x, strict=True)
                         if z < 1e-4 or z > 1 - 1e-4])
     if progress is not None:
+        for name, text in obj.limited.items():
+            progress(f"tuning {model} on {name}: limited: {text}")
         vals = ", ".join(f"{k} = {v:.5g}" for k, v in fit.fitted.items())
         progress(f"tuned {model} on {len(logs)} logs: {vals}; eps_n {fit.eps_n_before:.2f} -> "
                  f"{fit.eps_n_after:.2f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)"

@@ -13,13 +13,12 @@ samples, so that a resumed batch reuses the failure instead of repeating it.
 
 from __future__ import annotations
 
-import sys
-import threading
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from mjcf.vehicle import Vehicle
@@ -28,6 +27,7 @@ from validation.logs.runfile import LogError, Run, atomic_write, check_frame, re
 from validation.logs.schema import COLUMNS, MODEL_SIGNALS
 from validation.metrics import CRITERIA, run_metrics
 from validation.models import build
+from validation.progress import Counter, stderr
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -43,7 +43,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                   gain: float = DEFAULT_GAIN, out_dir: Path | None = None,
                   progress: Callable[[str], None] | None = None,
                   reuse_key: str | None = None, jobs: int = 1,
-                  executor: Executor | None = None) -> pd.DataFrame:
+                  executor: Executor | None = None, label: str = "validation") -> pd.DataFrame:
     """Run every model on every log and compute the criteria.
 
     Parameters
@@ -60,7 +60,10 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     out_dir : Path, optional
         If given, each model run is written to ``out_dir/runs/LOG.MODEL.parquet``.
     progress : callable, optional
-        Receives one line per finished run.
+        Receives progress lines (counts and the time left, see
+        :class:`validation.progress.Counter`), one line for the runs reused,
+        and one line per run whose model had to limit something
+        (:mod:`validation.plantnotes`) or stopped early.
     reuse_key : str, optional
         With ``out_dir``: a run file already there whose ``meta["key"]`` is
         this key plus the model is read instead of simulated again (resuming
@@ -70,6 +73,8 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     executor : concurrent.futures.Executor, optional
         Simulate there instead (see :mod:`validation.campaign.executors`); files are
         written here.
+    label : str
+        What the progress lines call this batch (a load condition, say).
 
     Returns
     -------
@@ -84,16 +89,21 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         raise ValueError(f"logs share the name(s) {', '.join(dupes)}; their results would "
                          "overwrite each other: rename the files")
     tasks = [(log, name) for log in logs for name in models]
-    done = [0]
-    lock = threading.Lock()
+    reused = {(log.name, name) for log, name in tasks
+              if _reusable(*_where(out_dir, log, name, reuse_key, gain)) is not None}
+    if progress is not None and reused:
+        progress(f"{label}: {len(reused)} of {len(tasks)} runs reused from "
+                 f"{Path(out_dir) / 'runs'} (made earlier with the same code and settings)")
+    counter = Counter(len(tasks) - len(reused), label, progress)
 
     remote: dict = {}
 
     def one(task):
         log, name = task
         target, key = _where(out_dir, log, name, reuse_key, gain)
-        run = _reusable(target, key)
-        if run is None:
+        run = _reusable(target, key) if (log.name, name) in reused else None
+        fresh = run is None
+        if fresh:
             got = remote.pop((log.name, name), None)
             run, wall = got if got is not None else _simulate(name, log, vehicle, gain)
             run.meta["wall_s"] = wall
@@ -102,7 +112,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             if key is not None:
                 run.meta["key"] = key
             if target is not None:
-                write_run(run, target)
+                write_run(Run(_thin_extras(run.frame), run.meta), target)
         wall = float(run.meta["wall_s"])
         t = log.frame["t"]
         if is_failed(run.meta["status"]) or len(run.frame) < 2:
@@ -115,24 +125,22 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                "status": run.meta["status"], "wall_s": wall, "duration_s": duration,
                "direction": log.meta.get("direction", ""),
                "manoeuvre": log.meta.get("manoeuvre", "")}
-        if progress is not None:
-            with lock:
-                done[0] += 1
-                note = "" if run.meta["status"] == "ok" else f" - {run.meta['status']}"
-                progress(f"[{done[0]}/{len(tasks)}] {log.name} / {name}: eps_p = "
-                         f"{row['eps_p']:.3f} m, eps_n = {row['eps_n']:.1f} %, J_steer = "
-                         f"{row['J_steer']:.1f} % ({wall:.2f} s){note}")
+        if fresh:
+            notes = [run.meta["status"]] if run.meta["status"] != "ok" else []
+            if run.meta.get("limited"):
+                notes.append("limited: " + run.meta["limited"])
+            counter.step(f"{log.name} / {name}: eps_n = {row['eps_n']:.1f} % ({wall:.1f} s)"
+                         + "".join(f"; {n}" for n in notes), always=bool(notes))
         return row
 
     if executor is not None:
         # Simulate remotely what cannot be reused; everything else happens here.
         todo = {}
-        for task in tasks:
-            log, name = task
-            target, key = _where(out_dir, log, name, reuse_key, gain)
-            if _reusable(target, key) is None:
-                v = vehicle if isinstance(vehicle, Vehicle) else vehicle(log)  # pickles
-                todo[(log.name, name)] = executor.submit(_simulate, name, log, v, gain)
+        for log, name in tasks:
+            if (log.name, name) in reused:
+                continue
+            v = vehicle if isinstance(vehicle, Vehicle) else vehicle(log)  # pickles
+            todo[(log.name, name)] = executor.submit(_simulate, name, log, v, gain)
         remote.update({k: f.result() for k, f in todo.items()})
         rows = [one(t) for t in tasks]
     elif jobs > 1:
@@ -142,7 +150,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         rows = [one(t) for t in tasks]
     cols = ["log", "model", "direction", "manoeuvre", *CRITERIA, "s_max", "status", "wall_s",
             "duration_s"]
-    return pd.DataFrame(rows, columns=cols)
+    out = pd.DataFrame(rows, columns=cols)
+    out.attrs["reused"] = len(reused)
+    return out
 
 
 def _where(out_dir, log: Run, name: str, reuse_key: str | None,
@@ -177,19 +187,23 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
 
     ``vehicle`` may be a function of the log (the floor's truth). A failure is
     returned as a run without samples whose status says what failed (see the
-    module docstring); nothing is raised for it.
+    module docstring); nothing is raised for it. What the model had to limit
+    (the plant's warnings) is in ``meta["limited"]`` as one line, not printed.
     """
+    from validation.plantnotes import collect, summary
+
     t0 = time.perf_counter()
     if not isinstance(vehicle, Vehicle):
         vehicle = vehicle(log)
     try:
-        model = build(name, vehicle)
-        try:
-            t0 = time.perf_counter()
-            run = run_closed_loop(model, log, vehicle, gain)
-            return run, time.perf_counter() - t0
-        finally:
-            model.close()
+        with collect() as notes:
+            model = build(name, vehicle)
+            try:
+                t0 = time.perf_counter()
+                run = run_closed_loop(model, log, vehicle, gain)
+                wall = time.perf_counter() - t0
+            finally:
+                model.close()
     except (MemoryError, RecursionError):
         raise
     except ValueError as exc:  # the model refuses its input: vehicle, tyre, steering range
@@ -199,6 +213,9 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
         what = "" if type(exc).__name__ == "PlantError" else f"{type(exc).__name__}: "
         return failed_run(log, name, vehicle, gain, f"failed: {what}{_one_line(exc)}"), \
             time.perf_counter() - t0
+    if notes:
+        run.meta["limited"] = summary(notes)
+    return run, wall
 
 
 def _one_line(exc: BaseException) -> str:
@@ -207,8 +224,6 @@ def _one_line(exc: BaseException) -> str:
 
 def failed_run(log: Run, name: str, vehicle: Vehicle, gain: float, status: str) -> Run:
     """A run without samples that records why the pair has no result."""
-    import numpy as np
-
     frame = pd.DataFrame({c: np.zeros(0) for c in (*COLUMNS, *MODEL_SIGNALS)})
     frame["delta_saturated"] = frame["delta_saturated"].astype(bool)
     meta = {"name": f"{log.name}.{name}", "source": f"model:{name}", "log": log.name,
@@ -219,11 +234,30 @@ def failed_run(log: Run, name: str, vehicle: Vehicle, gain: float, status: str) 
     return Run(frame, meta)
 
 
+EXTRAS_RATE = 10.0
+"""Samples per second at which run files keep the plant's extra columns [Hz].
+
+The harness records them at every sample; the recordings draw the yard and
+plot the tyres at 10 Hz, and the full rate would make a plant run file five
+times larger. The rows between hold NaN (stored as nulls)."""
+
+
+def _thin_extras(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with the plant's extra columns kept at :data:`EXTRAS_RATE` only."""
+    extra = [c for c in frame.columns if c not in COLUMNS and c not in MODEL_SIGNALS]
+    if not extra or len(frame) < 2:
+        return frame
+    t = frame["t"].to_numpy()
+    every = max(1, round(1.0 / (EXTRAS_RATE * float(np.median(np.diff(t))))))
+    out = frame.copy()
+    out.loc[np.arange(len(frame)) % every != 0, extra] = np.nan
+    return out
+
+
 def write_metrics(df: pd.DataFrame, path: Path) -> Path:
     """Write a metrics table as CSV, atomically."""
     return atomic_write(path, lambda p: df.to_csv(p, index=False, float_format="%.6g"))
 
 
-def stderr_progress(line: str) -> None:
-    """Print a progress line to standard error."""
-    print(line, file=sys.stderr, flush=True)
+stderr_progress = stderr
+"""Print a progress line to standard error (:func:`validation.progress.stderr`)."""

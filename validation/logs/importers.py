@@ -6,7 +6,12 @@ Accepted sources:
 - an OXTS-style export: a folder holding ``tractor.csv``, ``trailer.csv``
   and ``can.csv`` (see :mod:`validation.logs.oxts`), and optionally ``meta.json``
   with the run's metadata (manoeuvre, load, ...);
-- a MATLAB ``.mat`` (v5) file with structs ``tractor``, ``trailer``, ``can``.
+- a MATLAB ``.mat`` (v5) file with structs ``tractor``, ``trailer``, ``can``;
+- a CSV with its own column names, units and time stamps, through a channel
+  map (:mod:`validation.logs.channels`); with the tractor's channels and the
+  articulation angle only, the semitrailer's are derived
+  (:mod:`validation.logs.derive`). A canonical CSV without the semitrailer's
+  channels but with ``gamma`` is such a log too.
 
 Every source, canonical ones included, passes the structural checks of
 :func:`validation.logs.runfile.check_frame` and the consistency checks of
@@ -20,6 +25,9 @@ from __future__ import annotations
 from collections.abc import Collection
 from pathlib import Path
 
+import pandas as pd
+
+from mjcf.vehicle import load_vehicle
 from validation.logs import consistency
 from validation.logs.oxts import import_mat, import_oxts, read_csv
 from validation.logs.runfile import LogError, Run, check_frame, parse_meta, read_run, write_run
@@ -68,8 +76,8 @@ def source_name(path: Path) -> str:
     return path.name if path.is_dir() else path.stem
 
 
-def import_source(path: Path, accept: Collection[str] = (), vehicle=None) -> tuple[Run,
-                                                                                  list[str]]:
+def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
+                  channels: Path | None = None) -> tuple[Run, list[str]]:
     """Import one source into a canonical run.
 
     Parameters
@@ -80,6 +88,12 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None) -> tup
         Consistency checks accepted knowingly (see :mod:`validation.logs.consistency`).
     vehicle : Vehicle, optional
         For the steering and hitch checks.
+    channels : Path, optional
+        A channel map for a CSV with its own column names, units and time
+        stamps (:mod:`validation.logs.channels`). With it, or for a canonical
+        CSV without the semitrailer's channels, the semitrailer's are derived
+        from the tractor's and the articulation angle with ``vehicle``'s
+        geometry (gosar2022-unloaded's without one).
 
     Returns
     -------
@@ -95,6 +109,14 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None) -> tup
     """
     path = Path(path)
     accept = tuple(accept)
+    if channels is not None or _tractor_only(path):
+        from validation.logs.channels import import_mapped, tractor_only_map
+
+        geometry = vehicle if vehicle is not None else load_vehicle("gosar2022-unloaded")
+        run, report = import_mapped(path, channels or tractor_only_map(path), geometry)
+        run = _checked(run, str(path), vehicle, accept)
+        run.meta["name"] = source_name(path)
+        return run, report
     if path.is_dir():
         files = [path / f"{n}.csv" for n in ("tractor", "trailer", "can")]
         missing = [f.name for f in files if not f.is_file()]
@@ -123,8 +145,19 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None) -> tup
     return run, report
 
 
+def _tractor_only(path: Path) -> bool:
+    """A canonical CSV with the tractor's channels and ``gamma`` but not the semitrailer's."""
+    if path.suffix != ".csv" or not path.is_file():
+        return False
+    try:
+        head = pd.read_csv(path, nrows=0).columns
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError):
+        return False
+    return "gamma" in head and "x_1" in head and "x_2" not in head
+
+
 def import_sources(paths: list[Path], out_dir: Path, accept: Collection[str] = (),
-                   vehicle=None) -> list[Path]:
+                   vehicle=None, channels: Path | None = None) -> list[Path]:
     """Import every source and write it as ``out_dir/NAME.parquet``, atomically.
 
     Two sources that would get the same name are refused before anything is
@@ -140,7 +173,7 @@ def import_sources(paths: list[Path], out_dir: Path, accept: Collection[str] = (
         targets[name] = Path(p)
     out = []
     for p in paths:
-        run, report = import_source(p, accept, vehicle)
+        run, report = import_source(p, accept, vehicle, channels)
         for line in report:
             print(f"repaired: {line}")
         for line in run.meta.get("accepted_checks", []):

@@ -50,6 +50,7 @@ from validation.campaign import fingerprint
 from validation.logs.oxts import export_oxts
 from validation.logs.runfile import Run, new_frame
 from validation.outputs import TEMP_SUFFIX, public_mode
+from validation.progress import Counter
 from validation.steering import SteeringMap
 from validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
 from validation.synthetic.driver import DockingDriver, drive_to_dock
@@ -264,7 +265,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     only : list of str, optional
         Names (or name prefixes) of the manoeuvres to make; all by default.
     progress : callable, optional
-        Receives one line per manoeuvre.
+        Receives progress lines with counts and the time left.
     jobs : int
         Processes to use. Every manoeuvre has its own random numbers, so the
         files are the same for any number of jobs.
@@ -311,10 +312,10 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         else:
             futures = {pool.submit(_simulate_timed, m, seed, sensors, truth): m for m in missing}
             done = ((futures[f], f.result()) for f in as_completed(futures))
-        for i, (m, (run, wall)) in enumerate(done, start=1):
+        counter = Counter(len(missing), "generated", progress)
+        for m, (run, wall) in done:
             write_export(run, out_dir, name=m.name)
-            if progress:
-                progress(f"[{i}/{len(missing)}] {m.name} ({wall:.1f} s)")
+            counter.step(f"{m.name} ({wall:.1f} s)")
     finally:
         if own:
             pool.shutdown(cancel_futures=True)

@@ -1,0 +1,42 @@
+"""Progress lines and plant warnings: counts, time left, one line per run."""
+
+from __future__ import annotations
+
+import warnings
+
+from plant import PlantWarning
+from plant.tyre import TyreRangeWarning
+from validation.plantnotes import collect, summary
+from validation.progress import Counter, duration
+
+
+def test_counter_counts_throttles_and_estimates():
+    lines = []
+    c = Counter(4, "validation, loaded", lines.append, every=3600.0)
+    c.step("a")  # the first line comes at once
+    c.step("b")  # throttled
+    c.step("c", always=True)  # something to say
+    c.step("d")  # the last
+    assert [line.split(" - ")[0] for line in lines] == [
+        "[1/4] validation, loaded: a", "[3/4] validation, loaded: c",
+        "[4/4] validation, loaded: d"]
+    assert lines[0].endswith("left") and lines[-1].endswith("done")
+    assert duration(45.2) == "45 s" and duration(185) == "3 min 05 s"
+    assert duration(3720) == "1 h 02 min"
+
+
+def test_plant_warnings_collected_as_one_line(recwarn):
+    with collect() as notes:
+        for t in (8.2, 8.21, 8.22):
+            warnings.warn(f"t = {t:.2f} s: left-wheel angle -37.4 deg is beyond the linkage's "
+                          "[-37.2, 51.4] deg; limited", PlantWarning, stacklevel=1)
+        warnings.warn("x.tir at t = 9.00 s: tyre outside the file's valid range: front L: "
+                      "alpha = -0.3 outside [-0.25, 0.25]", TyreRangeWarning, stacklevel=1)
+        warnings.warn("something else", UserWarning, stacklevel=1)
+    assert len(notes) == 4
+    line = summary(notes)
+    assert line == ("steering held at the linkage's range [-37.2, 51.4] deg from t = 8.20 s "
+                    "(3 times); tyre outside its file's range (front L alpha) from t = 9.00 s")
+    # Only the unrelated warning got through to the usual display.
+    assert [str(w.message) for w in recwarn] == ["something else"]
+    assert summary([]) == ""
