@@ -24,15 +24,19 @@ import mujoco
 import numpy as np
 
 from mjcf import load_vehicle
+from mjcf.interface import InitialState
 from plant import Plant
-from reduced import InitialState
 
 SIM_SECONDS = 10.0
 DT = 0.01
 
 
-def _run(backend: str, seconds: float, states: list | None = None) -> tuple[float, Plant]:
+def _run(backend: str, seconds: float, states: list | None = None,
+         moments: bool = False) -> tuple[float, Plant]:
+    import dataclasses
+
     v = load_vehicle("gosar2022-unloaded")
+    v = dataclasses.replace(v, plant=dataclasses.replace(v.plant, tyre_moments=moments))
     u, delta = 5 / 3.6, math.radians(200) / v.steering_for("mbd").i_s
     p = Plant(v, backend=backend)
     p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
@@ -75,14 +79,15 @@ def _tyre_ns() -> tuple[float, float]:
     p = TyreParams.from_tir(load_vehicle("gosar2022-unloaded").tyre_file)
     rng = np.random.default_rng(0)
     n = 100_000
+    # Fz, Vx, Vsx, Vy, omega_z, u, v, phi
     a = (rng.uniform(1e4, 4e4, n), rng.uniform(-3, 3, n), rng.normal(0, 0.3, n),
-         rng.normal(0, 0.3, n), rng.normal(0, 0.01, n), rng.normal(0, 0.05, n),
-         np.ones(n))
+         rng.normal(0, 0.3, n), rng.normal(0, 0.1, n), rng.normal(0, 0.01, n),
+         rng.normal(0, 0.05, n), rng.normal(0, 0.02, n))
 
     def numpy_eval():
-        transient_forces(p, *a)
-        deflection_rates(p, *a[:6])
-        rolling_resistance(p, a[0], a[1])
+        Fx = transient_forces(p, *a)[0]
+        deflection_rates(p, *a)
+        rolling_resistance(p, a[0], a[1], Fx)
 
     times = []
     for fn in (lambda: ctyre.evaluate(p, *a), numpy_eval):
@@ -100,10 +105,13 @@ def main() -> dict[str, float]:
     bare = _bare(p, states)
     steps = round(SIM_SECONDS / p.model.opt.timestep)
     p.close()
+    wall_m, pm = _run("c", SIM_SECONDS, moments=True)
+    pm.close()
     wall_np, q = _run("numpy", SIM_SECONDS / 5)
     q.close()
     wall_np *= 5
     out = {"plant_rtf": SIM_SECONDS / wall_c, "numpy_rtf": SIM_SECONDS / wall_np,
+           "moments_rtf": SIM_SECONDS / wall_m, "moments_over_bare": wall_m / bare,
            "plant_over_bare": wall_c / bare, "numpy_over_c": wall_np / wall_c,
            "timestep_ms": p.model.opt.timestep * 1e3,
            "bare_step_us": bare / steps * 1e6, "plant_step_us": wall_c / steps * 1e6}
@@ -117,6 +125,8 @@ def main() -> dict[str, float]:
           f"({out['numpy_over_c']:.1f} times slower)")
     print(f"  plant step / bare mj_step: {out['plant_over_bare']:.2f} "
           f"({out['plant_step_us']:.1f} us / {out['bare_step_us']:.1f} us per step)")
+    print(f"  with the tyre moments: {out['moments_rtf']:.1f} x real time, "
+          f"plant step / bare {out['moments_over_bare']:.2f}")
     return out
 
 
