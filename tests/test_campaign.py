@@ -134,24 +134,34 @@ def test_whole_campaign(tmp_path):
             assert abs(m["final_lateral_error"]) < 0.5, m["name"]
             assert abs(m["final_heading_error"]) < math.radians(3.0), m["name"]
     assert sum(m.get("shuffles", 0) > 0 for m in metas) >= 1  # shuffles happen
-    # Tables for all three models: 17 forward manoeuvres (25 less the 8 for
-    # tuning) and 33 reverse, every run complete.
+    # Tables for all three models and the floor: 17 forward manoeuvres (25 less
+    # the 8 for tuning) and 33 reverse, every run complete.
     t2 = pd.read_csv(out / "table2_forward.csv", index_col=0)
     t3 = pd.read_csv(out / "table3_reverse.csv", index_col=0)
     assert (t2["n"] == 17).all() and (t3["n"] == 33).all()
-    assert set(t2.index) == {"kin", "stm", "mbd"}
+    assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
     assert (pd.read_csv(out / "metrics.csv").status == "ok").all()
-    # The plant, which shares the truth's structure, recovers the truth's
-    # steering ratio and offset. The bounds: the truth's tyres are 9 % stiffer
-    # (LKY), which the fit can only absorb into i_s, worth about 1 % at these
-    # speeds; the offset is pinned by the left/right pairs to a few tenths of
-    # a degree by the 0.1 deg CAN resolution and the yaw-rate noise.
+    # No model beats the floor, the truth's own plant through the same harness.
+    for t in (t2, t3):
+        assert (t.drop(index="floor")["eps_n"] > t.loc["floor", "eps_n"]).all()
+    # The plant as the second reference, for the reduced models.
+    p2 = pd.read_csv(out / "table2_vs_plant.csv", index_col=0)
+    p3 = pd.read_csv(out / "table3_vs_plant.csv", index_col=0)
+    assert set(p2.index) == set(p3.index) == {"kin", "stm"}
+    assert (p2["n"] == 17).all() and (p3["n"] == 33).all()
+    # Tuning recovers what it can. The structural truth has understeer no model
+    # has (the steering yields to the aligning moment, softer trailer tyres,
+    # the tridem's bore torque), which every fit can only put into a larger
+    # steering ratio: measured +5.7 % (MBD) to +8.5 % (KIN), so 0 to 12 %. The
+    # column's play and drift bias the offset: measured +0.6 to +0.9 deg, so
+    # within 1.5 deg.
     for load, part in json.loads((out / "tuning.json").read_text())["loads"].items():
         truth = part["truth"]
         i_s_true = part["nominal"]["i_s"] * truth["i_s_scale"]
-        fit = part["fitted"]["mbd"]
-        assert fit["i_s"] == pytest.approx(i_s_true, rel=0.015), load
-        assert abs(fit["delta_h_offset"] - truth["delta_h_offset"]) < math.radians(0.3), load
+        for model, fit in part["fitted"].items():
+            assert 1.0 < fit["i_s"] / i_s_true < 1.12, (load, model)
+            assert abs(fit["delta_h_offset"] - truth["delta_h_offset"]) < math.radians(1.5), \
+                (load, model)
     assert len(list((out / "recordings").glob("*.rrd"))) == 50 + 1
     check_recordings(out)
     assert "## Discussion" in (out / "report.md").read_text()
