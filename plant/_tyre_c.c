@@ -29,6 +29,7 @@
 /* abi, key_hi, key_lo, n_wheels, n_params, n_sets, moments, checksum */
 #define HEADER 8
 #define PER_WHEEL 13
+#define MAX_TYRES_PER_END 4 /* ctyre.MAX_TYRES_PER_END */
 
 /* Coefficient order of a set; plant/ctyre.py reads it from artic_param_names(). */
 #define PARAMS(X) \
@@ -225,7 +226,11 @@ static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, d
 /* A weighted sum of the block after the header, sealing it against damage. */
 static double checksum(const double* body, int n) {
   double s = 0.0;
-  for (int i = 0; i < n; i++) s += body[i] * (double)((i % 97) + 1);
+  int w = 1; /* (i % 97) + 1, without a division per value */
+  for (int i = 0; i < n; i++) {
+    s += body[i] * (double)w;
+    if (++w > 97) w = 1;
+  }
   return s;
 }
 
@@ -252,7 +257,8 @@ static const double* valid_block(const mjModel* m, const mjData* d, int* nw_out)
     if (!id_ok(w[0], m->nsite) || !id_ok(w[1], m->nbody) || !id_ok(w[2], m->nbody)
         || !id_ok(w[3], m->nbody) || !id_ok(w[4], m->nv) || !id_ok(w[5], m->na)
         || !id_ok(w[6], m->na) || !id_ok(w[7], m->na) || !id_ok(w[8], m->nu)
-        || !id_ok(w[9], m->nu) || !id_ok(w[10], m->nu) || !id_ok(w[12], ns)) {
+        || !id_ok(w[9], m->nu) || !id_ok(w[10], m->nu) || !id_ok(w[12], ns)
+        || !(w[11] > 0.0 && w[11] <= MAX_TYRES_PER_END)) {
       return NULL;
     }
   }

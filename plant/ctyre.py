@@ -49,6 +49,9 @@ POSITIVE = ("UNLOADED_RADIUS", "VERTICAL_STIFFNESS", "FNOMIN", "LONGVL", "VXLOW"
             "LFZO", "PKY2", "PTY1", "PTY2", "PTX1")
 """Coefficients a block refuses unless finite and positive (divisors of the callback)."""
 
+MAX_TYRES_PER_END = 4
+"""Most tyres one wheel end carries (a dual pair is 2); the C code refuses more."""
+
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
 
@@ -154,11 +157,15 @@ def check_set(p: TyreParams) -> None:
     TyreBlockError
         For a non-finite coefficient, or a non-positive divisor (:data:`POSITIVE`).
     """
-    for n, x in zip(param_names(), param_vector(p), strict=True):
+    _check_values(p.path, dict(zip(param_names(), param_vector(p), strict=True)))
+
+
+def _check_values(where: str, values: dict[str, float]) -> None:
+    for n, x in values.items():
         if not np.isfinite(x):
-            raise TyreBlockError(f"{p.path}: tyre coefficient {n} = {float(x)!r} is not finite")
+            raise TyreBlockError(f"{where}: tyre coefficient {n} = {float(x)!r} is not finite")
         if n in POSITIVE and x <= 0.0:
-            raise TyreBlockError(f"{p.path}: tyre coefficient {n} = {float(x)!r} must be positive")
+            raise TyreBlockError(f"{where}: tyre coefficient {n} = {float(x)!r} must be positive")
 
 
 def block(sets: list[TyreParams], wheels: np.ndarray, moments: bool) -> np.ndarray:
@@ -196,7 +203,8 @@ def check_block(m: mujoco.MjModel, d: mujoco.MjData | None = None) -> None:
     TyreBlockError
         Naming what is wrong: no block, a size that disagrees with its counts,
         an id outside the model's dimensions, a set index out of range, a
-        bad coefficient, or a seal that does not match.
+        wheel end with no (or too many) tyres, a coefficient that is not
+        finite or a divisor that is not positive, or a seal that does not match.
     """
     if m.nnumeric < 1 or m.numeric(0).name != BLOCK:
         raise TyreBlockError(f"the model has no '{BLOCK}' numeric as its numeric 0")
@@ -220,6 +228,15 @@ def check_block(m: mujoco.MjModel, d: mujoco.MjData | None = None) -> None:
     if blk.size != want:
         raise TyreBlockError(f"'{BLOCK}' has {blk.size} values; {nw} wheels and {ns} tyre "
                              f"sets need {want}")
+    bad = np.flatnonzero(~np.isfinite(blk[nh:]))
+    if bad.size:  # named before the seal, which a NaN would only call damaged
+        k = int(bad[0])
+        if k < ns * npar:
+            what = f"tyre set {k // npar}: tyre coefficient {param_names()[k % npar]}"
+        else:
+            k -= ns * npar
+            what = f"wheel {k // len(WHEEL_FIELDS)}: {WHEEL_FIELDS[k % len(WHEEL_FIELDS)]}"
+        raise TyreBlockError(f"'{BLOCK}' {what} = {float(blk[nh:][bad[0]])!r} is not finite")
     if checksum(blk[nh:]) != h["checksum"]:
         raise TyreBlockError(f"'{BLOCK}': its seal does not match its contents (damaged)")
     if m.nuserdata < 3 * nw + 1:
@@ -234,8 +251,13 @@ def check_block(m: mujoco.MjModel, d: mujoco.MjData | None = None) -> None:
             if not (0 <= x < limit and x == int(x)):
                 raise TyreBlockError(f"'{BLOCK}' wheel {i}: {name} = {x:g} is outside the "
                                      f"model's range [0, {limit})")
-    if np.any(wheels[:, WHEEL_FIELDS.index("n_tyres")] <= 0):
-        raise TyreBlockError(f"'{BLOCK}': a wheel end with no tyre (n_tyres <= 0)")
+    for i, n in enumerate(wheels[:, WHEEL_FIELDS.index("n_tyres")]):
+        if not 0 < n <= MAX_TYRES_PER_END:
+            raise TyreBlockError(f"'{BLOCK}' wheel {i}: n_tyres = {n:g}; a wheel end carries "
+                                 f"1 to {MAX_TYRES_PER_END} tyres")
+    for k in range(ns):  # a block sealed elsewhere (plant.load) was never check_set
+        values = blk[nh + k * npar:nh + (k + 1) * npar]
+        _check_values(f"'{BLOCK}' tyre set {k}", dict(zip(param_names(), values, strict=True)))
     if d is not None and not _lib().artic_block_ok(m._address, d._address):
         raise TyreBlockError(f"'{BLOCK}' is refused by the compiled callback")
 

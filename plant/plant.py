@@ -348,12 +348,18 @@ class Plant:
 
     # ------------------------------------------------------------ tyres
     def _wheel_kinematics(self, d: mujoco.MjData):
-        """Per wheel end: hub position, heading, lateral axis, centre velocity."""
+        """Per wheel end: hub position, heading, lateral axis, centre velocity, vertical hub.
+
+        A wheel whose hub axis is vertical has no heading on the ground and
+        gets no tyre force, as in the C callback.
+        """
         pos = d.site_xpos[self._hub]
         R = d.site_xmat[self._hub].reshape(-1, 3, 3)
         hx = R[:, :, 0].copy()
         hx[:, 2] = 0.0
-        hx /= np.linalg.norm(hx, axis=1)[:, None]
+        norm = np.linalg.norm(hx, axis=1)
+        flat = norm < 1e-9  # hub axis vertical: no heading, no tyre force (as in C)
+        hx /= np.where(flat, 1.0, norm)[:, None]
         hy = np.column_stack([-hx[:, 1], hx[:, 0], np.zeros(len(hx))])
         cvel = d.cvel[self._hub_body]
         r = pos - d.subtree_com[self._root]
@@ -361,10 +367,10 @@ class Plant:
         vel = v0 + np.column_stack([w[:, 1] * r[:, 2] - w[:, 2] * r[:, 1],
                                     w[:, 2] * r[:, 0] - w[:, 0] * r[:, 2],
                                     w[:, 0] * r[:, 1] - w[:, 1] * r[:, 0]])
-        return pos, hx, hy, vel
+        return pos, hx, hy, vel, flat
 
     def _passive(self, m: mujoco.MjModel, d: mujoco.MjData) -> None:
-        pos, hx, hy, vel = self._wheel_kinematics(d)
+        pos, hx, hy, vel, flat = self._wheel_kinematics(d)
         rho = self.R0_w - pos[:, 2]
         Fz = np.where(rho > 0.0, self.k_t_w * rho - self.c_t_w * vel[:, 2], 0.0)
         Fz = np.maximum(Fz, 0.0)
@@ -379,9 +385,9 @@ class Plant:
             w = self._tyre_set == k
             du, dv, dphi = deflection_rates(p, Fz[w], Vx[w], Vsx[w], Vy[w], omega_z[w], u[w],
                                             v[w], phi[w])
-            d.ctrl[self._tread_u[w]] = du
-            d.ctrl[self._tread_v[w]] = dv
-            d.ctrl[self._tread_w[w]] = dphi
+            d.ctrl[self._tread_u[w]] = np.where(flat[w], 0.0, du)
+            d.ctrl[self._tread_v[w]] = np.where(flat[w], 0.0, dv)
+            d.ctrl[self._tread_w[w]] = np.where(flat[w], 0.0, dphi)
             Fx[w], Fy[w], Mz[w] = transient_forces(p, Fz[w], Vx[w], Vsx[w], Vy[w], omega_z[w],
                                                    u[w], v[w], phi[w],
                                                    self.vehicle.plant.tyre_moments)
@@ -391,6 +397,8 @@ class Plant:
         F[:, 2] += n * Fz
         torque = (n * My)[:, None] * hy  # about the spin axis
         torque[:, 2] += n * Mz  # aligning and bore torque about the ground normal
+        F[flat] = 0.0
+        torque[flat] = 0.0
         contact = pos.copy()
         contact[:, 2] = 0.0
         self._last_forces = F

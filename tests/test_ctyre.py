@@ -149,3 +149,28 @@ def test_plants_on_threads_equal_serial(unloaded, loaded):
         t.join()
     for a, b in zip(serial, out, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_a_vertical_hub_axis_gets_no_force_in_either_backend(unloaded):
+    # A wheel knocked onto its side has no heading on the ground: the C code
+    # guards that division and gives the wheel no force; the numpy reference
+    # must do the same (it divided by zero before), and the others go on.
+    out = {}
+    for backend in ("c", "numpy"):
+        with Plant(unloaded, backend=backend) as p:
+            p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=2.0))
+            m, d = p.model, p.data
+            d.site_xmat[p._hub[0]] = [0, 0, 1, 0, 1, 0, -1, 0, 0]  # x-axis straight down
+            d.ctrl[p._tread_u[0]] = d.ctrl[p._tread_v[0]] = d.ctrl[p._tread_w[0]] = 1.0
+            d.qfrc_passive[:] = 0.0
+            if backend == "c":
+                ctyre.call_passive(m, d)
+            else:
+                p._passive(m, d)
+            out[backend] = (p.last_forces.copy(), d.qfrc_passive.copy(),
+                            d.ctrl[[p._tread_u[0], p._tread_v[0], p._tread_w[0]]].copy())
+    for F, qfrc, rates in out.values():
+        assert np.all(np.isfinite(qfrc)) and np.all(F[0] == 0.0) and np.all(rates == 0.0)
+        assert np.all(F[1:, 2] > 1e3)  # the other wheels carry the truck
+    np.testing.assert_allclose(out["c"][0], out["numpy"][0], rtol=1e-9, atol=1e-6)
+    np.testing.assert_allclose(out["c"][1], out["numpy"][1], rtol=1e-9, atol=1e-6)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+import pytest
 
 import plant
 from mjcf import load_vehicle, naming
@@ -41,11 +42,52 @@ def test_the_exported_truck_rolls_straight_on_its_tyres(tmp_path):
 
 
 def test_a_file_without_tyre_data_is_refused(tmp_path):
-    import pytest
-
     from plant.ctyre import TyreBlockError
 
     path = tmp_path / "bare.xml"
     assert main(["mjcf", "--vehicle", "gosar2022-unloaded", "--no-scene", "-o", str(path)]) == 0
     with pytest.raises(TyreBlockError, match="not written by 'artic mjcf'"):
         plant.load(path)
+
+
+def _written_block(path):
+    import re
+
+    text = path.read_text()
+    m = re.search(r'(<numeric name="artic\.tyre"[^>]*data=")([^"]*)(")', text)
+    return text, m, np.array(m.group(2).split(), dtype=float)
+
+
+BAD_DATA = {  # what a hand-edited file may carry: (coefficient or wheel field, value, words)
+    "zero relaxation length": ("PTY1", 0.0, "PTY1 = 0.0 must be positive"),
+    "NaN trail": ("QDZ1", float("nan"), "tyre set 0: tyre coefficient QDZ1 = nan is not finite"),
+    "infinite tyre count": ("n_tyres", float("inf"), "wheel 0: n_tyres = inf is not finite"),
+    "no tyre": ("n_tyres", 0.0, "wheel 0: n_tyres = 0"),
+    "hub site out of range": ("hub_site", 1e4, "hub_site = 10000 is outside"),
+}
+
+
+@pytest.mark.filterwarnings("ignore:MuJoCo. XML contains a 'NaN'")
+def test_a_file_with_bad_tyre_data_is_refused_naming_it(tmp_path):
+    # plant.load seals whatever block a file carries, so it must check every
+    # value itself: before, a zero relaxation length or an infinite tyre count
+    # was sealed, attached and diverged (NaN state) instead of being refused.
+    from plant import ctyre
+
+    good = tmp_path / "truck.xml"
+    assert main(["mjcf", "--vehicle", "gosar2022-unloaded", "-o", str(good)]) == 0
+    text, match, blk = _written_block(good)
+    names, nh = ctyre.param_names(), len(ctyre.HEADER_FIELDS)
+    ns = int(blk[ctyre.HEADER_FIELDS.index("n_sets")])
+    for case, (key, value, words) in BAD_DATA.items():
+        bad_blk = blk.copy()
+        if key in ctyre.WHEEL_FIELDS:  # the first wheel end's
+            bad_blk[nh + ns * len(names) + ctyre.WHEEL_FIELDS.index(key)] = value
+        else:  # the first set's
+            bad_blk[nh + names.index(key)] = value
+        data = " ".join(repr(float(x)) for x in bad_blk)
+        bad = tmp_path / "bad.xml"
+        bad.write_text(text[:match.start(2)] + data + text[match.end(2):])
+        with pytest.raises(ctyre.TyreBlockError, match=words):
+            plant.load(bad)
+        assert callback.active() == 0, case  # nothing attached

@@ -161,3 +161,77 @@ def test_ply_steer_is_not_mirrored_so_a_real_tyre_drifts():
             p.step(0.01, 0.0, U, 0.0)
         y = p.observe()[1]
     assert abs(y) > 0.05
+
+
+
+FOREIGN = textwrap.dedent('''
+    import mujoco, numpy as np
+    from importlib import resources
+    from mjcf import load_vehicle
+    from plant import Plant, ctyre
+    from plant.tyre import TyreParams
+
+    P = TyreParams.from_tir(resources.files("mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
+    WHEEL = {"hub_site": 0, "hub_body": 1, "root_body": 1, "wheel_body": 2, "spin_dof": 6,
+             "act_u": 0, "act_v": 1, "act_w": 2, "ctrl_u": 0, "ctrl_v": 1, "ctrl_w": 2,
+             "n_tyres": 1, "tyre_set": 0}
+
+    def foreign(key, nuserdata=4, **change):
+        # One wheel on a free body, with three tread actuators: a look-alike of
+        # an artic model, its block built (and checksummed) like artic's.
+        row = [{**WHEEL, **change}[f] for f in ctyre.WHEEL_FIELDS]
+        body = np.concatenate([ctyre.param_vector(P), row])
+        head = [ctyre.ABI, *key, 1, len(ctyre.param_names()), 1, 1, ctyre.checksum(body)]
+        data = " ".join(repr(float(x)) for x in np.concatenate([head, body]))
+        act = '<general joint="spin" dyntype="integrator" gainprm="0" biasprm="0 0 0"/>' * 3
+        return (f'<mujoco><size nuserdata="{nuserdata}"/>'
+                f'<custom><numeric name="artic.tyre" data="{data}"/></custom>'
+                '<worldbody><body pos="0 0 0.5"><freejoint/><geom size="0.3" mass="3000"/>'
+                '<site name="hub"/><body><joint name="spin" type="hinge" axis="0 1 0"/>'
+                '<geom size="0.2" mass="50"/></body></body></worldbody>'
+                f'<actuator>{act}</actuator></mujoco>')
+
+    CASES = {"sealed and fitting": dict(key=ctyre.KEY),
+             "unsealed": dict(key=(0, 0)),
+             "another process's key": dict(key=(12345, 678)),
+             "sealed, site beyond the model": dict(key=ctyre.KEY, hub_site=5),
+             "sealed, dof beyond the model": dict(key=ctyre.KEY, spin_dof=7),
+             "sealed, too little userdata": dict(key=ctyre.KEY, nuserdata=2)}
+    with Plant(load_vehicle("gosar2022-unloaded"), backend="c"):  # the C callback is global
+        for name, kw in CASES.items():
+            m = mujoco.MjModel.from_xml_string(foreign(**kw))  # compiled while a plant is open
+            d = mujoco.MjData(m)
+            try:
+                ctyre.check_block(m, d)
+                verdict = "ACCEPTED"
+            except ctyre.TyreBlockError as e:
+                verdict = f"REFUSED {e}"
+            mujoco.mj_step(m, d, nstep=20)
+            force = np.abs(d.qfrc_passive).max()
+            print(f"{name}|{verdict}|{force:.6g}|{int(np.isfinite(d.qpos).all())}")
+''')
+
+
+def test_a_foreign_model_with_a_look_alike_block_is_never_touched():
+    # A model artic did not attach carries an 'artic.tyre' numeric laid out like
+    # artic's, and is compiled and stepped while a plant has the C callback
+    # installed process-wide. Only a block sealed with this process's key and
+    # fitting its model gets tyre forces (the first case shows that the
+    # look-alike is good enough to be followed); any other is refused in Python
+    # with its reason, and left alone by the callback. In a subprocess: a
+    # segmentation fault would end it with a signal.
+    out = subprocess.run([sys.executable, "-c", FOREIGN], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    rows = {r.split("|")[0]: r.split("|")[1:] for r in out.stdout.splitlines() if "|" in r}
+    assert len(rows) == 6, out.stdout
+    verdict, force, finite = rows.pop("sealed and fitting")
+    assert verdict == "ACCEPTED" and float(force) > 1e4  # the tyre carries the body
+    reasons = {"unsealed": "not sealed by this process",
+               "another process's key": "not sealed by this process",
+               "sealed, site beyond the model": "hub_site = 5 is outside",
+               "sealed, dof beyond the model": "spin_dof = 7 is outside",
+               "sealed, too little userdata": "nuserdata = 2"}
+    for name, (verdict, force, finite) in rows.items():
+        assert verdict.startswith("REFUSED") and reasons[name] in verdict, (name, verdict)
+        assert float(force) == 0.0 and finite == "1", name
