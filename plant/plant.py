@@ -45,6 +45,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
+from collections.abc import Mapping
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -53,7 +55,7 @@ from mjcf import naming as nm
 from mjcf.builder import build_model, linkage
 from mjcf.interface import InitialState, rotate, wrap_angle
 from mjcf.masses import layout
-from mjcf.vehicle import G, Vehicle
+from mjcf.vehicle import G, Vehicle, resolve_tyre_file
 from plant import callback, ctyre
 from plant.tyre import (
     TyreParams,
@@ -114,6 +116,31 @@ def scaled(p: TyreParams, scaling: tuple[tuple[str, float], ...]) -> TyreParams:
     return dataclasses.replace(p, **{k: getattr(p, k) * f for k, f in scaling})
 
 
+def with_tyre_files(vehicle: Vehicle, tyre_files: Mapping[int, str | Path]) -> Vehicle:
+    """``vehicle`` with the tyre files of some axles replaced (see :class:`Plant`).
+
+    Raises
+    ------
+    ValueError
+        For an axle index that the vehicle does not have.
+    mjcf.vehicle.VehicleFileError
+        For a file that is neither there nor shipped, or is not a ``.tir``.
+    """
+    if not tyre_files:
+        return vehicle
+    axles = list(vehicle.axles)
+    for i, name in tyre_files.items():
+        if not (isinstance(i, (int, np.integer)) and 0 <= i < len(axles)):
+            raise ValueError(f"tyre_files: axle {i!r} does not exist; {vehicle.name} has axles "
+                             f"0 to {len(axles) - 1} ({', '.join(a.name for a in axles)})")
+        path = Path(name)
+        if not path.is_file():
+            path = resolve_tyre_file(str(name), vehicle.path or Path.cwd() / "tyre_files",
+                                     f"tyre_files[{i}]")
+        axles[i] = dataclasses.replace(axles[i], tyre_file=str(path))
+    return dataclasses.replace(vehicle, axles=tuple(axles))
+
+
 class PlantError(RuntimeError):
     """The simulation diverged; the message names the time and the wheel."""
 
@@ -136,12 +163,19 @@ class Plant:
     speed : str
         ``"follow"`` the commanded speed kinematically, or ``"drive"`` it with
         wheel torques like a driver (see the module docstring).
+    tyre_files : mapping of int to str or Path, optional
+        Tyre property files per axle, by the axle's index in ``vehicle.axles``
+        (front of the tractor first): a path, or the name of a tyre shipped
+        with artic. Axles left out keep ``vehicle.tyre_file_for(axle)``, which
+        is the vehicle's one tyre file unless its parameter file gives the
+        axle its own. The ride height follows each axle's tyre.
     """
 
     name = "mbd"
 
     def __init__(self, vehicle: Vehicle, timestep: float | None = None,
-                 backend: str = "auto", speed: str = "follow") -> None:
+                 backend: str = "auto", speed: str = "follow",
+                 tyre_files: Mapping[int, str | Path] | None = None) -> None:
         if backend not in BACKENDS:
             raise ValueError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
         if speed not in SPEED_MODES:
@@ -155,6 +189,7 @@ class Plant:
             _warn_fallback()
             backend = "numpy"
         self.backend = "c" if backend == "auto" else backend
+        vehicle = with_tyre_files(vehicle, tyre_files or {})
         self.vehicle = vehicle
         # One coefficient set per tyre file in use; each wheel end names its set.
         files = list(dict.fromkeys(vehicle.tyre_file_for(a) for a in vehicle.axles))
@@ -212,6 +247,11 @@ class Plant:
             self.model.numeric_data[:] = ctyre.block(self._tyres, self._wheel_table(),
                                                      self.vehicle.plant.tyre_moments)
             ctyre.check_block(self.model, self.data)
+
+    @property
+    def wheel_tyres(self) -> list[TyreParams]:
+        """The tyre of every wheel end, in :attr:`wheel_names` order."""
+        return [self._tyres[i] for i in self._tyre_set]
 
     @property
     def tyre(self) -> TyreParams:

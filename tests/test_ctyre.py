@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -12,6 +13,8 @@ from mjcf.interface import InitialState
 from plant import Plant, PlantWarning, callback, ctyre
 from plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
 from shared_data import REFERENCE_TYRE, needs
+
+TRAILER_TYRE = "artic-trailer-385-65R22.5.tir"
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -72,8 +75,8 @@ def test_compiled_forces_equal_the_numpy_reference(which, moments, unloaded):
     assert np.abs(alpha).max() > 1.0 and (s["Vx"] < -1).any() and (s["Vx"] == 0).sum() >= 2000
 
 
-def trajectory(vehicle, backend, seconds=10.0):
-    with Plant(vehicle, backend=backend) as p:
+def trajectory(vehicle, backend, seconds=10.0, tyre_files=None):
+    with Plant(vehicle, backend=backend, tyre_files=tyre_files) as p:
         p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=2.0))
         out = []
         for k in range(int(seconds / 0.01)):
@@ -90,11 +93,14 @@ def test_plant_trajectories_agree_between_backends(unloaded, moments):
     # Same equations, same integrator: over 10 s, through a stop and into
     # reverse, rounding differences must stay at rounding level. 1e-9 m and rad
     # is six orders above double rounding and far below any physical effect.
+    # With the moments, the semitrailer runs on another tyre file, so each
+    # wheel end's coefficient set is looked up through its index in the block.
     import dataclasses
 
     v = dataclasses.replace(unloaded, plant=dataclasses.replace(unloaded.plant,
                                                                 tyre_moments=moments))
-    a, b = trajectory(v, "c"), trajectory(v, "numpy")
+    files = {i: TRAILER_TYRE for i, a in enumerate(v.axles) if a.unit == 2} if moments else None
+    a, b = trajectory(v, "c", tyre_files=files), trajectory(v, "numpy", tyre_files=files)
     assert np.abs(a - b).max() < 1e-9
     assert a[:, 3].min() < -0.5 and a[:, 3].max() > 1.5
 
@@ -149,6 +155,33 @@ def test_plants_on_threads_equal_serial(unloaded, loaded):
         t.join()
     for a, b in zip(serial, out, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_tyre_files_per_axle(unloaded):
+    # The plant takes a tyre file per axle index; the others keep the vehicle's.
+    from mjcf.vehicle import VehicleFileError
+
+    trailer = [i for i, a in enumerate(unloaded.axles) if a.unit == 2]
+    with Plant(unloaded, tyre_files={i: TRAILER_TYRE for i in trailer}) as p:
+        per_wheel = [t.path for t in p.wheel_tyres]
+        assert len(p.tyres) == 2 and len(per_wheel) == p.n_wheels
+        for i, a in enumerate(unloaded.axles):
+            own = TRAILER_TYRE if i in trailer else Path(unloaded.tyre_file).name
+            assert [Path(f).name for f in per_wheel[2 * i:2 * i + 2]] == [own, own], a.name
+        # The block holds both sets and each wheel's index into them.
+        blk = p.model.numeric_data
+        nh, npar = len(ctyre.HEADER_FIELDS), len(ctyre.param_names())
+        wheels = blk[nh + 2 * npar:].reshape(p.n_wheels, len(ctyre.WHEEL_FIELDS))
+        sets = wheels[:, ctyre.WHEEL_FIELDS.index("tyre_set")].astype(int)
+        r0 = blk[nh + sets * npar + ctyre.param_names().index("UNLOADED_RADIUS")]
+        np.testing.assert_array_equal(r0, [t.UNLOADED_RADIUS for t in p.wheel_tyres])
+        assert p.wheel_tyres[-1].UNLOADED_RADIUS != p.wheel_tyres[0].UNLOADED_RADIUS
+    with Plant(unloaded) as p:  # by default, the vehicle's one tyre everywhere
+        assert {t.path for t in p.wheel_tyres} == {p.tyre.path} and len(p.tyres) == 1
+    with pytest.raises(ValueError, match="tyre_files: axle 99 does not exist"):
+        Plant(unloaded, tyre_files={99: TRAILER_TYRE})
+    with pytest.raises(VehicleFileError, match=r"tyre_files\[0\].*'nope.tir'"):
+        Plant(unloaded, tyre_files={0: "nope.tir"})
 
 
 def test_a_vertical_hub_axis_gets_no_force_in_either_backend(unloaded):
