@@ -19,13 +19,33 @@ tread-deflection ratio ``v / sigma_alpha`` itself. ``Mz`` is about the wheel's
 z-axis: a positive slip angle gives a negative, self-aligning moment here,
 which is the file's positive ``Mz`` at its positive slip angle.
 
-Mounting side. A tyre's lateral offset at zero slip is conicity (which turns
-with the tyre when it is mounted the other way round) plus ply steer (which
-does not). A PAC2002 file has one offset and cannot tell them apart; artic
-treats it as ply steer, which dominates on radial truck tyres, so a tyre
-behaves alike on both sides and a straight-running combination with an
-offset drifts, as real ones do. (Mirroring the whole characteristic, as
-before, cancelled the offsets across every axle.)
+Mounting side. A tyre mounted on the other side of the vehicle, outer
+sidewall outward as always, is the same tyre turned half a revolution about
+the vertical, so it rolls the other way round relative to its construction.
+Its lateral offset at zero slip has two parts:
+
+- conicity, from the tyre's geometry, does not depend on the rolling
+  direction: the half turn mirrors it, and it pushes the opposite way in
+  vehicle axes (outward on both sides, say);
+- ply steer, from the belt's ply angles, reverses with the rolling
+  direction: that reversal and the half turn cancel, and it pushes the same
+  way in vehicle axes on both sides. So does its residual aligning torque.
+
+MF-Tyre's TYRESIDE mirrors the whole lateral characteristic for a tyre used
+on the other side, ``Fy_m(alpha) = -Fy(-alpha)`` and ``Mz_m(alpha) = -Mz(-alpha)``,
+which treats all of the offset as conicity; on a vehicle the offsets of the left
+and right tyres then cancel on every axle, and no combination drifts. A
+PAC2002 file has one offset per quantity (``PHY1``, ``PHY2``, ``PVY1``,
+``PVY2``, ``QHZ1``, ``QHZ2``, ``QDZ6``, ``QDZ7``, and the asymmetry terms
+``PEY3``, ``RBY3``, ``RVY1``, ``RVY2``, ``RHX1``, ``SSZ1``) and cannot tell
+the two parts apart. artic treats all of it as ply steer, which is the
+larger and systematic part on radial truck tyres (conicity varies from tyre
+to tyre around zero), so every wheel end uses the file as measured and
+``TYRESIDE`` is read but not applied: the tyre behaves alike on both sides
+and a combination with an offset crabs at its tyres' zero-force slip angle
+and drifts, as real ones do. The only terms that would flip with the side,
+the camber terms (the inclination angle's sign turns with the side), are
+not used: camber is taken as zero.
 
 Transient slip. Each wheel carries three tread deflections, ``u``
 (longitudinal) and ``v`` (lateral) [m] and the twist ``phi`` [rad], which obey
@@ -45,13 +65,19 @@ tread-spring oscillation. The sign of travel in the trail and the rolling
 resistance is smoothed over :data:`V_SIGN`.
 
 Bore torque (turn slip), a documented contact-patch model, as a PAC2002 file
-has no turn-slip coefficients: the twist ``phi`` gives a torque
+has no turn-slip coefficients (an MF 6.1 file's ``PDXP1`` to ``QDRP1`` are not
+read; the model's own constants, :data:`TWIST_STIFFNESS` and
+:data:`PATCH_MIN`, stand for them): the twist ``phi`` gives a torque
 ``M_bore = M_max tanh(phi / phi_s)`` about the ground normal, with
 
 - ``M_max = (2/3) mu_y Fz a``, the friction torque of a circular patch of
   radius ``a`` under uniform pressure, so the torque is bounded by friction;
-- ``a = sqrt(R0 Fz / k_t)``, the half-chord of a tyre deflected by ``Fz / k_t``
-  (0.13 m for a truck tyre at 30 kN), at least :data:`PATCH_MIN`;
+- ``a = sqrt(R0 Fz / k_t)``, ``1/sqrt(2)`` of the half-chord that the ground
+  cuts from the undeformed tyre deflected by ``Fz / k_t`` (the tread flattens
+  over less than the chord): 0.13 m for a truck tyre at 30 kN, whose
+  footprint is about 0.25 m long and as wide, so a circle of radius ``a``
+  stands in for it (a square of side ``2 a`` would give 15 % more torque);
+  at least :data:`PATCH_MIN`;
 - ``phi_s = M_max / K_phi``, with the torsional stiffness of a standing tyre
   ``K_phi = TWIST_STIFFNESS Fz``.
 
@@ -100,7 +126,8 @@ class TyreParams:
     """PAC2002 coefficients read from a ``.tir`` file (zero camber subset).
 
     Field names are the file's keys. ``side`` is +1 for a file measured on a
-    left-mounted tyre, -1 for a right-mounted one.
+    left-mounted tyre, -1 for a right-mounted one (``TYRESIDE``); it is kept
+    for reference and not applied (see "Mounting side" in the module docstring).
     """
 
     path: str
