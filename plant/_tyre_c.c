@@ -57,6 +57,8 @@ static const double PI = 3.14159265358979323846;
 static const double EPS = 1e-6;          /* tyre.EPS */
 static const double V_SIGN = 0.05;       /* tyre.V_SIGN */
 static const double TWIST_STIFFNESS = 1.33;  /* tyre.TWIST_STIFFNESS */
+static const double TWIST_LIMIT = 2.5;   /* tyre.TWIST_LIMIT */
+static const double TWIST_MIN = 1e-3;    /* tyre.TWIST_MIN */
 static const double PATCH_MIN = 0.02;    /* tyre.PATCH_MIN */
 static const double TINY = 1e-12;        /* floor of every divisor the data could zero */
 
@@ -175,14 +177,19 @@ static void steady_state(const double* p, double Fz, double kappa, double alpha,
   *Mz_out = -trail * (Gyk * Fy0) + Mzr + s_arm * Fx;
 }
 
-/* tyre.bore_torque */
-static double bore_torque(const double* p, double Fz, double phi) {
+/* TyreParams.twist_scale, for a load already at least FZMIN and its patch half-length */
+static double twist_scale(const double* p, double Fzc, double a) {
+  double Fz0 = fz0(p), dfz = (Fzc - Fz0) / Fz0;
+  double mu = (p[PDY1] + p[PDY2] * dfz) * p[LMUY];
+  return fmax((2.0 / 3.0) * mu * a / TWIST_STIFFNESS, TWIST_MIN);
+}
+
+/* tyre.bore_torque's friction torque M_max; the torque is M_max tanh(phi / phi_s) */
+static double bore_max(const double* p, double Fz) {
   Fz = fmax(Fz, 0.0);
   double Fz0 = fz0(p), dfz = (Fz - Fz0) / Fz0;
-  double mu = (p[PDY1] + p[PDY2] * dfz) * p[LMUY];
-  double m_max = (2.0 / 3.0) * mu * Fz * patch_half_length(p, Fz);
-  double k_phi = TWIST_STIFFNESS * fmax(Fz, p[FZMIN]);
-  return m_max * tanh(k_phi * phi / (m_max > 0.0 ? m_max : 1.0));
+  double mu = fmax((p[PDY1] + p[PDY2] * dfz) * p[LMUY], 0.0);
+  return (2.0 / 3.0) * mu * Fz * patch_half_length(p, Fz);
 }
 
 /* One wheel end: deflection rates, transient forces and moments, rolling resistance.
@@ -193,10 +200,11 @@ static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, d
   double Fzc = fmax(Fz, p[FZMIN]);
   double sk = sigma_kappa(p, Fzc), sa = sigma_alpha(p, Fzc), ax = fabs(Vx);
   double kappa = u / sk, alpha = atan(v / sa);
-  /* tyre.deflection_rates */
+  double a = patch_half_length(p, Fzc), phi_s = twist_scale(p, Fzc, a);
+  /* tyre.deflection_rates, tyre.twist_rate */
   *du = -Vsx - ax * u / sk;
   *dv = -Vy - ax * v / sa;
-  *dphi = -omega_z - ax * phi / patch_half_length(p, Fzc);
+  *dphi = -omega_z - fabs(omega_z) * phi / (TWIST_LIMIT * phi_s) - ax * phi / a;
   /* tyre.transient_forces */
   steady_state(p, Fz, kappa, alpha, tanh(Vx / V_SIGN), Fx, Fy, Mz);
   double vxlow = p[VXLOW] > 0.0 ? p[VXLOW] : TINY;
@@ -206,8 +214,10 @@ static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, d
   double Ky = cornering_stiffness(p, Fzp);
   *Fx = *Fx - fade * p[PTX4] * Kx / sk * Vsx * 0.25;
   *Fy = *Fy - fade * p[PTX4] * Ky / sa * Vy * 0.25;
-  if (moments) {
-    *Mz = *Mz + bore_torque(p, Fz, phi) - fade * p[PTX4] * TWIST_STIFFNESS * Fzp * omega_z * 0.25;
+  if (moments) { /* bore torque, and the damper on the twist's elastic rate */
+    double th = tanh(phi / phi_s);
+    double elastic = (1.0 - th * th) * *dphi;
+    *Mz = *Mz + bore_max(p, Fz) * th + fade * p[PTX4] * TWIST_STIFFNESS * Fzp * elastic * 0.25;
   } else {
     *Mz = 0.0;
   }

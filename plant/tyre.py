@@ -52,22 +52,24 @@ Transient slip. Each wheel carries three tread deflections, ``u``
 
     du/dt   = -V_sx - |V_x| u / sigma_kappa,     kappa' = u / sigma_kappa
     dv/dt   = -V_y  - |V_x| v / sigma_alpha,     tan(alpha') = v / sigma_alpha
-    dphi/dt = -omega_z - |V_x| phi / a
+    dphi/dt = -omega_z - |omega_z| phi / phi_lim - |V_x| phi / a
 
 with ``V_sx = V_x - Omega R_e`` the slip velocity, ``omega_z`` the wheel's yaw
 rate about the ground normal and ``a`` the contact patch's half-length. At
 speed they relax to the steady-state slips with time constants ``sigma / |V_x|``.
 At ``V_x = 0`` they turn into tread springs, so forces and moments stay finite
 and smooth through standstill and change of direction, with no division by
-the speed anywhere. Below ``VXLOW`` a damper proportional to the slip
-velocity, faded out with ``(1 + cos(pi |V_x| / VXLOW)) / 2``, damps the
-tread-spring oscillation. The sign of travel in the trail and the rolling
-resistance is smoothed over :data:`V_SIGN`.
+the speed anywhere. Below ``VXLOW`` a damper, faded out with
+``(1 + cos(pi |V_x| / VXLOW)) / 2``, damps the tread-spring oscillation: on
+the slip velocity for ``u`` and ``v``, on the twist's elastic rate (its rate
+times the torque's slope, so nothing once the patch slides) for ``phi``. The
+sign of travel in the trail and the rolling resistance is smoothed over
+:data:`V_SIGN`.
 
 Bore torque (turn slip), a documented contact-patch model, as a PAC2002 file
 has no turn-slip coefficients (an MF 6.1 file's ``PDXP1`` to ``QDRP1`` are not
-read; the model's own constants, :data:`TWIST_STIFFNESS` and
-:data:`PATCH_MIN`, stand for them): the twist ``phi`` gives a torque
+read; the model's own constants, :data:`TWIST_STIFFNESS`, :data:`TWIST_LIMIT`
+and :data:`PATCH_MIN`, stand for them): the twist ``phi`` gives a torque
 ``M_bore = M_max tanh(phi / phi_s)`` about the ground normal, with
 
 - ``M_max = (2/3) mu_y Fz a``, the friction torque of a circular patch of
@@ -78,12 +80,23 @@ read; the model's own constants, :data:`TWIST_STIFFNESS` and
   footprint is about 0.25 m long and as wide, so a circle of radius ``a``
   stands in for it (a square of side ``2 a`` would give 15 % more torque);
   at least :data:`PATCH_MIN`;
-- ``phi_s = M_max / K_phi``, with the torsional stiffness of a standing tyre
-  ``K_phi = TWIST_STIFFNESS Fz``.
+- ``phi_s = M_max / K_phi = (2/3) mu_y a / TWIST_STIFFNESS`` (about 0.05 rad),
+  with the torsional stiffness of a standing tyre ``K_phi = TWIST_STIFFNESS Fz``.
 
-A steered, parked tyre holds its twist and so its torque, instead of
-chattering; rolling carries the twist away within the patch, so in a turn of
-radius ``R`` it settles at ``-a / R``.
+The twist is a friction element, not a spring: the term in ``|omega_z|``
+(Dahl's solid-friction model) stops it growing at ``phi_lim = TWIST_LIMIT
+phi_s``, where the patch slides as a whole. A wheel turned at standstill
+twists its tread up to the friction torque within a few degrees and then
+slides; turned back, the twist unwinds and the torque reverses after
+``ln(2) phi_lim`` (5 deg), as a tread re-anchored where it slid, instead of
+pulling the wheel back to where it stood first. A steered, parked tyre holds
+its twist and so its torque, instead of chattering. Rolling carries the twist
+away within the patch: in a turn of radius ``R`` it settles at
+``-a / (R + a / phi_lim)``, ``-a / R`` in wide turns and ``-phi_lim`` when
+the wheel pivots on its patch. With the damper the torque stays within
+``M_max`` for yaw rates up to ``0.85 phi_s / (0.25 PTX4)`` [rad/s] (1 to 2
+rad/s for artic's tyre from 10 to 50 kN, twice a truck's fastest steering at
+standstill and more), and tends to it once the patch slides.
 """
 
 from __future__ import annotations
@@ -100,6 +113,13 @@ from mjcf.tir import TirFile, read_tir
 TWIST_STIFFNESS = 1.33
 """Torsional stiffness of a standing tyre per unit load [N m/rad per N]: about
 40 kN m/rad at 30 kN, as measured on truck tyres twisted at standstill."""
+
+TWIST_LIMIT = 2.5
+"""Twist at which the patch slides as a whole, in units of ``phi_s`` [-]: the
+torque there is ``tanh(2.5)``, 98.7 % of the friction torque."""
+
+TWIST_MIN = 1e-3
+"""Smallest ``phi_s`` used [rad] (no friction at all: no division by zero)."""
 
 PATCH_MIN = 0.02
 """Smallest contact half-length used [m] (an unloaded wheel: no division by zero)."""
@@ -277,6 +297,16 @@ class TyreParams:
         return np.maximum(np.sqrt(self.UNLOADED_RADIUS * np.maximum(Fz, 0.0)
                                   / self.VERTICAL_STIFFNESS), PATCH_MIN)
 
+    def twist_scale(self, Fz: np.ndarray | float) -> np.ndarray | float:
+        """Twist ``phi_s = (2/3) mu_y a / TWIST_STIFFNESS`` of the bore torque [rad].
+
+        The load is taken at least ``FZMIN``; ``phi_s`` is at least :data:`TWIST_MIN`.
+        """
+        Fz = np.maximum(Fz, self.FZMIN)
+        mu = (self.PDY1 + self.PDY2 * (Fz - self.Fz0) / self.Fz0) * self.LMUY
+        return np.maximum((2.0 / 3.0) * mu * self.patch_half_length(Fz) / TWIST_STIFFNESS,
+                          TWIST_MIN)
+
     def sigma_alpha(self, Fz: np.ndarray) -> np.ndarray:
         """Lateral relaxation length [m]."""
         return (self.PTY1 * np.sin(2.0 * np.arctan(Fz / (self.PTY2 * self.Fz0)))
@@ -432,17 +462,24 @@ def deflection_rates(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndar
     Fz = np.maximum(Fz, p.FZMIN)
     ax = np.abs(Vx)
     return (-Vsx - ax * u / p.sigma_kappa(Fz), -Vy - ax * v / p.sigma_alpha(Fz),
-            -omega_z - ax * phi / p.patch_half_length(Fz))
+            twist_rate(p, Fz, Vx, omega_z, phi))
+
+
+def twist_rate(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, omega_z: np.ndarray,
+               phi: np.ndarray) -> np.ndarray:
+    """``dphi/dt`` [rad/s]: yaw, sliding beyond ``phi_lim`` and rolling relaxation."""
+    Fz = np.maximum(Fz, p.FZMIN)
+    phi_lim = TWIST_LIMIT * p.twist_scale(Fz)
+    return -omega_z - np.abs(omega_z) * phi / phi_lim - np.abs(Vx) * phi / p.patch_half_length(Fz)
 
 
 def bore_torque(p: TyreParams, Fz: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """Torque of the twisted tread about the ground normal [N m] (see the module docstring)."""
     Fz = np.maximum(Fz, 0.0)
     dfz = (Fz - p.Fz0) / p.Fz0
-    mu = (p.PDY1 + p.PDY2 * dfz) * p.LMUY
+    mu = np.maximum((p.PDY1 + p.PDY2 * dfz) * p.LMUY, 0.0)
     m_max = (2.0 / 3.0) * mu * Fz * p.patch_half_length(Fz)
-    k_phi = TWIST_STIFFNESS * np.maximum(Fz, p.FZMIN)
-    return m_max * np.tanh(k_phi * phi / np.where(m_max > 0.0, m_max, 1.0))
+    return m_max * np.tanh(phi / p.twist_scale(Fz))
 
 
 def transient_forces(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndarray,
@@ -479,7 +516,11 @@ def transient_forces(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndar
     Fy = Fy - fade * p.PTX4 * Ky / sa * Vy * 0.25
     if not moments:
         return Fx, Fy, np.zeros_like(Fx)
-    Mz = Mz + bore_torque(p, Fz, phi) - fade * p.PTX4 * TWIST_STIFFNESS * Fzp * omega_z * 0.25
+    # The twist's damper acts on its elastic part: the rate times the slope
+    # of tanh, so it adds nothing once the patch slides (no torque past friction).
+    th = np.tanh(phi / p.twist_scale(Fz))
+    elastic = (1.0 - th * th) * twist_rate(p, Fz, Vx, omega_z, phi)
+    Mz = Mz + bore_torque(p, Fz, phi) + fade * p.PTX4 * TWIST_STIFFNESS * Fzp * elastic * 0.25
     return Fx, Fy, Mz
 
 
