@@ -37,3 +37,8 @@ def test_bad_loads_and_missing_files_are_one_line(tmp_path, capsys):
     assert main(["tyre", "curves", "--tyre", "nope.tir", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 2 and "nope.tir" in err[-1]
+    missing = str(tmp_path / "gone" / "x.tir")
+    assert main(["tyre", "curves", "--tyre", missing, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"artic: error: --tyre {missing}: no such file; give a .tir file or the name "
+                   "of a tyre shipped with artic"]

@@ -290,6 +290,10 @@ def _tyre_curves(args: argparse.Namespace) -> int:
                          "10e3,30e3,50e3") from None
     if not loads or not all(math.isfinite(f) and f > 0.0 for f in loads):
         raise ValueError(f"--fz {args.fz!r}: every load must be a positive number of newtons")
+    given = Path(args.tyre)
+    if given.parent != Path(".") and not given.is_file():  # a path, not a shipped name
+        raise ValueError(f"--tyre {args.tyre}: no such file; give a .tir file or the name of "
+                         "a tyre shipped with artic")
     path = resolve_tyre_file(args.tyre, Path.cwd() / "command-line", "--tyre")
     p = TyreParams.from_tir(path)  # a TirError (a ValueError) names the file and key
     out = Path(args.out)
