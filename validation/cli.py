@@ -341,6 +341,12 @@ def _add_accept(p: argparse.ArgumentParser) -> None:
                         f"checks: {', '.join(CHECKS)}")
 
 
+def _add_vehicle(p: argparse.ArgumentParser) -> None:
+    """The ``--vehicle`` option every command that builds a model takes."""
+    p.add_argument("--vehicle", default="gosar2022-unloaded",
+                   help="preset name or TOML file (default: %(default)s)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``artic``."""
     p = _Parser(
@@ -359,8 +365,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     sim = sub.add_parser("simulate", help="simulate a manoeuvre open loop")
     sim.add_argument("--model", required=True, type=str.lower, choices=NAMES)
-    sim.add_argument("--vehicle", default="gosar2022-unloaded",
-                     help="preset name or TOML file (default: %(default)s)")
+    _add_vehicle(sim)
     sim.add_argument("--manoeuvre", required=True, choices=KINDS)
     sim.add_argument("--amplitude-deg", type=options.AMPLITUDE_DEG, default=None,
                      help="steering-wheel amplitude [deg] (default 200 forward, 90 reverse)")
@@ -373,8 +378,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     val = sub.add_parser("validate", help="validate models against logs")
     val.add_argument("logs", nargs="+", type=Path, help="logs in the signal schema (.parquet)")
-    val.add_argument("--vehicle", default="gosar2022-unloaded",
-                     help="preset name or TOML file (default: %(default)s)")
+    _add_vehicle(val)
     val.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
     val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
@@ -391,8 +395,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     tun = sub.add_parser("tune", help="fit f, i_s, q and the offset on forward logs")
     tun.add_argument("logs", nargs="+", type=Path, help="forward logs (.parquet)")
-    tun.add_argument("--vehicle", default="gosar2022-unloaded",
-                     help="preset name or TOML file (default: %(default)s)")
+    _add_vehicle(tun)
     tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
     tun.add_argument("--out", required=True, type=Path, help="tuned vehicle file (.toml)")
     tun.add_argument("--jobs", type=options.JOBS, default=JOBS,
@@ -401,8 +404,7 @@ def build_parser() -> argparse.ArgumentParser:
     tun.set_defaults(func=_tune)
 
     mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
-    mj.add_argument("--vehicle", default="gosar2022-unloaded",
-                    help="preset name or TOML file (default: %(default)s)")
+    _add_vehicle(mj)
     mj.add_argument("-o", "--output", required=True, type=Path, help="output .xml")
     mj.add_argument("--no-scene", action="store_true", help="the vehicle only, no yard")
     mj.set_defaults(func=_mjcf)
