@@ -1,4 +1,4 @@
-"""Build hook for artic's one compiled part, the C tyre callback.
+"""Build hook for artic's compiled parts: the C tyre callback and the plant's closed loop.
 
 Everything else is in pyproject.toml. The extension is compiled against the
 headers that the mujoco wheel ships. It is optional: without a C compiler the
@@ -28,6 +28,13 @@ setup(
             include_dirs=mujoco_include(),
             extra_compile_args=["-O2", "-std=c99"],
             optional=True,
-        )
+        ),
+        Extension(  # the harness's closed loop around the plant (plant/closedloop.py)
+            "plant._loop_c",
+            sources=["plant/_loop_c.c"],
+            include_dirs=mujoco_include(),
+            extra_compile_args=["-O2", "-std=c99"],
+            optional=True,
+        ),
     ]
 )

@@ -43,6 +43,7 @@ and the wheel with the largest tyre force then; nothing is reset silently.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import warnings
 from collections.abc import Mapping
@@ -56,7 +57,7 @@ from mjcf.builder import build_model, linkage
 from mjcf.interface import InitialState, rotate, wrap_angle
 from mjcf.masses import layout
 from mjcf.vehicle import G, Vehicle, resolve_tyre_file
-from plant import callback, ctyre
+from plant import callback, closedloop, ctyre
 from plant.tyre import (
     TyreParams,
     check_ranges,
@@ -181,6 +182,8 @@ class Plant:
         if speed not in SPEED_MODES:
             raise ValueError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)}")
         self.speed_mode = speed
+        self.use_compiled_loop = True
+        """Whether :meth:`closed_loop` offers the compiled loop (``False``: the Python one)."""
         self.pedals = (0.0, 0.0)
         """Throttle and brake in [0, 1], applied with ``speed="pedals"``."""
         if backend != "numpy" and ctyre.library() is None:
@@ -356,6 +359,7 @@ class Plant:
         cols += [f"slip.{w}" for w in wheels]
         cols.append("steer_torque")
         self.extra_columns: tuple[str, ...] = tuple(cols)
+        self._gather: np.ndarray | None = None
 
     def extras(self) -> np.ndarray:
         """Outputs beyond the signal schema, for drawings and plots, in :attr:`extra_columns` order.
@@ -370,21 +374,69 @@ class Plant:
           the last callback, world frame [N] (``z`` is the wheel load);
         - ``slip.AXLE.SIDE``: transient slip angle alpha of the tyre [rad];
         - ``steer_torque``: the front steering servo's actuator torque [N m].
+
+        It is :meth:`extras_from_raw` of the values :meth:`extras_gather` names,
+        read now; the compiled closed loop gathers the same values per sample.
         """
         d = self.data
-        b = self._pose_bodies
-        pose = np.concatenate([d.xpos[b], d.xquat[b]], axis=1).ravel()
-        contact = d.site_xpos[self._hub].copy()
-        contact[:, 2] = 0.0
-        F = self.last_forces
-        Fz = F[:, 2] / self._n_tyres
-        slip = np.empty(self.n_wheels)
+        g = self.extras_gather()
+        arrays = {"qpos": d.qpos, "xpos": d.xpos.ravel(), "xquat": d.xquat.ravel(),
+                  "site_xpos": d.site_xpos.ravel(), "userdata": d.userdata, "act": d.act,
+                  "actuator_force": d.actuator_force, "zero": np.zeros(1)}
+        raw = np.empty(len(g))
+        for k, name in enumerate(closedloop.SOURCES):
+            sel = g[:, 0] == k
+            raw[sel] = arrays[name][g[sel, 1]]
+        return self.extras_from_raw(raw[None, :])[0]
+
+    def extras_gather(self) -> np.ndarray:
+        """Where each raw value behind :meth:`extras` is read, shape (n_columns, 2).
+
+        Row ``j`` is (index into :data:`plant.closedloop.SOURCES`, index into
+        that ``MjData`` array, flattened). The ``slip`` columns read the tread's
+        lateral deflection, which :meth:`extras_from_raw` turns into a slip angle.
+        """
+        if self._gather is None:
+            src = {n: k for k, n in enumerate(closedloop.SOURCES)}
+            rows = []
+            for b in self._pose_bodies:
+                rows += [(src["xpos"], 3 * b + c) for c in range(3)]
+                rows += [(src["xquat"], 4 * b + c) for c in range(4)]
+            rows += [(src["qpos"], a) for a in self._steer_qpos]
+            rows += [(src["qpos"], a) for a in self._spin_qpos]
+            for h in self._hub:
+                rows += [(src["site_xpos"], 3 * h), (src["site_xpos"], 3 * h + 1),
+                         (src["zero"], 0)]
+            rows += [(src["userdata"], j) for j in range(3 * self.n_wheels)]
+            rows += [(src["act"], a) for a in self._act_v]
+            rows.append((src["actuator_force"], self._servo[0]) if self._servo
+                        else (src["zero"], 0))
+            self._gather = np.array(rows, dtype=np.int32).reshape(-1, 2)
+        return self._gather
+
+    def extras_from_raw(self, raw: np.ndarray) -> np.ndarray:
+        """:meth:`extras` rows from rows of the raw values of :meth:`extras_gather`.
+
+        Parameters
+        ----------
+        raw : ndarray, shape (n_samples, n_columns)
+
+        Returns
+        -------
+        ndarray, shape (n_samples, n_columns)
+            The raw rows with each ``slip`` column's tread deflection [m]
+            turned into the slip angle [rad] at that wheel's load.
+        """
+        out = np.array(raw, dtype=float, copy=True)
+        nw = self.n_wheels
+        s0 = len(self.extra_columns) - 1 - nw  # the slip columns, before steer_torque
+        Fz = out[:, s0 - 3 * nw + 2:s0:3] / self._n_tyres  # force.*.z, per tyre
+        v = out[:, s0:s0 + nw].copy()
+        slip = out[:, s0:s0 + nw]
         for k, p in enumerate(self._tyres):  # each tyre file on its wheels
             w = self._tyre_set == k
-            slip[w] = np.arctan(d.act[self._act_v[w]] / p.sigma_alpha(np.maximum(Fz[w], p.FZMIN)))
-        torque = d.actuator_force[self._servo[0]] if self._servo else 0.0
-        return np.concatenate([pose, d.qpos[self._steer_qpos], d.qpos[self._spin_qpos],
-                               contact.ravel(), F.ravel(), slip, [torque]])
+            slip[:, w] = np.arctan(v[:, w] / p.sigma_alpha(np.maximum(Fz[:, w], p.FZMIN)))
+        return out
 
     # ------------------------------------------------------------ tyres
     def _wheel_kinematics(self, d: mujoco.MjData):
@@ -519,10 +571,7 @@ class Plant:
         if not lo <= delta <= hi:
             self.steer_limited += 1
             if self.steer_limited == 1:
-                warnings.warn(f"t = {d.time:.2f} s: left-wheel angle {math.degrees(delta):.1f} "
-                              f"deg is beyond the linkage's [{math.degrees(lo):.1f}, "
-                              f"{math.degrees(hi):.1f}] deg; limited", PlantWarning,
-                              stacklevel=2)
+                self.warn_steer_limited(d.time, delta)
         d.ctrl[self._servo] = min(max(delta, lo), hi)
         h = m.opt.timestep
         n = max(1, round(dt / h))
@@ -538,6 +587,13 @@ class Plant:
         elif d.userdata[-1]:  # the C callback counted wheels outside the file's ranges
             d.userdata[-1] = 0.0
             self.check_tyre_ranges()
+
+    def warn_steer_limited(self, time: float, delta: float) -> None:
+        """Warn, once per run, that ``delta`` [rad] at ``time`` [s] was beyond the linkage."""
+        lo, hi = self._servo_range
+        warnings.warn(f"t = {time:.2f} s: left-wheel angle {math.degrees(delta):.1f} "
+                      f"deg is beyond the linkage's [{math.degrees(lo):.1f}, "
+                      f"{math.degrees(hi):.1f}] deg; limited", PlantWarning, stacklevel=3)
 
     def _check(self, good_time: float, good_forces: np.ndarray, span: float) -> None:
         """Raise :class:`PlantError` if the step diverged.
@@ -610,8 +666,19 @@ class Plant:
         return out
 
     def compiled(self) -> None:
-        """The plant has no compiled form for the harness's loop: ``None``."""
+        """The plant has no compiled form for the reduced models' loop: ``None``."""
         return None
+
+    def closed_loop(self):
+        """:func:`plant.closedloop.run` for this plant, or ``None`` where it cannot run.
+
+        It cannot with the numpy tyre callback, a speed that is not followed,
+        or an install without the compiled extension; the harness then drives
+        the plant through :meth:`step` and :meth:`observe` in Python.
+        """
+        if not self.use_compiled_loop or closedloop.available(self):
+            return None
+        return functools.partial(closedloop.run, self)
 
     def close(self) -> None:
         """Release the passive-force callback."""

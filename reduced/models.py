@@ -66,6 +66,10 @@ class CompiledModel:
         """
         return self.kind, self.x.copy(), self.P, self._s1, self._s2
 
+    def closed_loop(self) -> None:
+        """No loop of its own: the harness's compiled loop runs :meth:`compiled`."""
+        return None
+
     def close(self) -> None:
         """Nothing to release: a reduced model holds only arrays."""
 

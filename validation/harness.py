@@ -224,6 +224,14 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
     form = model.compiled()
     if form is not None:
         return compiled_loop(*form, *args)
+    loop = model.closed_loop()
+    if loop is not None:  # the plant's loop in C (plant.closedloop)
+        res = loop(*args, extras=extras is not None)
+        if res.raw is not None:
+            names = model.extra_columns
+            ext = model.extras_from_raw(res.raw).astype(np.float32)
+            extras.update((c, ext[:, j]) for j, c in enumerate(names))
+        return res.obs, res.delta, res.delta_fb, res.saturated, res.n_done
     return _python_loop(model, *args, extras=extras)
 
 

@@ -34,6 +34,8 @@ class Model(Protocol):
       :data:`mjcf.interface.OBSERVATION` order;
     - ``compiled()`` returns the model's compiled form for the harness's
       compiled loop, or ``None`` when it has none (the plant);
+    - ``closed_loop()`` returns a loop of the model's own that runs a whole
+      log (the plant's, in C: :func:`plant.closedloop.run`), or ``None``;
     - ``close()`` releases what the model holds (the plant's callback);
     - ``gamma`` is the current articulation angle [rad].
     """
@@ -51,6 +53,9 @@ class Model(Protocol):
 
     def compiled(self) -> tuple | None:
         """The compiled form ``(kind, x, P, s1, s2)``, or ``None``."""
+
+    def closed_loop(self) -> Callable | None:
+        """The model's own whole-log loop, or ``None``."""
 
     def close(self) -> None:
         """Release held resources; the model is unusable afterwards."""

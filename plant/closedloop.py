@@ -1,0 +1,233 @@
+"""The harness's closed loop around the plant, compiled: a whole log in one call.
+
+``_loop_c.c`` does per sample what :func:`validation.harness.run_inputs` does
+with :class:`plant.Plant` in Python (the reference, kept and tested against
+this within 1e-9): the reversing feedback law, the signals at the sensor
+points, the raw rows behind :meth:`plant.Plant.extras`, the stop at the
+jackknife limit, the steering servos, the speed follower and MuJoCo's steps.
+ctypes releases the GIL for the call, so plants on threads run in parallel.
+
+The C loop hands control back to Python, and resumes after it, where Python
+must see the state of that moment: a wheel outside its tyre file's ranges
+(Python names it, as after every :meth:`plant.Plant.step`) and a diverged
+step (Python raises :class:`plant.PlantError`). A steering angle beyond the
+linkage is counted in C and warned about once, as ``Plant.step`` does.
+
+The extension is built by ``pip install`` beside the tyre callback; without
+it, or for a plant whose speed is not followed or whose tyre callback is the
+numpy one, :func:`available` says why and the harness uses its Python loop.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import importlib.util
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from plant import ctyre
+
+if TYPE_CHECKING:
+    from plant.plant import Plant
+
+ABI = 1
+MAX_SERVOS = 4
+MAX_WHEELS = 64
+N_OBS = 13
+
+SOURCES = ("qpos", "xpos", "xquat", "site_xpos", "userdata", "act", "actuator_force", "zero")
+"""What a gathered raw value can be read from: an ``MjData`` array, or a constant 0."""
+
+DONE, STOPPED, TYRE_RANGE, DIVERGED, BAD = 0, 1, 3, 4, 5
+
+
+class _Loop(ctypes.Structure):
+    _fields_ = [
+        ("tractor_body", ctypes.c_int), ("trailer_body", ctypes.c_int),
+        ("sensor_site", ctypes.c_int * 2), ("hitch_qpos", ctypes.c_int),
+        ("n_servo", ctypes.c_int), ("servo", ctypes.c_int * MAX_SERVOS),
+        ("servo_lo", ctypes.c_double), ("servo_hi", ctypes.c_double),
+        ("follower", ctypes.c_int),
+        ("follower_kv", ctypes.c_double), ("mass_eff", ctypes.c_double),
+        ("rr_coef", ctypes.c_double), ("follow_ki", ctypes.c_double),
+        ("sensor_yaw", ctypes.c_double * 2),
+        ("n_wheels", ctypes.c_int),
+        ("gain", ctypes.c_double), ("delta_max", ctypes.c_double),
+        ("gamma_max", ctypes.c_double),
+        ("n_gather", ctypes.c_int), ("gather", ctypes.POINTER(ctypes.c_int)),
+        ("k", ctypes.c_int), ("psi", ctypes.c_double * 2), ("integral", ctypes.c_double),
+        ("steer_limited", ctypes.c_int),
+        ("first_limit_time", ctypes.c_double), ("first_limit_delta", ctypes.c_double),
+        ("good_time", ctypes.c_double), ("span", ctypes.c_double),
+        ("good_forces", ctypes.c_double * (3 * MAX_WHEELS)),
+    ]
+
+
+def _load() -> tuple[ctypes.CDLL | None, str]:
+    if ctyre.library() is None:  # it also makes MuJoCo's symbols visible to the loader
+        return None, ctyre.unavailable_reason()
+    spec = importlib.util.find_spec("plant._loop_c")
+    if spec is None or spec.origin is None:
+        return None, ("the compiled closed loop was not built (no C compiler at install "
+                      "time?); reinstall artic with a C compiler to get it")
+    try:
+        lib = ctypes.CDLL(spec.origin)
+    except OSError as exc:
+        return None, f"{spec.origin} does not load: {exc}"
+    if lib.artic_loop_abi() != ABI or lib.artic_loop_size() != ctypes.sizeof(_Loop):
+        return None, f"{spec.origin} was built from another version of artic; reinstall artic"
+    d, b = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_ubyte)
+    lib.artic_run_loop.restype = ctypes.c_int
+    lib.artic_run_loop.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
+                                   ctypes.c_int, d, d, d, d, d, b, d, d, d, b, d,
+                                   ctypes.POINTER(ctypes.c_int)]
+    return lib, ""
+
+
+@functools.cache
+def _loaded() -> tuple[ctypes.CDLL | None, str]:
+    return _load()
+
+
+def available(plant: Plant) -> str:
+    """Why ``plant`` cannot use the compiled loop; empty when it can."""
+    lib, why = _loaded()
+    if lib is None:
+        return why
+    if plant.backend != "c":
+        return "the plant uses the numpy tyre callback"
+    if plant.speed_mode != "follow":
+        return (f"the plant's speed mode is {plant.speed_mode!r}; the compiled loop only "
+                "follows the log's speed")
+    if len(plant._servo) > MAX_SERVOS or plant.n_wheels > MAX_WHEELS:
+        return f"the compiled loop takes at most {MAX_SERVOS} steered axles and {MAX_WHEELS} wheels"
+    return ""
+
+
+class LoopResult(NamedTuple):
+    """What one log gives: as :func:`validation.harness.run_inputs`, plus the raw extras."""
+
+    obs: np.ndarray
+    delta: np.ndarray
+    delta_fb: np.ndarray
+    saturated: np.ndarray
+    n_done: int
+    raw: np.ndarray | None
+
+
+def _ptr(a: np.ndarray, kind):
+    return a.ctypes.data_as(ctypes.POINTER(kind))
+
+
+def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
+        u1_dot: np.ndarray, gamma_meas: np.ndarray, reversing: np.ndarray, gain: float,
+        delta_max: float, gamma_max: float, extras: bool = False) -> LoopResult:
+    """Drive ``plant`` (already reset) through a log's inputs in compiled code.
+
+    Parameters
+    ----------
+    plant : Plant
+        Reset to the log's first sample; :func:`available` must be empty.
+    dt : ndarray
+        Step to the next sample [s], one fewer than the samples (or as many).
+    delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
+        Per sample: road-wheel angle from the steering map [rad], speed
+        [m/s] and its rate [m/s^2], the log's articulation [rad], and
+        whether the log reverses.
+    gain, delta_max, gamma_max : float
+        Feedback gain K [rad/rad], road-wheel limit and jackknife limit [rad].
+    extras : bool
+        Gather the raw rows of :meth:`plant.Plant.extras` per sample.
+
+    Returns
+    -------
+    LoopResult
+        Rows after ``n_done`` stay NaN.
+
+    Raises
+    ------
+    plant.PlantError
+        When the simulation diverged, naming the time and the wheel.
+    """
+    why = available(plant)
+    if why:
+        raise RuntimeError(f"the compiled closed loop is unavailable: {why}")
+    lib = _loaded()[0]
+    n = int(np.asarray(delta_c).size)
+    f64 = [np.ascontiguousarray(a, dtype=float) for a in (delta_c, u1, u1_dot, gamma_meas)]
+    dt_full = np.zeros(n)
+    dt_full[:min(n, np.size(dt))] = np.asarray(dt, dtype=float)[:n]
+    rev = np.ascontiguousarray(reversing, dtype=np.uint8)
+    obs = np.full((n, N_OBS), np.nan)
+    delta, delta_fb = np.full(n, np.nan), np.full(n, np.nan)
+    sat = np.zeros(n, dtype=np.uint8)
+    gather = plant.extras_gather() if extras else np.zeros((0, 2), dtype=np.int32)
+    gather = np.ascontiguousarray(gather, dtype=np.int32)
+    raw = np.full((n, len(gather)), np.nan) if extras else np.zeros((1, 1))
+    s = _struct(plant, gain, delta_max, gamma_max, gather)
+    done = ctypes.c_int(0)
+    limited_before = plant.steer_limited
+    m, d = plant.model, plant.data
+    while True:
+        code = lib.artic_run_loop(
+            m._address, d._address, ctypes.byref(s), n, _ptr(dt_full, ctypes.c_double),
+            *(_ptr(a, ctypes.c_double) for a in f64), _ptr(rev, ctypes.c_ubyte),
+            _ptr(obs, ctypes.c_double), _ptr(delta, ctypes.c_double),
+            _ptr(delta_fb, ctypes.c_double), _ptr(sat, ctypes.c_ubyte),
+            _ptr(raw, ctypes.c_double), ctypes.byref(done))
+        plant._psi = np.array(s.psi[:])
+        plant._integral = s.integral
+        plant.steer_limited = s.steer_limited
+        if limited_before == 0 and s.steer_limited > 0:
+            limited_before = s.steer_limited
+            plant.warn_steer_limited(s.first_limit_time, s.first_limit_delta)
+        if code == TYRE_RANGE:
+            d.userdata[-1] = 0.0
+            plant.check_tyre_ranges()
+            continue
+        if code == DIVERGED:
+            good = np.array(s.good_forces[:3 * plant.n_wheels]).reshape(-1, 3)
+            plant._check(s.good_time, good, s.span)
+            raise AssertionError("unreachable: a diverged step that _check accepts")
+        if code == BAD:
+            raise RuntimeError("the compiled closed loop refused the plant's indices")
+        break
+    return LoopResult(obs, delta, delta_fb, sat.astype(bool), int(done.value),
+                      raw if extras else None)
+
+
+def _struct(plant: Plant, gain: float, delta_max: float, gamma_max: float,
+            gather: np.ndarray) -> _Loop:
+    from mjcf.vehicle import G
+    from plant.plant import FOLLOW_KI
+
+    m = plant.model
+    s = _Loop()
+    s.tractor_body, s.trailer_body = plant._tractor, plant._trailer
+    s.sensor_site[:] = [int(x) for x in plant._sensor]
+    s.hitch_qpos = int(m.jnt_qposadr[plant._hitch_yaw])
+    s.n_servo = len(plant._servo)
+    for i, a in enumerate(plant._servo):
+        s.servo[i] = int(a)
+    s.servo_lo, s.servo_hi = (float(x) for x in plant._servo_range)
+    s.follower = int(plant._follower)
+    s.follower_kv = plant._follower_kv
+    s.mass_eff = plant.mass_eff
+    s.rr_coef = plant.tyre.QSY1 * plant.mass * G  # as Plant._control groups it
+    s.follow_ki = FOLLOW_KI
+    s.sensor_yaw[:] = [float(x) for x in plant._sensor_yaw]
+    s.n_wheels = plant.n_wheels
+    s.gain, s.delta_max, s.gamma_max = float(gain), float(delta_max), float(gamma_max)
+    s.n_gather = len(gather)
+    s.gather = gather.ctypes.data_as(ctypes.POINTER(ctypes.c_int))
+    s._keep = gather  # the array must outlive the struct's pointer
+    s.k = 0
+    s.psi[:] = [float(x) for x in plant._psi]
+    s.integral = plant._integral
+    s.steer_limited = plant.steer_limited
+    s.first_limit_time = s.first_limit_delta = math.nan
+    return s
+

@@ -1,0 +1,135 @@
+"""The plant's compiled closed loop (plant/_loop_c.c) against the Python loop it replaces.
+
+The Python loop of :mod:`validation.harness` driving :class:`plant.Plant`
+through ``step`` and ``observe`` is the reference. Both call the same MuJoCo
+step with the same controls, so they agree to rounding; the bound 1e-9 is
+far above double rounding over these runs (they agree exactly here) and far
+below any physical effect (a micrometre, a microradian).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from conftest import straight_log
+from plant import Plant, PlantError, PlantWarning, closedloop
+from validation.harness import loop_inputs, run_inputs
+from validation.steering import SteeringMap
+
+TOL = 1e-9
+
+
+def _speed_log(n: int = 1500, dt: float = 0.01):
+    """Forward at 2 m/s, braking through standstill into reverse at -1 m/s, steering."""
+    log = straight_log(n=n, u=2.0, dt=dt, delta_h=math.radians(150.0))
+    t = log.frame["t"].to_numpy()
+    u = np.interp(t, [0.0, 4.0, 9.0, t[-1]], [2.0, 2.0, -1.0, -1.0])
+    log.frame["v_x_1"] = u
+    log.frame["v_x_2"] = u
+    return log
+
+
+def _both(vehicle, log, gain=3.0, inputs=None, plant_kw=None):
+    steering = SteeringMap.from_steering(vehicle.steering_for("mbd"))
+    inp = inputs if inputs is not None else loop_inputs(log, vehicle, steering)
+    out = []
+    for compiled in (True, False):
+        with Plant(vehicle, **(plant_kw or {})) as p:
+            p.use_compiled_loop = compiled
+            assert (p.closed_loop() is not None) == compiled
+            extras: dict = {}
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                res = run_inputs(p, inp, vehicle, gain, extras)
+            out.append((res, extras, [str(w.message) for w in caught
+                                      if issubclass(w.category, PlantWarning)], p))
+    return out
+
+
+@pytest.mark.parametrize("which", ["through-standstill", "reverse-feedback"])
+def test_compiled_loop_equals_python_loop(unloaded, which):
+    log = _speed_log() if which == "through-standstill" else \
+        straight_log(n=1500, u=-1.0, gamma0=0.25)
+    (a, ea, wa, pa), (b, eb, wb, pb) = _both(unloaded, log)
+    assert a[4] == b[4] == log.frame.shape[0]
+    for x, y in zip(a[:4], b[:4], strict=True):
+        np.testing.assert_allclose(x, y, rtol=0.0, atol=TOL)
+    assert ea.keys() == eb.keys() and len(ea) == len(pa.extra_columns)
+    for c in ea:
+        assert ea[c].dtype == np.float32
+        np.testing.assert_allclose(ea[c], eb[c], rtol=0.0, atol=TOL, err_msg=c)
+    # The loop's state is handed back: the plant can go on stepping from it.
+    assert pa.steer_limited == pb.steer_limited
+    assert pa._integral == pytest.approx(pb._integral, abs=TOL)
+    np.testing.assert_allclose(pa._psi, pb._psi, atol=TOL)
+    assert wa == wb
+    if which == "reverse-feedback":  # the feedback did act
+        assert np.abs(a[2]).max() > 0.05
+
+
+def test_the_loop_stops_at_the_jackknife_limit_where_python_does(unloaded):
+    (a, _, _, _), (b, _, _, _) = _both(unloaded, straight_log(n=3000, u=-1.5, gamma0=0.3),
+                                       gain=0.0)
+    assert a[4] == b[4] < 3000  # open loop, reversing from 0.3 rad jackknifes
+    assert abs(a[0][a[4] - 1, 12]) > unloaded.gamma_max
+    np.testing.assert_allclose(a[0][:a[4]], b[0][:b[4]], rtol=0.0, atol=TOL)
+
+
+def test_steering_beyond_the_linkage_is_warned_once_as_in_python(unloaded):
+    # 900 deg at the steering wheel asks for the road-wheel limit, 43 deg, past the
+    # linkage's 37 deg stop of the left wheel turning right.
+    log = straight_log(n=300, u=2.0, delta_h=-math.radians(900.0))
+    (a, _, wa, pa), (b, _, wb, pb) = _both(unloaded, log)
+    assert pa.steer_limited == pb.steer_limited > 0
+    assert len(wa) == 1 and wa == wb and "beyond the linkage" in wa[0]
+    np.testing.assert_allclose(a[0], b[0], rtol=0.0, atol=TOL)
+
+
+def test_a_diverged_step_raises_the_same_error(unloaded):
+    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    inp = loop_inputs(straight_log(n=200, u=2.0), unloaded, steering)
+    inp.delta_c[50] = np.nan  # a NaN steering command: MuJoCo refuses the control
+    errors = []
+    for compiled in (True, False):
+        with Plant(unloaded) as p, warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlantWarning)
+            p.use_compiled_loop = compiled
+            with pytest.raises(PlantError) as exc:
+                run_inputs(p, inp, unloaded, 3.0)
+            errors.append(str(exc.value))
+    assert errors[0] == errors[1] and "t = 0.50" in errors[0]
+
+
+def test_plants_on_threads_give_the_serial_numbers(unloaded):
+    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    logs = [straight_log(n=600, u=-1.0, gamma0=g) for g in (0.1, -0.2, 0.3)]
+    inputs = [loop_inputs(log, unloaded, steering) for log in logs]
+
+    def one(inp):
+        with Plant(unloaded) as p:
+            return run_inputs(p, inp, unloaded, 3.0)[0]
+
+    serial = [one(i) for i in inputs]
+    with ThreadPoolExecutor(2) as pool:
+        threaded = list(pool.map(one, inputs))
+    for s, t in zip(serial, threaded, strict=True):
+        np.testing.assert_array_equal(s, t)
+
+
+@pytest.mark.parametrize("kw, why", [({"backend": "numpy"}, "numpy tyre callback"),
+                                     ({"speed": "drive"}, "speed mode is 'drive'")])
+def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        p = Plant(unloaded, **kw)
+    with p:
+        assert p.closed_loop() is None
+        assert why in closedloop.available(p)
+        with pytest.raises(RuntimeError, match=why):
+            closedloop.run(p, np.full(1, 0.01), *np.zeros((4, 2)), np.zeros(2, bool),
+                           3.0, 0.5, 1.5)
