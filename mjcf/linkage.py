@@ -22,7 +22,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 
 @dataclass(frozen=True)
@@ -79,6 +78,8 @@ class Trapezoid:
         if changes.size == 0:
             raise ValueError(f"the trapezoid cannot reach a left-wheel angle of {d_left} rad")
         i = changes[np.argmin(np.abs(grid[changes] - d_left))]
+        from scipy.optimize import brentq  # here: scipy.optimize takes 0.4 s to import
+
         return brentq(gap, grid[i], grid[i + 1], xtol=1e-14)
 
     def fit(self, d_max: float, degree: int = 4) -> np.ndarray:
@@ -139,6 +140,8 @@ def left_range(right: Callable[[float], float], delta_max: float) -> tuple[float
             if sign * c < sign * c_prev:
                 break
             if sign * c >= delta_max:
+                from scipy.optimize import brentq
+
                 return brentq(lambda x: centre(x) - sign * delta_max, prev, float(d),
                               xtol=1e-13)
             prev, c_prev = float(d), c

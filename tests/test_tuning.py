@@ -81,3 +81,93 @@ def test_tuned_file_round_trips(unloaded, tmp_path):
     assert v.steering_for("mbd") == unloaded.steering_for("mbd")
     assert v.tyre_file == unloaded.tyre_file  # still found, from another folder
     assert list((tmp_path / "sub").iterdir()) == [tmp_path / "sub" / "tuned.toml"]
+
+
+def test_the_parallel_jacobian_is_least_squares_own_difference(unloaded):
+    # The plant's first Jacobian runs its columns at once; its steps must be those
+    # of least_squares' two-point scheme (rel_step DIFF_STEP, bounds [0, 1], a
+    # backward step at the upper bound). Same residual evaluations, so the
+    # columns agree to rounding.
+    from scipy.optimize._numdiff import approx_derivative
+
+    from validation.campaign.tuning import DIFF_STEP, ParallelJacobian
+
+    logs = own_logs(unloaded, "kin", TRUTH["kin"])[:2]
+    obj = Objective("kin", unloaded, logs)
+    lo = np.array([b.lo for b in obj.bounds])
+    span = np.array([b.hi - b.lo for b in obj.bounds])
+    for z in (np.array([0.4, 0.3, 0.55]), np.array([0.5, 0.9995, 0.2])):  # the 2nd at q's bound
+        jac = ParallelJacobian(obj, lo, span)
+        f0 = jac.fun(z)
+        before = obj.evaluations
+        ours = jac(z)
+        assert obj.evaluations - before == z.size  # the point itself was not run again
+        ref = approx_derivative(jac.fun, z, method="2-point", rel_step=DIFF_STEP,
+                                bounds=(0.0, 1.0), f0=f0)
+        np.testing.assert_allclose(ours, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+
+
+def test_broyden_updates_meet_the_secant_condition_without_a_run(unloaded):
+    # After the first Jacobian, each accepted point updates it by rank one so that
+    # J_new (z_new - z_old) = f_new - f_old exactly (to rounding), at no plant run.
+    from validation.campaign.tuning import ParallelJacobian
+
+    logs = own_logs(unloaded, "kin", TRUTH["kin"])[:2]
+    obj = Objective("kin", unloaded, logs)
+    lo = np.array([b.lo for b in obj.bounds])
+    span = np.array([b.hi - b.lo for b in obj.bounds])
+    jac = ParallelJacobian(obj, lo, span)
+    z1, z2 = np.array([0.4, 0.3, 0.55]), np.array([0.42, 0.29, 0.56])
+    f1 = jac.fun(z1)
+    J1 = jac(z1)
+    f2 = jac.fun(z2)
+    before = obj.evaluations
+    J2 = jac(z2)
+    assert obj.evaluations == before
+    np.testing.assert_allclose(J2 @ (z2 - z1), f2 - f1, atol=1e-12 * np.abs(f2 - f1).max())
+    # Orthogonal to the step, the old Jacobian is kept.
+    w = np.cross(z2 - z1, [1.0, 0.0, 0.0])
+    np.testing.assert_allclose(J2 @ w, J1 @ w, atol=1e-12 * np.abs(J1 @ w).max())
+
+
+def test_the_plant_starts_from_the_stm_steering_column():
+    from validation.campaign.main import start_from
+    from validation.campaign.tuning import Bound, start_values
+
+    fitted = {"stm": {"f": 9.0, "i_s": 22.3, "q": 0.007, "delta_h_offset": 0.1}}
+    assert start_from("mbd", fitted) == {"i_s": 22.3, "delta_h_offset": 0.1}  # not q, not f
+    assert start_from("kin", fitted) is None and start_from("mbd", {}) is None
+    bounds = [Bound("i_s", 20.0, 15.0, 25.0), Bound("q", 0.0, 0.0, 0.04),
+              Bound("delta_h_offset", 0.0, -0.26, 0.26)]
+    x = start_values(bounds, {"i_s": 30.0, "delta_h_offset": 0.1})
+    # i_s is held inside its bound with room for a forward step; q keeps its nominal value.
+    assert x[0] == pytest.approx(25.0 - 1e-3 * 10.0) and x[1] == 0.0 and x[2] == 0.1
+
+
+@pytest.mark.slow
+def test_the_plant_fit_matches_full_differences_from_nominal(unloaded):
+    # The campaign's plant fit (STM start, one difference Jacobian, Broyden's
+    # updates) against least_squares' own differences at every step from the
+    # nominal values: the same optimum within the solver's xtol (1e-6 of each
+    # span: 1e-5 in i_s, 5e-7 rad in the offset) times the flat valley's
+    # amplification; 2e-4 relative in i_s and 5e-5 rad in the offset.
+    from scipy.optimize import least_squares
+
+    from validation.campaign.tuning import DIFF_STEP
+
+    logs = own_logs(unloaded, "stm", TRUTH["stm"])[:2]
+    obj = Objective("mbd", unloaded, logs, jobs=2)
+    lo = np.array([b.lo for b in obj.bounds])
+    span = np.array([b.hi - b.lo for b in obj.bounds])
+    z0 = (np.array([b.nominal for b in obj.bounds]) - lo) / span
+    ref = least_squares(lambda z: obj.residuals(lo + span * z), z0, bounds=(0.0, 1.0),
+                        method="trf", diff_step=DIFF_STEP, xtol=1e-6, ftol=1e-8)
+    x_ref = dict(zip(obj.names, lo + span * ref.x, strict=True))
+    full = obj.evaluations
+    fit = tune_model("mbd", unloaded, logs, jobs=2,
+                     start={"i_s": TRUTH["stm"]["i_s"],
+                            "delta_h_offset": TRUTH["stm"]["delta_h_offset"]})
+    assert fit.fitted["i_s"] == pytest.approx(x_ref["i_s"], rel=2e-4)
+    assert fit.fitted["delta_h_offset"] == pytest.approx(x_ref["delta_h_offset"], abs=5e-5)
+    assert fit.cost_after == pytest.approx(2.0 * ref.cost, rel=1e-3)
+    assert fit.evaluations < full / 2

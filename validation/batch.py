@@ -87,6 +87,11 @@ class BatchResult:
     n_done: np.ndarray
     limited: list[str] = field(default_factory=list)
 
+    def part(self, a: int, b: int) -> BatchResult:
+        """Logs ``a`` to ``b - 1`` of the batch."""
+        return BatchResult(self.obs[a:b], self.delta[a:b], self.delta_fb[a:b],
+                           self.saturated[a:b], self.n_done[a:b], self.limited[a:b])
+
 
 def _split(starts, *arrays):
     return [[a[starts[i]:starts[i + 1]] for i in range(starts.size - 1)] for a in arrays]
@@ -130,18 +135,34 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
             vehicle.steering.delta_max, vehicle.gamma_max)
         return BatchResult(*_split(starts, obs, d, f, s), n_done)
     probe.close()
+    return run_many(model_factory, [vehicle] * len(inputs), inputs, gain, jobs)
+
+
+def run_many(model_factory, vehicles: Sequence[Vehicle], inputs: Sequence[LoopInputs],
+             gain: float = DEFAULT_GAIN, jobs: int = 1) -> BatchResult:
+    """Drive a model without a compiled form (the plant) through logs on a thread pool.
+
+    Run ``i`` builds its model from ``vehicles[i]`` and drives it through
+    ``inputs[i]``. The plant's compiled closed loop (:mod:`plant.closedloop`)
+    releases the GIL for a whole log, so the runs scale with ``jobs``; each
+    run is independent of the others, so the numbers do not depend on ``jobs``.
+    The longest runs start first, which keeps the threads busy to the end.
+    """
     from validation.plantnotes import collect, summary
 
-    def one(inp):
+    def one(i):
+        v, inp = vehicles[i], inputs[i]
         with collect() as notes:
-            model = model_factory(vehicle)
+            model = model_factory(v)
             try:
-                return (*run_inputs(model, inp, vehicle, gain), summary(notes))
+                return (*run_inputs(model, inp, v, gain), summary(notes))
             finally:
                 model.close()
 
+    order = sorted(range(len(inputs)), key=lambda i: -inputs[i].t.size)
     with ThreadPoolExecutor(max(1, jobs)) as pool:
-        out = list(pool.map(one, inputs))
+        done = dict(zip(order, pool.map(one, order), strict=True))
+    out = [done[i] for i in range(len(inputs))]
     return BatchResult([o[0] for o in out], [o[1] for o in out], [o[2] for o in out],
                        [o[3] for o in out], np.array([o[4] for o in out]),
                        [o[5] for o in out])

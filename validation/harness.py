@@ -36,7 +36,6 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 from numba import njit
-from scipy.signal import savgol_filter
 
 from mjcf.interface import InitialState
 from mjcf.vehicle import Vehicle
@@ -65,6 +64,8 @@ def smooth_speed(t: np.ndarray, u: np.ndarray, window: float = SPEED_WINDOW) -> 
     n += 1 - n % 2
     if n < 5 or n > u.size:
         return u.copy()
+    from scipy.signal import savgol_filter  # here: scipy.signal takes a second to import
+
     return savgol_filter(u, n, 2, mode="interp")
 
 

@@ -187,6 +187,18 @@ def _read_json(path: Path) -> dict | None:
     return saved if isinstance(saved, dict) else None
 
 
+def start_from(model: str, fitted: dict[str, dict[str, float]]) -> dict[str, float] | None:
+    """Where the plant's fit starts: the STM's fitted steering ratio and offset.
+
+    They describe the truth's steering column, which every model sees alike;
+    the asymmetry ``q`` stays the plant's own (its linkage makes it), and the
+    STM's ``f`` has no counterpart. Other models start from their presets.
+    """
+    if model != "mbd" or "stm" not in fitted:
+        return None
+    return {k: fitted["stm"][k] for k in ("i_s", "delta_h_offset") if k in fitted["stm"]}
+
+
 def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
           jobs: int) -> dict:
     """Tuning per load condition, resumable per (load, model) from ``tuning.json``.
@@ -237,7 +249,8 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
             stderr_progress(f"{load}: tuning {m} on {len(tuning)} logs")
             try:
                 fit = tune_model(m, vehicle, tuning, jobs,
-                                 lambda line, load=load: stderr_progress(f"{load}: {line}"))
+                                 lambda line, load=load: stderr_progress(f"{load}: {line}"),
+                                 start=start_from(m, entry["fitted"]))
             except (MemoryError, RecursionError):
                 raise
             except Exception as exc:  # noqa: BLE001 - one model's failure is a row
