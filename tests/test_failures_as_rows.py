@@ -33,6 +33,9 @@ def absurd_after_5_s(monkeypatch):
         return real(self, dt, delta, u1, u1_dot)
 
     monkeypatch.setattr(Plant, "step", step)
+    # Through Plant.step, so the Python loop of the harness: the compiled loop
+    # (tests/test_closedloop.py shows it raises the same error) never calls it.
+    monkeypatch.setattr(Plant, "closed_loop", lambda self: None)
 
 
 def test_plant_error_names_the_last_good_time_and_wheel(absurd_after_5_s, unloaded):

@@ -17,6 +17,7 @@ from concurrent.futures import Executor, Future
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from hostile_logs import slalom
@@ -243,7 +244,7 @@ def test_tuning_resumes_per_model_and_load(tmp_path, monkeypatch):
                                  else "loaded"}) for n in TUNING]
     calls, killed = [], []
 
-    def fake_tune(model, vehicle, logs, jobs, progress):
+    def fake_tune(model, vehicle, logs, jobs, progress, start=None):
         calls.append((model, logs[0].meta["load"]))
         if len(calls) == 3 and not killed:
             killed.append(True)
@@ -281,3 +282,26 @@ def test_a_damaged_cached_log_is_imported_again(tmp_path, monkeypatch, capsys):
     assert "re-importing run: " in capsys.readouterr().err
     assert again.frame.equals(first.frame)
     assert read_run(cached).frame.equals(first.frame)
+
+
+def test_a_resumed_validation_takes_the_criteria_from_the_footer(tmp_path, monkeypatch):
+    # A reused run file is not read sample by sample: its criteria, computed when it
+    # was simulated, come from its footer; the rows are the same. A file whose
+    # footer is damaged (cut short) is simulated again, not trusted.
+    from mjcf import load_vehicle
+    from validation.campaign import validate as val
+
+    v = load_vehicle("gosar2022-unloaded")
+    logs = [slalom()]
+    first = val.validate_runs(logs, v, ["kin", "stm"], out_dir=tmp_path, reuse_key="k")
+    calls = []
+    real = val._simulate
+    monkeypatch.setattr(val, "_simulate", lambda *a: calls.append(a[0]) or real(*a))
+    again = val.validate_runs(logs, v, ["kin", "stm"], out_dir=tmp_path, reuse_key="k")
+    assert calls == [] and again.attrs["reused"] == 2
+    pd.testing.assert_frame_equal(first, again)
+    target = tmp_path / "runs" / f"{logs[0].name}.stm.parquet"
+    target.write_bytes(target.read_bytes()[:-100])
+    third = val.validate_runs(logs, v, ["kin", "stm"], out_dir=tmp_path, reuse_key="k")
+    assert calls == ["stm"]
+    pd.testing.assert_frame_equal(first.drop(columns="wall_s"), third.drop(columns="wall_s"))

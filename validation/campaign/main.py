@@ -532,7 +532,7 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
         return None
     refs = []
     for log in logs:
-        run = read_run(out_dir / "runs" / f"{log.name}.mbd.parquet")
+        run = read_run(out_dir / "runs" / f"{log.name}.mbd.parquet", columns=COLUMNS)
         meta = {**log.meta, "source": "model:mbd", "reference": "mbd"}
         refs.append(Run(run.frame[list(COLUMNS)].reset_index(drop=True), meta))
     parts = []

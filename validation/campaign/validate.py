@@ -20,10 +20,12 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 
 from mjcf.vehicle import Vehicle
 from validation.harness import DEFAULT_GAIN, run_closed_loop
-from validation.logs.runfile import LogError, Run, atomic_write, check_frame, read_run, write_run
+from validation.logs.runfile import META_KEY, LogError, Run, atomic_write, parse_meta, write_run
 from validation.logs.schema import COLUMNS, MODEL_SIGNALS
 from validation.metrics import CRITERIA, run_metrics
 from validation.models import build
@@ -89,8 +91,14 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         raise ValueError(f"logs share the name(s) {', '.join(dupes)}; their results would "
                          "overwrite each other: rename the files")
     tasks = [(log, name) for log in logs for name in models]
-    reused = {(log.name, name) for log, name in tasks
-              if _reusable(*_where(out_dir, log, name, reuse_key, gain)) is not None}
+    def probe(task):
+        return _reusable(*_where(out_dir, task[0], task[1], reuse_key, gain))
+
+    with ThreadPoolExecutor(max(1, jobs)) as pool:  # pyarrow reads without the GIL
+        found = {(log.name, name): run for (log, name), run in zip(tasks, pool.map(probe, tasks),
+                                                                   strict=True)}
+    found = {k: run for k, run in found.items() if run is not None}
+    reused = set(found)
     if progress is not None and reused:
         progress(f"{label}: {len(reused)} of {len(tasks)} runs reused from "
                  f"{Path(out_dir) / 'runs'} (made earlier with the same code and settings)")
@@ -101,34 +109,32 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     def one(task):
         log, name = task
         target, key = _where(out_dir, log, name, reuse_key, gain)
-        run = _reusable(target, key) if (log.name, name) in reused else None
-        fresh = run is None
+        meta = found.pop((log.name, name), None)
+        fresh = meta is None
         if fresh:
             got = remote.pop((log.name, name), None)
             run, wall = got if got is not None else _simulate(name, log, vehicle, gain)
-            run.meta["wall_s"] = wall
+            meta = run.meta
+            meta["wall_s"] = wall
             if log.meta.get("accepted_checks"):
-                run.meta["accepted_checks"] = log.meta["accepted_checks"]
+                meta["accepted_checks"] = log.meta["accepted_checks"]
             if key is not None:
-                run.meta["key"] = key
+                meta["key"] = key
+            meta["criteria"] = _criteria(log, run)
+            meta["rows"] = len(run.frame)
             if target is not None:
-                write_run(Run(_thin_extras(run.frame), run.meta), target)
-        wall = float(run.meta["wall_s"])
-        t = log.frame["t"]
-        if is_failed(run.meta["status"]) or len(run.frame) < 2:
-            criteria = {c: float("nan") for c in CRITERIA} | {"s_max": 0.0}
-            duration = 0.0
-        else:
-            criteria = run_metrics(log.frame, run.frame)
-            duration = float(t.iloc[len(run.frame) - 1] - t.iloc[0])
+                write_run(Run(_thin_extras(run.frame), meta), target)
+        wall = float(meta["wall_s"])
+        criteria = dict(meta["criteria"])
+        duration = criteria.pop("duration_s")
         row = {"log": log.name, "model": name, **criteria,
-               "status": run.meta["status"], "wall_s": wall, "duration_s": duration,
+               "status": meta["status"], "wall_s": wall, "duration_s": duration,
                "direction": log.meta.get("direction", ""),
                "manoeuvre": log.meta.get("manoeuvre", "")}
         if fresh:
-            notes = [run.meta["status"]] if run.meta["status"] != "ok" else []
-            if run.meta.get("limited"):
-                notes.append("limited: " + run.meta["limited"])
+            notes = [meta["status"]] if meta["status"] != "ok" else []
+            if meta.get("limited"):
+                notes.append("limited: " + meta["limited"])
             counter.step(f"{log.name} / {name}: eps_n = {row['eps_n']:.1f} % ({wall:.1f} s)"
                          + "".join(f"; {n}" for n in notes), always=bool(notes))
         return row
@@ -163,22 +169,37 @@ def _where(out_dir, log: Run, name: str, reuse_key: str | None,
     return target, key
 
 
-def _reusable(target: Path | None, key: str | None) -> Run | None:
-    """The run file at ``target`` if it was made with ``key`` (a failure's too)."""
+def _criteria(log: Run, run: Run) -> dict[str, float]:
+    """The criteria of a model run against its log, and the simulated time ``duration_s``."""
+    t = log.frame["t"]
+    if is_failed(run.meta["status"]) or len(run.frame) < 2:
+        return {c: float("nan") for c in CRITERIA} | {"s_max": 0.0, "duration_s": 0.0}
+    out = {k: float(v) for k, v in run_metrics(log.frame, run.frame).items()}
+    return out | {"duration_s": float(t.iloc[len(run.frame) - 1] - t.iloc[0])}
+
+
+def _reusable(target: Path | None, key: str | None) -> dict | None:
+    """The metadata of the run file at ``target`` if it was made with ``key`` (a failure's too).
+
+    A run file carries its criteria against its log (``meta["criteria"]``),
+    computed when it was simulated; the key covers the log, the code and the
+    settings, so a resumed campaign takes them from the file's footer without
+    reading its samples. The footer must parse (a truncated file does not) and
+    its row count must be the run's; anything else is simulated again.
+    """
     if target is None or key is None or not target.is_file():
         return None
     try:
-        run = read_run(target, check=False)
-    except ValueError:  # unreadable or foreign: simulate again, overwrite
+        info = pq.read_metadata(target)
+        raw = (info.metadata or {}).get(META_KEY)
+        meta = parse_meta(raw, str(target)) if raw else {}
+    except (pa.ArrowInvalid, OSError, LogError):  # unreadable or foreign: simulate again
         return None
-    if run.meta.get("key") != key or "wall_s" not in run.meta or "status" not in run.meta:
+    if meta.get("key") != key or not {"wall_s", "status", "criteria", "rows"} <= meta.keys():
         return None
-    if not is_failed(run.meta["status"]):
-        try:
-            check_frame(run.frame, str(target))
-        except LogError:
-            return None
-    return run
+    if info.num_rows != meta["rows"] or not isinstance(meta["criteria"], dict):
+        return None
+    return meta
 
 
 def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],

@@ -11,7 +11,7 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -112,7 +112,8 @@ def _json_default(o: Any) -> Any:
     raise TypeError(f"metadata value {o!r} is not JSON-serialisable")
 
 
-def read_run(path: Path | str, check: bool = True) -> Run:
+def read_run(path: Path | str, check: bool = True,
+             columns: Sequence[str] | None = None) -> Run:
     """Read a run written by :func:`write_run` (or any Parquet in the schema).
 
     Parameters
@@ -121,6 +122,9 @@ def read_run(path: Path | str, check: bool = True) -> Run:
         The ``.parquet`` file.
     check : bool
         Check the frame with :func:`check_frame`.
+    columns : sequence of str, optional
+        Read only these columns, of those the file has (a plant run's
+        drawing columns are most of its file); all of them by default.
 
     Raises
     ------
@@ -131,7 +135,10 @@ def read_run(path: Path | str, check: bool = True) -> Run:
     if not path.is_file():
         raise LogError(f"{path}: no such file")
     try:
-        table = pq.read_table(path)
+        if columns is not None:
+            have = set(pq.read_schema(path).names)
+            columns = [c for c in columns if c in have]
+        table = pq.read_table(path, columns=columns)
     except (pa.ArrowInvalid, OSError) as exc:
         raise LogError(f"{path}: not a readable Parquet file ({exc}); it may be truncated: "
                        "write it again") from exc
