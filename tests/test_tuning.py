@@ -147,10 +147,11 @@ def test_the_plant_starts_from_the_stm_steering_column():
 @pytest.mark.slow
 def test_the_plant_fit_matches_full_differences_from_nominal(unloaded):
     # The campaign's plant fit (STM start, one difference Jacobian, Broyden's
-    # updates) against least_squares' own differences at every step from the
-    # nominal values: the same optimum within the solver's xtol (1e-6 of each
-    # span: 1e-5 in i_s, 5e-7 rad in the offset) times the flat valley's
-    # amplification; 2e-4 relative in i_s and 5e-5 rad in the offset.
+    # updates, TOLERANCES["plant"]) against least_squares' own differences at
+    # every step from the nominal values with KIN's and STM's tolerances: the
+    # same optimum within the plant's xtol (1e-4 of each span: 1e-3 in i_s,
+    # 5e-5 rad in the offset) times the flat valley's amplification; 2e-4
+    # relative in i_s and 3.5e-4 rad (0.02 deg) in the offset.
     from scipy.optimize import least_squares
 
     from validation.campaign.tuning import DIFF_STEP
@@ -168,6 +169,6 @@ def test_the_plant_fit_matches_full_differences_from_nominal(unloaded):
                      start={"i_s": TRUTH["stm"]["i_s"],
                             "delta_h_offset": TRUTH["stm"]["delta_h_offset"]})
     assert fit.fitted["i_s"] == pytest.approx(x_ref["i_s"], rel=2e-4)
-    assert fit.fitted["delta_h_offset"] == pytest.approx(x_ref["delta_h_offset"], abs=5e-5)
+    assert fit.fitted["delta_h_offset"] == pytest.approx(x_ref["delta_h_offset"], abs=3.5e-4)
     assert fit.cost_after == pytest.approx(2.0 * ref.cost, rel=1e-3)
     assert fit.evaluations < full / 2
