@@ -92,6 +92,11 @@ def _loaded() -> tuple[ctypes.CDLL | None, str]:
     return _load()
 
 
+def unavailable_reason() -> str:
+    """Why the compiled loop cannot run at all (not built, wrong version); empty when it can."""
+    return _loaded()[1]
+
+
 def available(plant: Plant) -> str:
     """Why ``plant`` cannot use the compiled loop; empty when it can."""
     lib, why = _loaded()

@@ -110,6 +110,19 @@ def _warn_fallback() -> None:
                       stacklevel=3)
 
 
+_loop_warned = False
+
+
+def _warn_loop_fallback() -> None:
+    global _loop_warned
+    if not _loop_warned:
+        _loop_warned = True
+        warnings.warn(f"the compiled closed loop is unavailable "
+                      f"({closedloop.unavailable_reason()}); the harness drives the plant "
+                      "in Python, about a third slower, and plants on threads scale less",
+                      PlantWarning, stacklevel=3)
+
+
 def scaled(p: TyreParams, scaling: tuple[tuple[str, float], ...]) -> TyreParams:
     """``p`` with its Magic Formula scaling factors multiplied by the vehicle file's."""
     if not scaling:
@@ -676,7 +689,12 @@ class Plant:
         or an install without the compiled extension; the harness then drives
         the plant through :meth:`step` and :meth:`observe` in Python.
         """
-        if not self.use_compiled_loop or closedloop.available(self):
+        if not self.use_compiled_loop:
+            return None
+        if closedloop.unavailable_reason():  # not built: say so once, run in Python
+            _warn_loop_fallback()
+            return None
+        if closedloop.available(self):  # this plant's mode: the Python loop, silently
             return None
         return functools.partial(closedloop.run, self)
 

@@ -133,3 +133,22 @@ def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
         with pytest.raises(RuntimeError, match=why):
             closedloop.run(p, np.full(1, 0.01), *np.zeros((4, 2)), np.zeros(2, bool),
                            3.0, 0.5, 1.5)
+
+
+def test_without_the_extension_the_python_loop_runs_and_says_so(unloaded, monkeypatch):
+    # An install without a C compiler has no _loop_c: the harness falls back to the
+    # Python loop, with one warning, and the run is the same.
+    import plant.plant as plant_module
+
+    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    inp = loop_inputs(straight_log(n=300, u=-1.0, gamma0=0.2), unloaded, steering)
+    with Plant(unloaded) as p:
+        compiled = run_inputs(p, inp, unloaded, 3.0)
+    monkeypatch.setattr(closedloop, "_loaded", lambda: (None, "not built here"))
+    monkeypatch.setattr(plant_module, "_loop_warned", False)
+    with Plant(unloaded) as p:
+        with pytest.warns(PlantWarning, match="closed loop is unavailable .not built here"):
+            assert p.closed_loop() is None
+        python = run_inputs(p, inp, unloaded, 3.0)
+    assert compiled[4] == python[4]
+    np.testing.assert_allclose(compiled[0], python[0], rtol=0.0, atol=TOL)

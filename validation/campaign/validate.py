@@ -150,13 +150,8 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         remote.update({k: f.result() for k, f in todo.items()})
         rows = [one(t) for t in tasks]
     elif jobs > 1:
-        # Longest logs first, the plant's before the reduced models' (which take
-        # milliseconds), so that no thread is left alone with a long run at the end.
-        order = sorted(range(len(tasks)), key=lambda i: (tasks[i][1] != "mbd",
-                                                         -len(tasks[i][0].frame)))
         with ThreadPoolExecutor(jobs) as pool:
-            done = dict(zip(order, pool.map(lambda i: one(tasks[i]), order), strict=True))
-        rows = [done[i] for i in range(len(tasks))]
+            rows = list(pool.map(one, tasks))
     else:
         rows = [one(t) for t in tasks]
     cols = ["log", "model", "direction", "manoeuvre", *CRITERIA, "s_max", "status", "wall_s",

@@ -314,10 +314,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         if pool is None:
             done = ((m, _simulate_timed(m, seed, sensors, truth)) for m in missing)
         else:
-            # The drivers' manoeuvres (docking, parking) run longest: they start
-            # first, so no worker is left alone with one at the end.
-            first = sorted(missing, key=lambda m: m.kind not in ("docking", "parking"))
-            futures = {pool.submit(_simulate_timed, m, seed, sensors, truth): m for m in first}
+            futures = {pool.submit(_simulate_timed, m, seed, sensors, truth): m for m in missing}
             done = ((futures[f], f.result()) for f in as_completed(futures))
         counter = Counter(len(missing), "generated", progress)
         for m, (run, wall) in done:
