@@ -18,3 +18,29 @@ def best_wall(fn: Callable[[], object], repeats: int = REPEATS) -> float:
         fn()
         best = min(best, time.perf_counter() - t0)
     return best
+
+
+def bare_steps(model, states, nstep: int, callback: bool = False) -> float:
+    """Wall time of ``mj_step(nstep)`` from each of ``states`` (integration states) [s].
+
+    With ``callback`` False, MuJoCo's passive callback is switched off for the
+    timing (and restored): the model's bare step. The state is set outside the
+    timed span.
+    """
+    import mujoco
+
+    d = mujoco.MjData(model)
+    spec = mujoco.mjtState.mjSTATE_INTEGRATION
+    saved = mujoco.get_mjcb_passive()
+    if not callback:
+        mujoco.set_mjcb_passive(None)
+    wall = 0.0
+    try:
+        for s in states:
+            mujoco.mj_setState(model, d, s, spec)
+            t0 = time.perf_counter()
+            mujoco.mj_step(model, d, nstep=nstep)
+            wall += time.perf_counter() - t0
+    finally:
+        mujoco.set_mjcb_passive(saved)
+    return wall

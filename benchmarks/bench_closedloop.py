@@ -32,6 +32,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from _timing import bare_steps
 from mjcf import load_vehicle
 from plant import Plant
 from validation.harness import LoopInputs, run_inputs
@@ -80,21 +81,7 @@ def _states(vehicle, inp) -> tuple[Plant, list[np.ndarray]]:
 
 
 def _bare(p: Plant, states, callback: bool) -> float:
-    m, d = p.model, mujoco.MjData(p.model)
-    spec = mujoco.mjtState.mjSTATE_INTEGRATION
-    saved = mujoco.get_mjcb_passive()
-    if not callback:
-        mujoco.set_mjcb_passive(None)
-    wall = 0.0
-    try:
-        for s in states:
-            mujoco.mj_setState(m, d, s, spec)
-            t0 = time.perf_counter()
-            mujoco.mj_step(m, d, nstep=2)
-            wall += time.perf_counter() - t0
-    finally:
-        mujoco.set_mjcb_passive(saved)
-    return wall
+    return bare_steps(p.model, states, 2, callback)
 
 
 def _threads(vehicle, inp, jobs: int, runs: int = 4) -> float:

@@ -23,6 +23,7 @@ import time
 import mujoco
 import numpy as np
 
+from _timing import bare_steps
 from mjcf import load_vehicle
 from mjcf.interface import InitialState
 from plant import Plant
@@ -54,21 +55,7 @@ def _run(backend: str, seconds: float, states: list | None = None,
 
 
 def _bare(p: Plant, states: list) -> float:
-    m, d = p.model, mujoco.MjData(p.model)
-    spec = mujoco.mjtState.mjSTATE_INTEGRATION
-    n = round(DT / m.opt.timestep)
-    saved = mujoco.get_mjcb_passive()
-    mujoco.set_mjcb_passive(None)
-    wall = 0.0
-    try:
-        for s in states:
-            mujoco.mj_setState(m, d, s, spec)
-            t0 = time.perf_counter()
-            mujoco.mj_step(m, d, nstep=n)
-            wall += time.perf_counter() - t0
-    finally:
-        mujoco.set_mjcb_passive(saved)
-    return wall
+    return bare_steps(p.model, states, round(DT / p.model.opt.timestep))
 
 
 def _tyre_ns() -> tuple[float, float]:

@@ -98,29 +98,26 @@ SPEED_MODES = ("follow", "drive", "pedals")
 BACKENDS = ("auto", "c", "numpy")
 """Tyre callback implementations: compiled (:mod:`plant.ctyre`) or the numpy reference."""
 
-_fallback_warned = False
+_warned: set[str] = set()
+
+
+def _warn_once(what: str, message: str) -> None:
+    """Warn ``message`` the first time ``what`` happens in this process."""
+    if what not in _warned:
+        _warned.add(what)
+        warnings.warn(message, PlantWarning, stacklevel=4)
 
 
 def _warn_fallback() -> None:
-    global _fallback_warned
-    if not _fallback_warned:
-        _fallback_warned = True
-        warnings.warn(f"the compiled tyre callback is unavailable ({ctyre.unavailable_reason()}); "
-                      "the plant uses the numpy tyre model, about 16 times slower", PlantWarning,
-                      stacklevel=3)
-
-
-_loop_warned = False
+    _warn_once("tyre", f"the compiled tyre callback is unavailable "
+               f"({ctyre.unavailable_reason()}); the plant uses the numpy tyre model, about "
+               "16 times slower")
 
 
 def _warn_loop_fallback() -> None:
-    global _loop_warned
-    if not _loop_warned:
-        _loop_warned = True
-        warnings.warn(f"the compiled closed loop is unavailable "
-                      f"({closedloop.unavailable_reason()}); the harness drives the plant "
-                      "in Python, about a third slower, and plants on threads scale less",
-                      PlantWarning, stacklevel=3)
+    _warn_once("loop", f"the compiled closed loop is unavailable "
+               f"({closedloop.unavailable_reason()}); the harness drives the plant in Python, "
+               "about a third slower, and plants on threads scale less")
 
 
 def scaled(p: TyreParams, scaling: tuple[tuple[str, float], ...]) -> TyreParams:

@@ -145,7 +145,7 @@ def test_without_the_extension_the_python_loop_runs_and_says_so(unloaded, monkey
     with Plant(unloaded) as p:
         compiled = run_inputs(p, inp, unloaded, 3.0)
     monkeypatch.setattr(closedloop, "_loaded", lambda: (None, "not built here"))
-    monkeypatch.setattr(plant_module, "_loop_warned", False)
+    monkeypatch.setattr(plant_module, "_warned", set())
     with Plant(unloaded) as p:
         with pytest.warns(PlantWarning, match="closed loop is unavailable .not built here"):
             assert p.closed_loop() is None

@@ -111,7 +111,7 @@ def test_fallback_warns_and_uses_numpy(unloaded, monkeypatch):
 
     monkeypatch.setattr(ctyre, "library", lambda: None)
     monkeypatch.setattr(ctyre, "unavailable_reason", lambda: "no compiler (test)")
-    monkeypatch.setattr(pp, "_fallback_warned", False)
+    monkeypatch.setattr(pp, "_warned", set())
     with pytest.warns(PlantWarning, match="no compiler"), Plant(unloaded) as p:
         assert p.backend == "numpy"
     with pytest.raises(RuntimeError, match="no compiler"):
