@@ -6,8 +6,9 @@ The reduced models integrate a batch of manoeuvres in one compiled call,
 on its own slice of the concatenated inputs, so a batch returns exactly what
 one call per log returns, at any number of threads.
 
-The plant runs one MuJoCo model per log on a thread pool; the compiled tyre
-callback releases the GIL inside ``mj_step``.
+The plant runs one MuJoCo model per log on a thread pool (:func:`run_many`);
+its compiled closed loop (:mod:`plant.closedloop`) runs a whole log without
+the GIL, so the runs scale with cores.
 """
 
 from __future__ import annotations

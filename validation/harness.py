@@ -26,6 +26,11 @@ Inputs per sample ``k`` (held over the step to ``k + 1``):
 
 The applied road-wheel angle is limited to the vehicle's ``delta_max``; the
 run's ``delta_saturated`` column says where.
+
+Three loops run this law: :func:`compiled_loop` (numba) for KIN and the STM,
+the plant's own loop in C (:mod:`plant.closedloop`, which ``closed_loop()``
+offers), and :func:`_python_loop` for any other model. The Python loop is the
+reference the plant's C loop is tested against.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ manoeuvres on the plant, and every (log, model) pair of the validation. They
 are submitted to a ``concurrent.futures.Executor``:
 
 - ``local`` (the default): processes for generation, threads for validation
-  (the compiled tyre callback releases the GIL inside MuJoCo's step);
+  (the plant's compiled closed loop runs a whole log without the GIL);
 - ``dask``: a Dask cluster's executor, for parameter studies that outgrow one
   machine. Without a scheduler address, a local cluster with one worker
   process per job is started for the run. Install the extra with
