@@ -179,7 +179,7 @@ def test_parallel_and_serial_campaigns_give_identical_metrics(tmp_path):
                             sweep_models=(), recordings=False)
     a = pd.read_csv(serial["metrics"]).drop(columns="wall_s")
     b = pd.read_csv(parallel["metrics"]).drop(columns="wall_s")
-    assert (a.model == "mbd").any() and len(a) > 3
+    assert set(a.model) == {"kin", "mbd", "floor"}  # the one validated log, every model
     pd.testing.assert_frame_equal(a, b, check_exact=True)
     ta = json.loads((tmp_path / "one" / "tuning.json").read_text())["loads"]
     tb = json.loads((tmp_path / "two" / "tuning.json").read_text())["loads"]
