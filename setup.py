@@ -26,14 +26,14 @@ setup(
             "plant._tyre_c",
             sources=["plant/_tyre_c.c"],
             include_dirs=mujoco_include(),
-            extra_compile_args=["-O2", "-std=c99"],
+            extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),
         Extension(  # the harness's closed loop around the plant (plant/closedloop.py)
             "plant._loop_c",
             sources=["plant/_loop_c.c"],
             include_dirs=mujoco_include(),
-            extra_compile_args=["-O2", "-std=c99"],
+            extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),
     ]

@@ -104,7 +104,7 @@ def _linkage(track: float, L1: float, arm: float,
     trap = Trapezoid(track, L1, arm)
     lo, hi = left_range(trap.right_angle, delta_max)
     d = np.linspace(lo - math.radians(2.0), hi + math.radians(2.0), 301)
-    r = np.array([trap.right_angle(x) for x in d])
+    r = trap.right_angles(d)
     # Weighted least squares through the origin: straight ahead is straight ahead,
     # with no toe from a fitted constant.
     w = 1.0 / (1.0 + (d / 0.45) ** 2)
@@ -182,6 +182,12 @@ def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
     spec.option.timestep = TIMESTEP
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    # The constraints are few and small (the tie rods, the hitch's pitch stops,
+    # friction on the hitch and on braked wheels): the dual PGS solver handles
+    # them at a quarter of the cost of Newton's nv x nv factorisation, and every
+    # geom is visual, so collision is switched off.
+    spec.option.solver = mujoco.mjtSolver.mjSOL_PGS
+    spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
     spec.option.gravity = gravity(v)
     tractor = spec.worldbody.add_body(name=nm.TRACTOR, pos=[0.0, 0.0, 0.0])
     tractor.add_freejoint(name=nm.ROOT)

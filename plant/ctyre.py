@@ -76,7 +76,7 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     if spec is None or spec.origin is None:
         return None, ("the compiled tyre callback was not built (no C compiler at install "
                       "time?); reinstall artic with a C compiler to get it")
-    # The extension leaves MuJoCo's symbols (mj_applyFT) to the loader: make the
+    # The extensions leave MuJoCo's symbols (mj_step) to the loader: make the
     # library the bindings already loaded visible to it.
     found = glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")) or \
         glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco*.dylib"))

@@ -114,12 +114,28 @@ def test_linkage_is_ackermann_like_and_asymmetric():
     assert 0.004 < q < 0.02
 
 
+def test_trapezoid_keeps_the_rod_length_on_the_assembled_branch():
+    trap = Trapezoid(track=2.05, wheelbase=3.8, arm=0.25)
+    # This trapezoid locks near -0.72 rad, where the right wheel races ahead.
+    d = np.linspace(-0.6, 0.75, 136)
+    r = trap.right_angles(d)
+    gaps = [np.linalg.norm(np.subtract(*trap._tips(a, b))) for a, b in zip(d, r, strict=True)]
+    # The closed-form crossing of two circles: the rod length holds to round-off.
+    assert np.max(np.abs(np.array(gaps) - trap.rod)) < 1e-12
+    # The assembled branch: straight ahead is straight ahead, and the right
+    # wheel follows the left smoothly (the other branch is a jump of ~2 beta).
+    assert trap.right_angle(0.0) == pytest.approx(0.0, abs=1e-14)
+    assert np.max(np.abs(np.diff(r))) < 2.0 * (d[1] - d[0])
+    with pytest.raises(ValueError, match="cannot reach"):
+        Trapezoid(track=2.0, wheelbase=3.6, arm=0.3).right_angle(-1.2)
+
+
 @pytest.mark.parametrize("name", PRESETS)
 def test_polynomial_fits_the_trapezoid(name):
     v = load_vehicle(name)
     trap, poly, (lo, hi) = linkage(v)
     d = np.linspace(lo, hi, 200)
-    exact = np.array([trap.right_angle(x) for x in d])
+    exact = trap.right_angles(d)
     err = np.abs(np.polynomial.polynomial.polyval(d, poly) - exact)
     # The bounds the builder documents: a quartic weighted to yard angles.
     assert np.max(err[np.abs(d) < math.radians(20)]) < math.radians(0.16)
