@@ -1,36 +1,36 @@
-"""Batched reduced models against one call per log, honestly: three rounds, median and range.
+"""Reduced-model logs on threads against one call per log: three rounds, median and range.
 
 The 8 forward tuning manoeuvres (constant steers at 200, 360 and 500 deg of
 steering wheel, 5 and 10 km/h, 40 s at 100 Hz each), made by the STM itself,
 run through the harness as one tuning objective evaluation does:
 
-- ``batch``: :func:`validation.batch.run_batch`, numba's ``prange`` over the
-  logs on every core;
-- ``batch, 1 thread``: the same with numba limited to one thread, which
-  separates the parallel gain from the batch's own work;
-- ``kernel``: the ``prange`` call alone, without concatenating the inputs
-  and splitting the outputs in Python;
+- ``batch, 2 threads``: :func:`validation.batch.run_batch` with ``jobs=2``,
+  the logs spread over a thread pool (the compiled loop releases the GIL);
+- ``batch, 1 thread``: the same with ``jobs=1``;
 - ``per log``: :func:`validation.harness.run_inputs`, one compiled call per log.
 
 Each round times every variant once, in turn, after a warm-up that compiles;
 a figure is the median (range) over the rounds of real time per manoeuvre
 (simulated seconds of all manoeuvres / wall seconds), and of the ratio of
-batch to per-log speed within the round.
+batch to per-log speed within the round. Last, the compiled loop's
+compilation from nothing (an empty numba cache, in a fresh process), the
+price of the first run on a fresh machine.
 
 Run: ``python benchmarks/run.py`` (or this file alone).
 """
 
 from __future__ import annotations
 
+import os
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
-
-import numba
-import numpy as np
 
 from mjcf import load_vehicle
 from reduced import KinematicModel, SingleTrackModel
-from validation.batch import batch_loop, run_batch
+from validation.batch import run_batch
 from validation.harness import loop_inputs, run_inputs
 from validation.logs.runfile import Run
 from validation.logs.schema import COLUMNS
@@ -51,21 +51,19 @@ def _wall(fn) -> float:
     return (time.perf_counter() - t0) / CALLS
 
 
-def _kernel(cls, v, inputs):
-    """The batch's prange call with its arguments prepared once."""
-    probe = cls(v)
-    X0 = []
-    for inp in inputs:
-        probe.reset(inp.initial)
-        X0.append(probe.x.copy())
-    kind, _, P, s1, s2 = probe.compiled()
-    starts = np.concatenate([[0], np.cumsum([i.t.size for i in inputs])]).astype(np.int64)
-    args = (kind, np.array(X0), P, s1, s2, starts,
-            np.concatenate([np.append(np.diff(i.t), 0.0) for i in inputs]),
-            *(np.concatenate([getattr(i, n) for i in inputs])
-              for n in ("delta_c", "u1", "u1_dot", "gamma_meas", "reversing")),
-            3.0, v.steering.delta_max, v.gamma_max)
-    return lambda: batch_loop(*args)
+def _compile_from_nothing() -> float:
+    """Wall time of the first KIN run in a fresh process with an empty numba cache [s]."""
+    code = ("import time, sys; sys.path.insert(0, 'benchmarks');"
+            "from mjcf import load_vehicle; from reduced import KinematicModel;"
+            "from bench_closedloop import _inputs; from validation.harness import run_inputs;"
+            "v = load_vehicle('gosar2022-unloaded'); i = _inputs(v);"
+            "t0 = time.perf_counter(); run_inputs(KinematicModel(v), i, v, 3.0);"
+            "print(time.perf_counter() - t0)")
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                             capture_output=True, text=True)
+    return float(out.stdout.split()[-1])
 
 
 def _fmt(xs) -> str:
@@ -83,14 +81,13 @@ def main() -> dict[str, list[float]]:
             run = simulate(SingleTrackModel(v), v, p)
             logs.append(Run(run.frame[list(COLUMNS)], {"name": f"{amp}-{kph}-{side}"}))
     sim = sum(float(log.frame.t.iloc[-1]) for log in logs)
-    threads = numba.get_num_threads()
     out: dict[str, list[float]] = {}
     for cls in (KinematicModel, SingleTrackModel):
         steering = SteeringMap.from_steering(v.steering_for(cls.name))
         inputs = [loop_inputs(log, v, steering) for log in logs]
         variants = {
-            "batch": lambda cls=cls, inputs=inputs: run_batch(cls, v, inputs, 3.0),
-            "kernel": _kernel(cls, v, inputs),
+            "batch, 2 threads": lambda cls=cls, inputs=inputs: run_batch(cls, v, inputs, 3.0, 2),
+            "batch, 1 thread": lambda cls=cls, inputs=inputs: run_batch(cls, v, inputs, 3.0, 1),
             "per log": lambda cls=cls, inputs=inputs: [run_inputs(cls(v), i, v, 3.0)
                                                        for i in inputs],
         }
@@ -98,23 +95,22 @@ def main() -> dict[str, list[float]]:
             fn()  # compiles, or loads numba's cache
         for _ in range(ROUNDS):
             walls = {k: _wall(fn) for k, fn in variants.items()}
-            numba.set_num_threads(1)
-            try:
-                walls["batch, 1 thread"] = _wall(variants["batch"])
-            finally:
-                numba.set_num_threads(threads)
             for k, w in walls.items():
                 out.setdefault(f"{cls.name} {k}", []).append(sim / w)
-            out.setdefault(f"{cls.name} batch/per log", []).append(walls["per log"]
-                                                                     / walls["batch"])
+            out.setdefault(f"{cls.name} batch/per log", []).append(
+                walls["per log"] / walls["batch, 2 threads"])
+    out["compile"] = [_compile_from_nothing() for _ in range(ROUNDS)]
     print(f"The tuning set ({len(logs)} manoeuvres, {sim:.0f} s simulated), real time per "
-          f"manoeuvre, median (range) of {ROUNDS} rounds, numba on {threads} threads:")
+          f"manoeuvre, median (range) of {ROUNDS} rounds:")
     for m in ("kin", "stm"):
-        for k in ("batch", "batch, 1 thread", "kernel", "per log"):
+        for k in ("batch, 2 threads", "batch, 1 thread", "per log"):
             print(f"  {m.upper()} {k:16s} {_fmt(out[f'{m} {k}'])} x")
         r = out[f"{m} batch/per log"]
-        print(f"  {m.upper()} batch speed / per-log speed: {statistics.median(r):.2f} "
+        print(f"  {m.upper()} batch (2 threads) speed / per-log speed: {statistics.median(r):.2f} "
               f"({min(r):.2f}-{max(r):.2f})")
+    c = out["compile"]
+    print(f"  compiling the loop from nothing (first KIN run, fresh process): "
+          f"{statistics.median(c):.1f} s ({min(c):.1f}-{max(c):.1f})")
     return out
 
 

@@ -116,7 +116,7 @@ def feedback_law(delta_c, gamma_model, gamma_meas, reversing, gain, delta_max):
     return delta, delta - delta_c, saturated
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
                   delta_max, gamma_max):
     """The harness loop for a reduced model, compiled: a whole log in one call.
@@ -207,6 +207,12 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
         reversing=df["v_x_1"].to_numpy(dtype=float) < 0.0, initial=initial)
 
 
+def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) -> tuple:
+    """The per-log arguments of every loop after the model's own: steps, inputs, limits."""
+    return (np.diff(inputs.t), inputs.delta_c, inputs.u1, inputs.u1_dot, inputs.gamma_meas,
+            inputs.reversing, float(gain), vehicle.steering.delta_max, vehicle.gamma_max)
+
+
 def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
                gain: float = DEFAULT_GAIN,
                extras: dict[str, np.ndarray] | None = None) -> tuple[np.ndarray, ...]:
@@ -224,9 +230,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         plausible range (see :func:`compiled_loop`).
     """
     model.reset(inputs.initial)
-    dt = np.diff(inputs.t)
-    args = (dt, inputs.delta_c, inputs.u1, inputs.u1_dot, inputs.gamma_meas,
-            inputs.reversing, float(gain), vehicle.steering.delta_max, vehicle.gamma_max)
+    args = loop_args(inputs, vehicle, gain)
     form = model.compiled()
     if form is not None:
         return compiled_loop(*form, *args)
