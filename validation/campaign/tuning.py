@@ -323,13 +323,17 @@ class ParallelJacobian:
 def start_values(bounds: Sequence[Bound], start: dict[str, float] | None) -> np.ndarray:
     """The fit's first point: ``start``'s values where it has them, else the nominal ones.
 
-    Values are moved inside their bounds (by 1e-3 of the span, so a forward
-    difference fits).
+    Values are moved strictly inside their bounds: by 1e-3 of the span below
+    the upper one, so a forward difference fits, and by 1e-6 of the span
+    above the lower one. ``least_squares`` would otherwise nudge a start on
+    the lower bound inside itself, and the plant's first run at the start
+    (remembered for the Jacobian) would be run again a hair away.
     """
     out = []
     for b in bounds:
         x = (start or {}).get(b.name, b.nominal)
-        out.append(min(max(float(x), b.lo), b.hi - 1e-3 * (b.hi - b.lo)))
+        span = b.hi - b.lo
+        out.append(min(max(float(x), b.lo + 1e-6 * span), b.hi - 1e-3 * span))
     return np.array(out)
 
 
