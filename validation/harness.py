@@ -36,7 +36,7 @@ reference the plant's C loop is tested against.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -188,10 +188,18 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
     steering : SteeringMap
         The model's eq. (3) map.
     """
+    return steered(unsteered_inputs(run, vehicle), steering, f"{run.name}: column delta_h")
+
+
+def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
+    """:func:`loop_inputs` before the steering map: ``delta_c`` is NaN.
+
+    Tuning derives these once per log and applies each trial's map with
+    :func:`steered`.
+    """
     df = run.frame
     t = df["t"].to_numpy(dtype=float)
     delta_h = df["delta_h"].to_numpy(dtype=float)
-    steering.check_range(delta_h, f"{run.name}: column delta_h")
     r1 = df["r_1"].to_numpy(dtype=float)
     u1 = smooth_speed(t, df["v_x_1"].to_numpy(dtype=float) + r1 * vehicle.sensor1[1])
     u1_dot = np.zeros_like(u1)
@@ -202,9 +210,21 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
         gamma=float(first["gamma"]), v_y_1=float(first["v_y_1"]), r_1=float(first["r_1"]),
         r_2=float(first["r_2"]), u1=float(u1[0]))
     return LoopInputs(
-        t=t, delta_h=delta_h, delta_c=np.asarray(steering.road_wheel(delta_h)), u1=u1,
+        t=t, delta_h=delta_h, delta_c=np.full_like(delta_h, np.nan), u1=u1,
         u1_dot=u1_dot, gamma_meas=df["gamma"].to_numpy(dtype=float),
         reversing=df["v_x_1"].to_numpy(dtype=float) < 0.0, initial=initial)
+
+
+def steered(inputs: LoopInputs, steering: SteeringMap, source: str) -> LoopInputs:
+    """``inputs`` with ``delta_c`` from ``steering``, after checking its range.
+
+    Raises
+    ------
+    SteeringRangeError
+        When the steering wheel passes the map's fold; ``source`` names the data.
+    """
+    steering.check_range(inputs.delta_h, source)
+    return replace(inputs, delta_c=np.asarray(steering.road_wheel(inputs.delta_h)))
 
 
 def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) -> tuple:

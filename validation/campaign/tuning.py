@@ -44,7 +44,7 @@ from scipy.optimize import least_squares
 from mjcf.interface import OBS_INDEX
 from mjcf.vehicle import Vehicle
 from validation.batch import run_batch, run_many
-from validation.harness import DEFAULT_GAIN, loop_inputs
+from validation.harness import DEFAULT_GAIN, steered, unsteered_inputs
 from validation.logs.runfile import Run
 from validation.metrics import distance_mean_abs, distance_weights
 from validation.models import spec
@@ -145,6 +145,7 @@ class Objective:
         self.limited: dict[str, str] = {}  # log -> what the model limited, first seen
         self.on_evaluation: Callable[[Objective], None] | None = None
         self._meas = []
+        self._unsteered = [unsteered_inputs(log, vehicle) for log in logs]
         for log in logs:
             f = log.frame
             w = distance_weights(f["t"].to_numpy(), np.hypot(f["v_x_1"], f["v_y_1"]))
@@ -182,7 +183,8 @@ class Objective:
         inputs = []
         for v in vehicles:
             steering = SteeringMap.from_steering(v.steering_for(self.model))
-            inputs.append([loop_inputs(log, v, steering) for log in self.logs])
+            inputs.append([steered(base, steering, f"{log.name}: column delta_h")
+                           for log, base in zip(self.logs, self._unsteered, strict=True)])
         build = spec(self.model).build
         if spec(self.model).batched:
             results = [run_batch(build, v, inp, self.gain, self.jobs)
