@@ -58,7 +58,14 @@ class InitialState:
 
 
 def wrap_angle(a: float | np.ndarray) -> float | np.ndarray:
-    """Wrap an angle to (-pi, pi] [rad]."""
+    """Wrap an angle to (-pi, pi] [rad].
+
+    A Python float takes the scalar path (the simulation loops call this per
+    step): Python's float ``%`` and ``np.mod`` both take ``fmod`` and add the
+    divisor when the signs differ, so the two paths agree to the bit.
+    """
+    if isinstance(a, float):  # float and numpy.float64
+        return float(math.pi - (math.pi - a) % (2.0 * math.pi))
     out = np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2.0 * np.pi)
     return float(out) if out.ndim == 0 else out
 

@@ -627,25 +627,38 @@ class Plant:
 
     def observe(self, delta: float | None = None) -> np.ndarray:
         """Signals at the sensor points, in ``OBSERVATION`` order."""
-        m, d = self.model, self.data
+        d = self.data
         out = np.empty(13)
-        res = np.zeros(6)
         for i, (site, body) in enumerate(zip(self._sensor, (self._tractor, self._trailer),
                                              strict=True)):
-            R = d.xmat[body].reshape(3, 3)
-            psi = math.atan2(R[1, 0], R[0, 0])
+            R = d.xmat[body]
+            psi = math.atan2(R[3], R[0])
             psi = self._psi[i] + wrap_angle(psi - self._psi[i])
             self._psi[i] = psi
-            mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_SITE, site, res, 1)
-            vx, vy = res[3], res[4]
-            eps = self._sensor_yaw[i]
-            if eps:  # the unit's axes turned eps to the left: heading and velocity axes
-                c, s = math.cos(eps), math.sin(eps)
-                vx, vy = c * vx + s * vy, -s * vx + c * vy
-            out[6 * i:6 * i + 6] = [d.site_xpos[site][0], d.site_xpos[site][1], psi + eps,
-                                    vx, vy, res[2]]
+            vx, vy, r = self._sensor_velocity(i)
+            xy = d.site_xpos[site]
+            out[6 * i:6 * i + 6] = [xy[0], xy[1], psi + self._sensor_yaw[i], vx, vy, r]
         out[12] = wrap_angle(out[2] - out[8])
         return out
+
+    def _sensor_velocity(self, i: int) -> tuple[float, float, float]:
+        """``v_x``, ``v_y`` [m/s] and yaw rate [rad/s] at sensor ``i`` (0 tractor, 1 trailer).
+
+        In the unit's axes: turned by the sensor's mounting yaw ``eps`` to the left.
+        """
+        res = np.zeros(6)
+        mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_SITE,
+                                 self._sensor[i], res, 1)
+        vx, vy = res[3], res[4]
+        eps = self._sensor_yaw[i]
+        if eps:
+            c, s = math.cos(eps), math.sin(eps)
+            vx, vy = c * vx + s * vy, -s * vx + c * vy
+        return vx, vy, res[2]
+
+    def sensor_speed(self) -> float:
+        """The tractor sensor's longitudinal velocity [m/s]: ``observe()[3]`` alone."""
+        return float(self._sensor_velocity(0)[0])
 
     @property
     def gamma(self) -> float:

@@ -157,3 +157,20 @@ def test_cli_writes_mjcf(tmp_path, capsys):
     assert main(["mjcf", "--vehicle", "six-axle", "--no-scene", "-o", str(out)]) == 0
     with pytest.raises(KeyError):
         mujoco.MjModel.from_xml_path(str(out)).body(nm.DOCK)
+
+
+def test_wrap_angle_scalar_path_equals_the_array_path_to_the_bit():
+    from mjcf.interface import wrap_angle
+
+    rng = np.random.default_rng(1)
+    xs = np.concatenate([rng.normal(0.0, 10.0, 20000), rng.normal(0.0, 1e-3, 1000),
+                         [0.0, -0.0, math.pi, -math.pi, 3 * math.pi, -3 * math.pi,
+                          2 * math.pi, -2 * math.pi, 1e300, -1e-300]])
+    scalar = np.array([wrap_angle(float(x)) for x in xs])
+    numpy64 = np.array([wrap_angle(x) for x in xs])  # numpy.float64 takes the scalar path too
+    array = wrap_angle(xs)
+    assert np.array_equal(scalar, array) and np.array_equal(numpy64, array)
+    assert np.array_equal(np.signbit(scalar), np.signbit(array))
+    # (-pi, pi]: pi stays, -pi becomes pi.
+    assert wrap_angle(math.pi) == math.pi and wrap_angle(-math.pi) == math.pi
+    assert np.all((array > -math.pi) & (array <= math.pi))

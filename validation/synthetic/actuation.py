@@ -184,7 +184,7 @@ class TruthActuation:
         if self.pedals is not None:
             self.plant.pedals = self.pedals.command(u1, math.copysign(1.0, u1) * u1_dot
                                                     if u1 else 0.0,
-                                                    self.plant.observe()[3])
+                                                    self.plant.sensor_speed())
         self.plant.step(dt, delta, u1, u1_dot)
         self.t += dt
 
