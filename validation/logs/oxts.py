@@ -37,7 +37,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import scipy.io
 
 from mjcf.interface import wrap_angle
 from validation.logs import consistency
@@ -284,6 +283,8 @@ def import_mat(path: Path, accept: tuple[str, ...] = (), vehicle=None) -> tuple[
     try:
         if path.stat().st_size == 0:
             raise LogError(f"{path}: the file is empty (0 bytes); export it again")
+        import scipy.io  # here: it takes 0.1 s to import, and most commands read no .mat
+
         data = scipy.io.loadmat(path, squeeze_me=True, struct_as_record=False)
     except LogError:
         raise
@@ -335,4 +336,6 @@ def export_mat(run: Run, path: Path, **kw) -> Path:
         paths = export_oxts(run, Path(tmp), **kw)
         structs = {name: {c: pd.read_csv(p)[c].to_numpy() for c in pd.read_csv(p).columns}
                    for name, p in paths.items()}
+    import scipy.io
+
     return atomic_write(path, lambda p: scipy.io.savemat(p, structs, format="5"))
