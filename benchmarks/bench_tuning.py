@@ -10,14 +10,15 @@ Then per load condition and round, both fits of the plant, on 2 threads:
   forward-difference Jacobian with its columns at once on the thread pool,
   Broyden's updates, ``TOLERANCES["plant"]``;
 - ``full differences``: ``least_squares``' own two-point differences at every
-  step, from the nominal values, with KIN's and STM's tolerances, one plant
-  run after another: the plant's fit before the speed work, on today's plant.
+  step, from the nominal values, with KIN's and STM's tolerances, one
+  evaluation after another (its four runs on the two threads): the plant's
+  fit before the speed work, on today's plant and thread pool.
 
 A figure is the median (range) over the rounds of the wall-time ratio
 campaign / full differences, measured within the round, with the evaluation
 counts and the largest parameter differences between the two fits. The
-plant's own step got cheaper too (``bench_closedloop``); this ratio is the
-algorithm's share alone.
+plant's own step got cheaper too (``bench_closedloop``), and the runs of one
+evaluation went on threads; this ratio is the fitting algorithm's share alone.
 
 Run: ``python benchmarks/run.py`` (or this file alone; about 6 minutes).
 """

@@ -208,3 +208,34 @@ def test_a_vertical_hub_axis_gets_no_force_in_either_backend(unloaded):
         assert np.all(F[1:, 2] > 1e3)  # the other wheels carry the truck
     np.testing.assert_allclose(out["c"][0], out["numpy"][0], rtol=1e-9, atol=1e-6)
     np.testing.assert_allclose(out["c"][1], out["numpy"][1], rtol=1e-9, atol=1e-6)
+
+
+def test_generalised_forces_of_a_turning_plant_equal_mujocos_apply_ft(unloaded):
+    # The C callback sums each wheel's force and moment along the wheel's dof
+    # chain itself; the numpy reference hands them to MuJoCo's mj_applyFT.
+    # In a turn under way (every wheel loaded, slipping, with aligning and
+    # rolling moments) both must give the same qfrc_passive: the tyre forces
+    # agree to about 1e-12 relative (test above), the chain sum is exact.
+    with Plant(unloaded, backend="c") as p:
+        p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=2.0))
+        for _ in range(150):
+            p.step(0.01, 0.25, 2.0, 0.0)
+        spec = mujoco.mjtState.mjSTATE_PHYSICS  # qpos, qvel, act: the numpy model has no userdata
+        state = np.empty(mujoco.mj_stateSize(p.model, spec))
+        mujoco.mj_getState(p.model, p.data, state, spec)
+        m, d = p.model, p.data
+        mujoco.mj_forward(m, d)
+        d.qfrc_passive[:] = 0.0
+        ctyre.call_passive(m, d)
+        qfrc_c = d.qfrc_passive.copy()
+    with Plant(unloaded, backend="numpy") as p:
+        m, d = p.model, p.data
+        mujoco.mj_setState(m, d, state, spec)
+        mujoco.mj_forward(m, d)
+        d.qfrc_passive[:] = 0.0
+        p._passive(m, d)
+        qfrc_np = d.qfrc_passive.copy()
+    assert np.abs(qfrc_c).max() > 1e4  # the wheels carry the truck
+    # Nearly every dof feels the tyres; the steer and spin dofs see moments only.
+    assert np.count_nonzero(np.abs(qfrc_c) > 1e-3) > m.nv // 2
+    np.testing.assert_allclose(qfrc_c, qfrc_np, rtol=1e-9, atol=1e-6)

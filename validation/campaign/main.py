@@ -210,8 +210,6 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
     reuses them and fits only the rest. A model whose fit fails keeps the
     preset's values; its summary row says why.
     """
-    from validation.campaign.tuning import tune_model
-
     path = out_dir / "tuning.json"
     saved = _read_json(path)
     if saved is None or saved.get("key") != key or not isinstance(saved.get("loads"), dict):
@@ -221,6 +219,8 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                         "settings)")
         saved["reused"] = True
         return saved
+    from validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
+
     out: dict = {"key": key, "loads": {}, "complete": False}
     for load in LOADS:
         tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
@@ -471,10 +471,14 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 atomic_write_text(out_dir / "gain_sweep.json", json.dumps(
                     {"key": key, "models": list(sweep_models), "K_min": sweep.attrs["K_min"],
                      "rows": sweep.to_dict(orient="records")}) + "\n")
-            atomic_write(out_dir / "gain_sweep.csv",
-                         lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
-            plot_gain_sweep(sweep, out_dir / "plots" / "gain_sweep.png", gain)
-            paths["gain_sweep"] = out_dir / "gain_sweep.csv"
+            table, plot = out_dir / "gain_sweep.csv", out_dir / "plots" / "gain_sweep.png"
+            # The key covers K, so a reused sweep's table and plot stand if
+            # they are newer than it (drawing the plot again takes a second).
+            made = (out_dir / "gain_sweep.json").stat().st_mtime
+            if not all(p.is_file() and p.stat().st_mtime >= made for p in (table, plot)):
+                atomic_write(table, lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
+                plot_gain_sweep(sweep, plot, gain)
+            paths["gain_sweep"] = table
     if recordings:
         with stage("recordings"):
             rec_paths, made = _recordings(out_dir, metrics, by_name, vehicles, models)
