@@ -30,12 +30,9 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-from scipy.optimize import least_squares
-
 from mjcf import load_vehicle
 from validation.campaign.main import PRESET, load_logs, start_from
-from validation.campaign.tuning import DIFF_STEP, Objective, tune_model
+from validation.campaign.tuning import Objective, full_difference_fit, tune_model
 from validation.synthetic.testmatrix import TUNING
 
 ROUNDS = 3
@@ -45,12 +42,7 @@ LOADS = ("unloaded", "loaded")
 def _full_differences(vehicle, logs) -> tuple[dict[str, float], int, float]:
     t0 = time.perf_counter()
     obj = Objective("mbd", vehicle, logs, jobs=2)
-    lo = np.array([b.lo for b in obj.bounds])
-    span = np.array([b.hi - b.lo for b in obj.bounds])
-    z0 = (np.array([b.nominal for b in obj.bounds]) - lo) / span
-    sol = least_squares(lambda z: obj.residuals(lo + span * z), z0, bounds=(0.0, 1.0),
-                        method="trf", diff_step=DIFF_STEP, xtol=1e-6, ftol=1e-8)
-    fitted = dict(zip(obj.names, map(float, lo + span * sol.x), strict=True))
+    fitted, _ = full_difference_fit(obj)
     return fitted, obj.evaluations, time.perf_counter() - t0
 
 

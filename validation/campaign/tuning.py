@@ -323,6 +323,31 @@ class ParallelJacobian:
         return J
 
 
+def full_difference_fit(obj: Objective) -> tuple[dict[str, float], float]:
+    """The reference fit: ``least_squares``' own two-point differences at every step.
+
+    From the nominal values, with KIN's and STM's tolerances, one evaluation
+    after another: the plant's fit before its shortcuts (start values,
+    :class:`ParallelJacobian`, looser tolerances), which the tests and
+    ``benchmarks/bench_tuning.py`` hold them against.
+
+    Returns
+    -------
+    fitted : dict
+        Parameter values by name.
+    cost : float
+        Sum of the squared residuals at the fit.
+    """
+    lo = np.array([b.lo for b in obj.bounds])
+    span = np.array([b.hi - b.lo for b in obj.bounds])
+    z0 = (np.array([b.nominal for b in obj.bounds]) - lo) / span
+    xtol, ftol = TOLERANCES["batched"]
+    sol = least_squares(lambda z: obj.residuals(lo + span * z), z0, bounds=(0.0, 1.0),
+                        method="trf", diff_step=DIFF_STEP, xtol=xtol, ftol=ftol)
+    fitted = dict(zip(obj.names, map(float, lo + span * sol.x), strict=True))
+    return fitted, float(2.0 * sol.cost)
+
+
 def start_values(bounds: Sequence[Bound], start: dict[str, float] | None) -> np.ndarray:
     """The fit's first point: ``start``'s values where it has them, else the nominal ones.
 
