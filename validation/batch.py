@@ -74,12 +74,17 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
         def one(i):
             return compiled_loop(*forms[i], *loop_args(inputs[i], vehicle, gain))
 
-        out = _on_threads(one, inputs, jobs)
-        return BatchResult([o[0] for o in out], [o[1] for o in out], [o[2] for o in out],
-                           [o[3] for o in out], np.array([o[4] for o in out]),
-                           [""] * len(inputs))
+        return _result(_on_threads(one, inputs, jobs), [""] * len(inputs))
     probe.close()
     return run_many(model_factory, [vehicle] * len(inputs), inputs, gain, jobs)
+
+
+def _result(runs: list[tuple], limited: list[str]) -> BatchResult:
+    """A batch from one ``run_inputs`` tuple per log (obs, delta, delta_fb, saturated, n_done)."""
+    if not runs:
+        return BatchResult([], [], [], [], np.zeros(0, dtype=int), [])
+    obs, delta, delta_fb, saturated, n_done = (list(x) for x in zip(*runs, strict=True))
+    return BatchResult(obs, delta, delta_fb, saturated, np.array(n_done), limited)
 
 
 def _on_threads(one, inputs: Sequence[LoopInputs], jobs: int) -> list:
@@ -115,6 +120,4 @@ def run_many(model_factory, vehicles: Sequence[Vehicle], inputs: Sequence[LoopIn
                 model.close()
 
     out = _on_threads(one, inputs, jobs)
-    return BatchResult([o[0] for o in out], [o[1] for o in out], [o[2] for o in out],
-                       [o[3] for o in out], np.array([o[4] for o in out]),
-                       [o[5] for o in out])
+    return _result([o[:5] for o in out], [o[5] for o in out])
