@@ -279,6 +279,21 @@ def evaluate(p: TyreParams, Fz, Vx, Vsx, Vy, omega_z, u, v, phi,
     return TyreOutputs(*out)
 
 
+def zero_clock():
+    """A C clock that reads zero, as a ctypes function pointer for ``mujoco.set_mjcb_time``.
+
+    ``None`` without the compiled library. A Python clock would hold the GIL
+    at every stage of every step.
+    """
+    lib = library()
+    if lib is None:
+        return None
+    f = lib.artic_zero_clock
+    f.restype = ctypes.c_double
+    f.argtypes = []
+    return f
+
+
 def passive_function():
     """The C callback as a ctypes function pointer, for ``mujoco.set_mjcb_passive``."""
     return _lib().artic_passive

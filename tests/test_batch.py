@@ -9,7 +9,8 @@ from conftest import straight_log
 from plant import Plant
 from reduced import KinematicModel, SingleTrackModel
 from validation.batch import run_batch
-from validation.harness import compiled_loop, loop_args, loop_inputs, run_inputs
+from validation.harness import loop_args, loop_inputs, run_inputs
+from validation.reducedloop import compiled_loop
 from validation.steering import SteeringMap
 
 

@@ -169,3 +169,31 @@ def test_speed_filter_passes_a_quadratic_and_removes_noise():
     assert rest < 0.3 * 0.01
     # The difference quotient, the plant's feed-forward, drops far more.
     assert np.std(np.diff(smooth_speed(t, u + noise) - u)) < 0.05 * np.std(np.diff(noise))
+
+
+def test_compiled_law_equals_the_python_law_to_the_bit():
+    # The truth's drivers and the plant's Python loop call the plain law, the
+    # reduced models' numba loop its compiled form: the same arithmetic in the
+    # same order, so the same bits, across wraps and both saturations.
+    from validation import feedback, reducedloop
+
+    rng = np.random.default_rng(7)
+    for _ in range(2000):
+        args = (float(rng.uniform(-0.9, 0.9)), float(rng.uniform(-7.0, 7.0)),
+                float(rng.uniform(-7.0, 7.0)), bool(rng.integers(2)),
+                float(rng.uniform(0.0, 6.0)), 0.75)
+        assert feedback.feedback_law(*args) == reducedloop.feedback_law(*args), args
+        assert feedback.wrap(args[1]) == reducedloop.wrap(args[1])
+
+
+def test_plant_runs_do_not_import_numba():
+    # `artic simulate --model mbd` closes the loop in C; numba's import
+    # (about 0.15 s) is for the reduced models only.
+    import subprocess
+    import sys
+
+    code = ("import sys, validation.cli, validation.harness, validation.simulate, plant; "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] == 'numba'))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "[]"

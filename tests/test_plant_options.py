@@ -172,3 +172,27 @@ def test_options_default_off(unloaded):
     assert unloaded.plant == PlantOptions()
     assert unloaded.sensor1_yaw == unloaded.sensor2_yaw == 0.0
     assert unloaded.tyre_scaling == ()
+
+
+def test_island_discovery_is_off_and_changes_nothing(unloaded):
+    # The builder disables MuJoCo's island discovery because PGS solves all
+    # constraints as one system. With constraints active (the parking brake on
+    # a grade, dry friction in the fifth wheel, the tie rod), the steps with
+    # and without it must agree to the bit; a solver that used the islands
+    # would order its sweeps differently and differ in the last digits.
+    v = with_options(unloaded, grade=0.03, fifth_wheel_friction=3.0e4)
+    spec = mujoco.mjtState.mjSTATE_INTEGRATION
+    states = []
+    with Plant(v, speed="drive") as p:
+        assert p.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_ISLAND
+        for flags in (p.model.opt.disableflags,
+                      p.model.opt.disableflags & ~int(mujoco.mjtDisableBit.mjDSBL_ISLAND)):
+            p.model.opt.disableflags = flags
+            p.reset(InitialState(0.0, 0.0, 0.0, 0.1))
+            p.parking_brake = True
+            rest(p, 1.0)
+            assert p.data.nefc > 2  # the constraints are there to be solved
+            s = np.empty(mujoco.mj_stateSize(p.model, spec))
+            mujoco.mj_getState(p.model, p.data, s, spec)
+            states.append(s)
+    np.testing.assert_array_equal(states[0], states[1])

@@ -1,6 +1,6 @@
 """Many logs through the harness at once, one log per call, on a thread pool.
 
-KIN and STM run :func:`validation.harness.compiled_loop`, the plant its
+KIN and STM run :func:`validation.reducedloop.compiled_loop`, the plant its
 compiled closed loop (:mod:`plant.closedloop`). Both release the GIL for a
 whole log, so the logs of a batch spread over ``jobs`` threads and scale
 with cores. Each log is the very call :func:`validation.harness.run_inputs`
@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mjcf.vehicle import Vehicle
-from validation.harness import DEFAULT_GAIN, LoopInputs, compiled_loop, loop_args, run_inputs
+from validation.harness import DEFAULT_GAIN, LoopInputs, loop_args, run_inputs
+from validation.reducedloop import compiled_loop
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,8 @@ Inputs per sample ``k`` (held over the step to ``k + 1``):
 The applied road-wheel angle is limited to the vehicle's ``delta_max``; the
 run's ``delta_saturated`` column says where.
 
-Three loops run this law: :func:`compiled_loop` (numba) for KIN and the STM,
+Three loops run this law (:mod:`validation.feedback`): the numba loop of
+:mod:`validation.reducedloop` for KIN and the STM,
 the plant's own loop in C (:mod:`plant.closedloop`, which ``closed_loop()``
 offers), and :func:`_python_loop` for any other model. The Python loop is the
 reference the plant's C loop is tested against.
@@ -40,11 +41,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
-from numba import njit
 
 from mjcf.interface import InitialState
 from mjcf.vehicle import Vehicle
-from reduced.integrate import observe, rk4_step
+from validation.feedback import feedback_law
 from validation.logs.runfile import Run, new_frame
 from validation.models import Model
 from validation.steering import SteeringMap
@@ -72,94 +72,6 @@ def smooth_speed(t: np.ndarray, u: np.ndarray, window: float = SPEED_WINDOW) -> 
     from scipy.signal import savgol_filter  # here: scipy.signal takes a second to import
 
     return savgol_filter(u, n, 2, mode="interp")
-
-
-@njit(cache=True)
-def wrap(a):
-    """Wrap an angle to [-pi, pi) [rad]."""
-    return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
-
-
-@njit(cache=True)
-def feedback_law(delta_c, gamma_model, gamma_meas, reversing, gain, delta_max):
-    """The harness's steering law.
-
-    Parameters
-    ----------
-    delta_c : float
-        Road-wheel angle from the measured steering wheel, eq. (3) [rad].
-    gamma_model, gamma_meas : float
-        Articulation of the model and of the log [rad].
-    reversing : bool
-        Whether the log's tractor reverses at this sample.
-    gain : float
-        K [rad/rad].
-    delta_max : float
-        Largest road-wheel angle [rad].
-
-    Returns
-    -------
-    delta : float
-        Road-wheel angle to apply [rad].
-    delta_fb : float
-        ``delta - delta_c`` [rad].
-    saturated : bool
-        Whether ``delta_max`` limited it.
-    """
-    fb = gain * wrap(gamma_model - gamma_meas) if reversing else 0.0
-    delta = delta_c + fb
-    saturated = False
-    if delta > delta_max:
-        delta, saturated = delta_max, True
-    elif delta < -delta_max:
-        delta, saturated = -delta_max, True
-    return delta, delta - delta_c, saturated
-
-
-@njit(cache=True, nogil=True)
-def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
-                  delta_max, gamma_max):
-    """The harness loop for a reduced model, compiled: a whole log in one call.
-
-    Parameters
-    ----------
-    kind : int
-        ``reduced.integrate.KIN`` or ``STM``.
-    x0, P, s1, s2 : ndarray
-        Initial state, parameters and sensors, from the model's ``compiled()``.
-    dt, delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
-        Per-sample inputs (see :class:`LoopInputs`).
-    gain, delta_max, gamma_max : float
-        K [rad/rad], the road-wheel limit and the jackknife limit [rad].
-
-    Returns
-    -------
-    obs, delta, delta_fb, saturated : ndarray
-    n_done : int
-        Rows filled; fewer when the articulation passed ``gamma_max`` or the
-        state stopped being finite.
-    """
-    n = delta_c.size
-    obs = np.full((n, 13), np.nan)
-    delta = np.full(n, np.nan)
-    delta_fb = np.full(n, np.nan)
-    sat = np.zeros(n, dtype=np.bool_)
-    x = x0.copy()
-    for k in range(n):
-        d, f, s = feedback_law(delta_c[k], wrap(x[3]), gamma_meas[k], reversing[k],
-                               gain, delta_max)
-        o = observe(kind, x, u1[k], d, P, s1, s2)
-        o[12] = wrap(o[12])
-        finite = True
-        for j in range(o.size):
-            obs[k, j] = o[j]
-            finite = finite and math.isfinite(o[j])
-        delta[k], delta_fb[k], sat[k] = d, f, s
-        if abs(o[12]) > gamma_max or not finite:
-            return obs, delta, delta_fb, sat, k + 1
-        if k + 1 < n:
-            x = rk4_step(kind, x, dt[k], u1[k], u1_dot[k], d, P)
-    return obs, delta, delta_fb, sat, n
 
 
 @dataclass(frozen=True)
@@ -247,12 +159,14 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         Per computed sample.
     n_done : int
         Rows computed; fewer than the inputs when the model left the
-        plausible range (see :func:`compiled_loop`).
+        plausible range (see :func:`validation.reducedloop.compiled_loop`).
     """
     model.reset(inputs.initial)
     args = loop_args(inputs, vehicle, gain)
     form = model.compiled()
     if form is not None:
+        from validation.reducedloop import compiled_loop  # numba: only for KIN and the STM
+
         return compiled_loop(*form, *args)
     loop = model.closed_loop()
     if loop is not None:  # the plant's loop in C (plant.closedloop)

@@ -21,6 +21,13 @@ through a process-wide handler; without one it appends them to
 :func:`route_mujoco_warnings` turns them into Python warnings of class
 :class:`MujocoWarning` instead, which the command line prints as one line.
 
+**MuJoCo's step timers.** MuJoCo's Python bindings install a timer that
+reads the system clock at every stage of every step to fill ``MjData.timer``,
+about 5 % of the plant's step. :func:`quiet_mujoco_timers` replaces it with a
+compiled clock that reads zero, so ``MjData.timer`` durations stay zero in
+artic's processes (the step counts still count). A timer of your own, set
+with ``mujoco.set_mjcb_time`` before, is kept.
+
 matplotlib needs no setting: artic draws on ``matplotlib.figure.Figure``
 objects with the Agg canvas, never through pyplot's global backend.
 """
@@ -31,14 +38,16 @@ import hashlib
 import importlib.util
 import os
 import shutil
+import sys
 import time
 from pathlib import Path
 
 STALE_DAYS = 30
 """Cache folders unused for this long are removed [days]."""
 
-COMPILED_MODULES = ("harness.py", "batch.py", "pathdist.py")
-"""Modules of :mod:`validation` that define compiled (numba) functions."""
+COMPILED_MODULES = ("feedback.py", "reducedloop.py", "pathdist.py")
+"""Modules of :mod:`validation` whose functions numba compiles (``feedback.py``'s
+plain-Python law is compiled by ``reducedloop.py``)."""
 
 
 def compiled_sources() -> list[Path]:
@@ -54,11 +63,16 @@ def compiled_sources() -> list[Path]:
 
 
 def source_hash(files: list[Path] | None = None) -> str:
-    """Hash of numba's version and of ``files`` (default :func:`compiled_sources`)."""
-    import numba
+    """Hash of numba's version and of ``files`` (default :func:`compiled_sources`).
+
+    numba's version comes from its installed metadata: importing numba takes
+    about 0.15 s, which commands that never compile anything (the plant's
+    runs) should not pay.
+    """
+    from importlib.metadata import version
 
     files = compiled_sources() if files is None else files
-    h = hashlib.sha256(numba.__version__.encode())
+    h = hashlib.sha256(version("numba").encode())
     for p in files:
         h.update(p.name.encode())
         h.update(p.read_bytes())
@@ -84,21 +98,41 @@ def route_mujoco_warnings() -> None:
     mujoco.set_mju_user_warning(_mujoco_warning)
 
 
+def quiet_mujoco_timers() -> None:
+    """Replace the bindings' default step timer by a clock reading zero (see above).
+
+    Without the compiled tyre library, or with a timer of the user's, nothing changes.
+    """
+    import mujoco
+
+    if mujoco.get_mjcb_time() is not None:  # the user's (or ours, already)
+        return
+    from plant.ctyre import zero_clock
+
+    clock = zero_clock()
+    if clock is not None:
+        mujoco.set_mjcb_time(clock)
+
+
+def mujoco_settings() -> None:
+    """Make the MuJoCo settings of one process: warnings routed, timers quiet."""
+    route_mujoco_warnings()
+    quiet_mujoco_timers()
+
+
 def configure() -> Path | None:
     """Point numba's cache at ``$XDG_CACHE_HOME/artic/numba/<hash>`` (or ~/.cache).
 
-    Also routes MuJoCo's warnings (:func:`route_mujoco_warnings`).
+    Also makes the MuJoCo settings of :func:`mujoco_settings`.
 
     Returns the folder, or ``None`` when ``NUMBA_CACHE_DIR`` is set by the
     user or the home folder is read-only (numba then uses its own locations).
     """
-    route_mujoco_warnings()
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return None
-    import numba
-
+    mujoco_settings()
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "artic" / "numba"
     folder = base / source_hash()
+    if os.environ.get("NUMBA_CACHE_DIR") not in (None, "", str(folder)):
+        return None  # the user's
     try:
         folder.mkdir(parents=True, exist_ok=True)
         os.utime(folder)  # in use: its age counts from now
@@ -110,5 +144,10 @@ def configure() -> Path | None:
                 shutil.rmtree(old, ignore_errors=True)
     except OSError:
         return None
-    numba.config.CACHE_DIR = str(folder)
+    # numba reads the variable when it is first imported (here, in the worker
+    # processes, which inherit it, and in any later import); a numba imported
+    # already has read its configuration, so it is told directly.
+    os.environ["NUMBA_CACHE_DIR"] = str(folder)
+    if "numba" in sys.modules:
+        sys.modules["numba"].config.CACHE_DIR = str(folder)
     return folder

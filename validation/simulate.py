@@ -18,7 +18,8 @@ import numpy as np
 
 from mjcf.interface import InitialState
 from mjcf.vehicle import Vehicle
-from validation.harness import LoopInputs, feedback_law, run_inputs
+from validation.feedback import feedback_law
+from validation.harness import LoopInputs, run_inputs
 from validation.logs.runfile import Run, new_frame
 from validation.models import Model
 from validation.steering import SteeringMap

@@ -37,7 +37,7 @@ def init_worker(parent: int) -> None:
     """
     from validation import runtime
 
-    runtime.route_mujoco_warnings()
+    runtime.mujoco_settings()
     if os.getppid() != parent:
         os._exit(1)
     threading.Thread(target=_watch, args=(parent,), name="artic-parent-watch",

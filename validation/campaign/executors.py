@@ -141,9 +141,10 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
                          f"{dask.timeout:g} s ({type(exc).__name__}); check the address, or "
                          "raise --scheduler-timeout") from None
     try:
-        from validation.runtime import route_mujoco_warnings
+        from validation.runtime import mujoco_settings
 
-        client.run(route_mujoco_warnings)  # no MUJOCO_LOG.TXT in the workers' folders
+        # no MUJOCO_LOG.TXT in the workers' folders, and no step timers
+        client.run(mujoco_settings)
     except Exception:  # noqa: BLE001 - a worker without mujoco, or gone: nothing to route
         pass
     try:

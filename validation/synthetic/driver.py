@@ -35,7 +35,7 @@ import numpy as np
 from mjcf.interface import wrap_angle
 from mjcf.outline import DOCK_FACE, outline
 from mjcf.vehicle import Vehicle
-from validation.harness import feedback_law
+from validation.feedback import feedback_law
 from validation.simulate import steady_articulation_delta
 
 
