@@ -102,9 +102,12 @@ def _seg_dist2(ax, ay, bx, by, s, x, y):
     return dx * dx + dy * dy
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _query(px, py, ax, ay, bx, by, lo, hi, size, seed):
-    """Distances of points ``(px, py)`` to the segments; also the work done (node visits)."""
+    """Distances of points ``(px, py)`` to the segments; also the work done (node visits).
+
+    It releases the GIL, so metrics of several runs spread over threads.
+    """
     n_seg = ax.size
     out = np.empty(px.size)
     stack = np.empty(_MAX_DEPTH, dtype=np.int64)

@@ -17,6 +17,7 @@ log at every gain and reports the means.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pandas as pd
@@ -80,15 +81,22 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
                 steering = SteeringMap.from_steering(vehicle.steering_for(model))
                 inputs = [loop_inputs(log, vehicle, steering) for log in logs]
                 res = run_batch(spec(model).build, vehicle, inputs, k, jobs)
-                for i, log in enumerate(logs):
-                    if res.limited and res.limited[i]:
-                        limited.setdefault(log.name, f"K = {k:.3g}: {res.limited[i]}")
+
+                def metrics(i, logs=logs, inputs=inputs, res=res):
                     n = int(res.n_done[i])
-                    stopped += n < inputs[i].t.size
                     frame = new_frame(inputs[i].t[:n], inputs[i].delta_h[:n], res.obs[i][:n])
                     frame["delta"] = res.delta[i][:n]
                     frame["delta_fb"] = res.delta_fb[i][:n]
-                    per_log.append(run_metrics(log.frame, frame))
+                    return run_metrics(logs[i].frame, frame)
+
+                # The path distances release the GIL: the metrics of a batch
+                # take about as long as its runs, so they share the threads.
+                with ThreadPoolExecutor(jobs) as pool:
+                    per_log.extend(pool.map(metrics, range(len(logs))))
+                for i, log in enumerate(logs):
+                    if res.limited and res.limited[i]:
+                        limited.setdefault(log.name, f"K = {k:.3g}: {res.limited[i]}")
+                    stopped += int(res.n_done[i]) < inputs[i].t.size
             m = pd.DataFrame(per_log)
             rows.append({"model": model, "K": k, "J_steer": m["J_steer"].mean(),
                          "eps_n": m["eps_n"].mean(), "eps_a": m["eps_a"].mean(),

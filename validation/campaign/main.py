@@ -50,7 +50,7 @@ import json
 import os
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Executor
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import pandas as pd
@@ -76,6 +76,7 @@ from validation.outputs import OutDirLock, clean_stale
 from validation.progress import Counter
 from validation.synthetic.generate import generate_campaign
 from validation.synthetic.testmatrix import TUNING
+from validation.workers import init_worker
 
 LOADS = ("unloaded", "loaded")
 PRESET = "gosar2022-{load}"
@@ -481,7 +482,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
             paths["gain_sweep"] = table
     if recordings:
         with stage("recordings"):
-            rec_paths, made = _recordings(out_dir, metrics, by_name, vehicles, models)
+            rec_paths, made = _recordings(out_dir, metrics, by_name, vehicles, models, jobs, pool)
             paths.update(rec_paths)
             stage.reused(made == 0)
     results = rep.CampaignResults(
@@ -605,14 +606,27 @@ def _efficiency_sample(metrics: pd.DataFrame, logs: dict[str, Run],
     return out
 
 
+def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Vehicle,
+                rows: pd.DataFrame) -> int:
+    """Write one manoeuvre's recording from its run files; returns its size [bytes]."""
+    from validation.campaign.recording import record_manoeuvre
+
+    loaded = {m: read_run(p) for m, p in run_paths.items()}
+    record_manoeuvre(target, log, loaded, vehicle, rows)
+    return target.stat().st_size
+
+
 def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
-                vehicles: dict[str, Vehicle], models: Sequence[str]) -> tuple[dict[str, Path], int]:
+                vehicles: dict[str, Vehicle], models: Sequence[str], jobs: int = 1,
+                executor: Executor | None = None) -> tuple[dict[str, Path], int]:
     """One recording per validated manoeuvre, skipped when newer than its runs; a few plots.
+
+    The recordings are written on ``jobs`` worker processes (or ``executor``'s):
+    drawing them is Python work that holds the GIL.
 
     Returns the paths and the number of recordings written.
     """
     from validation.campaign.plots import plot_manoeuvre
-    from validation.campaign.recording import record_manoeuvre
 
     names = list(dict.fromkeys(metrics["log"]))
     failed = {(r.log, r.model) for r in metrics.itertuples() if is_failed(r.status)}
@@ -630,13 +644,29 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
         stderr_progress(f"{len(names) - len(todo)} of {len(names)} recordings reused from "
                         f"{out_dir / 'recordings'} (newer than their runs)")
     counter = Counter(len(todo), "recordings", stderr_progress)
-    for name, runs, target in todo:
-        loaded = {m: read_run(p) for m, p in runs.items()}
+
+    def args(name, runs, target):
         log = logs[name]
-        record_manoeuvre(target, log, loaded, vehicles[log.meta.get("load", "unloaded")],
-                         metrics[metrics["log"] == name])
-        counter.step(f"{target.name} ({target.stat().st_size / 1e6:.1f} MB)")
-        if log.meta.get("manoeuvre") in ("docking", "constant-steer") and \
-                not (out_dir / "plots" / f"{log.meta['manoeuvre']}.png").is_file():
-            plot_manoeuvre(out_dir / "plots" / f"{log.meta['manoeuvre']}.png", log, loaded)
+        return (target, log, runs, vehicles[log.meta.get("load", "unloaded")],
+                metrics[metrics["log"] == name])
+
+    own = executor is None and jobs > 1 and len(todo) > 1
+    pool = ProcessPoolExecutor(max_workers=jobs, initializer=init_worker,
+                               initargs=(os.getpid(),)) if own else executor
+    try:
+        if pool is None:
+            done = ((job[2], _record_one(*args(*job))) for job in todo)
+        else:
+            futures = {pool.submit(_record_one, *args(*job)): job[2] for job in todo}
+            done = ((futures[f], f.result()) for f in as_completed(futures))
+        for target, size in done:
+            counter.step(f"{target.name} ({size / 1e6:.1f} MB)")
+    finally:
+        if own:
+            pool.shutdown(cancel_futures=True)
+    for name, runs, _ in todo:  # a plot of the first manoeuvre of each kind drawn
+        log = logs[name]
+        plot = out_dir / "plots" / f"{log.meta.get('manoeuvre')}.png"
+        if log.meta.get("manoeuvre") in ("docking", "constant-steer") and not plot.is_file():
+            plot_manoeuvre(plot, log, {m: read_run(p) for m, p in runs.items()})
     return {"recordings": out_dir / "recordings"}, len(todo)
