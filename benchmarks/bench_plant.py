@@ -118,4 +118,7 @@ def main() -> dict[str, float]:
 
 
 if __name__ == "__main__":
+    from validation import runtime
+
+    runtime.configure()  # as the artic command does: MuJoCo's step timers quiet
     main()

@@ -157,7 +157,7 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
   if (!sound(m, s)) return LOOP_BAD;
   double h = m->opt.timestep;
   for (int k = s->k; k < n; k++) {
-    /* 1. the feedback law (validation.harness.feedback_law) */
+    /* 1. the feedback law (validation.feedback.feedback_law) */
     double gamma = wrap_angle(-d->qpos[s->hitch_qpos]);
     double fb = reversing[k] ? s->gain * wrap(gamma - gamma_meas[k]) : 0.0;
     double dl = delta_c[k] + fb;
