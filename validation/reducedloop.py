@@ -31,7 +31,7 @@ def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reve
     x0, P, s1, s2 : ndarray
         Initial state, parameters and sensors, from the model's ``compiled()``.
     dt, delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
-        Per-sample inputs (see :class:`LoopInputs`).
+        Per-sample inputs (see :class:`validation.harness.LoopInputs`).
     gain, delta_max, gamma_max : float
         K [rad/rad], the road-wheel limit and the jackknife limit [rad].
 

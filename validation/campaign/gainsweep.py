@@ -23,8 +23,8 @@ import numpy as np
 import pandas as pd
 
 from mjcf.vehicle import Vehicle
-from validation.batch import run_batch
-from validation.harness import loop_inputs
+from validation.batch import BatchResult, run_batch
+from validation.harness import LoopInputs, loop_inputs
 from validation.logs.runfile import Run, new_frame
 from validation.metrics import run_metrics
 from validation.models import spec
@@ -70,45 +70,56 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
     ks = sorted(set(map(float, gains)) | set(bounds))
     rows = []
     counter = Counter(len(models) * len(ks), "gain sweep", progress)
-    for model in models:
-        limited: dict[str, str] = {}
-        for k in ks:
-            per_log = []
-            stopped = 0
-            for vehicle, logs in logs_by_vehicle.values():
-                if not logs:
-                    continue
-                steering = SteeringMap.from_steering(vehicle.steering_for(model))
-                inputs = [loop_inputs(log, vehicle, steering) for log in logs]
-                res = run_batch(spec(model).build, vehicle, inputs, k, jobs)
-
-                def metrics(i, logs=logs, inputs=inputs, res=res):
-                    n = int(res.n_done[i])
-                    frame = new_frame(inputs[i].t[:n], inputs[i].delta_h[:n], res.obs[i][:n])
-                    frame["delta"] = res.delta[i][:n]
-                    frame["delta_fb"] = res.delta_fb[i][:n]
-                    return run_metrics(logs[i].frame, frame)
-
-                # The path distances release the GIL: the metrics of a batch
-                # take about as long as its runs, so they share the threads.
-                with ThreadPoolExecutor(jobs) as pool:
-                    per_log.extend(pool.map(metrics, range(len(logs))))
-                for i, log in enumerate(logs):
-                    if res.limited and res.limited[i]:
-                        limited.setdefault(log.name, f"K = {k:.3g}: {res.limited[i]}")
-                    stopped += int(res.n_done[i]) < inputs[i].t.size
-            m = pd.DataFrame(per_log)
-            rows.append({"model": model, "K": k, "J_steer": m["J_steer"].mean(),
-                         "eps_n": m["eps_n"].mean(), "eps_a": m["eps_a"].mean(),
-                         "eps_v": m["eps_v"].mean(), "stopped": stopped, "n": len(m)})
-            counter.step(f"{model} K = {k:.3g}: J_steer {rows[-1]['J_steer']:.1f} %, eps_n "
-                         f"{rows[-1]['eps_n']:.1f} %, {stopped} of {len(m)} stopped")
-        if progress is not None:
-            for name, text in limited.items():
-                progress(f"gain sweep {model} on {name}: limited (first at {text})")
+    with ThreadPoolExecutor(max(1, jobs)) as pool:
+        for model in models:
+            limited: dict[str, str] = {}
+            for k in ks:
+                m, stopped = _at_gain(model, k, logs_by_vehicle, jobs, pool, limited)
+                rows.append({"model": model, "K": k, "J_steer": m["J_steer"].mean(),
+                             "eps_n": m["eps_n"].mean(), "eps_a": m["eps_a"].mean(),
+                             "eps_v": m["eps_v"].mean(), "stopped": stopped, "n": len(m)})
+                counter.step(f"{model} K = {k:.3g}: J_steer {rows[-1]['J_steer']:.1f} %, eps_n "
+                             f"{rows[-1]['eps_n']:.1f} %, {stopped} of {len(m)} stopped")
+            if progress is not None:
+                for name, text in limited.items():
+                    progress(f"gain sweep {model} on {name}: limited (first at {text})")
     out = pd.DataFrame(rows)
     out.attrs["K_min"] = float(max(bounds))
     return out
+
+
+def _at_gain(model: str, k: float, logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
+             jobs: int, pool: ThreadPoolExecutor,
+             limited: dict[str, str]) -> tuple[pd.DataFrame, int]:
+    """One model's criteria on every log at gain ``k``, and the runs stopped early.
+
+    Notes in ``limited`` the first gain at which the model limited something on a log.
+    """
+    per_log = []
+    stopped = 0
+    for vehicle, logs in logs_by_vehicle.values():
+        if not logs:
+            continue
+        steering = SteeringMap.from_steering(vehicle.steering_for(model))
+        inputs = [loop_inputs(log, vehicle, steering) for log in logs]
+        res = run_batch(spec(model).build, vehicle, inputs, k, jobs)
+        # The path distances release the GIL: the metrics of a batch take
+        # about as long as its runs, so they share the threads.
+        per_log.extend(pool.map(_metrics, logs, inputs, [res] * len(logs), range(len(logs))))
+        for i, log in enumerate(logs):
+            if res.limited and res.limited[i]:
+                limited.setdefault(log.name, f"K = {k:.3g}: {res.limited[i]}")
+            stopped += int(res.n_done[i]) < inputs[i].t.size
+    return pd.DataFrame(per_log), stopped
+
+
+def _metrics(log: Run, inputs: LoopInputs, res: BatchResult, i: int) -> dict[str, float]:
+    """The criteria of log ``i`` of a batch against its measured log."""
+    n = int(res.n_done[i])
+    frame = new_frame(inputs.t[:n], inputs.delta_h[:n], res.obs[i][:n])
+    frame["delta"] = res.delta[i][:n]
+    frame["delta_fb"] = res.delta_fb[i][:n]
+    return run_metrics(log.frame, frame)
 
 
 def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:

@@ -482,7 +482,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
             paths["gain_sweep"] = table
     if recordings:
         with stage("recordings"):
-            rec_paths, made = _recordings(out_dir, metrics, by_name, vehicles, models, jobs, pool)
+            rec_paths, made = _recordings(out_dir, metrics, by_name, vehicles, models, jobs)
             paths.update(rec_paths)
             stage.reused(made == 0)
     results = rep.CampaignResults(
@@ -617,12 +617,13 @@ def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Veh
 
 
 def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
-                vehicles: dict[str, Vehicle], models: Sequence[str], jobs: int = 1,
-                executor: Executor | None = None) -> tuple[dict[str, Path], int]:
+                vehicles: dict[str, Vehicle], models: Sequence[str],
+                jobs: int = 1) -> tuple[dict[str, Path], int]:
     """One recording per validated manoeuvre, skipped when newer than its runs; a few plots.
 
-    The recordings are written on ``jobs`` worker processes (or ``executor``'s):
-    drawing them is Python work that holds the GIL.
+    The recordings are written on ``jobs`` local worker processes: drawing
+    them is Python work that holds the GIL. They are local even with a Dask
+    executor, whose workers need not share this file system.
 
     Returns the paths and the number of recordings written.
     """
@@ -650,9 +651,9 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
         return (target, log, runs, vehicles[log.meta.get("load", "unloaded")],
                 metrics[metrics["log"] == name])
 
-    own = executor is None and jobs > 1 and len(todo) > 1
+    own = jobs > 1 and len(todo) > 1
     pool = ProcessPoolExecutor(max_workers=jobs, initializer=init_worker,
-                               initargs=(os.getpid(),)) if own else executor
+                               initargs=(os.getpid(),)) if own else None
     try:
         if pool is None:
             done = ((job[2], _record_one(*args(*job))) for job in todo)
