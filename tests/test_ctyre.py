@@ -239,3 +239,31 @@ def test_generalised_forces_of_a_turning_plant_equal_mujocos_apply_ft(unloaded):
     # Nearly every dof feels the tyres; the steer and spin dofs see moments only.
     assert np.count_nonzero(np.abs(qfrc_c) > 1e-3) > m.nv // 2
     np.testing.assert_allclose(qfrc_c, qfrc_np, rtol=1e-9, atol=1e-6)
+
+
+def test_a_block_edited_after_use_is_refused_at_once_and_taken_back_when_restored(unloaded):
+    # The callback remembers, per thread, the last block it found valid. An
+    # edit in place that is not sealed (a tyre coefficient here) must miss
+    # that memory and be refused at the very next evaluation, as a block
+    # damaged from the start is; the block as it was must be taken again.
+    with Plant(unloaded, backend="c") as p:
+        m, d = p.model, p.data
+        p.reset(InitialState(0.0, 0.0, 0.0, 0.1, u1=2.0))
+        mujoco.mj_forward(m, d)
+        tyres = d.qfrc_passive.copy()  # the block was checked, and remembered
+        saved = mujoco.get_mjcb_passive()
+        mujoco.set_mjcb_passive(None)
+        try:
+            mujoco.mj_forward(m, d)
+            without = d.qfrc_passive.copy()  # MuJoCo's own springs and dampers
+        finally:
+            mujoco.set_mjcb_passive(saved)
+        assert np.abs(tyres - without).max() > 1e3  # the tyres carry the truck
+        k = len(ctyre.HEADER_FIELDS) + ctyre.param_names().index("PDY1")
+        before = float(m.numeric_data[k])
+        m.numeric_data[k] = before * 1.01
+        mujoco.mj_forward(m, d)
+        np.testing.assert_array_equal(d.qfrc_passive, without)
+        m.numeric_data[k] = before
+        mujoco.mj_forward(m, d)
+        np.testing.assert_array_equal(d.qfrc_passive, tyres)
