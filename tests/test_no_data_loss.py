@@ -305,3 +305,33 @@ def test_a_resumed_validation_takes_the_criteria_from_the_footer(tmp_path, monke
     third = val.validate_runs(logs, v, ["kin", "stm"], out_dir=tmp_path, reuse_key="k")
     assert calls == ["stm"]
     pd.testing.assert_frame_equal(first.drop(columns="wall_s"), third.drop(columns="wall_s"))
+
+
+def _square_and_pid(x):
+    return x * x, os.getpid()
+
+
+def test_completed_gives_every_task_once_and_its_pool_ends_when_closed_early():
+    import contextlib
+
+    from validation.workers import completed
+
+    tasks = [(k, (k,)) for k in range(6)]
+    serial = dict(completed(_square_and_pid, tasks, jobs=1))
+    assert {k: v[0] for k, v in serial.items()} == {k: k * k for k in range(6)}
+    assert {v[1] for v in serial.values()} == {os.getpid()}  # here, one after another
+    pooled = dict(completed(_square_and_pid, tasks, jobs=2))
+    assert {k: v[0] for k, v in pooled.items()} == {k: k * k for k in range(6)}
+    assert os.getpid() not in {v[1] for v in pooled.values()}  # on worker processes
+    # Closed after the first result: the workers it started end with it.
+    with contextlib.closing(completed(_square_and_pid, tasks, jobs=2)) as done:
+        _, (_, worker) = next(done)
+    deadline = time.monotonic() + 20.0
+    while time.monotonic() < deadline:
+        try:
+            os.kill(worker, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.05)
+    else:
+        pytest.fail(f"worker {worker} still runs after the iteration was closed")

@@ -1,4 +1,6 @@
-"""Set-up of artic's worker processes: they end with their parent, and route MuJoCo's log.
+"""artic's worker processes: they end with their parent and route MuJoCo's log.
+
+:func:`completed` runs independent tasks on them (or on a given executor).
 
 A ``ProcessPoolExecutor`` worker blocks reading its call queue. If the
 campaign's main process is killed (``SIGKILL``, an out-of-memory kill), nothing
@@ -15,6 +17,8 @@ from __future__ import annotations
 import os
 import threading
 import time
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 
 PARENT_POLL = 1.0
 """Seconds between two checks of the parent [s]."""
@@ -42,3 +46,31 @@ def init_worker(parent: int) -> None:
         os._exit(1)
     threading.Thread(target=_watch, args=(parent,), name="artic-parent-watch",
                      daemon=True).start()
+
+
+def completed(fn: Callable, tasks: Iterable[tuple[object, tuple]], jobs: int = 1,
+              executor: Executor | None = None) -> Iterator[tuple[object, object]]:
+    """``(key, fn(*args))`` for each ``(key, args)`` of ``tasks``, as each finishes.
+
+    The tasks run on ``executor`` when one is given; otherwise on ``jobs``
+    worker processes started here (with :func:`init_worker`) when there are
+    more jobs and tasks than one; otherwise one after another in this
+    process. A pool started here is shut down, its waiting tasks cancelled,
+    when the iteration ends, fails, or is closed early (use
+    ``contextlib.closing``).
+    """
+    tasks = list(tasks)
+    own = executor is None and jobs > 1 and len(tasks) > 1
+    pool = ProcessPoolExecutor(max_workers=jobs, initializer=init_worker,
+                               initargs=(os.getpid(),)) if own else executor
+    try:
+        if pool is None:
+            for key, args in tasks:
+                yield key, fn(*args)
+            return
+        futures = {pool.submit(fn, *args): key for key, args in tasks}
+        for f in as_completed(futures):
+            yield futures[f], f.result()
+    finally:
+        if own:
+            pool.shutdown(cancel_futures=True)

@@ -50,7 +50,7 @@ import json
 import os
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor
 from pathlib import Path
 
 import pandas as pd
@@ -76,7 +76,7 @@ from validation.outputs import OutDirLock, clean_stale
 from validation.progress import Counter
 from validation.synthetic.generate import generate_campaign
 from validation.synthetic.testmatrix import TUNING
-from validation.workers import init_worker
+from validation.workers import completed
 
 LOADS = ("unloaded", "loaded")
 PRESET = "gosar2022-{load}"
@@ -646,25 +646,12 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
                         f"{out_dir / 'recordings'} (newer than their runs)")
     counter = Counter(len(todo), "recordings", stderr_progress)
 
-    def args(name, runs, target):
-        log = logs[name]
-        return (target, log, runs, vehicles[log.meta.get("load", "unloaded")],
-                metrics[metrics["log"] == name])
-
-    own = jobs > 1 and len(todo) > 1
-    pool = ProcessPoolExecutor(max_workers=jobs, initializer=init_worker,
-                               initargs=(os.getpid(),)) if own else None
-    try:
-        if pool is None:
-            done = ((job[2], _record_one(*args(*job))) for job in todo)
-        else:
-            futures = {pool.submit(_record_one, *args(*job)): job[2] for job in todo}
-            done = ((futures[f], f.result()) for f in as_completed(futures))
+    tasks = [(target, (target, logs[name], runs,
+                       vehicles[logs[name].meta.get("load", "unloaded")],
+                       metrics[metrics["log"] == name])) for name, runs, target in todo]
+    with contextlib.closing(completed(_record_one, tasks, jobs)) as done:
         for target, size in done:
             counter.step(f"{target.name} ({size / 1e6:.1f} MB)")
-    finally:
-        if own:
-            pool.shutdown(cancel_futures=True)
     for name, runs, _ in todo:  # a plot of the first manoeuvre of each kind drawn
         log = logs[name]
         plot = out_dir / "plots" / f"{log.meta.get('manoeuvre')}.png"

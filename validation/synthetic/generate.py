@@ -27,6 +27,7 @@ resumes where it stopped. The same seed gives byte-identical files.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import errno
 import json
@@ -38,7 +39,7 @@ import time
 import uuid
 import warnings
 from collections.abc import Callable
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +65,7 @@ from validation.synthetic.truth import (
     truth_vehicle,
     write_truth_files,
 )
-from validation.workers import init_worker
+from validation.workers import completed
 
 META_FILE = "meta.json"
 
@@ -306,21 +307,11 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
             missing.append(m)
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
-    own = executor is None and jobs > 1 and len(missing) > 1
-    pool = ProcessPoolExecutor(max_workers=jobs, initializer=init_worker,
-                               initargs=(os.getpid(),)) if own else executor
-    try:
-        # Each result is written under the name of the manoeuvre submitted for it.
-        if pool is None:
-            done = ((m, _simulate_timed(m, seed, sensors, truth)) for m in missing)
-        else:
-            futures = {pool.submit(_simulate_timed, m, seed, sensors, truth): m for m in missing}
-            done = ((futures[f], f.result()) for f in as_completed(futures))
-        counter = Counter(len(missing), "generated", progress)
+    # Each result is written under the name of the manoeuvre submitted for it.
+    tasks = [(m, (m, seed, sensors, truth)) for m in missing]
+    counter = Counter(len(missing), "generated", progress)
+    with contextlib.closing(completed(_simulate_timed, tasks, jobs, executor)) as done:
         for m, (run, wall) in done:
             write_export(run, out_dir, name=m.name)
             counter.step(f"{m.name} ({wall:.1f} s)")
-    finally:
-        if own:
-            pool.shutdown(cancel_futures=True)
     return [out_dir / m.name for m in todo]
