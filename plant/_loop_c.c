@@ -17,6 +17,11 @@
  * the artic_loop struct the caller owns, so any number of plants can run on
  * threads. Python calls this through ctypes, which releases the GIL.
  *
+ * artic_step and artic_observe are Plant.step (after Python has set the
+ * speed controls) and Plant.observe on their own, for plants that Python
+ * drives one step at a time: the synthetic truth's drivers, whose decisions
+ * stay in Python. They share this file's code with the whole-log loop.
+ *
  * The call returns early, with the struct ready to resume at sample k + 1,
  * when Python has something to do that needs the state of that moment: a
  * loaded wheel went outside the tyre file's ranges (Python names it), or the
@@ -27,7 +32,7 @@
 
 #include <mujoco/mujoco.h>
 
-#define ARTIC_LOOP_ABI 1
+#define ARTIC_LOOP_ABI 2
 #define N_OBS 13
 #define MAX_SERVOS 4
 #define MAX_WHEELS 64
@@ -143,6 +148,32 @@ static int sound(const mjModel* m, const artic_loop* s) {
   return 1;
 }
 
+/* Plant.step after the speed controls: the steering servos (a demand beyond
+ * the linkage is counted, the first one's time and angle kept), nsub MuJoCo
+ * steps, the divergence check and the tyre files' range flag. */
+static int servo_and_steps(const mjModel* m, mjData* d, artic_loop* s, double dl, int nsub) {
+  double lo = s->servo_lo, hi = s->servo_hi;
+  if (!(lo <= dl && dl <= hi)) {
+    if (++s->steer_limited == 1) {
+      s->first_limit_time = d->time;
+      s->first_limit_delta = dl;
+    }
+  }
+  double applied = lo > dl ? lo : dl; /* Python's min(max(dl, lo), hi): NaN passes */
+  applied = hi < applied ? hi : applied;
+  for (int i = 0; i < s->n_servo; i++) d->ctrl[s->servo[i]] = applied;
+  s->good_time = d->time;
+  s->span = nsub * m->opt.timestep;
+  memcpy(s->good_forces, d->userdata, sizeof(double) * 3 * s->n_wheels);
+  for (int i = 0; i < nsub; i++) mj_step(m, d);
+  int bad = 0;
+  for (int i = 0; i < mjNWARNING; i++) bad = bad || d->warning[i].number;
+  for (int i = 0; i < m->nv; i++) bad = bad || !isfinite(d->qvel[i]);
+  if (bad) return LOOP_DIVERGED;
+  if (d->userdata[3 * s->n_wheels] != 0.0) return LOOP_TYRE_RANGE;
+  return LOOP_DONE;
+}
+
 int artic_loop_abi(void) { return ARTIC_LOOP_ABI; }
 
 int artic_loop_size(void) { return (int)sizeof(artic_loop); }
@@ -187,16 +218,6 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
     *n_done = k + 1;
     if (k + 1 >= n) break;
     /* 4. Plant.step: the servos, the speed follower, the steps, the check */
-    double lo = s->servo_lo, hi = s->servo_hi;
-    if (!(lo <= dl && dl <= hi)) {
-      if (++s->steer_limited == 1) {
-        s->first_limit_time = d->time;
-        s->first_limit_delta = dl;
-      }
-    }
-    double applied = lo > dl ? lo : dl; /* Python's min(max(dl, lo), hi): NaN passes */
-    applied = hi < applied ? hi : applied;
-    for (int i = 0; i < s->n_servo; i++) d->ctrl[s->servo[i]] = applied;
     int nsub = (int)nearbyint(dt[k] / h);
     if (nsub < 1) nsub = 1;
     double u_cmd = u1[k] + u1_dot[k] * 0.5 * (nsub - 1) * h;
@@ -205,17 +226,24 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
     double rr = s->rr_coef * tanh(u_cmd / 0.1);
     double ff = s->mass_eff * u1_dot[k] + rr;
     d->ctrl[s->follower] = u_cmd + ff / s->follower_kv + s->follow_ki * s->integral;
-    s->good_time = d->time;
-    s->span = nsub * h;
-    memcpy(s->good_forces, d->userdata, sizeof(double) * 3 * s->n_wheels);
-    for (int i = 0; i < nsub; i++) mj_step(m, d);
     s->k = k + 1;
-    int bad = 0;
-    for (int i = 0; i < mjNWARNING; i++) bad = bad || d->warning[i].number;
-    for (int i = 0; i < m->nv; i++) bad = bad || !isfinite(d->qvel[i]);
-    if (bad) return LOOP_DIVERGED;
-    if (d->userdata[3 * s->n_wheels] != 0.0) return LOOP_TYRE_RANGE;
+    int code = servo_and_steps(m, d, s, dl, nsub);
+    if (code != LOOP_DONE) return code;
   }
   s->k = n;
+  return LOOP_DONE;
+}
+
+/* Plant.step once Python has set the speed controls: nsub steps at road-wheel
+ * angle delta [rad]. Returns LOOP_DONE, LOOP_DIVERGED, LOOP_TYRE_RANGE or LOOP_BAD. */
+int artic_step(const mjModel* m, mjData* d, artic_loop* s, double delta, int nsub) {
+  if (!sound(m, s)) return LOOP_BAD;
+  return servo_and_steps(m, d, s, delta, nsub < 1 ? 1 : nsub);
+}
+
+/* Plant.observe into out[13]. Returns LOOP_DONE or LOOP_BAD. */
+int artic_observe(const mjModel* m, mjData* d, artic_loop* s, double* out) {
+  if (!sound(m, s)) return LOOP_BAD;
+  observe(m, d, s, out);
   return LOOP_DONE;
 }

@@ -13,6 +13,12 @@ must see the state of that moment: a wheel outside its tyre file's ranges
 step (Python raises :class:`plant.PlantError`). A steering angle beyond the
 linkage is counted in C and warned about once, as ``Plant.step`` does.
 
+:class:`Stepper` is one :meth:`plant.Plant.step` (after Python has set the
+speed controls) and one ``observe`` from the same C: ``Plant`` uses it for
+the plants Python drives step by step, such as the synthetic truth's, whose
+drivers decide in Python every 10 ms. It computes what Python's ``step``
+and ``observe`` compute, to the bit (``tests/test_plant_step.py``).
+
 The extension is built by ``pip install`` beside the tyre callback; without
 it, or for a plant whose speed is not followed or whose tyre callback is the
 numpy one, :func:`available` says why and the harness uses its Python loop.
@@ -33,7 +39,7 @@ from plant import ctyre
 if TYPE_CHECKING:
     from plant.plant import Plant
 
-ABI = 1
+ABI = 2
 MAX_SERVOS = 4
 MAX_WHEELS = 64
 N_OBS = 13
@@ -84,6 +90,12 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     lib.artic_run_loop.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
                                    ctypes.c_int, d, d, d, d, d, b, d, d, d, b, d,
                                    ctypes.POINTER(ctypes.c_int)]
+    lib.artic_step.restype = ctypes.c_int
+    lib.artic_step.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
+                               ctypes.c_double, ctypes.c_int]
+    lib.artic_observe.restype = ctypes.c_int
+    lib.artic_observe.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
+                                  ctypes.c_void_p]
     return lib, ""
 
 
@@ -110,6 +122,54 @@ def available(plant: Plant) -> str:
     if len(plant._servo) > MAX_SERVOS or plant.n_wheels > MAX_WHEELS:
         return f"the compiled loop takes at most {MAX_SERVOS} steered axles and {MAX_WHEELS} wheels"
     return ""
+
+
+def step_available(plant: Plant) -> str:
+    """Why ``plant`` cannot take its single steps in compiled code; empty when it can."""
+    lib, why = _loaded()
+    if lib is None:
+        return why
+    if plant.backend != "c":
+        return "the plant uses the numpy tyre callback"
+    if len(plant._servo) > MAX_SERVOS or plant.n_wheels > MAX_WHEELS:
+        return f"the compiled step takes at most {MAX_SERVOS} steered axles and {MAX_WHEELS} wheels"
+    return ""
+
+
+class Stepper:
+    """:meth:`plant.Plant.step` (after the speed controls) and ``observe`` in compiled code.
+
+    For a plant that Python drives one step at a time, as the synthetic
+    truth's drivers do. The struct holds the plant's unwrapped headings
+    (``Plant._psi`` is a view of them) and counts the steering demands
+    beyond the linkage since the plant last took the count.
+
+    Parameters
+    ----------
+    plant : Plant
+        :func:`step_available` must be empty for it.
+    """
+
+    def __init__(self, plant: Plant) -> None:
+        self._lib = _loaded()[0]
+        self._gather = np.zeros((0, 2), dtype=np.int32)
+        self.struct = _struct(plant, 0.0, math.inf, math.inf, self._gather)
+        self._s = ctypes.pointer(self.struct)
+        self._m, self._d = plant.model._address, plant.data._address
+        self._out = np.empty(N_OBS)
+        self._out_at = self._out.ctypes.data
+        self.psi = np.ctypeslib.as_array(self.struct.psi)
+        """The unwrapped headings [rad], a view of the struct's."""
+
+    def step(self, delta: float, n: int) -> int:
+        """Servos at ``delta`` [rad], ``n`` MuJoCo steps and the check; a ``closedloop`` code."""
+        return self._lib.artic_step(self._m, self._d, self._s, delta, n)
+
+    def observe(self) -> np.ndarray:
+        """The signals at the sensor points (``OBSERVATION`` order), a new array."""
+        if self._lib.artic_observe(self._m, self._d, self._s, self._out_at) != DONE:
+            raise RuntimeError("the compiled step refused the plant's indices")
+        return self._out.copy()
 
 
 class LoopResult(NamedTuple):
@@ -183,7 +243,7 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
             _ptr(obs, ctypes.c_double), _ptr(delta, ctypes.c_double),
             _ptr(delta_fb, ctypes.c_double), _ptr(sat, ctypes.c_ubyte),
             _ptr(raw, ctypes.c_double), ctypes.byref(done))
-        plant._psi = np.array(s.psi[:])
+        plant._psi[:] = s.psi[:]
         plant._integral = s.integral
         plant.steer_limited = s.steer_limited
         if limited_before == 0 and s.steer_limited > 0:

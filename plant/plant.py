@@ -236,6 +236,12 @@ class Plant:
             callback.install(self.model, callback.NATIVE)
         else:
             callback.install(self.model, self._passive)
+        self.use_compiled_step = True
+        """Whether :meth:`step` and :meth:`observe` run in compiled code where they can
+        (``False``: in Python, the reference they are tested against)."""
+        self._stepper = None if closedloop.step_available(self) else closedloop.Stepper(self)
+        if self._stepper is not None:  # the unwrapped headings [rad], shared with it
+            self._psi = self._stepper.psi
 
     def _wheel_table(self) -> np.ndarray:
         cols = {"hub_site": self._hub, "hub_body": self._hub_body, "root_body": self._root,
@@ -526,7 +532,7 @@ class Plant:
         self._integral = 0.0
         self.steer_limited = 0
         mujoco.mj_forward(m, d)
-        self._psi = np.array([psi, psi - initial.gamma])
+        self._psi[:] = (psi, psi - initial.gamma)
 
     def _speed(self) -> float:
         """Tractor speed along its x-axis [m/s].
@@ -577,14 +583,35 @@ class Plant:
         right one follows through the linkage.
         """
         m, d = self.model, self.data
+        h = m.opt.timestep
+        n = max(1, round(dt / h))
+        if self._stepper is not None and self.use_compiled_step:
+            # The same step in C: the speed controls here, the rest there.
+            self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
+            code = self._stepper.step(delta, n)
+            s = self._stepper.struct
+            if s.steer_limited:
+                first = self.steer_limited == 0
+                self.steer_limited += s.steer_limited
+                s.steer_limited = 0
+                if first:
+                    self.warn_steer_limited(s.first_limit_time, s.first_limit_delta)
+            if code == closedloop.TYRE_RANGE:
+                d.userdata[-1] = 0.0
+                self.check_tyre_ranges()
+            elif code == closedloop.DIVERGED:
+                good = np.array(s.good_forces[:3 * self.n_wheels]).reshape(-1, 3)
+                self._check(s.good_time, good, s.span)
+                raise AssertionError("unreachable: a diverged step that _check accepts")
+            elif code != closedloop.DONE:
+                raise RuntimeError("the compiled step refused the plant's indices")
+            return
         lo, hi = self._servo_range
         if not lo <= delta <= hi:
             self.steer_limited += 1
             if self.steer_limited == 1:
                 self.warn_steer_limited(d.time, delta)
         d.ctrl[self._servo] = min(max(delta, lo), hi)
-        h = m.opt.timestep
-        n = max(1, round(dt / h))
         # The speed controller is sampled once per call (zero-order hold over
         # dt), at the middle of the interval, so MuJoCo runs n steps uninterrupted.
         self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
@@ -627,6 +654,8 @@ class Plant:
 
     def observe(self, delta: float | None = None) -> np.ndarray:
         """Signals at the sensor points, in ``OBSERVATION`` order."""
+        if self._stepper is not None and self.use_compiled_step:
+            return self._stepper.observe()
         d = self.data
         out = np.empty(13)
         for i, (site, body) in enumerate(zip(self._sensor, (self._tractor, self._trailer),

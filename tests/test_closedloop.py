@@ -41,6 +41,7 @@ def _both(vehicle, log, gain=3.0, inputs=None, plant_kw=None):
     for compiled in (True, False):
         with Plant(vehicle, **(plant_kw or {})) as p:
             p.use_compiled_loop = compiled
+            p.use_compiled_step = compiled  # the reference: Plant.step in Python
             assert (p.closed_loop() is not None) == compiled
             extras: dict = {}
             with warnings.catch_warnings(record=True) as caught:
@@ -98,7 +99,7 @@ def test_a_diverged_step_raises_the_same_error(unloaded):
     for compiled in (True, False):
         with Plant(unloaded) as p, warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)
-            p.use_compiled_loop = compiled
+            p.use_compiled_loop = p.use_compiled_step = compiled
             with pytest.raises(PlantError) as exc:
                 run_inputs(p, inp, unloaded, 3.0)
             errors.append(str(exc.value))
