@@ -139,10 +139,13 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                          + "".join(f"; {n}" for n in notes), always=bool(notes))
         return row
 
+    # The longest logs start first, so that no thread is left with one long run at the end.
+    order = sorted(range(len(tasks)), key=lambda i: -_duration(tasks[i][0]))
+    longest_first = [tasks[i] for i in order]
     if executor is not None:
         # Simulate remotely what cannot be reused; everything else happens here.
         todo = {}
-        for log, name in tasks:
+        for log, name in longest_first:
             if (log.name, name) in reused:
                 continue
             v = vehicle if isinstance(vehicle, Vehicle) else vehicle(log)  # pickles
@@ -151,7 +154,8 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         rows = [one(t) for t in tasks]
     elif jobs > 1:
         with ThreadPoolExecutor(jobs) as pool:
-            rows = list(pool.map(one, tasks))
+            done = dict(zip(order, pool.map(one, longest_first), strict=True))
+        rows = [done[i] for i in range(len(tasks))]
     else:
         rows = [one(t) for t in tasks]
     cols = ["log", "model", "direction", "manoeuvre", *CRITERIA, "s_max", "status", "wall_s",
@@ -159,6 +163,12 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     out = pd.DataFrame(rows, columns=cols)
     out.attrs["reused"] = len(reused)
     return out
+
+
+def _duration(log: Run) -> float:
+    """A log's duration [s] (0 for one without samples)."""
+    t = log.frame["t"]
+    return float(t.iloc[-1] - t.iloc[0]) if len(t) else 0.0
 
 
 def _where(out_dir, log: Run, name: str, reuse_key: str | None,

@@ -69,6 +69,11 @@ from validation.workers import completed
 
 META_FILE = "meta.json"
 
+LONGEST_FIRST = ("docking", "parking", "figure-8", "slalom", "ramp-steer-reverse",
+                 "constant-steer")
+"""The manoeuvre kinds, longest drive first: a docking or parking driver takes
+50-210 s, a figure-of-8 two minutes, a ramp steer 25-55 s, a constant steer 40 s."""
+
 MAX_SHUFFLES = 4
 """Shuffles (pull forward, reverse again) a docking driver allows himself; the
 structural truth's steering play, drift and slopes ask for more than two."""
@@ -308,6 +313,8 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
     # Each result is written under the name of the manoeuvre submitted for it.
+    # The longest first, so that no worker is left with one long drive at the end.
+    missing.sort(key=lambda m: LONGEST_FIRST.index(m.kind))
     tasks = [(m, (m, seed, sensors, truth)) for m in missing]
     counter = Counter(len(missing), "generated", progress)
     with contextlib.closing(completed(_simulate_timed, tasks, jobs, executor)) as done:
