@@ -57,6 +57,7 @@ import pandas as pd
 
 from mjcf.vehicle import Vehicle, load_vehicle
 from mjcf.writer import fitted_changes, updated, write_vehicle
+from validation import warmup
 from validation.campaign import fingerprint
 from validation.campaign.executors import DaskOptions, cluster_executor
 from validation.campaign.tables import summary, write_table
@@ -383,10 +384,18 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     from validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
 
     paths: dict[str, Path] = {}
+    # numba compiles the reduced models' loop and the criteria on a core of its
+    # own while the logs are made, instead of on the critical path of tuning.
+    warm = warmup.start() if pool is None and set(models) & {"kin", "stm"} else None
     with stage("logs"):
         logs, reused = _load_logs(out_dir, seed, jobs, only, pool, truth)
         stage.reused(reused)
     with stage("tuning"):
+        if warm is not None:  # a wait for it counts as tuning's, which needs it
+            warm.join()
+            if warm.exitcode:
+                stderr_progress(f"compiling ahead failed (exit code {warm.exitcode}); numba "
+                                "compiles on first use instead")
         tuned = _tune(out_dir, logs, models, key, jobs)
         stage.reused(tuned["reused"])
         vehicles = _tuned_vehicles(out_dir, tuned, seed)
