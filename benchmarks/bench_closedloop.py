@@ -57,9 +57,11 @@ def _inputs(vehicle) -> LoopInputs:
                       initial=InitialState(0.0, 0.0, 0.0, 0.0, u1=float(prof.u1[0])))
 
 
-def _loop(vehicle, inp, compiled: bool, extras: bool = False) -> float:
+def _loop(vehicle, inp, compiled: bool, extras: bool = False, step: bool | None = None) -> float:
+    """One run; ``step``: whether Plant.step is compiled in the Python loop (as ``compiled``)."""
     with Plant(vehicle) as p:
         p.use_compiled_loop = compiled
+        p.use_compiled_step = compiled if step is None else step
         t0 = time.perf_counter()
         run_inputs(p, inp, vehicle, 3.0, {} if extras else None)
         return time.perf_counter() - t0
@@ -120,16 +122,19 @@ def main() -> dict[str, list[float]]:
     _loop(vehicle, inp, False)
     fig: dict[str, list[float]] = {k: [] for k in (
         "compiled_rtf", "compiled_over_python", "compiled_over_bare_cb", "compiled_over_bare",
-        "extras_over_compiled", "python_rtf", "threads_speedup", "cli_rtf_60", "cli_rtf_600")}
+        "extras_over_compiled", "python_rtf", "python_c_step_rtf", "threads_speedup",
+        "cli_rtf_60", "cli_rtf_600")}
     for _ in range(ROUNDS):
         c = _loop(vehicle, inp, True)
         py = _loop(vehicle, inp, False)
         ce = _loop(vehicle, inp, True, extras=True)
+        pc = _loop(vehicle, inp, False, step=True)
         b_cb = _bare(p, states, True)
         b = _bare(p, states, False)
         one, two = _threads(vehicle, inp, 1), _threads(vehicle, inp, 2)
         fig["compiled_rtf"].append(seconds / c)
         fig["python_rtf"].append(seconds / py)
+        fig["python_c_step_rtf"].append(seconds / pc)
         fig["compiled_over_python"].append(c / py)
         fig["compiled_over_bare_cb"].append(c / b_cb)
         fig["compiled_over_bare"].append(c / b)
@@ -142,6 +147,8 @@ def main() -> dict[str, list[float]]:
           f"{p.model.opt.timestep * 1e3:.0f} ms; median (range) of {ROUNDS} rounds:")
     print(f"  compiled closed loop: {_fmt(fig['compiled_rtf'], 'x')} real time, per step")
     print(f"  Python loop:          {_fmt(fig['python_rtf'], 'x')} real time, per step")
+    print(f"  Python loop, Plant.step and observe in C (as the truth's drivers run): "
+          f"{_fmt(fig['python_c_step_rtf'], 'x')} real time, per step")
     print(f"  compiled / Python loop time: {_fmt(fig['compiled_over_python'])}")
     print(f"  compiled / bare mj_step with the tyre callback: {_fmt(fig['compiled_over_bare_cb'])}")
     print(f"  compiled / bare mj_step without any callback:   {_fmt(fig['compiled_over_bare'])}")

@@ -4,7 +4,8 @@ Stages, each timed and each resumable:
 
 1. **logs**: the synthetic measured campaign (:mod:`validation.synthetic.generate`),
    generated on first use into ``OUT/synthetic`` and imported through the
-   same importer as real logs into ``OUT/logs``;
+   same importer as real logs into ``OUT/logs``; meanwhile numba compiles
+   the reduced models ahead in a process of its own (:mod:`validation.warmup`);
 2. **tuning**: every model's parameters fitted per load condition on its 4
    forward tuning manoeuvres (:mod:`validation.campaign.tuning`); ``OUT/tuning.json``,
    and one tuned vehicle file per load condition in ``OUT/params``;
@@ -385,8 +386,13 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
 
     paths: dict[str, Path] = {}
     # numba compiles the reduced models' loop and the criteria on a core of its
-    # own while the logs are made, instead of on the critical path of tuning.
-    warm = warmup.start() if pool is None and set(models) & {"kin", "stm"} else None
+    # own while the logs are made, instead of on the critical path of tuning
+    # (not on a resume past tuning: loading a warm cache takes tuning no time).
+    saved = _read_json(out_dir / "tuning.json") or {}
+    warm = None
+    if pool is None and set(models) & {"kin", "stm"} and not (
+            saved.get("key") == key and saved.get("complete")):
+        warm = warmup.start()
     with stage("logs"):
         logs, reused = _load_logs(out_dir, seed, jobs, only, pool, truth)
         stage.reused(reused)
