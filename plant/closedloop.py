@@ -109,21 +109,6 @@ def unavailable_reason() -> str:
     return _loaded()[1]
 
 
-def available(plant: Plant) -> str:
-    """Why ``plant`` cannot use the compiled loop; empty when it can."""
-    lib, why = _loaded()
-    if lib is None:
-        return why
-    if plant.backend != "c":
-        return "the plant uses the numpy tyre callback"
-    if plant.speed_mode != "follow":
-        return (f"the plant's speed mode is {plant.speed_mode!r}; the compiled loop only "
-                "follows the log's speed")
-    if len(plant._servo) > MAX_SERVOS or plant.n_wheels > MAX_WHEELS:
-        return f"the compiled loop takes at most {MAX_SERVOS} steered axles and {MAX_WHEELS} wheels"
-    return ""
-
-
 def step_available(plant: Plant) -> str:
     """Why ``plant`` cannot take its single steps in compiled code; empty when it can."""
     lib, why = _loaded()
@@ -132,7 +117,22 @@ def step_available(plant: Plant) -> str:
     if plant.backend != "c":
         return "the plant uses the numpy tyre callback"
     if len(plant._servo) > MAX_SERVOS or plant.n_wheels > MAX_WHEELS:
-        return f"the compiled step takes at most {MAX_SERVOS} steered axles and {MAX_WHEELS} wheels"
+        return (f"the compiled plant takes at most {MAX_SERVOS} steered axles and "
+                f"{MAX_WHEELS} wheels")
+    return ""
+
+
+def available(plant: Plant) -> str:
+    """Why ``plant`` cannot use the compiled loop; empty when it can.
+
+    The loop needs what the single step needs, and a followed speed.
+    """
+    why = step_available(plant)
+    if why:
+        return why
+    if plant.speed_mode != "follow":
+        return (f"the plant's speed mode is {plant.speed_mode!r}; the compiled loop only "
+                "follows the log's speed")
     return ""
 
 
