@@ -23,14 +23,14 @@ def mujoco_include() -> list[str]:
 setup(
     ext_modules=[
         Extension(
-            "plant._tyre_c",
+            "artic.plant._tyre_c",
             sources=["plant/_tyre_c.c"],
             include_dirs=mujoco_include(),
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),
         Extension(  # the harness's closed loop around the plant (plant/closedloop.py)
-            "plant._loop_c",
+            "artic.plant._loop_c",
             sources=["plant/_loop_c.c"],
             include_dirs=mujoco_include(),
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],

@@ -18,7 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from validation.campaign.main import run_campaign
+from artic.validation.campaign.main import run_campaign
 
 
 def main() -> dict[str, float]:

@@ -4,9 +4,9 @@ Every figure is a ratio of times measured in the same round; three rounds
 alternate the variants, and each figure is given as the median and range of
 the three. The log is the default forward manoeuvre of ``artic simulate``
 (a 200 deg constant steer at 5 km/h, 60 s), driven through
-:func:`validation.harness.run_inputs` with the reversing feedback on (K = 3):
+:func:`artic.validation.harness.run_inputs` with the reversing feedback on (K = 3):
 
-- **per step**, the compiled closed loop (:mod:`plant.closedloop`) against
+- **per step**, the compiled closed loop (:mod:`artic.plant.closedloop`) against
   the Python loop it replaces, and against bare ``mj_step`` loops over the
   same states: with the plant's tyre callback (MuJoCo's whole step of the
   model, as a standalone MJCF with its callback runs it) and without any
@@ -33,18 +33,18 @@ import mujoco
 import numpy as np
 
 from _timing import bare_steps
-from mjcf import load_vehicle
-from plant import Plant
-from validation.harness import LoopInputs, run_inputs
-from validation.steering import SteeringMap
-from validation.synthetic.manoeuvres import make_profile
+from artic.mjcf import load_vehicle
+from artic.plant import Plant
+from artic.validation.harness import LoopInputs, run_inputs
+from artic.validation.steering import SteeringMap
+from artic.validation.synthetic.manoeuvres import make_profile
 
 ROUNDS = 3
 VEHICLE = "gosar2022-unloaded"
 
 
 def _inputs(vehicle) -> LoopInputs:
-    from mjcf.interface import InitialState
+    from artic.mjcf.interface import InitialState
 
     prof = make_profile("constant-steer", amplitude_deg=200.0, speed_kph=5.0, side="left")
     steering = SteeringMap.from_steering(vehicle.steering_for("mbd"))
@@ -160,7 +160,7 @@ def main() -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from validation import runtime
+    from artic.validation import runtime
 
     runtime.configure()
     main()

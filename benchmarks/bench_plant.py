@@ -24,9 +24,9 @@ import mujoco
 import numpy as np
 
 from _timing import bare_steps
-from mjcf import load_vehicle
-from mjcf.interface import InitialState
-from plant import Plant
+from artic.mjcf import load_vehicle
+from artic.mjcf.interface import InitialState
+from artic.plant import Plant
 
 SIM_SECONDS = 10.0
 DT = 0.01
@@ -60,8 +60,8 @@ def _bare(p: Plant, states: list) -> float:
 
 def _tyre_ns() -> tuple[float, float]:
     """Per wheel evaluation: compiled and numpy tyre model [ns]."""
-    from plant import ctyre
-    from plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
+    from artic.plant import ctyre
+    from artic.plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
 
     p = TyreParams.from_tir(load_vehicle("gosar2022-unloaded").tyre_file)
     rng = np.random.default_rng(0)
@@ -118,7 +118,7 @@ def main() -> dict[str, float]:
 
 
 if __name__ == "__main__":
-    from validation import runtime
+    from artic.validation import runtime
 
     runtime.configure()  # as the artic command does: MuJoCo's step timers quiet
     main()

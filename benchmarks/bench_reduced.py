@@ -18,15 +18,15 @@ import math
 import numpy as np
 
 from _timing import REPEATS, best_wall
-from mjcf import load_vehicle
-from reduced import KinematicModel, SingleTrackModel
-from validation.harness import run_closed_loop
-from validation.logs.runfile import Run
-from validation.logs.schema import COLUMNS
-from validation.pathdist import distance_to_polyline
-from validation.simulate import drive_articulation, simulate
-from validation.steering import SteeringMap
-from validation.synthetic.manoeuvres import make_profile
+from artic.mjcf import load_vehicle
+from artic.reduced import KinematicModel, SingleTrackModel
+from artic.validation.harness import run_closed_loop
+from artic.validation.logs.runfile import Run
+from artic.validation.logs.schema import COLUMNS
+from artic.validation.pathdist import distance_to_polyline
+from artic.validation.simulate import drive_articulation, simulate
+from artic.validation.steering import SteeringMap
+from artic.validation.synthetic.manoeuvres import make_profile
 
 
 def _logs(v):

@@ -5,7 +5,7 @@ are generated from the structural truth into a temporary folder, as
 ``artic campaign`` makes them, with the STM tuned first for its start values.
 Then per load condition and round, both fits of the plant, on 2 threads:
 
-- ``campaign``: :func:`validation.campaign.tuning.tune_model`, as the
+- ``campaign``: :func:`artic.validation.campaign.tuning.tune_model`, as the
   campaign runs it: the STM's steering ratio and offset as start, one
   forward-difference Jacobian with its columns at once on the thread pool,
   Broyden's updates, ``TOLERANCES["plant"]``;
@@ -30,10 +30,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from mjcf import load_vehicle
-from validation.campaign.main import PRESET, load_logs, start_from
-from validation.campaign.tuning import Objective, full_difference_fit, tune_model
-from validation.synthetic.testmatrix import TUNING
+from artic.mjcf import load_vehicle
+from artic.validation.campaign.main import PRESET, load_logs, start_from
+from artic.validation.campaign.tuning import Objective, full_difference_fit, tune_model
+from artic.validation.synthetic.testmatrix import TUNING
 
 ROUNDS = 3
 LOADS = ("unloaded", "loaded")
@@ -87,7 +87,7 @@ def main() -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from validation import runtime
+    from artic.validation import runtime
 
     runtime.configure()
     main()

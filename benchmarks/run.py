@@ -21,7 +21,7 @@ VENV_PYTHON = HERE.parent / ".venv" / "bin" / "python"
 
 
 def _has_artic() -> bool:
-    return all(importlib.util.find_spec(m) is not None for m in ("numpy", "mujoco", "validation"))
+    return all(importlib.util.find_spec(m) is not None for m in ("numpy", "mujoco", "artic"))
 
 
 def main() -> int:
@@ -32,7 +32,7 @@ def main() -> int:
               f"with `python3 -m venv .venv && .venv/bin/pip install -e .`, then run "
               f"`.venv/bin/python benchmarks/run.py`", file=sys.stderr)
         return 2
-    from validation import runtime
+    from artic.validation import runtime
 
     runtime.configure()  # as the artic command does: numba's cache folder first
     print(f"artic benchmarks on {platform.machine()}, Python {platform.python_version()}")

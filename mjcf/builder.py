@@ -19,7 +19,7 @@ The tree, for each unit:
   the chassis rolls only on the tyres' vertical compliance.
 - The left front wheel turns by a position servo; the right one follows it
   through a joint equality, the polynomial fitted to the tie-rod trapezoid
-  (:mod:`mjcf.linkage`).
+  (:mod:`artic.mjcf.linkage`).
 - Each wheel end has two integrator actuators of zero gain, ``tread.*.u`` and
   ``tread.*.v``. Their activations hold the tyre's tread deflections in
   MuJoCo's own state, so every integrator stage sees consistent tyre states.
@@ -36,11 +36,11 @@ import math
 import mujoco
 import numpy as np
 
-from mjcf import naming as nm
-from mjcf.linkage import Trapezoid, left_range
-from mjcf.masses import AxleLayout, Body, layout
-from mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
-from mjcf.vehicle import G, Vehicle
+from artic.mjcf import naming as nm
+from artic.mjcf.linkage import Trapezoid, left_range
+from artic.mjcf.masses import AxleLayout, Body, layout
+from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
+from artic.mjcf.vehicle import G, Vehicle
 
 TIMESTEP = 5e-3
 """Default plant timestep [s], with the RK4 integrator.
@@ -261,7 +261,7 @@ def _add_actuators(spec: mujoco.MjSpec, v: Vehicle, lay) -> None:
             b.set_to_motor()
     # The speed follower: a velocity servo pushing the drive axle along the
     # tractor's x-axis at ground level, where traction acts. The plant sets its
-    # gain to zero when it drives with wheel torques instead (plant.plant).
+    # gain to zero when it drives with wheel torques instead (artic.plant.plant).
     follower = spec.add_actuator(name=nm.SPEED_SERVO, target=nm.SPEED_SITE,
                                  trntype=mujoco.mjtTrn.mjTRN_SITE)
     follower.gear = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]

@@ -1,8 +1,8 @@
 """What every model shares with the harness: signals, initial state, angle helpers.
 
 KIN, STM and the multibody plant are each built from a
-:class:`mjcf.vehicle.Vehicle` and driven by the harness through the calls of
-:class:`validation.models.Model`: reset to an :class:`InitialState`, step, and
+:class:`artic.mjcf.vehicle.Vehicle` and driven by the harness through the calls of
+:class:`artic.validation.models.Model`: reset to an :class:`InitialState`, step, and
 observe the :data:`OBSERVATION` signals at the two sensor points.
 
 ``u1`` is the longitudinal velocity of the tractor in its own axes. For a rigid

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mjcf.schema import VehicleFileError
-from mjcf.tir import read_tir
-from mjcf.vehicle import Axle, G, Vehicle
+from artic.mjcf.schema import VehicleFileError
+from artic.mjcf.tir import read_tir
+from artic.mjcf.vehicle import Axle, G, Vehicle
 
 AXLE_SHARE = 0.5
 """Share of an axle's unsprung mass in the axle body; the rest is in its two wheel ends."""

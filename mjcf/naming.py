@@ -18,7 +18,7 @@ DOCK = "dock"
 SPEED_SITE = "speed.follower"
 """Site on the drive axle at ground level where the speed follower pushes."""
 SPEED_SERVO = "speed.servo"
-"""The speed follower's velocity servo (see :mod:`plant.plant`)."""
+"""The speed follower's velocity servo (see :mod:`artic.plant.plant`)."""
 
 
 def unit(u: int) -> str:

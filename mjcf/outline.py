@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from mjcf.vehicle import Vehicle
+from artic.mjcf.vehicle import Vehicle
 
 TRAILER_LENGTH = 13.6
 """Semitrailer body length [m]: the EU standard box (Directive 96/53/EC allows 13.6 m)."""

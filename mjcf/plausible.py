@@ -1,7 +1,7 @@
 """Plausibility ranges of the vehicle's parameters: refuse the impossible, warn on the odd.
 
-The parameter file's schema (:mod:`mjcf.schema`) checks types, signs and
-finiteness, and :func:`mjcf.vehicle.check_geometry` that the symbols and the
+The parameter file's schema (:mod:`artic.mjcf.schema`) checks types, signs and
+finiteness, and :func:`artic.mjcf.vehicle.check_geometry` that the symbols and the
 axle list describe one geometry. What they let through can still be no
 tractor-semitrailer at all: a trailer centre of gravity 100 m up, a steering
 ratio of 0.001, a 2 kg tractor. Every number here has two ranges:
@@ -27,10 +27,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from mjcf.schema import VehicleFileError
+from artic.mjcf.schema import VehicleFileError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from mjcf.vehicle import Vehicle
+    from artic.mjcf.vehicle import Vehicle
 
 
 class PlausibilityWarning(UserWarning):
@@ -168,7 +168,7 @@ def check_plausible(v: Vehicle, path: str | Path) -> None:
 
 
 def check_tir_file(path: Path, context: str) -> Path:
-    """Read a tyre property file and judge its coefficients (see :mod:`mjcf.tir`).
+    """Read a tyre property file and judge its coefficients (see :mod:`artic.mjcf.tir`).
 
     Returns
     -------
@@ -180,7 +180,7 @@ def check_tir_file(path: Path, context: str) -> Path:
     VehicleFileError
         ``context`` (the vehicle file and key) followed by the tyre file's error.
     """
-    from mjcf.tir import TirError, read_tir
+    from artic.mjcf.tir import TirError, read_tir
 
     try:
         read_tir(path)

@@ -26,9 +26,9 @@ from typing import Any
 
 import numpy as np
 
-from mjcf import schema
-from mjcf.plausible import check_plausible, check_tir_file
-from mjcf.schema import VehicleFileError
+from artic.mjcf import schema
+from artic.mjcf.plausible import check_plausible, check_tir_file
+from artic.mjcf.schema import VehicleFileError
 
 G = 9.81
 """Gravitational acceleration [m/s^2], as used for the paper's axle loads."""
@@ -337,7 +337,7 @@ def _static_loads(v: Vehicle) -> tuple[np.ndarray, float]:
 # ------------------------------------------------------------------ loading
 def preset_names() -> list[str]:
     """Names of the presets shipped with artic."""
-    files = resources.files("mjcf") / "presets"
+    files = resources.files("artic.mjcf") / "presets"
     return sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
 
 
@@ -356,7 +356,7 @@ def resolve_vehicle_path(name_or_path: str | Path) -> Path:
         return p
     names = preset_names()
     if str(name_or_path) in names:
-        return Path(str(resources.files("mjcf") / "presets" / f"{name_or_path}.toml"))
+        return Path(str(resources.files("artic.mjcf") / "presets" / f"{name_or_path}.toml"))
     raise VehicleFileError(
         f"{name_or_path!r} is neither a preset nor a file; presets are: {', '.join(names)}")
 
@@ -375,7 +375,7 @@ def resolve_tyre_file(name: str, vehicle_path: str | Path, key: str = "tyre.file
     here = Path(vehicle_path).parent / name
     if here.is_file():
         return check_tir_file(here, f"{vehicle_path}: key 'tyre.file'")
-    shipped = Path(str(resources.files("mjcf") / "tyres" / name))
+    shipped = Path(str(resources.files("artic.mjcf") / "tyres" / name))
     if shipped.is_file():
         return check_tir_file(shipped, f"{vehicle_path}: key 'tyre.file'")
     raise VehicleFileError(
@@ -385,7 +385,7 @@ def resolve_tyre_file(name: str, vehicle_path: str | Path, key: str = "tyre.file
 
 def tyre_names() -> list[str]:
     """Tyre property files shipped with artic."""
-    files = resources.files("mjcf") / "tyres"
+    files = resources.files("artic.mjcf") / "tyres"
     return sorted(p.name for p in files.iterdir() if p.name.endswith(".tir"))
 
 

@@ -21,8 +21,8 @@ from typing import Any
 
 import tomli_w
 
-from mjcf.files import TEMP_SUFFIX, public_mode
-from mjcf.vehicle import (
+from artic.mjcf.files import TEMP_SUFFIX, public_mode
+from artic.mjcf.vehicle import (
     Vehicle,
     load_vehicle,
     read_vehicle_toml,
@@ -68,7 +68,7 @@ def updated(base: str | Path, changes: dict[str, dict[str, Any]], source: str,
 def portable_tyre(tyre_file: str | Path, target: str | Path) -> str:
     """How a vehicle file at ``target`` names ``tyre_file``: shipped name or relative path."""
     tyre_file = Path(tyre_file).resolve()
-    shipped = Path(str(resources.files("mjcf") / "tyres" / tyre_file.name))
+    shipped = Path(str(resources.files("artic.mjcf") / "tyres" / tyre_file.name))
     beside = Path(target).resolve().parent / tyre_file.name
     if shipped.is_file() and shipped.resolve() == tyre_file and not beside.is_file():
         return tyre_file.name
@@ -110,7 +110,10 @@ def write_vehicle(data: dict[str, Any], path: str | Path) -> Vehicle:
 
 
 def fitted_changes(vehicle: Vehicle, fits: dict[str, dict[str, float]]) -> dict[str, dict]:
-    """Sections to change for fitted values per model (see :mod:`validation.campaign.tuning`)."""
+    """Sections to change for fitted values per model.
+
+    See :mod:`artic.validation.campaign.tuning`.
+    """
     changes: dict[str, dict[str, float]] = {}
     for model, values in fits.items():
         steer = {k: v for k, v in values.items() if k in ("i_s", "q", "delta_h_offset")}

@@ -68,7 +68,7 @@ typedef struct {
   double good_forces[3 * MAX_WHEELS];
 } artic_loop;
 
-/* mjcf.interface.wrap_angle: pi - numpy.mod(pi - a, 2 pi), numpy's remainder exactly. */
+/* artic.mjcf.interface.wrap_angle: pi - numpy.mod(pi - a, 2 pi), numpy's remainder exactly. */
 static double wrap_angle(double a) {
   double x = PI - a, b = 2.0 * PI;
   double mod = fmod(x, b);
@@ -80,7 +80,7 @@ static double wrap_angle(double a) {
   return PI - mod;
 }
 
-/* validation.harness.wrap: a - 2 pi floor((a + pi) / (2 pi)). */
+/* artic.validation.harness.wrap: a - 2 pi floor((a + pi) / (2 pi)). */
 static double wrap(double a) { return a - 2.0 * PI * floor((a + PI) / (2.0 * PI)); }
 
 /* Plant.observe */
@@ -188,7 +188,7 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
   if (!sound(m, s)) return LOOP_BAD;
   double h = m->opt.timestep;
   for (int k = s->k; k < n; k++) {
-    /* 1. the feedback law (validation.feedback.feedback_law) */
+    /* 1. the feedback law (artic.validation.feedback.feedback_law) */
     double gamma = wrap_angle(-d->qpos[s->hitch_qpos]);
     double fb = reversing[k] ? s->gain * wrap(gamma - gamma_meas[k]) : 0.0;
     double dl = delta_c[k] + fb;

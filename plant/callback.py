@@ -3,7 +3,7 @@
 ``mujoco.set_mjcb_passive`` is process-global: whichever function was set
 last serves every model. This module decides what is set:
 
-- while every open plant uses the compiled tyre callback (:mod:`plant.ctyre`),
+- while every open plant uses the compiled tyre callback (:mod:`artic.plant.ctyre`),
   and nothing else had a callback before, the C function itself, which MuJoCo
   calls without the GIL, so plants can step on threads;
 - otherwise :func:`_dispatch`, a Python function that calls, per model, the
@@ -21,7 +21,7 @@ from collections.abc import Callable
 
 import mujoco
 
-from plant import ctyre
+from artic.plant import ctyre
 
 Handler = Callable[[mujoco.MjModel, mujoco.MjData], None]
 

@@ -1,6 +1,6 @@
 """The harness's closed loop around the plant, compiled: a whole log in one call.
 
-``_loop_c.c`` does per sample what :func:`validation.harness.run_inputs` does
+``_loop_c.c`` does per sample what :func:`artic.validation.harness.run_inputs` does
 with :class:`plant.Plant` in Python (the reference, kept and tested against
 this within 1e-9): the reversing feedback law, the signals at the sensor
 points, the raw rows behind :meth:`plant.Plant.extras`, the stop at the
@@ -34,10 +34,10 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from plant import ctyre
+from artic.plant import ctyre
 
 if TYPE_CHECKING:
-    from plant.plant import Plant
+    from artic.plant.plant import Plant
 
 ABI = 2
 MAX_SERVOS = 4
@@ -75,7 +75,7 @@ class _Loop(ctypes.Structure):
 def _load() -> tuple[ctypes.CDLL | None, str]:
     if ctyre.library() is None:  # it also makes MuJoCo's symbols visible to the loader
         return None, ctyre.unavailable_reason()
-    spec = importlib.util.find_spec("plant._loop_c")
+    spec = importlib.util.find_spec("artic.plant._loop_c")
     if spec is None or spec.origin is None:
         return None, ("the compiled closed loop was not built (no C compiler at install "
                       "time?); reinstall artic with a C compiler to get it")
@@ -173,7 +173,7 @@ class Stepper:
 
 
 class LoopResult(NamedTuple):
-    """What one log gives: as :func:`validation.harness.run_inputs`, plus the raw extras."""
+    """What one log gives: as :func:`artic.validation.harness.run_inputs`, plus the raw extras."""
 
     obs: np.ndarray
     delta: np.ndarray
@@ -266,8 +266,8 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
 
 def _struct(plant: Plant, gain: float, delta_max: float, gamma_max: float,
             gather: np.ndarray) -> _Loop:
-    from mjcf.vehicle import G
-    from plant.plant import FOLLOW_KI
+    from artic.mjcf.vehicle import G
+    from artic.plant.plant import FOLLOW_KI
 
     m = plant.model
     s = _Loop()

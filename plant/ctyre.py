@@ -1,6 +1,6 @@
 """The compiled tyre callback: loading it, and the parameter block it reads.
 
-``_tyre_c.c`` implements :mod:`plant.tyre` (the reference) and the plant's
+``_tyre_c.c`` implements :mod:`artic.plant.tyre` (the reference) and the plant's
 wheel kinematics in C, as a MuJoCo passive callback (``mjfGeneric``) with no
 global state. A model carries what the callback needs in its numeric
 ``artic.tyre``: a header, the tyre coefficients in the order
@@ -27,7 +27,7 @@ from typing import NamedTuple
 import mujoco
 import numpy as np
 
-from plant.tyre import TyreParams
+from artic.plant.tyre import TyreParams
 
 BLOCK = "artic.tyre"
 """Name of the numeric that carries the callback's parameters; it must be numeric 0."""
@@ -72,7 +72,7 @@ class TyreOutputs(NamedTuple):
 
 
 def _load() -> tuple[ctypes.CDLL | None, str]:
-    spec = importlib.util.find_spec("plant._tyre_c")
+    spec = importlib.util.find_spec("artic.plant._tyre_c")
     if spec is None or spec.origin is None:
         return None, ("the compiled tyre callback was not built (no C compiler at install "
                       "time?); reinstall artic with a C compiler to get it")
@@ -264,9 +264,9 @@ def check_block(m: mujoco.MjModel, d: mujoco.MjData | None = None) -> None:
 
 def evaluate(p: TyreParams, Fz, Vx, Vsx, Vy, omega_z, u, v, phi,
              moments: bool = True) -> TyreOutputs:
-    """Evaluate wheel states with the compiled code, for comparison with :mod:`plant.tyre`.
+    """Evaluate wheel states with the compiled code, for comparison with :mod:`artic.plant.tyre`.
 
-    Arguments are as in :func:`plant.tyre.transient_forces`, broadcast to one shape.
+    Arguments are as in :func:`artic.plant.tyre.transient_forces`, broadcast to one shape.
     """
     lib = _lib()
     args = [np.ascontiguousarray(a, dtype=float).ravel()

@@ -3,7 +3,7 @@
 ``artic tyre curves`` writes them: pure longitudinal slip Fx(kappa) at zero
 slip angle, pure side slip Fy(alpha) and Mz(alpha) at zero longitudinal slip,
 and a combined-slip grid, each at the loads asked for. The formulas are the
-plant's own (:func:`plant.tyre.steady_state`), forward rolling, zero camber,
+plant's own (:func:`artic.plant.tyre.steady_state`), forward rolling, zero camber,
 in artic's conventions (ISO axes; a positive slip angle slides to the right
 and pushes left).
 """
@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from plant.tyre import TyreParams, steady_state
+from artic.plant.tyre import TyreParams, steady_state
 
 COLUMNS = ("fz", "kappa", "alpha_deg", "gamma_deg", "fx", "fy", "mz")
 """One row per point, SI units except the angles [deg]."""

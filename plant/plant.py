@@ -1,6 +1,6 @@
 """The multibody reference plant behind the harness's model interface.
 
-Every integrator stage (RK4, 5 ms by default: see :data:`mjcf.builder.TIMESTEP`)
+Every integrator stage (RK4, 5 ms by default: see :data:`artic.mjcf.builder.TIMESTEP`)
 the passive-force callback runs for every wheel end at once:
 
 - wheel-centre position and velocity, from the hub site and its body's
@@ -9,7 +9,7 @@ the passive-force callback runs for every wheel end at once:
 - vertical force per tyre, ``k_t (R0 - z) - c_t z_dot``, never pulling;
 - slips from the tread deflections held in the ``tread.*`` actuators'
   activations, and their rates written to those actuators' controls, which
-  MuJoCo integrates (see :mod:`plant.tyre`);
+  MuJoCo integrates (see :mod:`artic.plant.tyre`);
 - PAC2002 forces and rolling resistance, applied at the contact point.
 
 The tractor's speed is either *followed* or *driven* (``speed=``):
@@ -52,13 +52,13 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from mjcf import naming as nm
-from mjcf.builder import build_model, linkage
-from mjcf.interface import InitialState, rotate, wrap_angle
-from mjcf.masses import layout
-from mjcf.vehicle import G, Vehicle, resolve_tyre_file
-from plant import callback, closedloop, ctyre
-from plant.tyre import (
+from artic.mjcf import naming as nm
+from artic.mjcf.builder import build_model, linkage
+from artic.mjcf.interface import InitialState, rotate, wrap_angle
+from artic.mjcf.masses import layout
+from artic.mjcf.vehicle import G, Vehicle, resolve_tyre_file
+from artic.plant import callback, closedloop, ctyre
+from artic.plant.tyre import (
     TyreParams,
     check_ranges,
     deflection_rates,
@@ -96,7 +96,7 @@ SPEED_MODES = ("follow", "drive", "pedals")
 
 
 BACKENDS = ("auto", "c", "numpy")
-"""Tyre callback implementations: compiled (:mod:`plant.ctyre`) or the numpy reference."""
+"""Tyre callback implementations: compiled (:mod:`artic.plant.ctyre`) or the numpy reference."""
 
 _warned: set[str] = set()
 
@@ -134,7 +134,7 @@ def with_tyre_files(vehicle: Vehicle, tyre_files: Mapping[int, str | Path]) -> V
     ------
     ValueError
         For an axle index that the vehicle does not have.
-    mjcf.vehicle.VehicleFileError
+    artic.mjcf.vehicle.VehicleFileError
         For a file that is neither there nor shipped, or is not a ``.tir``.
     """
     if not tyre_files:
@@ -211,7 +211,7 @@ class Plant:
                                    for a in vehicle.axles for _ in nm.SIDES])
         spec = build_model(vehicle)  # with vehicle.with_payload(), as _index uses
         self.spec = spec
-        """The model's spec, as compiled (:mod:`plant.standalone` writes it out)."""
+        """The model's spec, as compiled (:mod:`artic.plant.standalone` writes it out)."""
         n_wheels = 2 * len(vehicle.axles)
         if self.backend == "c":
             if spec.numerics:
@@ -408,7 +408,7 @@ class Plant:
     def extras_gather(self) -> np.ndarray:
         """Where each raw value behind :meth:`extras` is read, shape (n_columns, 2).
 
-        Row ``j`` is (index into :data:`plant.closedloop.SOURCES`, index into
+        Row ``j`` is (index into :data:`artic.plant.closedloop.SOURCES`, index into
         that ``MjData`` array, flattened). The ``slip`` columns read the tread's
         lateral deflection, which :meth:`extras_from_raw` turns into a slip angle.
         """
@@ -577,7 +577,7 @@ class Plant:
                                    * np.tanh(spin / BRAKE_SPIN_SCALE))
 
     def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
-        """Advance ``dt`` [s]; see :mod:`mjcf.interface`.
+        """Advance ``dt`` [s]; see :mod:`artic.mjcf.interface`.
 
         ``delta`` turns the left front wheel (the steering box's wheel); the
         right one follows through the linkage.
@@ -699,7 +699,7 @@ class Plant:
         return self.last_forces[:, 2].copy()
 
     def check_tyre_ranges(self) -> list[str]:
-        """Warn for wheels outside the tyre file's valid ranges now (see :mod:`plant.tyre`).
+        """Warn for wheels outside the tyre file's valid ranges now (see :mod:`artic.plant.tyre`).
 
         Called after every step; a wheel in the air (no load) is not reported.
         """
@@ -722,7 +722,7 @@ class Plant:
         return None
 
     def closed_loop(self):
-        """:func:`plant.closedloop.run` for this plant, or ``None`` where it cannot run.
+        """:func:`artic.plant.closedloop.run` for this plant, or ``None`` where it cannot run.
 
         It cannot with the numpy tyre callback, a speed that is not followed,
         or an install without the compiled extension; the harness then drives

@@ -23,10 +23,10 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from mjcf import naming as nm
-from mjcf.vehicle import Vehicle
-from plant import callback, ctyre
-from plant.plant import Plant
+from artic.mjcf import naming as nm
+from artic.mjcf.vehicle import Vehicle
+from artic.plant import callback, ctyre
+from artic.plant.plant import Plant
 
 
 def to_xml(vehicle: Vehicle) -> str:
@@ -49,10 +49,11 @@ def load(path: str | Path) -> tuple[mujoco.MjModel, mujoco.MjData]:
 
     Raises
     ------
-    plant.ctyre.TyreBlockError
+    artic.plant.ctyre.TyreBlockError
         When the file's tyre data does not fit its model.
     RuntimeError
-        When the compiled callback is unavailable (see :func:`plant.ctyre.unavailable_reason`).
+        When the compiled callback is unavailable
+        (see :func:`artic.plant.ctyre.unavailable_reason`).
     """
     if ctyre.library() is None:
         raise RuntimeError(ctyre.unavailable_reason())

@@ -108,7 +108,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mjcf.tir import TirFile, read_tir
+from artic.mjcf.tir import TirFile, read_tir
 
 TWIST_STIFFNESS = 1.33
 """Torsional stiffness of a standing tyre per unit load [N m/rad per N]: about

@@ -3,10 +3,10 @@
 This package depends on numpy, numba and :mod:`mjcf` (the vehicle file and the
 signals): never on mujoco, rerun, pandas, :mod:`plant` or :mod:`validation`.
 Where numba caches the compiled models is the entry point's choice
-(:mod:`validation.runtime`).
+(:mod:`artic.validation.runtime`).
 """
 
-from mjcf.interface import OBSERVATION, InitialState, wrap_angle
-from reduced.models import KinematicModel, SingleTrackModel
+from artic.mjcf.interface import OBSERVATION, InitialState, wrap_angle
+from artic.reduced.models import KinematicModel, SingleTrackModel
 
 __all__ = ["OBSERVATION", "InitialState", "KinematicModel", "SingleTrackModel", "wrap_angle"]

@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from reduced.kinematic import kin_observe, kin_rhs
-from reduced.single_track import stm_observe, stm_rhs
+from artic.reduced.kinematic import kin_observe, kin_rhs
+from artic.reduced.single_track import stm_observe, stm_rhs
 
 KIN = 0
 STM = 1

@@ -48,8 +48,8 @@ import math
 import numpy as np
 from numba import njit
 
-from mjcf.vehicle import Vehicle
-from reduced.sensors import sensor_signals
+from artic.mjcf.vehicle import Vehicle
+from artic.reduced.sensors import sensor_signals
 
 
 @njit(cache=True)

@@ -1,7 +1,7 @@
-"""The reduced models behind the harness's model interface (see :mod:`mjcf.interface`).
+"""The reduced models behind the harness's model interface (see :mod:`artic.mjcf.interface`).
 
-The equations live in :mod:`reduced.kinematic` and :mod:`reduced.single_track`,
-the stepping in :mod:`reduced.integrate`.
+The equations live in :mod:`artic.reduced.kinematic` and :mod:`artic.reduced.single_track`,
+the stepping in :mod:`artic.reduced.integrate`.
 """
 
 from __future__ import annotations
@@ -10,12 +10,12 @@ import math
 
 import numpy as np
 
-from mjcf.interface import InitialState, rotate, wrap_angle
-from mjcf.vehicle import Vehicle
-from reduced.integrate import KIN, STM, observe, rk4_step
-from reduced.kinematic import kin_parameters, wheelbases
-from reduced.single_track import N_BODY, axle_velocities, stm_parameters, stm_unpack
-from reduced.tyre_linear import slip_angle
+from artic.mjcf.interface import InitialState, rotate, wrap_angle
+from artic.mjcf.vehicle import Vehicle
+from artic.reduced.integrate import KIN, STM, observe, rk4_step
+from artic.reduced.kinematic import kin_parameters, wheelbases
+from artic.reduced.single_track import N_BODY, axle_velocities, stm_parameters, stm_unpack
+from artic.reduced.tyre_linear import slip_angle
 
 U_SLIP_KNOWN = 0.5
 """Axle speed above which a log's initial slip angle is taken as known [m/s]."""
@@ -24,7 +24,7 @@ U_SLIP_KNOWN = 0.5
 class CompiledModel:
     """What both reduced models share: compiled stepping and observing.
 
-    A subclass sets ``kind`` (:data:`reduced.integrate.KIN` or ``STM``), ``name``,
+    A subclass sets ``kind`` (:data:`artic.reduced.integrate.KIN` or ``STM``), ``name``,
     and in its constructor ``P`` (parameters), ``x`` (state) and the sensors
     ``_s1``, ``_s2``; it places the state in ``reset``.
     """
@@ -39,7 +39,7 @@ class CompiledModel:
     _delta: float = 0.0
 
     def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
-        """Advance ``dt`` [s]; see :mod:`mjcf.interface`."""
+        """Advance ``dt`` [s]; see :mod:`artic.mjcf.interface`."""
         self.x = rk4_step(self.kind, self.x, dt, u1, u1_dot, delta, self.P)
         self._u1 = u1 + u1_dot * dt
         self._delta = delta
@@ -62,7 +62,7 @@ class CompiledModel:
     def compiled(self) -> tuple:
         """Model kind, state, parameters and sensors, for compiled loops.
 
-        See :mod:`reduced.integrate` and :mod:`validation.harness`.
+        See :mod:`artic.reduced.integrate` and :mod:`artic.validation.harness`.
         """
         return self.kind, self.x.copy(), self.P, self._s1, self._s2
 
@@ -91,7 +91,7 @@ class KinematicModel(CompiledModel):
         ``"equivalent"`` (default): each unit's axle group enters through its
         no-slip point, so a tag axle or a tridem counts; ``"paper"``: the drive
         axle and the middle trailer axle, as the paper has it. See
-        :mod:`reduced.kinematic`.
+        :mod:`artic.reduced.kinematic`.
     """
 
     name = "kin"

@@ -30,7 +30,7 @@ and its generalised force is its partial velocity dotted with the force.
 
 State: ``[X, Y, psi_1, gamma, v, r, gamma_dot, alpha'_1 ... alpha'_n]``, with
 ``(X, Y)`` the tractor centre of gravity [m] and ``alpha'`` the lagged slip
-angle of every axle in file order (see :mod:`reduced.tyre_linear`).
+angle of every axle in file order (see :mod:`artic.reduced.tyre_linear`).
 """
 
 from __future__ import annotations
@@ -40,9 +40,9 @@ import math
 import numpy as np
 from numba import njit
 
-from mjcf.vehicle import Vehicle
-from reduced.sensors import sensor_signals
-from reduced.tyre_linear import slip_rate
+from artic.mjcf.vehicle import Vehicle
+from artic.reduced.sensors import sensor_signals
+from artic.reduced.tyre_linear import slip_rate
 
 N_BODY = 7
 """Number of rigid-body states before the slip states."""

@@ -8,15 +8,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from validation import runtime
+from artic.validation import runtime
 
 # As the artic command does: numba's cache folder before any compiled model is imported.
 runtime.configure()
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/shared_data.py
 
-from mjcf import load_vehicle  # noqa: E402
-from validation.logs.runfile import Run  # noqa: E402
-from validation.logs.schema import COLUMNS  # noqa: E402
+from artic.mjcf import load_vehicle  # noqa: E402
+from artic.validation.logs.runfile import Run  # noqa: E402
+from artic.validation.logs.schema import COLUMNS  # noqa: E402
 
 PRESETS = ("gosar2022-unloaded", "gosar2022-loaded", "six-axle")
 
@@ -63,7 +63,7 @@ def straight_log(n: int = 2000, u: float = -0.8, gamma0: float = 0.0, dt: float 
 def steady_turn(model, delta: float, u: float, seconds: float, tail: int) -> tuple[float, float]:
     """Mean tractor yaw rate [rad/s] and articulation [rad] over the last ``tail`` samples
     of ``seconds`` at a fixed road-wheel angle ``delta`` and speed ``u``, from straight."""
-    from mjcf.interface import InitialState
+    from artic.mjcf.interface import InitialState
 
     model.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
     out = []

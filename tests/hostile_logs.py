@@ -12,14 +12,14 @@ import math
 
 import numpy as np
 
-from mjcf import load_vehicle
-from reduced import InitialState, SingleTrackModel
-from validation.logs.runfile import Run, new_frame
-from validation.simulate import simulate
-from validation.steering import SteeringMap
-from validation.synthetic.driver import DockingDriver, drive_to_dock
-from validation.synthetic.manoeuvres import make_profile
-from validation.synthetic.sensors import measure
+from artic.mjcf import load_vehicle
+from artic.reduced import InitialState, SingleTrackModel
+from artic.validation.logs.runfile import Run, new_frame
+from artic.validation.simulate import simulate
+from artic.validation.steering import SteeringMap
+from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
+from artic.validation.synthetic.manoeuvres import make_profile
+from artic.validation.synthetic.sensors import measure
 
 
 @functools.cache

@@ -1,18 +1,23 @@
-"""Dependency rules: validation -> {plant, reduced} -> mjcf.
+"""Dependency rules: validation -> {plant, reduced} -> mjcf, under one import name.
 
 The layer contract itself is static: ``lint-imports`` checks it in ``.ci/run``
 against ``[tool.importlinter]`` in pyproject.toml. These tests check what a
-static import graph cannot: that the contract is there and breakable, and
-what importing a light package loads at run time.
+static import graph cannot: that the contract is there and breakable, what
+importing a light package loads at run time, and that the wheel installs one
+top-level name, ``artic``.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
+import sysconfig
 import tomllib
+import venv
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -22,13 +27,16 @@ PACKAGES = ("mjcf", "plant", "reduced", "validation")
 
 
 def modules_after_import(package: str) -> set[str]:
+    """artic's sub-packages and the other top-level packages that importing ``package`` loads."""
     code = f"import sys, json, {package}; print(json.dumps(sorted(sys.modules)))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
-    return {m.split(".")[0] for m in json.loads(out.stdout)}
+    names = json.loads(out.stdout)
+    return ({m.split(".")[1] for m in names if m.startswith("artic.")}
+            | {m.split(".")[0] for m in names if not m.startswith("artic")})
 
 
-@pytest.mark.parametrize("package", ["reduced", "mjcf"])
+@pytest.mark.parametrize("package", ["artic.reduced", "artic.mjcf"])
 def test_light_packages_do_not_import_heavy_ones(package):
     loaded = modules_after_import(package)
     assert not loaded & {"mujoco", "rerun", "pandas", "validation", "plant"}, loaded
@@ -36,7 +44,19 @@ def test_light_packages_do_not_import_heavy_ones(package):
 
 def test_plant_does_not_load_numba():
     # Importing the plant must not touch the reduced models' compiled code.
-    assert not modules_after_import("plant") & {"numba", "reduced", "validation"}
+    assert not modules_after_import("artic.plant") & {"numba", "reduced", "validation"}
+
+
+def test_the_front_door_is_light_and_lists_the_public_api():
+    # `import artic` loads none of the sub-packages: the public names come on first use.
+    assert not modules_after_import("artic") & {"numba", "mujoco", "pandas", *PACKAGES}
+    import artic
+
+    missing = [n for n in artic.__all__ if getattr(artic, n, None) is None]
+    assert not missing, missing
+    assert set(artic.__all__) <= set(dir(artic))
+    with pytest.raises(AttributeError, match="no attribute 'nothing_here'"):
+        artic.nothing_here  # noqa: B018
 
 
 def test_only_one_module_imports_rerun():
@@ -49,23 +69,76 @@ def test_only_one_module_imports_rerun():
 def test_the_layer_contract_is_declared():
     cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
     layers = [c for c in cfg["contracts"] if c["type"] == "layers"]
-    assert layers and layers[0]["layers"] == ["validation", "plant | reduced", "mjcf"]
+    assert cfg["root_packages"] == ["artic"]
+    assert layers and layers[0]["containers"] == ["artic"]
+    assert layers[0]["layers"] == ["validation", "plant | reduced", "mjcf"]
 
 
-@pytest.mark.skipif(shutil.which("lint-imports") is None and not (
-    Path(sys.executable).parent / "lint-imports").exists(),
-    reason="import-linter is not installed (it is in the [test] extra)")
+def test_the_artic_folder_links_the_four_root_folders():
+    # The design card keeps the four folders at the root; artic/ links to them.
+    for pkg in PACKAGES:
+        link = ROOT / "artic" / pkg
+        assert link.is_symlink() and link.resolve() == (ROOT / pkg).resolve(), link
+
+
+def _lint():
+    lint = shutil.which("lint-imports") or str(Path(sys.executable).parent / "lint-imports")
+    return lint if Path(lint).exists() or shutil.which("lint-imports") else None
+
+
+@pytest.mark.skipif(_lint() is None,
+                    reason="import-linter is not installed (it is in the [test] extra)")
 def test_a_sideways_import_breaks_the_contract(tmp_path):
     # A copy of the tree with one forbidden import added: reduced -> plant.
+    (tmp_path / "artic").mkdir()
+    shutil.copy(ROOT / "artic" / "__init__.py", tmp_path / "artic" / "__init__.py")
     for pkg in PACKAGES:
-        shutil.copytree(ROOT / pkg, tmp_path / pkg,
+        shutil.copytree(ROOT / pkg, tmp_path / "artic" / pkg,
                         ignore=shutil.ignore_patterns("__pycache__", "*.so"))
     shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
-    lint = shutil.which("lint-imports") or str(Path(sys.executable).parent / "lint-imports")
     env = {"PATH": "", "PYTHONPATH": str(tmp_path)}
-    ok = subprocess.run([lint], cwd=tmp_path, capture_output=True, text=True, env=env)
+    ok = subprocess.run([_lint()], cwd=tmp_path, capture_output=True, text=True, env=env)
     assert ok.returncode == 0, ok.stdout[-2000:]
-    f = tmp_path / "reduced" / "models.py"
-    f.write_text(f.read_text() + "\nimport plant  # noqa\n")
-    broken = subprocess.run([lint], cwd=tmp_path, capture_output=True, text=True, env=env)
+    f = tmp_path / "artic" / "reduced" / "models.py"
+    f.write_text(f.read_text() + "\nimport artic.plant  # noqa\n")
+    broken = subprocess.run([_lint()], cwd=tmp_path, capture_output=True, text=True, env=env)
     assert broken.returncode != 0 and "BROKEN" in broken.stdout, broken.stdout[-2000:]
+
+
+@pytest.mark.slow
+def test_the_wheel_installs_one_import_name(tmp_path):
+    # Build the wheel as pip would (no build isolation: the test environment
+    # has setuptools and mujoco's headers), then install it into a fresh
+    # virtual environment that borrows only the dependencies of this one.
+    wheels = tmp_path / "wheels"
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
+                    "-q", "-w", str(wheels), str(ROOT)], check=True, capture_output=True)
+    (wheel,) = wheels.glob("artic-*.whl")
+    top = {n.split("/")[0] for n in zipfile.ZipFile(wheel).namelist()}
+    assert {t for t in top if not t.endswith((".dist-info", ".data"))} == {"artic"}, top
+
+    env_dir = tmp_path / "env"
+    venv.EnvBuilder(with_pip=False).create(env_dir)
+    py = env_dir / "bin" / "python"
+    site = Path(subprocess.run([str(py), "-c", "import sysconfig; print(sysconfig.get_path("
+                                "'purelib'))"], capture_output=True, text=True,
+                               check=True).stdout.strip())
+    before = set(os.listdir(site))
+    subprocess.run([sys.executable, "-m", "pip", "--python", str(py), "install", "--no-deps",
+                    "--no-index", "-q", str(wheel)], check=True, capture_output=True)
+    added = {n for n in set(os.listdir(site)) - before
+             if not n.endswith((".dist-info", ".pth")) and n != "__pycache__"}
+    assert added == {"artic"}, added
+    # The dependencies come from this environment's site-packages, through a
+    # path file; the editable artic there is not on that path (its own .pth
+    # files are not read for a directory that a .pth adds).
+    (site / "deps.pth").write_text(sysconfig.get_path("purelib") + "\n")
+    clean = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    code = ("import artic, sys; v = artic.load_vehicle('gosar2022-unloaded'); "
+            "print(artic.__file__, v.L1 if hasattr(v, 'L1') else 'ok')")
+    ok = subprocess.run([str(py), "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                        env=clean)
+    assert ok.returncode == 0 and str(site) in ok.stdout, ok.stderr[-2000:]
+    gone = subprocess.run([str(py), "-c", "import validation"], cwd=tmp_path,
+                          capture_output=True, text=True, env=clean)
+    assert gone.returncode != 0 and "No module named 'validation'" in gone.stderr

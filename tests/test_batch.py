@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from artic.plant import Plant
+from artic.reduced import KinematicModel, SingleTrackModel
+from artic.validation.batch import run_batch
+from artic.validation.harness import loop_args, loop_inputs, run_inputs
+from artic.validation.reducedloop import compiled_loop
+from artic.validation.steering import SteeringMap
 from conftest import straight_log
-from plant import Plant
-from reduced import KinematicModel, SingleTrackModel
-from validation.batch import run_batch
-from validation.harness import loop_args, loop_inputs, run_inputs
-from validation.reducedloop import compiled_loop
-from validation.steering import SteeringMap
 
 
 def inputs_for(vehicle, name):

@@ -10,11 +10,11 @@ from collections import Counter
 import pandas as pd
 import pytest
 
-from mjcf import load_vehicle
-from validation.campaign.main import run_campaign
-from validation.campaign.recording import PLOT_RATE, read_rows
-from validation.logs.runfile import read_run
-from validation.synthetic.testmatrix import MATRIX, TUNING
+from artic.mjcf import load_vehicle
+from artic.validation.campaign.main import run_campaign
+from artic.validation.campaign.recording import PLOT_RATE, read_rows
+from artic.validation.logs.runfile import read_run
+from artic.validation.synthetic.testmatrix import MATRIX, TUNING
 
 PART = [*[n for n in TUNING if "-unloaded-" in n][:2],
         "02-constant-steer-unloaded-200deg-10kph-left", "27-ramp-steer-reverse", "45-docking"]
@@ -105,7 +105,7 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     assert "reused (" in capsys.readouterr().err
 
     # A run that fails part way leaves no report behind to be mistaken for its own.
-    import validation.campaign.efficiency as eff_module
+    import artic.validation.campaign.efficiency as eff_module
 
     def broken(*a, **k):
         raise RuntimeError("interrupted")

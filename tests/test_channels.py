@@ -9,16 +9,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mjcf.interface import wrap_angle
-from plant import Plant
-from validation.campaign.validate import validate_runs
-from validation.logs.channels import read_map
-from validation.logs.derive import derive_trailer
-from validation.logs.importers import import_source
-from validation.logs.runfile import LogError
-from validation.simulate import simulate
-from validation.synthetic.manoeuvres import make_profile
-from validation.synthetic.sensors import SensorModel, measure
+from artic.mjcf.interface import wrap_angle
+from artic.plant import Plant
+from artic.validation.campaign.validate import validate_runs
+from artic.validation.logs.channels import read_map
+from artic.validation.logs.derive import derive_trailer
+from artic.validation.logs.importers import import_source
+from artic.validation.logs.runfile import LogError
+from artic.validation.simulate import simulate
+from artic.validation.synthetic.manoeuvres import make_profile
+from artic.validation.synthetic.sensors import SensorModel, measure
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "channels-example.toml"
 

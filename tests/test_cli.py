@@ -8,10 +8,10 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from validation.cli import main
-from validation.logs.runfile import read_run
-from validation.logs.schema import COLUMNS
-from validation.metrics import CRITERIA
+from artic.validation.cli import main
+from artic.validation.logs.runfile import read_run
+from artic.validation.logs.schema import COLUMNS
+from artic.validation.metrics import CRITERIA
 
 
 def test_vehicle_show_json(capsys):
@@ -98,9 +98,9 @@ def test_user_errors_exit_2_with_message(tmp_path, capsys):
 
 
 def test_validate_refuses_duplicate_log_names(tmp_path, capsys):
+    from artic.mjcf import load_vehicle
+    from artic.validation.campaign.validate import validate_runs
     from conftest import straight_log
-    from mjcf import load_vehicle
-    from validation.campaign.validate import validate_runs
 
     with pytest.raises(ValueError, match="share the name"):
         validate_runs([straight_log(), straight_log()], load_vehicle("six-axle"), ["kin"])

@@ -1,6 +1,6 @@
 """The plant's compiled closed loop (plant/_loop_c.c) against the Python loop it replaces.
 
-The Python loop of :mod:`validation.harness` driving :class:`plant.Plant`
+The Python loop of :mod:`artic.validation.harness` driving :class:`plant.Plant`
 through ``step`` and ``observe`` is the reference. Both call the same MuJoCo
 step with the same controls, so they agree to rounding; the bound 1e-9 is
 far above double rounding over these runs (they agree exactly here) and far
@@ -16,10 +16,10 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
+from artic.plant import Plant, PlantError, PlantWarning, closedloop
+from artic.validation.harness import loop_inputs, run_inputs
+from artic.validation.steering import SteeringMap
 from conftest import straight_log
-from plant import Plant, PlantError, PlantWarning, closedloop
-from validation.harness import loop_inputs, run_inputs
-from validation.steering import SteeringMap
 
 TOL = 1e-9
 
@@ -139,7 +139,7 @@ def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
 def test_without_the_extension_the_python_loop_runs_and_says_so(unloaded, monkeypatch):
     # An install without a C compiler has no _loop_c: the harness falls back to the
     # Python loop, with one warning, and the run is the same.
-    import plant.plant as plant_module
+    import artic.plant.plant as plant_module
 
     steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
     inp = loop_inputs(straight_log(n=300, u=-1.0, gamma0=0.2), unloaded, steering)

@@ -16,14 +16,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from artic.mjcf import load_vehicle
+from artic.mjcf.interface import wrap_angle
+from artic.validation.cli import main
+from artic.validation.logs import consistency
+from artic.validation.logs.importers import import_source, read_log
+from artic.validation.logs.oxts import export_oxts, import_tables
+from artic.validation.logs.runfile import LogError, Run, check_frame, read_run, write_run
 from hostile_logs import docking, slalom
-from mjcf import load_vehicle
-from mjcf.interface import wrap_angle
-from validation.cli import main
-from validation.logs import consistency
-from validation.logs.importers import import_source, read_log
-from validation.logs.oxts import export_oxts, import_tables
-from validation.logs.runfile import LogError, Run, check_frame, read_run, write_run
 
 WINDOW = r"t = \d+\.\d\d to \d+\.\d\d s"
 
@@ -217,8 +217,8 @@ def test_cli_refuses_and_accepts_with_the_record(tmp_path, capsys):
 def test_a_straight_run_has_no_heading_change_to_judge():
     # Straight driving with sensor noise: the yaw rate's sign cannot be told, and
     # nothing is refused for it (the noise floor), whichever sign it has.
+    from artic.validation.synthetic.sensors import measure
     from conftest import straight_log
-    from validation.synthetic.sensors import measure
 
     f = measure(straight_log(n=3000, u=2.0).frame, np.random.default_rng(3))
     for sign in (1.0, -1.0):

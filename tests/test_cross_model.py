@@ -12,13 +12,13 @@ import math
 import numpy as np
 import pytest
 
+from artic.mjcf.linkage import centre_angle
+from artic.mjcf.vehicle import G
+from artic.plant import Plant
+from artic.plant.tyre import TyreParams
+from artic.reduced import KinematicModel, SingleTrackModel
+from artic.validation.harness import run_closed_loop
 from conftest import steady_turn, straight_log
-from mjcf.linkage import centre_angle
-from mjcf.vehicle import G
-from plant import Plant
-from plant.tyre import TyreParams
-from reduced import KinematicModel, SingleTrackModel
-from validation.harness import run_closed_loop
 
 U = 5 / 3.6
 """Speed of the linear-regime runs [m/s]."""

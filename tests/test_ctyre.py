@@ -9,9 +9,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjcf.interface import InitialState
-from plant import Plant, PlantWarning, callback, ctyre
-from plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
+from artic.mjcf.interface import InitialState
+from artic.plant import Plant, PlantWarning, callback, ctyre
+from artic.plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
 from shared_data import REFERENCE_TYRE, needs
 
 TRAILER_TYRE = "artic-trailer-385-65R22.5.tir"
@@ -49,7 +49,8 @@ def test_compiled_forces_equal_the_numpy_reference(which, moments, unloaded):
     from importlib import resources
 
     path = {"artic": unloaded.tyre_file, "shared": REFERENCE_TYRE,
-            "trailer": resources.files("mjcf") / "tyres" / "artic-trailer-385-65R22.5.tir"}[which]
+            "trailer": resources.files("artic.mjcf") / "tyres"
+            / "artic-trailer-385-65R22.5.tir"}[which]
     p = TyreParams.from_tir(path)
     s = random_states(10_000)
     args = [s[k] for k in ("Fz", "Vx", "Vsx", "Vy", "omega_z", "u", "v", "phi")]
@@ -107,7 +108,7 @@ def test_plant_trajectories_agree_between_backends(unloaded, moments):
 
 
 def test_fallback_warns_and_uses_numpy(unloaded, monkeypatch):
-    import plant.plant as pp
+    import artic.plant.plant as pp
 
     monkeypatch.setattr(ctyre, "library", lambda: None)
     monkeypatch.setattr(ctyre, "unavailable_reason", lambda: "no compiler (test)")
@@ -160,7 +161,7 @@ def test_plants_on_threads_equal_serial(unloaded, loaded):
 
 def test_tyre_files_per_axle(unloaded):
     # The plant takes a tyre file per axle index; the others keep the vehicle's.
-    from mjcf.vehicle import VehicleFileError
+    from artic.mjcf.vehicle import VehicleFileError
 
     trailer = [i for i, a in enumerate(unloaded.axles) if a.unit == 2]
     with Plant(unloaded, tyre_files={i: TRAILER_TYRE for i in trailer}) as p:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from plant.curves import ALPHA_RANGE_DEG, COLUMNS, KAPPA_RANGE
-from validation.cli import main
+from artic.plant.curves import ALPHA_RANGE_DEG, COLUMNS, KAPPA_RANGE
+from artic.validation.cli import main
 
 
 def test_curves_are_written_as_csv_and_png(tmp_path, capsys):

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
+from artic.validation.campaign.executors import cluster_executor
+from artic.validation.campaign.validate import validate_runs
+from artic.validation.synthetic.generate import generate_campaign
 from conftest import straight_log
-from validation.campaign.executors import cluster_executor
-from validation.campaign.validate import validate_runs
-from validation.synthetic.generate import generate_campaign
 
 
 def test_executor_choices_are_checked():

@@ -10,13 +10,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from artic.plant import Plant, PlantError
+from artic.validation.campaign import validate as val
+from artic.validation.campaign.tables import summary
+from artic.validation.cli import main
+from artic.validation.logs.runfile import read_run, write_run
+from artic.validation.runtime import MujocoWarning
 from hostile_logs import docking, slalom
-from plant import Plant, PlantError
-from validation.campaign import validate as val
-from validation.campaign.tables import summary
-from validation.cli import main
-from validation.logs.runfile import read_run, write_run
-from validation.runtime import MujocoWarning
 
 DIVERGE_AT = 5.0
 """When the deliberately absurd parameter is set [s]."""
@@ -39,7 +39,7 @@ def absurd_after_5_s(monkeypatch):
 
 
 def test_plant_error_names_the_last_good_time_and_wheel(absurd_after_5_s, unloaded):
-    from validation.harness import run_closed_loop
+    from artic.validation.harness import run_closed_loop
 
     with Plant(unloaded) as p, pytest.warns(MujocoWarning, match="unstable"):
         with pytest.raises(PlantError) as err:

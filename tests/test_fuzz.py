@@ -43,11 +43,11 @@ import tomli_w
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from artic.mjcf import load_vehicle
+from artic.validation.cli import main
+from artic.validation.logs.runfile import check_frame, read_run, write_run
+from artic.validation.logs.schema import COLUMNS
 from hostile_logs import slalom
-from mjcf import load_vehicle
-from validation.cli import main
-from validation.logs.runfile import check_frame, read_run, write_run
-from validation.logs.schema import COLUMNS
 
 OUTCOMES: dict[str, Counter] = {}
 """Per input kind, the count of cases by outcome."""

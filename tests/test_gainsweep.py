@@ -4,8 +4,13 @@ from __future__ import annotations
 
 import pytest
 
+from artic.validation.campaign.gainsweep import (
+    gain_sweep,
+    plot_gain_sweep,
+    stability_bound,
+    sweep_table,
+)
 from conftest import straight_log
-from validation.campaign.gainsweep import gain_sweep, plot_gain_sweep, stability_bound, sweep_table
 
 
 def test_bound_is_eq7(unloaded):

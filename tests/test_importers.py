@@ -10,15 +10,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mjcf import load_vehicle
-from reduced import SingleTrackModel
-from validation.cli import main
-from validation.logs.importers import import_source
-from validation.logs.oxts import export_mat, export_oxts, import_oxts, import_tables
-from validation.logs.runfile import LogError, Run, check_frame, read_run
-from validation.logs.schema import COLUMNS
-from validation.simulate import simulate
-from validation.synthetic.manoeuvres import make_profile
+from artic.mjcf import load_vehicle
+from artic.reduced import SingleTrackModel
+from artic.validation.cli import main
+from artic.validation.logs.importers import import_source
+from artic.validation.logs.oxts import export_mat, export_oxts, import_oxts, import_tables
+from artic.validation.logs.runfile import LogError, Run, check_frame, read_run
+from artic.validation.logs.schema import COLUMNS
+from artic.validation.simulate import simulate
+from artic.validation.synthetic.manoeuvres import make_profile
 
 
 @pytest.fixture(scope="module")

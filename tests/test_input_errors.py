@@ -20,12 +20,12 @@ import pyarrow.parquet as pq
 import pytest
 import scipy.io
 
+from artic.validation import options
+from artic.validation.cli import main
+from artic.validation.logs.oxts import export_oxts
+from artic.validation.logs.runfile import read_run, write_run
+from artic.validation.logs.schema import COLUMNS
 from hostile_logs import slalom
-from validation import options
-from validation.cli import main
-from validation.logs.oxts import export_oxts
-from validation.logs.runfile import read_run, write_run
-from validation.logs.schema import COLUMNS
 
 
 def fails(capsys, *argv: str, code: int = 2) -> str:

@@ -9,10 +9,10 @@ import warnings
 import numpy as np
 import pytest
 
+from artic.mjcf import load_vehicle
+from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced.kinematic import kin_parameters, wheelbases
 from conftest import steady_turn
-from mjcf import load_vehicle
-from reduced import KinematicModel, SingleTrackModel
-from reduced.kinematic import kin_parameters, wheelbases
 
 U = 5 / 3.6
 
@@ -79,8 +79,8 @@ def test_kin_is_the_stm_with_stiff_tyres_and_every_axle(preset):
 @pytest.mark.parametrize("preset", ["six-axle", "gosar2022-unloaded", "gosar2022-loaded"])
 @pytest.mark.parametrize("radius", [10.0, 15.0, 25.0])
 def test_kin_against_the_plant_in_steady_turns(preset, radius):
-    from mjcf.linkage import centre_angle
-    from plant import Plant, PlantWarning
+    from artic.mjcf.linkage import centre_angle
+    from artic.plant import Plant, PlantWarning
 
     v = load_vehicle(preset)
     with warnings.catch_warnings():

@@ -8,8 +8,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from reduced import InitialState, KinematicModel
-from reduced.kinematic import kin_rhs
+from artic.reduced import InitialState, KinematicModel
+from artic.reduced.kinematic import kin_rhs
 
 
 def steady(model, delta, u, seconds=300.0, dt=0.01):

@@ -5,8 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from artic.validation.logs.runfile import (
+    LogError,
+    Run,
+    atomic_write,
+    check_frame,
+    read_run,
+    write_run,
+)
 from conftest import straight_log
-from validation.logs.runfile import LogError, Run, atomic_write, check_frame, read_run, write_run
 
 
 def good_log() -> Run:

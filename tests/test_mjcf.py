@@ -9,13 +9,13 @@ import mujoco
 import numpy as np
 import pytest
 
+from artic.mjcf import load_vehicle
+from artic.mjcf import naming as nm
+from artic.mjcf.builder import build_model, linkage, to_xml
+from artic.mjcf.linkage import Trapezoid, centre_angle
+from artic.mjcf.vehicle import G
+from artic.validation.cli import main
 from conftest import PRESETS
-from mjcf import load_vehicle
-from mjcf import naming as nm
-from mjcf.builder import build_model, linkage, to_xml
-from mjcf.linkage import Trapezoid, centre_angle
-from mjcf.vehicle import G
-from validation.cli import main
 
 
 @pytest.fixture(scope="module", params=PRESETS)
@@ -160,7 +160,7 @@ def test_cli_writes_mjcf(tmp_path, capsys):
 
 
 def test_wrap_angle_scalar_path_equals_the_array_path_to_the_bit():
-    from mjcf.interface import wrap_angle
+    from artic.mjcf.interface import wrap_angle
 
     rng = np.random.default_rng(1)
     xs = np.concatenate([rng.normal(0.0, 10.0, 20000), rng.normal(0.0, 1e-3, 1000),

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numba
 
-from validation import runtime
+from artic.validation import runtime
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -71,7 +71,7 @@ def test_importing_reduced_sets_nothing():
     import sys
 
     code = ("import numba; before = numba.config.CACHE_DIR; "
-            "import reduced, validation.harness, validation.reducedloop; "
+            "import artic.reduced, artic.validation.harness, artic.validation.reducedloop; "
             "print(numba.config.CACHE_DIR == before)")
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -98,7 +98,7 @@ def test_old_folders_go_after_a_month(tmp_path, monkeypatch):
 
 
 def test_run_caches_follow_the_computing_code_only(tmp_path):
-    from validation.campaign import fingerprint
+    from artic.validation.campaign import fingerprint
 
     roots = {}
     for pkg in fingerprint.PACKAGES:

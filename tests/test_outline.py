@@ -6,10 +6,10 @@ import mujoco
 import numpy as np
 import pytest
 
+from artic.mjcf import load_vehicle, naming
+from artic.mjcf.builder import build_model
+from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from conftest import PRESETS
-from mjcf import load_vehicle, naming
-from mjcf.builder import build_model
-from mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 
 
 @pytest.mark.parametrize("preset", PRESETS)
@@ -41,7 +41,7 @@ def test_the_plant_draws_the_outline_and_the_dock(unloaded):
 
 
 def test_the_driver_backs_the_outline_rear_to_the_dock(unloaded):
-    from validation.synthetic.driver import DockingDriver
+    from artic.validation.synthetic.driver import DockingDriver
 
     d = DockingDriver(unloaded)
     assert d.rear == pytest.approx(outline(unloaded).rear_behind_kingpin)
@@ -55,7 +55,7 @@ def test_the_driver_backs_the_outline_rear_to_the_dock(unloaded):
 
 
 def test_the_recording_draws_the_outline(unloaded):
-    from validation.campaign.recording import _Geometry
+    from artic.validation.campaign.recording import _Geometry
 
     g, o = _Geometry(unloaded), outline(unloaded)
     cx, hx, _ = g.trailer_body

@@ -13,10 +13,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from artic.validation.cli import main
+from artic.validation.logs.runfile import write_run
+from artic.validation.pathdist import LEAF, _build, distance_to_polyline
 from hostile_logs import slalom
-from validation.cli import main
-from validation.logs.runfile import write_run
-from validation.pathdist import LEAF, _build, distance_to_polyline
 
 
 def brute_force(points: np.ndarray, path: np.ndarray) -> np.ndarray:

@@ -8,15 +8,15 @@ import mujoco
 import numpy as np
 import pytest
 
+from artic.mjcf import load_vehicle
+from artic.mjcf.linkage import centre_angle
+from artic.plant import Plant, PlantError, callback
+from artic.plant.tyre import TyreParams, TyreRangeWarning
+from artic.reduced import InitialState, SingleTrackModel
+from artic.validation.harness import run_closed_loop
+from artic.validation.simulate import drive_articulation
+from artic.validation.steering import SteeringMap
 from conftest import PRESETS, straight_log
-from mjcf import load_vehicle
-from mjcf.linkage import centre_angle
-from plant import Plant, PlantError, callback
-from plant.tyre import TyreParams, TyreRangeWarning
-from reduced import InitialState, SingleTrackModel
-from validation.harness import run_closed_loop
-from validation.simulate import drive_articulation
-from validation.steering import SteeringMap
 
 
 @pytest.fixture(scope="module")

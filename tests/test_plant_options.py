@@ -14,11 +14,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjcf import load_vehicle
-from mjcf.builder import gravity
-from mjcf.interface import InitialState
-from mjcf.vehicle import G, PlantOptions
-from plant import Plant
+from artic.mjcf import load_vehicle
+from artic.mjcf.builder import gravity
+from artic.mjcf.interface import InitialState
+from artic.mjcf.vehicle import G, PlantOptions
+from artic.plant import Plant
 
 
 def with_options(v, **kw):

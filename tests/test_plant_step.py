@@ -18,9 +18,9 @@ import warnings
 import numpy as np
 import pytest
 
-from mjcf.interface import InitialState
-from plant import Plant, PlantError, PlantWarning, closedloop
-from plant.tyre import TyreRangeWarning
+from artic.mjcf.interface import InitialState
+from artic.plant import Plant, PlantError, PlantWarning, closedloop
+from artic.plant.tyre import TyreRangeWarning
 
 
 def _drive(vehicle, compiled: bool, speed: str, n: int = 800, plant_kw=None, edit=None):

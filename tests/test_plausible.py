@@ -8,11 +8,11 @@ from pathlib import Path
 
 import pytest
 
-from mjcf import load_vehicle
-from mjcf.plausible import VEHICLE_RANGES, PlausibilityWarning
-from mjcf.schema import VehicleFileError
-from mjcf.tir import COEFFICIENT_RANGES, TirError, read_tir
-from validation.cli import main
+from artic.mjcf import load_vehicle
+from artic.mjcf.plausible import VEHICLE_RANGES, PlausibilityWarning
+from artic.mjcf.schema import VehicleFileError
+from artic.mjcf.tir import COEFFICIENT_RANGES, TirError, read_tir
+from artic.validation.cli import main
 
 PRESET = Path(load_vehicle("gosar2022-unloaded").path)
 TYRE = Path(load_vehicle("gosar2022-unloaded").tyre_file)
@@ -90,7 +90,7 @@ def test_cli_warning_is_one_line(tmp_path, capsys):
     assert len(err) == 1 and err[0].startswith("artic: warning: ") and "trailer.h2" in err[0]
 
 
-@pytest.mark.filterwarnings("ignore::mjcf.plausible.PlausibilityWarning")
+@pytest.mark.filterwarnings("ignore::artic.mjcf.plausible.PlausibilityWarning")
 @pytest.mark.parametrize("old,new,words", [
     (r"^PTY1 .*$", "PTY1 = 0.0", "key PTY1: 0 is impossible"),
     (r"^FNOMIN .*$", "FNOMIN = nan", "key FNOMIN: nan is not a finite number"),

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import warnings
 
-from plant import PlantWarning
-from plant.tyre import TyreRangeWarning
-from validation.plantnotes import collect, summary
-from validation.progress import Counter, duration
+from artic.plant import PlantWarning
+from artic.plant.tyre import TyreRangeWarning
+from artic.validation.plantnotes import collect, summary
+from artic.validation.progress import Counter, duration
 
 
 def test_counter_counts_throttles_and_estimates():

@@ -8,12 +8,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import as_log
-from mjcf.interface import wrap_angle
-from plant import Plant
-from reduced import KinematicModel, SingleTrackModel
-from validation.campaign.plantshape import plant_shape, wheel_quat, xyzw
-from validation.campaign.recording import (
+from artic.mjcf.interface import wrap_angle
+from artic.plant import Plant
+from artic.reduced import KinematicModel, SingleTrackModel
+from artic.validation.campaign.plantshape import plant_shape, wheel_quat, xyzw
+from artic.validation.campaign.recording import (
     FORCE_SCALE,
     PLOT_RATE,
     YARD_RATE,
@@ -25,9 +24,10 @@ from validation.campaign.recording import (
     record_manoeuvre,
     record_summary,
 )
-from validation.harness import run_closed_loop
-from validation.simulate import simulate
-from validation.synthetic.manoeuvres import make_profile
+from artic.validation.harness import run_closed_loop
+from artic.validation.simulate import simulate
+from artic.validation.synthetic.manoeuvres import make_profile
+from conftest import as_log
 
 
 @pytest.fixture(scope="module")

@@ -15,14 +15,14 @@ import warnings
 
 import pytest
 
-from mjcf import load_vehicle
-from plant import Plant, PlantWarning
-from validation.harness import run_closed_loop
-from validation.metrics import run_metrics
-from validation.synthetic.generate import simulate_manoeuvre
-from validation.synthetic.sensors import SensorModel
-from validation.synthetic.testmatrix import MATRIX
-from validation.synthetic.truth import write_truth_files
+from artic.mjcf import load_vehicle
+from artic.plant import Plant, PlantWarning
+from artic.validation.harness import run_closed_loop
+from artic.validation.metrics import run_metrics
+from artic.validation.synthetic.generate import simulate_manoeuvre
+from artic.validation.synthetic.sensors import SensorModel
+from artic.validation.synthetic.testmatrix import MATRIX
+from artic.validation.synthetic.truth import write_truth_files
 
 SEED = 0
 
@@ -69,7 +69,7 @@ def check(result: dict) -> None:
 
 
 def test_truth_files_load_as_the_truth(truth_files):
-    from validation.synthetic.truth import truth_configuration, truth_vehicle
+    from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
 
     truth = truth_configuration(SEED, "legacy")
     for load, path in truth_files.items():
@@ -95,7 +95,7 @@ def test_ideal_sensors_report_the_truth():
     import numpy as np
     import pandas as pd
 
-    from validation.synthetic.sensors import measure
+    from artic.validation.synthetic.sensors import measure
 
     t = np.arange(50) * 0.01
     frame = pd.DataFrame({"t": t, "delta_h": np.sin(t), "x_1": t, "y_1": 0 * t, "psi_1": 0 * t,

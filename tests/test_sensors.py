@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from reduced import InitialState, KinematicModel, SingleTrackModel
+from artic.reduced import InitialState, KinematicModel, SingleTrackModel
 
 
 def velocities_from_positions(obs, dt):

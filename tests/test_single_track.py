@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from mjcf import load_vehicle
-from reduced import InitialState, KinematicModel, SingleTrackModel
-from reduced.single_track import N_BODY, generalised_forces, mass_and_bias, stm_rhs
-from reduced.tyre_linear import slip_angle, slip_rate
+from artic.mjcf import load_vehicle
+from artic.reduced import InitialState, KinematicModel, SingleTrackModel
+from artic.reduced.single_track import N_BODY, generalised_forces, mass_and_bias, stm_rhs
+from artic.reduced.tyre_linear import slip_angle, slip_rate
 
 RNG = np.random.default_rng(20221)
 
@@ -258,7 +258,7 @@ def test_deterministic(unloaded):
 def test_start_from_rest_with_noisy_velocity_has_relaxed_tyres(unloaded):
     # A log that starts at rest reads 1 cm/s of sensor noise. Steady-state slip
     # from that would be near 90 deg; the tyres start relaxed in proportion to speed.
-    from reduced.models import U_SLIP_KNOWN
+    from artic.reduced.models import U_SLIP_KNOWN
 
     m = SingleTrackModel(unloaded)
     m.reset(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.01, u1=0.005))

@@ -6,10 +6,10 @@ import mujoco
 import numpy as np
 import pytest
 
-import plant
-from mjcf import load_vehicle, naming
-from plant import callback
-from validation.cli import main
+import artic.plant as plant
+from artic.mjcf import load_vehicle, naming
+from artic.plant import callback
+from artic.validation.cli import main
 
 
 def test_the_exported_truck_rolls_straight_on_its_tyres(tmp_path):
@@ -42,7 +42,7 @@ def test_the_exported_truck_rolls_straight_on_its_tyres(tmp_path):
 
 
 def test_a_file_without_tyre_data_is_refused(tmp_path):
-    from plant.ctyre import TyreBlockError
+    from artic.plant.ctyre import TyreBlockError
 
     path = tmp_path / "bare.xml"
     assert main(["mjcf", "--vehicle", "gosar2022-unloaded", "--no-scene", "-o", str(path)]) == 0
@@ -72,7 +72,7 @@ def test_a_file_with_bad_tyre_data_is_refused_naming_it(tmp_path):
     # plant.load seals whatever block a file carries, so it must check every
     # value itself: before, a zero relaxation length or an infinite tyre count
     # was sealed, attached and diverged (NaN state) instead of being refused.
-    from plant import ctyre
+    from artic.plant import ctyre
 
     good = tmp_path / "truck.xml"
     assert main(["mjcf", "--vehicle", "gosar2022-unloaded", "-o", str(good)]) == 0

@@ -8,12 +8,12 @@ from collections import Counter
 import numpy as np
 import pytest
 
+from artic.reduced import InitialState, KinematicModel
+from artic.validation.logs.importers import import_source
+from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
+from artic.validation.synthetic.sensors import SensorModel, measure
+from artic.validation.synthetic.testmatrix import MATRIX, TUNING
 from conftest import straight_log
-from reduced import InitialState, KinematicModel
-from validation.logs.importers import import_source
-from validation.synthetic.driver import DockingDriver, drive_to_dock
-from validation.synthetic.sensors import SensorModel, measure
-from validation.synthetic.testmatrix import MATRIX, TUNING
 
 
 def test_matrix_has_the_seed_counts_and_every_cell():
@@ -69,7 +69,7 @@ def test_sensor_model():
 
 @pytest.mark.slow
 def test_generated_manoeuvres(tmp_path):
-    from validation.synthetic.generate import generate_campaign
+    from artic.validation.synthetic.generate import generate_campaign
 
     names = ["28-ramp-steer-reverse-unloaded-30deg-6kph-right", "45-docking-unloaded-left"]
     with pytest.raises(ValueError, match="no manoeuvre matches 99-nothing"):

@@ -9,9 +9,9 @@ import warnings
 import numpy as np
 import pytest
 
-from mjcf import load_vehicle
-from validation.synthetic.actuation import PedalDriver, SteeringColumn
-from validation.synthetic.truth import (
+from artic.mjcf import load_vehicle
+from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn
+from artic.validation.synthetic.truth import (
     TRAILER_TYRE,
     slope,
     truth_configuration,
@@ -95,11 +95,11 @@ def test_the_structural_truth_differs_in_structure_the_legacy_one_does_not():
     # tuning would find), against logs from each truth, beside the floor: the
     # truth's own plant. From the legacy truth only LKY and LMUY differ, so the
     # preset plant sits near the floor; from the structural truth it is well above.
-    from plant import Plant, PlantWarning
-    from validation.harness import run_closed_loop
-    from validation.metrics import run_metrics
-    from validation.synthetic.generate import simulate_manoeuvre
-    from validation.synthetic.testmatrix import MATRIX
+    from artic.plant import Plant, PlantWarning
+    from artic.validation.harness import run_closed_loop
+    from artic.validation.metrics import run_metrics
+    from artic.validation.synthetic.generate import simulate_manoeuvre
+    from artic.validation.synthetic.testmatrix import MATRIX
 
     names = ("02-constant-steer", "25-ramp-steer-reverse", "43-docking")
     gap = {}

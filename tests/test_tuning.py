@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
+from artic.mjcf.writer import fitted_changes, updated, write_vehicle
+from artic.reduced import KinematicModel, SingleTrackModel
+from artic.validation.campaign.tuning import Objective, apply, bounds_for, tune_model
+from artic.validation.harness import run_closed_loop
+from artic.validation.metrics import run_metrics
+from artic.validation.simulate import simulate
+from artic.validation.synthetic.manoeuvres import make_profile
 from conftest import as_log
-from mjcf.writer import fitted_changes, updated, write_vehicle
-from reduced import KinematicModel, SingleTrackModel
-from validation.campaign.tuning import Objective, apply, bounds_for, tune_model
-from validation.harness import run_closed_loop
-from validation.metrics import run_metrics
-from validation.simulate import simulate
-from validation.synthetic.manoeuvres import make_profile
 
 TRUTH = {"stm": {"f": 7.4, "i_s": 22.3, "q": 0.006, "delta_h_offset": 0.061},
          "kin": {"i_s": 19.8, "q": 0.012, "delta_h_offset": -0.03}}
@@ -90,7 +90,7 @@ def test_the_parallel_jacobian_is_least_squares_own_difference(unloaded):
     # columns agree to rounding.
     from scipy.optimize._numdiff import approx_derivative
 
-    from validation.campaign.tuning import DIFF_STEP, ParallelJacobian
+    from artic.validation.campaign.tuning import DIFF_STEP, ParallelJacobian
 
     logs = own_logs(unloaded, "kin", TRUTH["kin"])[:2]
     obj = Objective("kin", unloaded, logs)
@@ -110,7 +110,7 @@ def test_the_parallel_jacobian_is_least_squares_own_difference(unloaded):
 def test_broyden_updates_meet_the_secant_condition_without_a_run(unloaded):
     # After the first Jacobian, each accepted point updates it by rank one so that
     # J_new (z_new - z_old) = f_new - f_old exactly (to rounding), at no plant run.
-    from validation.campaign.tuning import ParallelJacobian
+    from artic.validation.campaign.tuning import ParallelJacobian
 
     logs = own_logs(unloaded, "kin", TRUTH["kin"])[:2]
     obj = Objective("kin", unloaded, logs)
@@ -131,8 +131,8 @@ def test_broyden_updates_meet_the_secant_condition_without_a_run(unloaded):
 
 
 def test_the_plant_starts_from_the_stm_steering_column():
-    from validation.campaign.main import start_from
-    from validation.campaign.tuning import Bound, start_values
+    from artic.validation.campaign.main import start_from
+    from artic.validation.campaign.tuning import Bound, start_values
 
     fitted = {"stm": {"f": 9.0, "i_s": 22.3, "q": 0.007, "delta_h_offset": 0.1}}
     assert start_from("mbd", fitted) == {"i_s": 22.3, "delta_h_offset": 0.1}  # not q, not f
@@ -153,7 +153,7 @@ def test_the_plant_fit_matches_full_differences_from_nominal(unloaded):
     # same optimum within the plant's xtol (1e-4 of each span: 1e-3 in i_s,
     # 5e-5 rad in the offset) times the flat valley's amplification; 2e-4
     # relative in i_s and 3.5e-4 rad (0.02 deg) in the offset.
-    from validation.campaign.tuning import full_difference_fit
+    from artic.validation.campaign.tuning import full_difference_fit
 
     logs = own_logs(unloaded, "stm", TRUTH["stm"])[:2]
     obj = Objective("mbd", unloaded, logs, jobs=2)

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from mjcf.tir import TirError, read_tir
-from plant.tyre import (
+from artic.mjcf.tir import TirError, read_tir
+from artic.plant.tyre import (
     TyreParams,
     TyreRangeWarning,
     check_ranges,

@@ -24,11 +24,11 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from plant.tyre import TyreParams, steady_state
+from artic.plant.tyre import TyreParams, steady_state
 from reference import pac2002_book as book
 from shared_data import REFERENCE_TYRE, needs
 
-SHIPPED = [str(resources.files("mjcf") / "tyres" / n)
+SHIPPED = [str(resources.files("artic.mjcf") / "tyres" / n)
            for n in ("artic-truck-315-80R22.5.tir", "artic-trailer-385-65R22.5.tir")]
 V_CX = 1e4
 """Forward speed given to the reference [m/s] (see the module docstring)."""

@@ -11,10 +11,10 @@ import textwrap
 import numpy as np
 import pytest
 
-from mjcf import load_vehicle
-from mjcf.interface import InitialState
-from plant import Plant
-from plant.tyre import (
+from artic.mjcf import load_vehicle
+from artic.mjcf.interface import InitialState
+from artic.plant import Plant
+from artic.plant.tyre import (
     TWIST_LIMIT,
     TWIST_STIFFNESS,
     TyreParams,
@@ -76,7 +76,7 @@ def test_bore_torque_is_friction_through_standstill_and_reversal():
     # turned back, then rolled round a 10 m turn, through a stop into reverse.
     from importlib import resources
 
-    p = TyreParams.from_tir(resources.files("mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
+    p = TyreParams.from_tir(resources.files("artic.mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
     Fz, dt, R = np.array([30e3]), 1e-3, 10.0
     a, phi_s = p.patch_half_length(Fz)[0], p.twist_scale(Fz)[0]
     phi_lim = TWIST_LIMIT * phi_s
@@ -125,7 +125,7 @@ def test_bore_torque_is_friction_through_standstill_and_reversal():
 def test_twist_is_continuous_through_standstill_and_relaxes_when_rolling():
     from importlib import resources
 
-    p = TyreParams.from_tir(resources.files("mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
+    p = TyreParams.from_tir(resources.files("artic.mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
     Fz = np.array([30e3])
     phi = np.array([-0.1])
     z = np.zeros(1)
@@ -176,8 +176,8 @@ def test_a_malformed_tyre_block_raises_and_never_crashes(case):
     # In a subprocess: a segmentation fault would end it with a signal.
     code = textwrap.dedent(f"""
         import mujoco, numpy as np
-        from mjcf import load_vehicle
-        from plant import Plant, ctyre
+        from artic.mjcf import load_vehicle
+        from artic.plant import Plant, ctyre
         with Plant(load_vehicle("gosar2022-unloaded"), backend="c") as p:
             m, d = p.model, p.data
             blk = m.numeric_data
@@ -202,9 +202,9 @@ def test_a_malformed_tyre_block_raises_and_never_crashes(case):
 def test_a_block_refuses_a_zero_relaxation_length():
     from importlib import resources
 
-    from plant import ctyre
+    from artic.plant import ctyre
 
-    p = TyreParams.from_tir(resources.files("mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
+    p = TyreParams.from_tir(resources.files("artic.mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
     bad = dataclasses.replace(p, PTY1=0.0)
     with pytest.raises(ctyre.TyreBlockError, match="PTY1 = 0.0 must be positive"):
         ctyre.check_set(bad)
@@ -247,7 +247,7 @@ def _straight_run(v, tyre=None):
 @pytest.mark.slow
 def test_ply_steer_is_not_mirrored_so_a_real_tyre_drifts_with_it():
     # The real file pushes at zero slip angle (its offsets); artic takes that as
-    # ply steer, alike on both sides (see plant.tyre, "Mounting side"). Driven
+    # ply steer, alike on both sides (see artic.plant.tyre, "Mounting side"). Driven
     # straight, the combination must then crab until every tyre runs near the
     # slip angle at which its force vanishes, and drift to the side the tyres
     # push. Mirrored per side (MF-Tyre's TYRESIDE), the offsets would cancel on
@@ -279,11 +279,11 @@ def test_ply_steer_is_not_mirrored_so_a_real_tyre_drifts_with_it():
 FOREIGN = textwrap.dedent('''
     import mujoco, numpy as np
     from importlib import resources
-    from mjcf import load_vehicle
-    from plant import Plant, ctyre
-    from plant.tyre import TyreParams
+    from artic.mjcf import load_vehicle
+    from artic.plant import Plant, ctyre
+    from artic.plant.tyre import TyreParams
 
-    P = TyreParams.from_tir(resources.files("mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
+    P = TyreParams.from_tir(resources.files("artic.mjcf") / "tyres" / "artic-truck-315-80R22.5.tir")
     WHEEL = {"hub_site": 0, "hub_body": 1, "root_body": 1, "wheel_body": 2, "spin_dof": 6,
              "act_u": 0, "act_v": 1, "act_w": 2, "ctrl_u": 0, "ctrl_v": 1, "ctrl_w": 2,
              "n_tyres": 1, "tyre_set": 0}

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from artic.mjcf import VehicleFileError, load_vehicle, preset_names
+from artic.mjcf.vehicle import G, resolve_vehicle_path
 from conftest import PRESETS
-from mjcf import VehicleFileError, load_vehicle, preset_names
-from mjcf.vehicle import G, resolve_vehicle_path
 
 # Appendix of the paper: measured axle loads [N]; drive axle, trailer axles 1-3.
 MEASURED = {

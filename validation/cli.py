@@ -16,7 +16,7 @@ Subcommands:
 
 Errors in the user's input end with exit code 2 and a one-line message that
 names the file and what to change; no traceback. That covers the options
-(every number finite and in range, see :mod:`validation.options`), the
+(every number finite and in range, see :mod:`artic.validation.options`), the
 output locations (checked before the work starts; a read-only, full or
 wrong-type path is named with the system's reason), the input files
 (malformed CSV, Parquet, ``.mat``, JSON or TOML), a run too long for the
@@ -35,18 +35,18 @@ import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
-from mjcf import schema
-from mjcf.schema import VehicleFileError
-from mjcf.vehicle import load_vehicle
-from validation import options
-from validation.harness import DEFAULT_GAIN
-from validation.logs.consistency import CHECKS, parse_accept
-from validation.logs.importers import read_log
-from validation.logs.runfile import LogError, atomic_write, write_run
-from validation.models import NAMES
-from validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
-from validation.steering import SteeringRangeError
-from validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
+from artic.mjcf import schema
+from artic.mjcf.schema import VehicleFileError
+from artic.mjcf.vehicle import load_vehicle
+from artic.validation import options
+from artic.validation.harness import DEFAULT_GAIN
+from artic.validation.logs.consistency import CHECKS, parse_accept
+from artic.validation.logs.importers import read_log
+from artic.validation.logs.runfile import LogError, atomic_write, write_run
+from artic.validation.models import NAMES
+from artic.validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
+from artic.validation.steering import SteeringRangeError
+from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
 
 JOBS = os.cpu_count() or 1
 """Default of every ``--jobs``: the number of cores."""
@@ -84,8 +84,8 @@ def _vehicle_keys(args: argparse.Namespace) -> int:
 
 
 def _simulate(args: argparse.Namespace) -> int:
-    from validation.models import build
-    from validation.simulate import simulate
+    from artic.validation.models import build
+    from artic.validation.simulate import simulate
 
     out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
@@ -125,14 +125,14 @@ def _read_logs(args: argparse.Namespace, vehicle) -> list:
 
 
 def _validate(args: argparse.Namespace) -> int:
-    from validation.campaign.tables import markdown, summary, write_table
-    from validation.campaign.validate import (
+    from artic.validation.campaign.tables import markdown, summary, write_table
+    from artic.validation.campaign.validate import (
         FAILED,
         stderr_progress,
         validate_runs,
         write_metrics,
     )
-    from validation.models import parse_models
+    from artic.validation.models import parse_models
 
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
@@ -159,7 +159,7 @@ def _validate(args: argparse.Namespace) -> int:
                 write_table(table, out / stem, title)
                 print(f"\n{title}\n\n{markdown(table)}")
         if args.gain_sweep:
-            from validation.campaign.gainsweep import (
+            from artic.validation.campaign.gainsweep import (
                 DEFAULT_GAINS,
                 gain_sweep,
                 plot_gain_sweep,
@@ -182,9 +182,9 @@ def _validate(args: argparse.Namespace) -> int:
 
 def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
     """One Rerun recording per log, with every model that has a result on it."""
-    from validation.campaign.recording import record_manoeuvre
-    from validation.campaign.validate import is_failed
-    from validation.logs.runfile import read_run
+    from artic.validation.campaign.recording import record_manoeuvre
+    from artic.validation.campaign.validate import is_failed
+    from artic.validation.logs.runfile import read_run
 
     for log in logs:
         rows = metrics[metrics["log"] == log.name]
@@ -197,10 +197,10 @@ def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
 
 
 def _tune(args: argparse.Namespace) -> int:
-    from mjcf.writer import fitted_changes, updated, write_vehicle
-    from validation.campaign.tuning import tune
-    from validation.campaign.validate import stderr_progress
-    from validation.models import parse_models
+    from artic.mjcf.writer import fitted_changes, updated, write_vehicle
+    from artic.validation.campaign.tuning import tune
+    from artic.validation.campaign.validate import stderr_progress
+    from artic.validation.models import parse_models
 
     out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
@@ -231,16 +231,16 @@ def _tune(args: argparse.Namespace) -> int:
 
 
 def _mjcf(args: argparse.Namespace) -> int:
-    from validation.logs.runfile import atomic_write_text
+    from artic.validation.logs.runfile import atomic_write_text
 
     check_output_file(args.output, "-o")
     v = load_vehicle(args.vehicle)
     if args.no_scene:  # the vehicle's geometry alone, for viewing or for other scenes
-        from mjcf.builder import to_xml
+        from artic.mjcf.builder import to_xml
 
         text, what = to_xml(v, scene=False), "no tyre data; plant.load needs the full file"
     else:
-        from plant.standalone import to_xml
+        from artic.plant.standalone import to_xml
 
         text, what = to_xml(v), "with its tyre data: plant.load(path) simulates it"
     path = atomic_write_text(args.output, text)
@@ -249,7 +249,7 @@ def _mjcf(args: argparse.Namespace) -> int:
 
 
 def _logs_import(args: argparse.Namespace) -> int:
-    from validation.logs.importers import import_sources
+    from artic.validation.logs.importers import import_sources
 
     accept = parse_accept(args.accept)
     vehicle = load_vehicle(args.vehicle) if args.vehicle else None
@@ -260,12 +260,12 @@ def _logs_import(args: argparse.Namespace) -> int:
 
 
 def _logs_generate(args: argparse.Namespace) -> int:
-    from validation.campaign.validate import stderr_progress
-    from validation.synthetic.generate import generate_campaign
+    from artic.validation.campaign.validate import stderr_progress
+    from artic.validation.synthetic.generate import generate_campaign
 
     only = [o for o in args.only.split(",") if o] if args.only else None
     check_output_dir(args.out_dir)
-    from validation.synthetic.sensors import SensorModel
+    from artic.validation.synthetic.sensors import SensorModel
 
     sensors = SensorModel.ideal() if args.sensors == "ideal" else SensorModel()
     paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress,
@@ -278,10 +278,10 @@ def _logs_generate(args: argparse.Namespace) -> int:
 def _tyre_curves(args: argparse.Namespace) -> int:
     import math
 
-    from mjcf.vehicle import resolve_tyre_file
-    from plant.curves import curves, plot_curves
-    from plant.tyre import TyreParams
-    from validation.logs.runfile import atomic_write
+    from artic.mjcf.vehicle import resolve_tyre_file
+    from artic.plant.curves import curves, plot_curves
+    from artic.plant.tyre import TyreParams
+    from artic.validation.logs.runfile import atomic_write
 
     try:
         loads = [float(x) for x in args.fz.split(",") if x.strip()]
@@ -308,9 +308,9 @@ def _tyre_curves(args: argparse.Namespace) -> int:
 
 
 def _campaign(args: argparse.Namespace) -> int:
-    from validation.campaign.executors import DaskOptions
-    from validation.campaign.main import run_campaign
-    from validation.models import parse_models
+    from artic.validation.campaign.executors import DaskOptions
+    from artic.validation.campaign.main import run_campaign
+    from artic.validation.models import parse_models
 
     sweep = tuple(parse_models(args.sweep_models)) if args.sweep_models else ()
     models = tuple(parse_models(args.models))

@@ -27,9 +27,9 @@ Inputs per sample ``k`` (held over the step to ``k + 1``):
 The applied road-wheel angle is limited to the vehicle's ``delta_max``; the
 run's ``delta_saturated`` column says where.
 
-Three loops run this law (:mod:`validation.feedback`): the numba loop of
-:mod:`validation.reducedloop` for KIN and the STM,
-the plant's own loop in C (:mod:`plant.closedloop`, which ``closed_loop()``
+Three loops run this law (:mod:`artic.validation.feedback`): the numba loop of
+:mod:`artic.validation.reducedloop` for KIN and the STM,
+the plant's own loop in C (:mod:`artic.plant.closedloop`, which ``closed_loop()``
 offers), and :func:`_python_loop` for any other model. The Python loop is the
 reference the plant's C loop is tested against.
 """
@@ -42,12 +42,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pandas as pd
 
-from mjcf.interface import InitialState
-from mjcf.vehicle import Vehicle
-from validation.feedback import feedback_law
-from validation.logs.runfile import Run, new_frame
-from validation.models import Model
-from validation.steering import SteeringMap
+from artic.mjcf.interface import InitialState
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.feedback import feedback_law
+from artic.validation.logs.runfile import Run, new_frame
+from artic.validation.models import Model
+from artic.validation.steering import SteeringMap
 
 DEFAULT_GAIN = 3.0
 """The paper's feedback gain K [rad/rad]."""
@@ -159,17 +159,17 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         Per computed sample.
     n_done : int
         Rows computed; fewer than the inputs when the model left the
-        plausible range (see :func:`validation.reducedloop.compiled_loop`).
+        plausible range (see :func:`artic.validation.reducedloop.compiled_loop`).
     """
     model.reset(inputs.initial)
     args = loop_args(inputs, vehicle, gain)
     form = model.compiled()
     if form is not None:
-        from validation.reducedloop import compiled_loop  # numba: only for KIN and the STM
+        from artic.validation.reducedloop import compiled_loop  # numba: only for KIN and the STM
 
         return compiled_loop(*form, *args)
     loop = model.closed_loop()
-    if loop is not None:  # the plant's loop in C (plant.closedloop)
+    if loop is not None:  # the plant's loop in C (artic.plant.closedloop)
         res = loop(*args, extras=extras is not None)
         if res.raw is not None:
             names = model.extra_columns

@@ -18,8 +18,8 @@ from typing import Protocol
 
 import numpy as np
 
-from mjcf.interface import InitialState
-from mjcf.vehicle import Vehicle
+from artic.mjcf.interface import InitialState
+from artic.mjcf.vehicle import Vehicle
 
 
 class Model(Protocol):
@@ -31,11 +31,11 @@ class Model(Protocol):
       angle ``delta`` [rad] held and the tractor's longitudinal speed rising
       linearly from ``u1`` [m/s] at rate ``u1_dot`` [m/s^2];
     - ``observe(delta)`` returns the signals a measured log has, in
-      :data:`mjcf.interface.OBSERVATION` order;
+      :data:`artic.mjcf.interface.OBSERVATION` order;
     - ``compiled()`` returns the model's compiled form for the harness's
       compiled loop, or ``None`` when it has none (the plant);
     - ``closed_loop()`` returns a loop of the model's own that runs a whole
-      log (the plant's, in C: :func:`plant.closedloop.run`), or ``None``;
+      log (the plant's, in C: :func:`artic.plant.closedloop.run`), or ``None``;
     - ``close()`` releases what the model holds (the plant's callback);
     - ``gamma`` is the current articulation angle [rad].
     """
@@ -66,19 +66,19 @@ class Model(Protocol):
 
 
 def _kin(vehicle: Vehicle) -> Model:
-    from reduced import KinematicModel
+    from artic.reduced import KinematicModel
 
     return KinematicModel(vehicle)
 
 
 def _stm(vehicle: Vehicle) -> Model:
-    from reduced import SingleTrackModel
+    from artic.reduced import SingleTrackModel
 
     return SingleTrackModel(vehicle)
 
 
 def _mbd(vehicle: Vehicle) -> Model:
-    from plant import Plant
+    from artic.plant import Plant
 
     return Plant(vehicle)
 

@@ -29,7 +29,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from mjcf.files import TEMP_SUFFIX, public_mode, umask
+from artic.mjcf.files import TEMP_SUFFIX, public_mode, umask
 
 __all__ = ["LOCK_NAME", "TEMP_SUFFIX", "LockedError", "OutDirLock", "OutputError",
            "check_output_dir", "check_output_file", "clean_stale", "public_mode", "umask"]

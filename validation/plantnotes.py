@@ -1,6 +1,6 @@
 """What the plant had to limit during a run, collected instead of printed as warnings.
 
-The plant warns (:class:`plant.PlantWarning`, :class:`plant.tyre.TyreRangeWarning`)
+The plant warns (:class:`plant.PlantWarning`, :class:`artic.plant.tyre.TyreRangeWarning`)
 when it limits something: a steering angle beyond the linkage, a tyre outside
 its file's valid range. Printed as Python warnings they carry site-packages
 paths and no manoeuvre name, and one validation prints dozens of them.
@@ -19,8 +19,8 @@ import threading
 import warnings
 from collections.abc import Iterator
 
-from plant import PlantWarning
-from plant.tyre import TyreRangeWarning
+from artic.plant import PlantWarning
+from artic.plant.tyre import TyreRangeWarning
 
 _local = threading.local()
 _lock = threading.Lock()

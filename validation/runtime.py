@@ -56,7 +56,7 @@ def compiled_sources() -> list[Path]:
     Found without importing ``reduced``, so that the cache folder is chosen
     before any compiled function is defined.
     """
-    spec = importlib.util.find_spec("reduced")
+    spec = importlib.util.find_spec("artic.reduced")
     reduced_dir = Path(next(iter(spec.submodule_search_locations)))
     here = Path(__file__).resolve().parent
     return sorted(reduced_dir.glob("*.py")) + [here / m for m in COMPILED_MODULES]
@@ -107,7 +107,7 @@ def quiet_mujoco_timers() -> None:
 
     if mujoco.get_mjcb_time() is not None:  # the user's (or ours, already)
         return
-    from plant.ctyre import zero_clock
+    from artic.plant.ctyre import zero_clock
 
     clock = zero_clock()
     if clock is not None:

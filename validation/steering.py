@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mjcf.vehicle import Steering
+from artic.mjcf.vehicle import Steering
 
 
 class SteeringRangeError(ValueError):

@@ -50,7 +50,10 @@ def code_hash(roots: dict[str, Path]) -> str:
 @functools.cache
 def code() -> str:
     """:func:`code_hash` of the installed artic packages."""
-    return code_hash({pkg: Path(__import__(pkg).__file__).parent for pkg in PACKAGES})
+    import importlib
+
+    return code_hash({pkg: Path(importlib.import_module(f"artic.{pkg}").__file__).parent
+                      for pkg in PACKAGES})
 
 
 def key(*parts: Any) -> str:

@@ -22,14 +22,14 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pandas as pd
 
-from mjcf.vehicle import Vehicle
-from validation.batch import BatchResult, run_batch
-from validation.harness import LoopInputs, loop_inputs
-from validation.logs.runfile import Run, new_frame
-from validation.metrics import run_metrics
-from validation.models import spec
-from validation.progress import Counter
-from validation.steering import SteeringMap
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.batch import BatchResult, run_batch
+from artic.validation.harness import LoopInputs, loop_inputs
+from artic.validation.logs.runfile import Run, new_frame
+from artic.validation.metrics import run_metrics
+from artic.validation.models import spec
+from artic.validation.progress import Counter
+from artic.validation.steering import SteeringMap
 
 DEFAULT_GAINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
 """Gains swept by default [rad/rad]; the bound of every vehicle is added."""
@@ -126,7 +126,7 @@ def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:
     """Plot ``J_steer`` and ``eps_n`` against K, with the bound and the campaign's K marked."""
     from matplotlib.figure import Figure
 
-    from validation.logs.runfile import atomic_write
+    from artic.validation.logs.runfile import atomic_write
 
     k_min = sweep.attrs["K_min"]
     fig = Figure(figsize=(10, 4), layout="constrained")

@@ -2,12 +2,12 @@
 
 Stages, each timed and each resumable:
 
-1. **logs**: the synthetic measured campaign (:mod:`validation.synthetic.generate`),
+1. **logs**: the synthetic measured campaign (:mod:`artic.validation.synthetic.generate`),
    generated on first use into ``OUT/synthetic`` and imported through the
    same importer as real logs into ``OUT/logs``; meanwhile numba compiles
-   the reduced models ahead in a process of its own (:mod:`validation.warmup`);
+   the reduced models ahead in a process of its own (:mod:`artic.validation.warmup`);
 2. **tuning**: every model's parameters fitted per load condition on its 4
-   forward tuning manoeuvres (:mod:`validation.campaign.tuning`); ``OUT/tuning.json``,
+   forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`); ``OUT/tuning.json``,
    and one tuned vehicle file per load condition in ``OUT/params``;
 3. **validation**: every model through the closed-loop harness on every other
    log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``;
@@ -27,7 +27,7 @@ Stages, each timed and each resumable:
 9. **report**: ``report.md``, written last.
 
 Resuming. Every cached result carries a key: the hash of artic's code, the
-seed, the models and the gain (:mod:`validation.campaign.fingerprint`). A rerun
+seed, the models and the gain (:mod:`artic.validation.campaign.fingerprint`). A rerun
 reuses what matches and redoes the rest, so an interrupted campaign picks up
 where it stopped. ``report.md`` is deleted when a run starts and written only
 when every stage has finished, and every file is written atomically, so no
@@ -36,7 +36,7 @@ fit, so a campaign killed while tuning keeps the fits it finished. A cached
 log that no longer reads is imported again from its export.
 
 One campaign at a time per output folder: a second one is refused, naming the
-first (:class:`validation.outputs.OutDirLock`). The temporaries a killed
+first (:class:`artic.validation.outputs.OutDirLock`). The temporaries a killed
 campaign left behind are removed when the next one starts.
 
 A (log, model) pair that fails becomes a row of ``metrics.csv`` with its
@@ -56,16 +56,21 @@ from pathlib import Path
 
 import pandas as pd
 
-from mjcf.vehicle import Vehicle, load_vehicle
-from mjcf.writer import fitted_changes, updated, write_vehicle
-from validation import warmup
-from validation.campaign import fingerprint
-from validation.campaign.executors import DaskOptions, cluster_executor
-from validation.campaign.tables import summary, write_table
-from validation.campaign.validate import is_failed, stderr_progress, validate_runs, write_metrics
-from validation.harness import DEFAULT_GAIN
-from validation.logs.importers import import_source
-from validation.logs.runfile import (
+from artic.mjcf.vehicle import Vehicle, load_vehicle
+from artic.mjcf.writer import fitted_changes, updated, write_vehicle
+from artic.validation import warmup
+from artic.validation.campaign import fingerprint
+from artic.validation.campaign.executors import DaskOptions, cluster_executor
+from artic.validation.campaign.tables import summary, write_table
+from artic.validation.campaign.validate import (
+    is_failed,
+    stderr_progress,
+    validate_runs,
+    write_metrics,
+)
+from artic.validation.harness import DEFAULT_GAIN
+from artic.validation.logs.importers import import_source
+from artic.validation.logs.runfile import (
     LogError,
     Run,
     atomic_write,
@@ -73,12 +78,12 @@ from validation.logs.runfile import (
     read_run,
     write_run,
 )
-from validation.models import NAMES
-from validation.outputs import OutDirLock, clean_stale
-from validation.progress import Counter
-from validation.synthetic.generate import generate_campaign
-from validation.synthetic.testmatrix import TUNING
-from validation.workers import completed
+from artic.validation.models import NAMES
+from artic.validation.outputs import OutDirLock, clean_stale
+from artic.validation.progress import Counter
+from artic.validation.synthetic.generate import generate_campaign
+from artic.validation.synthetic.testmatrix import TUNING
+from artic.validation.workers import completed
 
 LOADS = ("unloaded", "loaded")
 PRESET = "gosar2022-{load}"
@@ -222,7 +227,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                         "settings)")
         saved["reused"] = True
         return saved
-    from validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
+    from artic.validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
 
     out: dict = {"key": key, "loads": {}, "complete": False}
     for load in LOADS:
@@ -324,10 +329,10 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     executor, scheduler : str
         Where generation and validation run: ``local`` or ``dask``, and a
         Dask scheduler's address (a local cluster when omitted); see
-        :mod:`validation.campaign.executors`.
+        :mod:`artic.validation.campaign.executors`.
     truth : str
         The synthetic campaign's truth: ``"structural"`` or ``"legacy"``
-        (see :mod:`validation.synthetic.truth`).
+        (see :mod:`artic.validation.synthetic.truth`).
     dask : DaskOptions, optional
         The scheduler's timeout and TLS files.
     remeasure : bool
@@ -380,9 +385,9 @@ def _saved_timings(out_dir: Path, key: str) -> dict:
 
 def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
                 stage, truth, state) -> dict[str, Path]:
-    from validation.campaign import report as rep
-    from validation.campaign.efficiency import measure
-    from validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
+    from artic.validation.campaign import report as rep
+    from artic.validation.campaign.efficiency import measure
+    from artic.validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
 
     paths: dict[str, Path] = {}
     # numba compiles the reduced models' loop and the criteria on a core of its
@@ -510,7 +515,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         stage.reused(stage.all_reused())
         draft = rep.render(results)  # the summary recording's copy, before the last timing
         if recordings:
-            from validation.campaign.recording import record_summary
+            from artic.validation.campaign.recording import record_summary
 
             paths["summary_recording"] = record_summary(
                 out_dir / "recordings" / "campaign.rrd", metrics, draft)
@@ -524,7 +529,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
            jobs: int, pool) -> pd.DataFrame:
     """The truth's own plant against the logs: the ``floor`` rows of the tables against logs."""
-    from validation.synthetic.truth import truth_configuration, truth_vehicle
+    from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
 
     config = truth_configuration(seed, truth)
 
@@ -546,7 +551,7 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
     metadata. It ran forward open loop and in reverse under the harness; the
     reduced models run through the same harness against it.
     """
-    from validation.logs.schema import COLUMNS
+    from artic.validation.logs.schema import COLUMNS
 
     if not models:
         return None
@@ -573,7 +578,7 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
 def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[str, float],
                      report: Path, failed: int = 0) -> str:
     """What the campaign prints at the end: the two tables, the stage times, the report."""
-    from validation.campaign.tables import markdown
+    from artic.validation.campaign.tables import markdown
 
     lines = []
     for title, table in (("Forward, mean over the validation manoeuvres (Table 2 columns)",
@@ -604,7 +609,7 @@ def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFram
 
 
 def _version() -> str:
-    from validation.campaign.recording import artic_version
+    from artic.validation.campaign.recording import artic_version
 
     return artic_version()
 
@@ -624,7 +629,7 @@ def _efficiency_sample(metrics: pd.DataFrame, logs: dict[str, Run],
 def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Vehicle,
                 rows: pd.DataFrame) -> int:
     """Write one manoeuvre's recording from its run files; returns its size [bytes]."""
-    from validation.campaign.recording import record_manoeuvre
+    from artic.validation.campaign.recording import record_manoeuvre
 
     loaded = {m: read_run(p) for m, p in run_paths.items()}
     record_manoeuvre(target, log, loaded, vehicle, rows)
@@ -642,7 +647,7 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
 
     Returns the paths and the number of recordings written.
     """
-    from validation.campaign.plots import plot_manoeuvre
+    from artic.validation.campaign.plots import plot_manoeuvre
 
     names = list(dict.fromkeys(metrics["log"]))
     failed = {(r.log, r.model) for r in metrics.itertuples() if is_failed(r.status)}

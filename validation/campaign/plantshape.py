@@ -2,7 +2,7 @@
 
 The recordings draw the multibody plant from the very model it simulates,
 not from a sketch of it. :func:`plant_shape` compiles the vehicle's MJCF
-(:func:`mjcf.builder.build_vehicle`) and lists, for every body with visual
+(:func:`artic.mjcf.builder.build_vehicle`) and lists, for every body with visual
 geoms, its geoms in the body's frame and how the body is posed from a run's
 columns (:meth:`plant.Plant.extras`):
 
@@ -26,10 +26,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from mjcf import naming as nm
-from mjcf.builder import build_vehicle
-from mjcf.masses import layout
-from mjcf.vehicle import Vehicle
+from artic.mjcf import naming as nm
+from artic.mjcf.builder import build_vehicle
+from artic.mjcf.masses import layout
+from artic.mjcf.vehicle import Vehicle
 
 FIFTH_WHEEL_RADIUS = 0.45
 """Radius of the fifth-wheel plate as drawn [m] (a 36-inch plate)."""

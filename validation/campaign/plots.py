@@ -1,6 +1,6 @@
 """Static plots of a manoeuvre: the yard seen from above, and its key signals.
 
-The same data as a manoeuvre's recording (:mod:`validation.campaign.recording`), for
+The same data as a manoeuvre's recording (:mod:`artic.validation.campaign.recording`), for
 reports and documents where a viewer is not at hand. matplotlib renders
 off-screen (Agg); files are written atomically.
 """
@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from validation.logs.runfile import Run, atomic_write
-from validation.metrics import travelled
-from validation.models import REGISTRY
+from artic.validation.logs.runfile import Run, atomic_write
+from artic.validation.metrics import travelled
+from artic.validation.models import REGISTRY
 
 
 def _style(name: str) -> dict:

@@ -8,7 +8,7 @@ sensor's travelled distance [cm], the variable of the error criteria):
 
 - ``/yard``: the measured combination, KIN and STM as boxes for the bodies
   and the wheels, moving with their own poses; the plant drawn from its own
-  MuJoCo bodies and geoms (:mod:`validation.campaign.plantshape`): chassis,
+  MuJoCo bodies and geoms (:mod:`artic.validation.campaign.plantshape`): chassis,
   semitrailer, axles on their suspension, wheels that steer and spin, and
   the fifth wheel, posed from the plant's state at every logged step; the
   plant's tyre forces in the ground plane as arrows at the contact points;
@@ -47,10 +47,10 @@ import rerun as rr
 import rerun.blueprint as rrb
 from rerun.chunk import RrdReader
 
-from mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
-from mjcf.tir import read_tir
-from mjcf.vehicle import Vehicle
-from validation.campaign.plantshape import (
+from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
+from artic.mjcf.tir import read_tir
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.campaign.plantshape import (
     Geom,
     Part,
     has_pose,
@@ -60,10 +60,10 @@ from validation.campaign.plantshape import (
     wheel_quat,
     xyzw,
 )
-from validation.logs.runfile import Run
-from validation.metrics import distance_weights, travelled
-from validation.models import colour as model_colour
-from validation.pathdist import distance_to_polyline
+from artic.validation.logs.runfile import Run
+from artic.validation.metrics import distance_weights, travelled
+from artic.validation.models import colour as model_colour
+from artic.validation.pathdist import distance_to_polyline
 
 YARD_RATE = 10.0
 """Samples per second of the 3-D yard [Hz]."""
@@ -107,7 +107,7 @@ class _Geometry:
 
     The tractor frame sits at the drive axle, the trailer frame at the kingpin,
     both ISO (x forward, y left). Wheels have the tyre file's radius; the
-    bodies are :func:`mjcf.outline.outline`'s, as the plant and the docking
+    bodies are :func:`artic.mjcf.outline.outline`'s, as the plant and the docking
     driver have them.
     """
 

@@ -17,7 +17,7 @@ from datetime import UTC, datetime
 import numpy as np
 import pandas as pd
 
-from validation.campaign.tables import PAPER_FORWARD, PAPER_REVERSE, markdown, versus_paper
+from artic.validation.campaign.tables import PAPER_FORWARD, PAPER_REVERSE, markdown, versus_paper
 
 
 @dataclass
@@ -44,7 +44,7 @@ class CampaignResults:
 
 
 FLOOR = "floor"
-"""The reference row of the truth's own plant (see :mod:`validation.campaign.main`)."""
+"""The reference row of the truth's own plant (see :mod:`artic.validation.campaign.main`)."""
 
 
 def _rank(table: pd.DataFrame, col: str) -> list[tuple[str, float]]:
@@ -237,7 +237,7 @@ def render(r: CampaignResults) -> str:
                   "construction apart); the fastest of repeated passes.", "",
                   markdown(r.efficiency), ""]
     if r.sweep is not None and len(r.sweep):
-        from validation.campaign.gainsweep import sweep_table
+        from artic.validation.campaign.gainsweep import sweep_table
 
         lines += ["## Feedback gain sweep", "",
                   f"Reverse manoeuvres at each K; the loop is stable only above "

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from validation.logs.runfile import atomic_write, atomic_write_text
+from artic.validation.logs.runfile import atomic_write, atomic_write_text
 
 FORWARD_COLUMNS = ("eps_a", "eps_v", "eps_p", "eps_n")
 REVERSE_COLUMNS = ("eps_a", "eps_v", "J_steer", "eps_n")

@@ -23,13 +23,20 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from mjcf.vehicle import Vehicle
-from validation.harness import DEFAULT_GAIN, run_closed_loop
-from validation.logs.runfile import META_KEY, LogError, Run, atomic_write, parse_meta, write_run
-from validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from validation.metrics import CRITERIA, run_metrics
-from validation.models import build
-from validation.progress import Counter, stderr
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.harness import DEFAULT_GAIN, run_closed_loop
+from artic.validation.logs.runfile import (
+    META_KEY,
+    LogError,
+    Run,
+    atomic_write,
+    parse_meta,
+    write_run,
+)
+from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
+from artic.validation.metrics import CRITERIA, run_metrics
+from artic.validation.models import build
+from artic.validation.progress import Counter, stderr
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -63,9 +70,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         If given, each model run is written to ``out_dir/runs/LOG.MODEL.parquet``.
     progress : callable, optional
         Receives progress lines (counts and the time left, see
-        :class:`validation.progress.Counter`), one line for the runs reused,
+        :class:`artic.validation.progress.Counter`), one line for the runs reused,
         and one line per run whose model had to limit something
-        (:mod:`validation.plantnotes`) or stopped early.
+        (:mod:`artic.validation.plantnotes`) or stopped early.
     reuse_key : str, optional
         With ``out_dir``: a run file already there whose ``meta["key"]`` is
         this key plus the model is read instead of simulated again (resuming
@@ -73,7 +80,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     jobs : int
         Threads; each run is independent, so the rows equal a serial run's.
     executor : concurrent.futures.Executor, optional
-        Simulate there instead (see :mod:`validation.campaign.executors`); files are
+        Simulate there instead (see :mod:`artic.validation.campaign.executors`); files are
         written here.
     label : str
         What the progress lines call this batch (a load condition, say).
@@ -221,7 +228,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     module docstring); nothing is raised for it. What the model had to limit
     (the plant's warnings) is in ``meta["limited"]`` as one line, not printed.
     """
-    from validation.plantnotes import collect, summary
+    from artic.validation.plantnotes import collect, summary
 
     t0 = time.perf_counter()
     if not isinstance(vehicle, Vehicle):
@@ -291,4 +298,4 @@ def write_metrics(df: pd.DataFrame, path: Path) -> Path:
 
 
 stderr_progress = stderr
-"""Print a progress line to standard error (:func:`validation.progress.stderr`)."""
+"""Print a progress line to standard error (:func:`artic.validation.progress.stderr`)."""

@@ -19,7 +19,7 @@ Canonical channels: ``delta_h``; the tractor's ``x_1, y_1, psi_1, v_x_1,
 v_y_1, r_1`` (all required, in the schema's ISO axes at the tractor sensor
 of the vehicle file); and either the semitrailer's ``x_2 ... r_2`` or the
 articulation ``gamma`` (with ``gamma_rate`` if the log has it), from which
-:mod:`validation.logs.derive` derives the semitrailer's. A channel's value is
+:mod:`artic.validation.logs.derive` derives the semitrailer's. A channel's value is
 ``unit * (scale * column + offset)``, with ``scale`` (default 1) and
 ``offset`` (default 0, in the column's unit) for other signs and zeros.
 Units: ``s, ms``; ``m, cm, mm``; ``m/s, km/h, mph``; ``rad, deg``;
@@ -27,12 +27,12 @@ Units: ``s, ms``; ``m, cm, mm``; ``m/s, km/h, mph``; ``rad, deg``;
 out, and the report says which.
 
 The time stamps may be irregular. The import runs the same checks and
-repairs as for exports (:mod:`validation.logs.checks`): exact duplicates
+repairs as for exports (:mod:`artic.validation.logs.checks`): exact duplicates
 dropped, short NaN runs interpolated, time going back, gaps (longer than
 ``max_gap`` in ``[time]``, by default 2.5 times the median interval) and GNSS
 jumps refused; then every channel is interpolated linearly onto the 100 Hz
 base, and the report says so. The importer then runs the consistency checks
-(:mod:`validation.logs.consistency`: units, signs, the hitch) on the result.
+(:mod:`artic.validation.logs.consistency`: units, signs, the hitch) on the result.
 """
 
 from __future__ import annotations
@@ -44,17 +44,17 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from mjcf.interface import wrap_angle
-from mjcf.vehicle import Vehicle
-from validation.logs.checks import (
+from artic.mjcf.interface import wrap_angle
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.logs.checks import (
     Report,
     check_jumps,
     clean_time,
     fill_nan_runs,
 )
-from validation.logs.derive import TRAILER, derive_trailer
-from validation.logs.runfile import LogError, Run, check_frame
-from validation.logs.schema import COLUMNS
+from artic.validation.logs.derive import TRAILER, derive_trailer
+from artic.validation.logs.runfile import LogError, Run, check_frame
+from artic.validation.logs.schema import COLUMNS
 
 RATE = 100.0
 """Sample rate of the canonical log [Hz]."""

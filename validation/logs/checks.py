@@ -1,7 +1,7 @@
 """Checks and repairs of raw channels before they become a canonical log.
 
 Each check either leaves the data alone, repairs it and says so in the
-report, or raises :class:`validation.logs.runfile.LogError` naming the file, the
+report, or raises :class:`artic.validation.logs.runfile.LogError` naming the file, the
 channel, the time and the fix. No row disappears without a line in the
 report. What is repaired:
 
@@ -17,7 +17,7 @@ What is refused:
   jump), larger than :data:`MAX_JUMP`.
 
 Whether the channels describe one motion (units, signs, the hitch) is
-checked on the canonical log by :mod:`validation.logs.consistency`.
+checked on the canonical log by :mod:`artic.validation.logs.consistency`.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from validation.logs.runfile import LogError
+from artic.validation.logs.runfile import LogError
 
 MAX_GAP = 0.05
 """Longest gap between inertial samples accepted [s] (five samples at 100 Hz)."""

@@ -3,14 +3,14 @@
 A log whose every channel is plausible on its own can still be wrong as a
 whole: velocities in km/h, a yaw rate about the wrong axis, a heading in
 radians where degrees were expected, latitude and longitude swapped. Each of
-these passes the structural checks of :func:`validation.logs.runfile.check_frame`
+these passes the structural checks of :func:`artic.validation.logs.runfile.check_frame`
 and then gives garbage criteria. The checks here compare channels that measure
 the same motion twice, *globally* (fits over windows of the whole log, not
 per sample, so noise averages out), and name the channel, the time window and
 the likely cause when they disagree:
 
 ``gap``
-    No time step longer than :data:`validation.logs.checks.MAX_GAP`.
+    No time step longer than :data:`artic.validation.logs.checks.MAX_GAP`.
 ``yaw-rate``
     The integral of the yaw rate ``r_i`` against the change of the heading
     ``psi_i``, over :data:`YAW_WINDOW` windows, on any log whose heading
@@ -26,7 +26,7 @@ the likely cause when they disagree:
     integrated over :data:`VELOCITY_WINDOW` windows, against the position
     track's displacement: sign, scale (km/h) and direction.
 ``jump``
-    No single position step more than :data:`validation.logs.checks.MAX_JUMP`
+    No single position step more than :data:`artic.validation.logs.checks.MAX_JUMP`
     beyond what the velocity explains (a GNSS jump).
 ``steering``
     The steering-wheel angle through the vehicle's steering map, eq. (3):
@@ -42,7 +42,7 @@ the likely cause when they disagree:
     vehicle file's sensor positions and ``L1c``.
 
 Each check returns nothing or one :class:`Finding`. :func:`check_log` raises a
-:class:`~validation.logs.runfile.LogError` for the first finding that the
+:class:`~artic.validation.logs.runfile.LogError` for the first finding that the
 caller did not accept (``--accept CHECK``), and returns the accepted ones as
 lines for the run's metadata. A check with too little motion to judge (a
 log standing still, a straight run for the yaw rate) passes: its noise floor
@@ -58,8 +58,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from validation.logs.checks import MAX_GAP, MAX_JUMP
-from validation.logs.runfile import LogError
+from artic.validation.logs.checks import MAX_GAP, MAX_JUMP
+from artic.validation.logs.runfile import LogError
 
 CHECKS: dict[str, str] = {
     "gap": "no time step longer than the longest gap accepted",
@@ -533,7 +533,7 @@ def check_jump(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> Finding
 
 def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Finding | None:
     """Steering wheel through eq. (3): within reach, and turning the tractor as it does."""
-    from validation.steering import SteeringMap
+    from artic.validation.steering import SteeringMap
 
     s = vehicle.steering_for("kin")
     smap = SteeringMap.from_steering(s)
@@ -680,7 +680,7 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
     if "steering" in run:
         steer_vehicle = vehicle
         if steer_vehicle is None:
-            from mjcf.vehicle import load_vehicle
+            from artic.mjcf.vehicle import load_vehicle
 
             steer_vehicle = load_vehicle("gosar2022-unloaded")
         if (f := check_steering(t, frame, steer_vehicle, ctx)) is not None:

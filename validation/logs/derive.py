@@ -4,7 +4,7 @@ Many trucks log one GNSS/inertial unit on the tractor and a hitch-angle
 sensor, not a second unit on the semitrailer. For a rigid tractor and
 semitrailer joined at the kingpin, the tractor's pose and motion and the
 articulation angle ``gamma`` fix the semitrailer's, through the vehicle's
-geometry (:class:`mjcf.vehicle.Vehicle`: the sensor positions and ``L1c``):
+geometry (:class:`artic.mjcf.vehicle.Vehicle`: the sensor positions and ``L1c``):
 
 - yaw ``psi_2 = psi_1 - gamma`` and yaw rate ``r_2 = r_1 - gamma_dot``;
 - the kingpin ``K`` sits at ``(L1c, 0)`` in the tractor frame, the tractor
@@ -23,8 +23,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from mjcf.interface import wrap_angle
-from mjcf.vehicle import Vehicle
+from artic.mjcf.interface import wrap_angle
+from artic.mjcf.vehicle import Vehicle
 
 TRAILER = ("x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2")
 """The semitrailer's channels that :func:`derive_trailer` makes."""

@@ -4,18 +4,18 @@ Accepted sources:
 
 - a canonical log, Parquet or CSV, in the signal schema (checked);
 - an OXTS-style export: a folder holding ``tractor.csv``, ``trailer.csv``
-  and ``can.csv`` (see :mod:`validation.logs.oxts`), and optionally ``meta.json``
+  and ``can.csv`` (see :mod:`artic.validation.logs.oxts`), and optionally ``meta.json``
   with the run's metadata (manoeuvre, load, ...);
 - a MATLAB ``.mat`` (v5) file with structs ``tractor``, ``trailer``, ``can``;
 - a CSV with its own column names, units and time stamps, through a channel
-  map (:mod:`validation.logs.channels`); with the tractor's channels and the
+  map (:mod:`artic.validation.logs.channels`); with the tractor's channels and the
   articulation angle only, the semitrailer's are derived
-  (:mod:`validation.logs.derive`). A canonical CSV without the semitrailer's
+  (:mod:`artic.validation.logs.derive`). A canonical CSV without the semitrailer's
   channels but with ``gamma`` is such a log too.
 
 Every source, canonical ones included, passes the structural checks of
-:func:`validation.logs.runfile.check_frame` and the consistency checks of
-:mod:`validation.logs.consistency` (gaps, jumps, units and signs, the hitch).
+:func:`artic.validation.logs.runfile.check_frame` and the consistency checks of
+:mod:`artic.validation.logs.consistency` (gaps, jumps, units and signs, the hitch).
 :func:`read_log` is the same reader for the commands that take canonical
 logs (``validate``, ``tune``).
 """
@@ -27,10 +27,17 @@ from pathlib import Path
 
 import pandas as pd
 
-from mjcf.vehicle import load_vehicle
-from validation.logs import consistency
-from validation.logs.oxts import import_mat, import_oxts, read_csv
-from validation.logs.runfile import LogError, Run, check_frame, parse_meta, read_run, write_run
+from artic.mjcf.vehicle import load_vehicle
+from artic.validation.logs import consistency
+from artic.validation.logs.oxts import import_mat, import_oxts, read_csv
+from artic.validation.logs.runfile import (
+    LogError,
+    Run,
+    check_frame,
+    parse_meta,
+    read_run,
+    write_run,
+)
 
 
 def _checked(run: Run, source: str, vehicle, accept: Collection[str]) -> Run:
@@ -49,7 +56,7 @@ def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Ru
     path : Path or str
         A ``.parquet`` log in the signal schema.
     vehicle : Vehicle, optional
-        For the steering and hitch checks (see :func:`validation.logs.consistency.findings`).
+        For the steering and hitch checks (see :func:`artic.validation.logs.consistency.findings`).
     accept : collection of str
         Checks whose findings are accepted knowingly; recorded in
         ``meta["accepted_checks"]``.
@@ -85,12 +92,12 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
     path : Path
         The source (see the module docstring).
     accept : collection of str
-        Consistency checks accepted knowingly (see :mod:`validation.logs.consistency`).
+        Consistency checks accepted knowingly (see :mod:`artic.validation.logs.consistency`).
     vehicle : Vehicle, optional
         For the steering and hitch checks.
     channels : Path, optional
         A channel map for a CSV with its own column names, units and time
-        stamps (:mod:`validation.logs.channels`). With it, or for a canonical
+        stamps (:mod:`artic.validation.logs.channels`). With it, or for a canonical
         CSV without the semitrailer's channels, the semitrailer's are derived
         from the tractor's and the articulation angle with ``vehicle``'s
         geometry (gosar2022-unloaded's without one).
@@ -110,7 +117,7 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
     path = Path(path)
     accept = tuple(accept)
     if channels is not None or _tractor_only(path):
-        from validation.logs.channels import import_mapped, tractor_only_map
+        from artic.validation.logs.channels import import_mapped, tractor_only_map
 
         geometry = vehicle if vehicle is not None else load_vehicle("gosar2022-unloaded")
         run, report = import_mapped(path, channels or tractor_only_map(path), geometry)

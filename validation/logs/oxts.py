@@ -38,9 +38,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from mjcf.interface import wrap_angle
-from validation.logs import consistency
-from validation.logs.checks import (
+from artic.mjcf.interface import wrap_angle
+from artic.validation.logs import consistency
+from artic.validation.logs.checks import (
     MAX_GAP,
     MAX_GAP_CAN,
     Report,
@@ -49,8 +49,8 @@ from validation.logs.checks import (
     fill_nan_runs,
     require,
 )
-from validation.logs.runfile import LogError, Run, atomic_write, check_frame
-from validation.logs.schema import COLUMNS
+from artic.validation.logs.runfile import LogError, Run, atomic_write, check_frame
+from artic.validation.logs.schema import COLUMNS
 
 RATE = 100.0
 """Sample rate of the canonical log [Hz]."""
@@ -163,7 +163,7 @@ def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFram
         Where each table came from, for messages.
     accept : tuple of str
         Consistency checks whose findings are accepted knowingly (see
-        :mod:`validation.logs.consistency`); recorded in ``meta["accepted_checks"]``.
+        :mod:`artic.validation.logs.consistency`); recorded in ``meta["accepted_checks"]``.
     vehicle : Vehicle, optional
         For the steering and hitch checks.
 

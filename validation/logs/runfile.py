@@ -21,9 +21,9 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from mjcf.interface import wrap_angle
-from validation.logs.schema import COLUMNS, PLAUSIBLE, UNIT_HINT
-from validation.outputs import TEMP_SUFFIX, public_mode
+from artic.mjcf.interface import wrap_angle
+from artic.validation.logs.schema import COLUMNS, PLAUSIBLE, UNIT_HINT
+from artic.validation.outputs import TEMP_SUFFIX, public_mode
 
 META_KEY = b"artic"
 

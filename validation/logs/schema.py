@@ -7,7 +7,7 @@ angles are continuous (unwrapped); the articulation angle is wrapped to (-pi, pi
 
 from __future__ import annotations
 
-from mjcf.interface import OBSERVATION
+from artic.mjcf.interface import OBSERVATION
 
 SIGNALS: dict[str, tuple[str, str]] = {
     "t": ("s", "time since the start of the run"),
@@ -39,7 +39,7 @@ COLUMNS = tuple(SIGNALS)
 """Schema columns in order; ``COLUMNS[2:]`` is the models' ``OBSERVATION``."""
 
 if COLUMNS[2:] != OBSERVATION:  # pragma: no cover - a programming error
-    raise ImportError("validation.logs.schema and mjcf.interface.OBSERVATION disagree")
+    raise ImportError("artic.validation.logs.schema and artic.mjcf.interface.OBSERVATION disagree")
 
 PLAUSIBLE = {
     "r_1": 3.0, "r_2": 3.0, "gamma": 3.1416, "v_x_1": 15.0, "v_x_2": 15.0,

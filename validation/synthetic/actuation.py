@@ -24,9 +24,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mjcf.interface import InitialState
-from mjcf.vehicle import G
-from validation.steering import SteeringMap
+from artic.mjcf.interface import InitialState
+from artic.mjcf.vehicle import G
+from artic.validation.steering import SteeringMap
 
 
 @dataclass
@@ -80,7 +80,7 @@ class PedalDriver:
         Fastest pedal travel [1/s] (full travel in ``1 / pedal_rate`` s).
     drive_force_max, brake_decel_max : float
         What full throttle and full brake give: force over weight [-] and
-        deceleration [g] (the plant's :data:`plant.plant.DRIVE_FORCE_MAX` and
+        deceleration [g] (the plant's :data:`artic.plant.plant.DRIVE_FORCE_MAX` and
         ``BRAKE_DECEL_MAX``).
     resistance : float
         Rolling resistance the driver expects, over weight [-].

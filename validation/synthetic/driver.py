@@ -32,11 +32,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mjcf.interface import wrap_angle
-from mjcf.outline import DOCK_FACE, outline
-from mjcf.vehicle import Vehicle
-from validation.feedback import feedback_law
-from validation.simulate import steady_articulation_delta
+from artic.mjcf.interface import wrap_angle
+from artic.mjcf.outline import DOCK_FACE, outline
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.feedback import feedback_law
+from artic.validation.simulate import steady_articulation_delta
 
 
 @dataclass

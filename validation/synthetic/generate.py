@@ -1,12 +1,12 @@
 """The synthetic measured campaign: the test matrix driven on the plant.
 
-``artic logs generate`` drives every manoeuvre of :mod:`validation.synthetic.testmatrix`
+``artic logs generate`` drives every manoeuvre of :mod:`artic.validation.synthetic.testmatrix`
 on the multibody plant in a *truth configuration*. It measures each run
-through :mod:`validation.synthetic.sensors` and writes it as an OXTS-style export, so
+through :mod:`artic.validation.synthetic.sensors` and writes it as an OXTS-style export, so
 that it comes back in through the same importer as real logs.
 
 The truth configuration, drawn once per campaign from its random seed, is
-:mod:`validation.synthetic.truth`'s: by default a vehicle that differs from the
+:mod:`artic.validation.synthetic.truth`'s: by default a vehicle that differs from the
 validated presets in structure (another trailer tyre, tyre moments,
 fifth-wheel friction, payload, sensor installation, steering play and drift,
 a driver on the pedals, a sloped yard), or with ``--truth legacy`` the first,
@@ -15,9 +15,9 @@ exports as a vehicle file, ``truth-unloaded.toml`` and ``truth-loaded.toml``,
 which every command accepts.
 
 The structural truth's driver turns the steering wheel and works the pedals
-(:mod:`validation.synthetic.actuation`); the legacy truth drives its speed
+(:mod:`artic.validation.synthetic.actuation`); the legacy truth drives its speed
 with the plant's PI controller (``Plant(speed="drive")``). The plant under
-validation follows the log's speed (see :mod:`plant.plant`).
+validation follows the log's speed (see :mod:`artic.plant.plant`).
 
 Each manoeuvre draws its own random numbers from ``(seed, index)``, so a
 campaign is the same whichever manoeuvres are made, in whatever order. Each
@@ -44,28 +44,28 @@ from pathlib import Path
 
 import numpy as np
 
-from mjcf.interface import InitialState
-from mjcf.vehicle import Vehicle
-from plant import Plant, PlantWarning
-from validation.campaign import fingerprint
-from validation.logs.oxts import export_oxts
-from validation.logs.runfile import Run, new_frame
-from validation.outputs import TEMP_SUFFIX, public_mode
-from validation.progress import Counter
-from validation.steering import SteeringMap
-from validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
-from validation.synthetic.driver import DockingDriver, drive_to_dock
-from validation.synthetic.manoeuvres import make_profile
-from validation.synthetic.sensors import SensorModel, measure
-from validation.synthetic.testmatrix import MATRIX, Manoeuvre
-from validation.synthetic.truth import (
+from artic.mjcf.interface import InitialState
+from artic.mjcf.vehicle import Vehicle
+from artic.plant import Plant, PlantWarning
+from artic.validation.campaign import fingerprint
+from artic.validation.logs.oxts import export_oxts
+from artic.validation.logs.runfile import Run, new_frame
+from artic.validation.outputs import TEMP_SUFFIX, public_mode
+from artic.validation.progress import Counter
+from artic.validation.steering import SteeringMap
+from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
+from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
+from artic.validation.synthetic.manoeuvres import make_profile
+from artic.validation.synthetic.sensors import SensorModel, measure
+from artic.validation.synthetic.testmatrix import MATRIX, Manoeuvre
+from artic.validation.synthetic.truth import (
     TRUTHS,
     slope,
     truth_configuration,
     truth_vehicle,
     write_truth_files,
 )
-from validation.workers import completed
+from artic.validation.workers import completed
 
 META_FILE = "meta.json"
 
@@ -281,12 +281,12 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         files are the same for any number of jobs.
     executor : concurrent.futures.Executor, optional
         Where to simulate instead (a Dask cluster's, see
-        :mod:`validation.campaign.executors`); the files are written here.
+        :mod:`artic.validation.campaign.executors`); the files are written here.
     sensors : SensorModel, optional
         The measurement chain; :class:`SensorModel` by default,
         ``SensorModel.ideal()`` for the truth itself.
     truth : str
-        ``"structural"`` or ``"legacy"``; see :mod:`validation.synthetic.truth`.
+        ``"structural"`` or ``"legacy"``; see :mod:`artic.validation.synthetic.truth`.
 
     Returns
     -------
@@ -307,7 +307,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     missing = []
     for m in todo:
         meta = out_dir / m.name / META_FILE
-        # Reuse only what this seed and this code made (see validation.campaign.fingerprint).
+        # Reuse only what this seed and this code made (see artic.validation.campaign.fingerprint).
         if not (meta.is_file() and _same(meta, seed, sensors, truth)):
             missing.append(m)
     if progress and len(missing) < len(todo):

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from mjcf.interface import wrap_angle
+from artic.mjcf.interface import wrap_angle
 
 
 @dataclass(frozen=True)

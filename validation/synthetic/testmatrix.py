@@ -13,7 +13,7 @@ Reverse, 33 manoeuvres:
 - ramp steer to 30 and 90 deg at 3 and 6 km/h, left and right, in both
   load conditions: 16; the driver stops before jackknife;
 - docking, 9 (5 unloaded, 4 loaded), and parking, 8 (4 and 4), driven by
-  :class:`validation.synthetic.driver.DockingDriver` from seeded start poses. Parking
+  :class:`artic.validation.synthetic.driver.DockingDriver` from seeded start poses. Parking
   starts further off line and at a larger angle than docking.
 
 The forward tuning set has 8 manoeuvres, as in the paper, 4 per load

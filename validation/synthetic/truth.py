@@ -51,8 +51,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mjcf.vehicle import Vehicle, load_vehicle
-from mjcf.writer import updated, write_vehicle
+from artic.mjcf.vehicle import Vehicle, load_vehicle
+from artic.mjcf.writer import updated, write_vehicle
 
 TRUTHS = ("structural", "legacy")
 """The kinds of truth (see the module docstring)."""
@@ -113,7 +113,7 @@ def slope(seed: int, index: int, truth: dict) -> dict[str, float]:
 
 
 def _changes(v: Vehicle, load: str, truth: dict) -> dict[str, dict]:
-    """The truth as vehicle-file sections to change (see :func:`mjcf.writer.updated`)."""
+    """The truth as vehicle-file sections to change (see :func:`artic.mjcf.writer.updated`)."""
     s = v.steering_for("mbd")
     out: dict[str, dict] = {
         "steering.mbd": {"i_s": s.i_s * truth["i_s_scale"], "q": s.q,
@@ -141,7 +141,7 @@ def truth_data(load: str, truth: dict, seed: int) -> dict:
     preset = f"gosar2022-{load}"
     data = updated(preset, _changes(load_vehicle(preset), load, truth),
                    f"The {truth['kind']} truth of artic's synthetic campaign, seed {seed} "
-                   "(validation.synthetic.truth)", name=f"truth-{load}")
+                   "(artic.validation.synthetic.truth)", name=f"truth-{load}")
     if truth["kind"] != "legacy":
         for axle in data["trailer"]["axle"]:
             axle["tyre_file"] = truth["trailer_tyre"]
@@ -150,7 +150,7 @@ def truth_data(load: str, truth: dict, seed: int) -> dict:
 
 def truth_vehicle(load: str, truth: dict, seed: int, slope_: dict | None = None) -> Vehicle:
     """The truth of one load condition, with the yard's slope of one manoeuvre."""
-    from mjcf.vehicle import resolve_vehicle_path, vehicle_from_dict
+    from artic.mjcf.vehicle import resolve_vehicle_path, vehicle_from_dict
 
     v = vehicle_from_dict(truth_data(load, truth, seed),
                           resolve_vehicle_path(f"gosar2022-{load}"))
