@@ -352,6 +352,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
         "in reverse, and their validation.")
+    import artic
+
+    p.add_argument("--version", action="version", version=f"artic {artic.__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")
