@@ -39,6 +39,23 @@ drive axle, facing +x, on the start's centre line."""
 DOCK_DEPTH = 2.0
 """Depth of the dock's block behind its face [m]."""
 
+DOOR_PITCH = 4.0
+"""Distance between the centre lines of neighbouring dock doors [m]. Distribution
+centres space doors 3.6-4.3 m apart; at 4 m two parked 2.55 m semitrailers leave
+a 5.45 m gap for the one between them."""
+
+DOCK_DOORS = 11
+"""Doors in the dock row: the one at :data:`DOCK_FACE` and five either side."""
+
+APRON_DEPTH = 50.0
+"""Depth of the yard in front of the dock face to its far edge [m]: three times
+a 16.5 m combination, so that one can line up in front of a door and back
+from up to 30 m."""
+
+BUMPER_TRAVEL = 0.05
+"""How far a trailer's rear may press into the dock's rubber bumpers [m] before
+it hits the dock itself."""
+
 
 @dataclass(frozen=True)
 class Outline:
