@@ -1,0 +1,177 @@
+"""KIN linearised about a straight path, and the LQR gains of the path followers.
+
+:func:`linearise` is the one place that linearises KIN; everything else takes
+its Jacobians. It differentiates :func:`artic.reduced.kinematic.kin_rhs`, the
+model's own equations, by central differences (step 1e-6, where the
+truncation error, of order ``h^2`` times the third derivative, and the
+rounding error, of order ``1e-16 / h``, are both below 1e-9), so no second
+copy of eq. (1) exists here.
+
+Path following works in **distance**: per metre of tractor travel, KIN is the
+same at every speed (``u1 = +-1``). Its errors about a straight path along x:
+
+- reversing, the semitrailer's axle: ``z = (e_y2, e_psi2, e_gamma)``, lateral
+  offset of KIN's semitrailer axle, semitrailer heading and articulation. The
+  axle lies at ``Y + L1c sin(psi_1) - L2 sin(psi_1 - gamma)``, so about the
+  straight path ``z = T (Y, psi_1, gamma)`` with
+  ``T = [[1, L1c - L2, L2], [0, 1, -1], [0, 0, 1]]``;
+- forward, the tractor's point: ``z = (e_y1, e_psi1)``.
+
+A controller sampled every ``dt`` at speed ``u`` sees the distance step
+``|u| dt``: :func:`gains` discretises the model over that step and solves the
+discrete LQR, so that the gains are scheduled with speed.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+from scipy.linalg import expm, solve_discrete_are
+
+from artic.reduced.kinematic import kin_rhs
+
+H = 1e-6
+"""Central-difference step [rad, m]."""
+
+
+def linearise(P: np.ndarray, u1: float, x0: np.ndarray | None = None,
+              delta0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """KIN's Jacobians ``A = df/dx`` (4x4) and ``B = df/ddelta`` (4x1) about ``(x0, u1, delta0)``.
+
+    Parameters
+    ----------
+    P : ndarray
+        KIN's ``[L1, L1c, L2]`` [m].
+    u1 : float
+        Speed [m/s] (``+-1``: per metre of travel).
+    x0 : ndarray, optional
+        State ``[X, Y, psi_1, gamma]``; zero (straight along x) by default.
+    delta0 : float
+        Road-wheel angle [rad].
+    """
+    x0 = np.zeros(4) if x0 is None else np.asarray(x0, dtype=float)
+    A = np.empty((4, 4))
+    for j in range(4):
+        e = np.zeros(4)
+        e[j] = H
+        A[:, j] = (kin_rhs(x0 + e, u1, 0.0, delta0, P) - kin_rhs(x0 - e, u1, 0.0, delta0, P)) \
+            / (2 * H)
+    B = ((kin_rhs(x0, u1, 0.0, delta0 + H, P) - kin_rhs(x0, u1, 0.0, delta0 - H, P))
+         / (2 * H)).reshape(4, 1)
+    return A, B
+
+
+def trailer_error_model(P: np.ndarray, direction: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per-metre model of the semitrailer axle's errors ``(e_y2, e_psi2, e_gamma)``.
+
+    Parameters
+    ----------
+    P : ndarray
+        KIN's ``[L1, L1c, L2]`` [m].
+    direction : float
+        ``+1`` forward, ``-1`` reverse.
+    """
+    A, B = linearise(P, float(direction))
+    T = np.array([[1.0, P[1] - P[2], P[2]], [0.0, 1.0, -1.0], [0.0, 0.0, 1.0]])
+    sub = [1, 2, 3]  # Y, psi_1, gamma: X enters nothing
+    Ti = np.linalg.inv(T)
+    return T @ A[np.ix_(sub, sub)] @ Ti, T @ B[sub]
+
+
+def tractor_error_model(P: np.ndarray, direction: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per-metre model of the tractor point's errors ``(e_y1, e_psi1)``."""
+    A, B = linearise(P, float(direction))
+    sub = [1, 2]
+    return A[np.ix_(sub, sub)], B[sub]
+
+
+def discretise(A: np.ndarray, B: np.ndarray, ds: float) -> tuple[np.ndarray, np.ndarray]:
+    """Zero-order-hold discretisation over ``ds`` [m] (the input held over the step)."""
+    n, m = B.shape
+    M = np.zeros((n + m, n + m))
+    M[:n, :n] = A * ds
+    M[:n, n:] = B * ds
+    E = expm(M)
+    return E[:n, :n], E[:n, n:]
+
+
+def lqr(A: np.ndarray, B: np.ndarray, Q: np.ndarray, R: np.ndarray, ds: float) -> np.ndarray:
+    """Discrete LQR gain ``K`` (``delta = -K z``) of the model over a step ``ds`` [m]."""
+    Ad, Bd = discretise(A, B, ds)
+    S = solve_discrete_are(Ad, Bd, Q, R)
+    return np.linalg.solve(R + Bd.T @ S @ Bd, Bd.T @ S @ Ad)
+
+
+def with_steering_state(A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The model with the road-wheel angle as a state and its rate per metre as the input.
+
+    ``d/ds (z, delta) = [[A, B], [0, 0]] (z, delta) + [0, 1] ddelta/ds``: the
+    controller turns the steering wheel at a finite rate, and the LQR weighs
+    that rate.
+    """
+    n = A.shape[0]
+    Aa = np.zeros((n + 1, n + 1))
+    Aa[:n, :n] = A
+    Aa[:n, n:] = B
+    Ba = np.zeros((n + 1, 1))
+    Ba[n, 0] = 1.0
+    return Aa, Ba
+
+
+REVERSE_WEIGHTS = (0.1, np.radians(1.0), np.radians(5.0), np.radians(20.0), 0.1)
+"""Bryson's rule for the reversing path follower: the sizes that each cost as
+much (semitrailer axle offset [m], heading and articulation [rad], road-wheel
+angle [rad], and its rate per metre of travel [rad/m]). Chosen among a few
+on the plant (straight, alley and bay dock of gosar2022-unloaded, six starts
+each): the set with the smallest final errors that never oscillated."""
+
+APPROACH_WEIGHTS = (0.2, np.radians(4.0), np.radians(10.0), np.radians(20.0), 0.05)
+"""The same for the planner's final approach (:mod:`artic.validation.docking.planner`):
+gentler, chosen over a grid for KIN reversing onto a line from 20-30 m out,
+0.5-4 m off or 5 deg askew, with the steering rate limited as the planner
+limits it: the set that landed most often and closest. The path it shapes
+is then the follower's to hold."""
+
+FORWARD_WEIGHTS = (0.3, np.radians(5.0), np.radians(20.0), 0.05)
+"""The same for driving forward (tractor offset [m], heading [rad], steer [rad],
+steer rate [rad/m])."""
+
+
+@functools.lru_cache(maxsize=256)
+def _gains(P: tuple[float, float, float], direction: int, ds: float,
+           weights: tuple[float, ...]) -> np.ndarray:
+    Pa = np.array(P)
+    if direction < 0:
+        A, B = trailer_error_model(Pa, -1.0)
+    else:
+        A, B = tractor_error_model(Pa, 1.0)
+    A, B = with_steering_state(A, B)
+    Q = np.diag([1.0 / x ** 2 for x in weights[:-1]])
+    R = np.array([[1.0 / weights[-1] ** 2]])
+    return lqr(A, B, Q, R, ds)[0]
+
+
+def gains(P: np.ndarray, direction: int, ds: float,
+          weights: tuple[float, ...] | None = None) -> np.ndarray:
+    """LQR gains of the path follower for a distance step ``ds`` [m].
+
+    The state is the errors and the road-wheel angle's departure from the
+    path's, the input the steering rate per metre: ``ddelta/ds = -K (z, delta - delta_path)``.
+
+    Parameters
+    ----------
+    P : ndarray
+        KIN's ``[L1, L1c, L2]`` [m].
+    direction : int
+        ``-1``: semitrailer-axle errors, reversing; ``+1``: tractor errors, forward.
+    ds : float
+        Travel per control step, ``|u| dt`` [m]; rounded to the millimetre, so
+        that the gains of nearby speeds are computed once.
+    weights : tuple of float, optional
+        :data:`REVERSE_WEIGHTS` or :data:`FORWARD_WEIGHTS` by default.
+    """
+    d = int(np.sign(direction))
+    w = weights or (REVERSE_WEIGHTS if d < 0 else FORWARD_WEIGHTS)
+    ds = max(round(float(ds), 3), 1e-3)
+    return _gains(tuple(float(p) for p in P), d, ds, tuple(float(x) for x in w)).copy()
