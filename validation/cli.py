@@ -12,7 +12,9 @@ Subcommands:
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
 - ``artic logs import SRC... [--channels MAP.toml] [--vehicle V] --out-dir DIR``:
   exports (or CSVs through a channel map) to canonical Parquet;
-- ``artic campaign [--out-dir DIR]``: the main job.
+- ``artic campaign [--out-dir DIR]``: the main job;
+- ``artic dock [--scenario S] [--vehicle V] [--controller C] [--seeds N] --out-dir DIR``:
+  the docking benchmark (:mod:`artic.validation.docking.command`).
 
 Errors in the user's input end with exit code 2 and a one-line message that
 names the file and what to change; no traceback. That covers the options
@@ -39,6 +41,7 @@ from artic.mjcf import schema
 from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation import options
+from artic.validation.docking import command as dock_command
 from artic.validation.harness import DEFAULT_GAIN
 from artic.validation.logs.consistency import CHECKS, parse_accept
 from artic.validation.logs.importers import read_log
@@ -494,6 +497,8 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--jobs", type=options.JOBS, default=JOBS,
                       help="processes and threads (default: the number of cores, %(default)s)")
     camp.set_defaults(func=_campaign)
+
+    dock_command.add_parser(sub)
     return p
 
 

@@ -175,3 +175,33 @@ def gains(P: np.ndarray, direction: int, ds: float,
     w = weights or (REVERSE_WEIGHTS if d < 0 else FORWARD_WEIGHTS)
     ds = max(round(float(ds), 3), 1e-3)
     return _gains(tuple(float(p) for p in P), d, ds, tuple(float(x) for x in w)).copy()
+
+
+SCHEDULE_SPEEDS = np.linspace(0.1, 2.0, 20)
+"""Speeds of the gain schedule [m/s]: 0.1 m/s apart, from a crawl past the yard's limit."""
+
+
+class GainSchedule:
+    """LQR gains tabulated over speed and interpolated, for a controller sampled every ``dt``.
+
+    Parameters
+    ----------
+    P : ndarray
+        KIN's ``[L1, L1c, L2]`` [m].
+    direction : int
+        ``-1`` reversing, ``+1`` forward.
+    dt : float
+        Sample period [s].
+    weights : tuple of float, optional
+        As :func:`gains`.
+    """
+
+    def __init__(self, P: np.ndarray, direction: int, dt: float,
+                 weights: tuple[float, ...] | None = None) -> None:
+        self.speeds = SCHEDULE_SPEEDS
+        self.table = np.array([gains(P, direction, v * dt, weights) for v in self.speeds])
+
+    def __call__(self, speed: float) -> np.ndarray:
+        """The gains at ``|speed|`` [m/s], interpolated (held beyond the table's ends)."""
+        v = abs(float(speed))
+        return np.array([np.interp(v, self.speeds, col) for col in self.table.T])

@@ -1,0 +1,51 @@
+"""Docking controllers: the interface, the built-in ones, and loading a user's.
+
+``artic dock --controller NAME`` takes a built-in name from :data:`BUILTIN`,
+or ``package.module:Class`` for any importable class with a no-argument
+constructor and the interface of :class:`~artic.validation.docking.controllers.base.Controller`.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+from artic.validation.docking.controllers.base import (
+    Command,
+    Controller,
+    Observation,
+    Task,
+)
+
+__all__ = ["BUILTIN", "Command", "Controller", "Observation", "Task", "load"]
+
+BUILTIN: dict[str, tuple[str, str]] = {
+    "reference": ("artic.validation.docking.controllers.reference:ReferenceController",
+                  "follows the plan: LQR on KIN about the path, gain-scheduled with speed"),
+}
+"""Built-in controllers: name -> (``module:Class``, one line for ``--list``)."""
+
+
+def load(spec: str) -> type:
+    """The controller class named by ``spec``: a :data:`BUILTIN` name or ``module:Class``.
+
+    Raises
+    ------
+    ValueError
+        One line naming what is wrong with ``spec`` and what to give instead.
+    """
+    target = BUILTIN[spec][0] if spec in BUILTIN else spec
+    if ":" not in target:
+        raise ValueError(f"--controller {spec!r}: not a built-in controller "
+                         f"({', '.join(BUILTIN)}) nor package.module:Class")
+    module, _, name = target.partition(":")
+    try:
+        mod = importlib.import_module(module)
+    except ImportError as exc:
+        raise ValueError(f"--controller {spec!r}: cannot import {module!r} ({exc}); put its "
+                         f"folder on PYTHONPATH") from None
+    cls = getattr(mod, name, None)
+    if not isinstance(cls, type) or not callable(getattr(cls, "command", None)) \
+            or not callable(getattr(cls, "reset", None)):
+        raise ValueError(f"--controller {spec!r}: {module} has no class {name!r} with "
+                         f"reset(task) and command(obs) methods")
+    return cls

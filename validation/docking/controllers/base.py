@@ -1,0 +1,159 @@
+"""The controller interface: observe the sensors, command the steering wheel and the speed.
+
+A controller is a class with a no-argument constructor and two methods:
+
+- ``reset(task)`` before each run, with the :class:`Task`: the vehicle's
+  parameter file (what a controller may be designed on), the yard, the
+  planner's path and the sample period;
+- ``command(obs)`` every ``task.dt`` (10 Hz), with an :class:`Observation`:
+  the signals of the synthetic campaign's sensors, with their noise
+  (RTK/INS poses, velocities and yaw rates of both units, the articulation
+  from the two headings, the steering wheel from the CAN bus). It returns a
+  :class:`Command`: the steering-wheel angle, the tractor's speed, and
+  whether it has finished.
+
+A controller never sees the plant's state. :class:`Controller` is a base
+with the helpers most controllers want: where the semitrailer's rear is by
+its sensor, its errors at the dock, and the steering wheel for a road-wheel
+angle through the vehicle file's steering map (KIN's, eq. (3)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from artic.mjcf.interface import OBS_INDEX, wrap_angle
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.docking.geometry import Frames
+from artic.validation.docking.planner import Plan
+from artic.validation.docking.scenarios import Yard
+from artic.validation.steering import SteeringMap
+
+
+@dataclass(frozen=True)
+class Observation:
+    """What the sensors report at one sample.
+
+    Parameters
+    ----------
+    t : float
+        Time since the start [s].
+    signals : ndarray, shape (13,)
+        Measured signals in :data:`artic.mjcf.interface.OBSERVATION` order
+        (``x_1, y_1, psi_1, v_x_1, v_y_1, r_1``, the same ``_2`` for the
+        semitrailer's sensor, ``gamma``) [m, rad, m/s, rad/s].
+    delta_h : float
+        Steering-wheel angle from the CAN bus [rad].
+    """
+
+    t: float
+    signals: np.ndarray
+    delta_h: float
+
+    def __getitem__(self, name: str) -> float:
+        """One signal by its schema name, e.g. ``obs["gamma"]``."""
+        return float(self.signals[OBS_INDEX[name]])
+
+
+@dataclass(frozen=True)
+class Command:
+    """What a controller asks for until its next sample.
+
+    Parameters
+    ----------
+    delta_h : float
+        Steering-wheel angle [rad] (offset included, as the CAN bus reports it).
+    u1 : float
+        Tractor speed [m/s]; negative reverses.
+    done : bool
+        The controller has finished (docked, or given up): the run stops it
+        and scores where it stands.
+    horizon : ndarray, optional
+        The controller's predicted path, rows ``(x, y)`` [m], for the recording.
+    """
+
+    delta_h: float
+    u1: float
+    done: bool = False
+    horizon: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Task:
+    """What a controller is told before a run.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The parameter file: geometry, steering map, limits.
+    yard : Yard
+        The dock and the obstacles.
+    plan : Plan or None
+        The planner's path, when one was made.
+    dt : float
+        Sample period [s].
+    speed : float
+        The yard's cruising speed in reverse [m/s], positive.
+    speed_max : float
+        The speed limit either way [m/s]; faster commands are held to it.
+    accel_max : float
+        How fast the speed follows a command [m/s^2].
+    steer_rate : float
+        How fast the steering wheel follows a command [rad/s].
+    """
+
+    vehicle: Vehicle
+    yard: Yard
+    plan: Plan | None
+    dt: float
+    speed: float
+    speed_max: float
+    accel_max: float
+    steer_rate: float
+
+
+class Controller:
+    """Base of the docking controllers; subclasses write :meth:`command`."""
+
+    name = "controller"
+
+    def reset(self, task: Task) -> None:
+        """Start a run: keep the task and the vehicle's frames and steering map."""
+        self.task = task
+        self.vehicle = task.vehicle
+        self.frames = Frames.of(task.vehicle)
+        self.steering = SteeringMap.from_steering(task.vehicle.steering_for("kin"))
+
+    def command(self, obs: Observation) -> Command:
+        """The command for the next sample period."""
+        raise NotImplementedError(f"{type(self).__name__} must define command(obs)")
+
+    # ------------------------------------------------------------ helpers
+    def rear(self, obs: Observation) -> np.ndarray:
+        """Semitrailer rear ``(x, y, psi_2)`` by its sensor [m, m, rad]."""
+        return self.frames.rear_of_signals(obs.signals)
+
+    def dock_errors(self, obs: Observation) -> tuple[float, float, float]:
+        """The rear's distance to the face, offset from the door's centre line, and heading.
+
+        Returns
+        -------
+        distance, lateral, heading : float
+            [m] (positive: short of the face), [m] (positive: left of the
+            line, seen from the dock), [rad] (zero: square to the dock).
+        """
+        x, y, psi = self.rear(obs)
+        yard = self.task.yard
+        return float(x - yard.x_dock), float(y - yard.y_dock), float(wrap_angle(float(psi)))
+
+    def steering_wheel(self, delta: float) -> float:
+        """Steering-wheel angle for road-wheel angle ``delta`` [rad], within the lock."""
+        d = self.vehicle.steering.delta_max
+        return float(self.steering.steering_wheel(min(max(float(delta), -d), d)))
+
+    def road_wheel(self, delta_h: float) -> float:
+        """Road-wheel angle of a steering-wheel angle [rad] (the vehicle file's map)."""
+        return float(self.steering.road_wheel(delta_h))
+

@@ -1,0 +1,332 @@
+"""One docking run: a controller drives the MuJoCo plant onto the dock, and the benchmark.
+
+The loop (:func:`drive`):
+
+1. the start of the scenario's seeded distribution places the plant at rest;
+2. the planner makes a path (a failure to plan is a failed run);
+3. every :data:`DT` (10 Hz) the controller gets the sensors' signals, with
+   the synthetic campaign's noise (:mod:`artic.validation.docking.sensing`), and
+   returns a steering-wheel angle and a speed;
+4. the plant steps every :data:`PLANT_DT`. Between the controller and the
+   plant sit the actuators: the steering wheel turns at most
+   :data:`STEER_RATE`; the speed is the yard's, at most :data:`SPEED_MAX`
+   either way, and changes at most :data:`ACCEL_MAX` (the docking driver's
+   pedal); the plant's steering map (``[steering.mbd]``) turns the wheel
+   into the road-wheel angle;
+5. after every plant step the run checks the plant's true articulation
+   against the vehicle's ``gamma_max`` (jackknife), and after every
+   controller period the outlines of those steps against the obstacles
+   (collision). Either ends the run as a failure at once, as does a
+   timeout, a plant that diverges, or a controller that raises or returns a
+   non-finite command;
+6. when the controller says it is done, the speed is brought to zero and the
+   run is scored where the plant comes to rest.
+
+A failure is a row of the table with its reason, never an exception.
+:func:`benchmark` runs scenarios x vehicles x seeds on worker processes and
+returns the rows in a fixed order: the same arguments give the same rows,
+except the compute times.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import time
+import traceback
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from artic.mjcf.interface import InitialState
+from artic.mjcf.vehicle import load_vehicle
+from artic.plant import Plant, PlantWarning
+from artic.plant.plant import PlantError
+from artic.validation.docking.controllers import Command, Observation, Task, load
+from artic.validation.docking.geometry import Frames, box_array, first_hit
+from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
+from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
+from artic.validation.docking.scores import score
+from artic.validation.docking.sensing import SensorStream
+from artic.validation.models import build
+from artic.validation.progress import Counter
+from artic.validation.steering import SteeringMap
+from artic.validation.synthetic.sensors import SensorModel
+from artic.validation.workers import completed
+
+DT = 0.1
+"""The controllers' sample period [s]: 10 Hz."""
+
+PLANT_DT = 0.01
+"""The plant's step [s], as the synthetic campaign drives it."""
+
+SPEED_MAX = 6.0 / 3.6
+"""The yard's speed limit either way [m/s]: 6 km/h."""
+
+SPEED = 4.0 / 3.6
+"""Cruising speed in reverse that controllers are told [m/s]: 4 km/h, inside the
+3-6 km/h of yard practice."""
+
+ACCEL_MAX = 0.5
+"""Largest change of speed [m/s^2]: the docking driver's pedal."""
+
+STEER_RATE = math.radians(360.0)
+"""Largest steering-wheel rate [rad/s]: an electric steering actuator's, and
+what the synthetic driver turns (0.3 rad/s of road wheel through 21:1)."""
+
+SETTLE = 3.0
+"""Time the run waits for the plant to stop after the controller is done [s]."""
+
+SENSOR_STREAM = 1
+"""Third word of a run's random seed ``(seed, scenario number, SENSOR_STREAM)``: the
+sensors' noise is drawn apart from the start, and is the same for every controller."""
+
+
+@dataclass
+class Trace:
+    """What happened in one run, for the scores and the recording.
+
+    The plant's arrays are per plant step; the controller's per sample.
+    """
+
+    t: list[float] = field(default_factory=list)
+    true: list[np.ndarray] = field(default_factory=list)
+    steering_wheel: list[float] = field(default_factory=list)
+    speed: list[float] = field(default_factory=list)
+    t_ctrl: list[float] = field(default_factory=list)
+    measured: list[np.ndarray] = field(default_factory=list)
+    commands: list[tuple[float, float]] = field(default_factory=list)
+    solve_ms: list[float] = field(default_factory=list)
+    horizons: list[np.ndarray | None] = field(default_factory=list)
+    failure: str = ""
+    done: bool = False
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The plant's and the controller's series as arrays."""
+        return {"t": np.asarray(self.t), "true": np.asarray(self.true).reshape(-1, 13),
+                "steering_wheel": np.asarray(self.steering_wheel),
+                "speed": np.asarray(self.speed), "t_ctrl": np.asarray(self.t_ctrl),
+                "measured": np.asarray(self.measured).reshape(-1, 13),
+                "commands": np.asarray(self.commands).reshape(-1, 2),
+                "solve_ms": np.asarray(self.solve_ms)}
+
+
+@dataclass
+class Result:
+    """One run: its scores row, and what the recording draws."""
+
+    row: dict
+    trace: Trace
+    plan: Plan | None
+    yard: Yard
+    start: Start
+
+
+def _fail(trace: Trace, reason: str) -> None:
+    if not trace.failure:
+        trace.failure = reason
+
+
+def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
+          planner: Planner | None = None, sensors: SensorModel | None = None,
+          timeout: float | None = None, yard_model: str = "mbd") -> Result:
+    """One docking run on the plant.
+
+    Parameters
+    ----------
+    scen : Scenario
+        The yard and the start distribution.
+    vehicle_name : str
+        Preset name or vehicle file.
+    controller : str or type
+        ``--controller``'s value (see :func:`artic.validation.docking.controllers.load`)
+        or the class itself.
+    seed : int
+        Which start of the distribution (and which noise).
+    planner : Planner, optional
+        :class:`~artic.validation.docking.planner.HybridAStar` by default.
+    sensors : SensorModel, optional
+        The campaign's measurement chain by default.
+    timeout : float, optional
+        Longest run [s]; the scenario's by default.
+    yard_model : str
+        What the controller drives: ``"mbd"``, the plant (the benchmark), or
+        ``"kin"`` or ``"stm"`` (from :mod:`artic.validation.models`), for a quick
+        look while developing a controller.
+
+    Returns
+    -------
+    Result
+        Its :attr:`Result.row` holds the scores (:func:`artic.validation.docking.scores.score`).
+    """
+    vehicle = load_vehicle(vehicle_name)
+    cls = load(controller) if isinstance(controller, str) else controller
+    cname = controller if isinstance(controller, str) else f"{cls.__module__}:{cls.__name__}"
+    yard = scen.yard(vehicle)
+    start = scen.start(seed)
+    frames = Frames.of(vehicle)
+    planner = planner or HybridAStar()
+    timeout = scen.timeout if timeout is None else float(timeout)
+    trace = Trace()
+    t0 = time.perf_counter()
+    plan: Plan | None = None
+    try:
+        plan = planner.plan(yard, vehicle, start)
+    except PlanningError as exc:
+        _fail(trace, f"no plan: {exc}")
+    plan_ms = 1e3 * (time.perf_counter() - t0)
+    if plan is not None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
+            _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
+                         sensors or SensorModel(), timeout, yard_model)
+    row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname, "seed": seed,
+           **score(trace, yard, vehicle, frames, start),
+           "plan_ms": plan_ms, "plan_expansions": plan.expansions if plan else 0,
+           "plan_direction_changes": plan.direction_changes if plan else 0,
+           "plan_length_m": plan.length if plan else math.nan}
+    return Result(row, trace, plan, yard, start)
+
+
+def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames, cls: type,
+                 plan: Plan, seed: int, number: int, sensors: SensorModel,
+                 timeout: float, yard_model: str) -> None:
+    n_sub = round(DT / PLANT_DT)
+    n_ctrl = int(round(timeout / DT))
+    stream = SensorStream(sensors, np.random.default_rng([seed, number, SENSOR_STREAM]),
+                          n_ctrl + 1, DT, PLANT_DT)
+    mbd = SteeringMap.from_steering(vehicle.steering_for(yard_model))
+    boxes = box_array(yard.obstacles)
+    x0 = frames.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma)
+    xs, ys = frames.tractor_sensor_of_kin(x0)
+    try:
+        ctrl = cls()
+        ctrl.reset(Task(vehicle, yard, plan, DT, SPEED, SPEED_MAX, ACCEL_MAX, STEER_RATE))
+    except Exception as exc:  # noqa: BLE001 - a user's controller: a failed run, said why
+        _fail(trace, f"controller error: {_one_line(exc)}")
+        return
+    plant = Plant(vehicle) if yard_model == "mbd" else build(yard_model, vehicle)
+    with contextlib.closing(plant):
+        plant.reset(InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0))
+        wheel = float(mbd.steering_wheel(0.0))
+        u = 0.0
+        trace.t.append(0.0)
+        trace.true.append(plant.observe())
+        trace.steering_wheel.append(wheel)
+        trace.speed.append(u)
+        settle_until = None
+        cmd = Command(wheel, 0.0)
+        for k in range(n_ctrl):
+            now = k * DT
+            if settle_until is None:
+                signals, dh = stream.observe(k, trace.true[-1], trace.steering_wheel)
+                obs = Observation(now, signals, dh)
+                tc = time.perf_counter()
+                try:
+                    cmd = ctrl.command(obs)
+                    target = (float(cmd.delta_h), float(cmd.u1), bool(cmd.done))
+                except Exception as exc:  # noqa: BLE001 - the user's code: a failed run
+                    _fail(trace, f"controller error: {_one_line(exc)} "
+                                 f"({_where(exc)})")
+                    return
+                trace.solve_ms.append(1e3 * (time.perf_counter() - tc))
+                if not (math.isfinite(target[0]) and math.isfinite(target[1])):
+                    _fail(trace, f"controller error: non-finite command {target[:2]} at "
+                                 f"t = {now:.1f} s")
+                    return
+                trace.t_ctrl.append(now)
+                trace.measured.append(signals)
+                trace.commands.append(target[:2])
+                trace.horizons.append(None if cmd.horizon is None
+                                      else np.asarray(cmd.horizon, dtype=float))
+                if target[2]:
+                    trace.done = True
+                    settle_until = now + SETTLE
+                u_target = 0.0 if settle_until is not None else \
+                    min(max(target[1], -SPEED_MAX), SPEED_MAX)
+                wheel_target = target[0]
+            elif now >= settle_until or (abs(u) < 1e-9 and abs(trace.true[-1][3]) < 0.01):
+                return
+            for _ in range(n_sub):
+                step = STEER_RATE * PLANT_DT
+                wheel += min(max(wheel_target - wheel, -step), step)
+                u_next = u + min(max(u_target - u, -ACCEL_MAX * PLANT_DT), ACCEL_MAX * PLANT_DT)
+                try:
+                    plant.step(PLANT_DT, float(mbd.road_wheel(wheel)), u,
+                               (u_next - u) / PLANT_DT)
+                except PlantError as exc:
+                    _fail(trace, f"plant diverged: {_one_line(exc)}")
+                    return
+                u = u_next
+                trace.t.append(trace.t[-1] + PLANT_DT)
+                trace.true.append(plant.observe())
+                trace.steering_wheel.append(wheel)
+                trace.speed.append(u)
+                if abs(plant.gamma) > vehicle.gamma_max:
+                    _fail(trace, f"jackknife: |gamma| {math.degrees(abs(plant.gamma)):.1f} deg "
+                                 f"beyond {math.degrees(vehicle.gamma_max):.1f} deg at "
+                                 f"t = {trace.t[-1]:.2f} s")
+                    return
+            recent = np.asarray(trace.true[-n_sub:])
+            tractor, trailer = frames.unit_poses_of_signals(recent)
+            i, j, unit = first_hit(tractor, trailer, frames.tractor_box, frames.trailer_box,
+                                   boxes)
+            if i >= 0:
+                _fail(trace, f"collision: {('tractor', 'semitrailer')[unit]} hit "
+                             f"{yard.obstacles[j].name} at t = {trace.t[-n_sub + i]:.2f} s")
+                return
+        if settle_until is None:
+            _fail(trace, f"timeout: not docked after {timeout:.0f} s")
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(f"{type(exc).__name__}: {exc}".split())
+
+
+def _where(exc: BaseException) -> str:
+    tb = traceback.extract_tb(exc.__traceback__)
+    if not tb:
+        return "?"
+    f = tb[-1]
+    return f"{f.filename.rsplit('/', 1)[-1]}:{f.lineno}"
+
+
+def _task(scen_name: str, vehicle: str, controller: str, seed: int,
+          sensors: SensorModel | None) -> dict:
+    """A worker's job: one run, its scores row only (traces stay in the worker)."""
+    return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors).row
+
+
+def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str,
+              seeds: Sequence[int], jobs: int = 1,
+              progress: Callable[[str], None] | None = None,
+              sensors: SensorModel | None = None) -> list[dict]:
+    """Every scenario x vehicle x seed with one controller; rows in that order.
+
+    Parameters
+    ----------
+    scenarios, vehicles : sequence of str
+        Scenario names and vehicle presets or files.
+    controller : str
+        ``--controller``'s value.
+    seeds : sequence of int
+        The starts.
+    jobs : int
+        Worker processes.
+    progress : callable, optional
+        Receives progress lines.
+    sensors : SensorModel, optional
+        The measurement chain; the campaign's by default.
+    """
+    tasks = [((s, v, seed), (s, v, controller, seed, sensors))
+             for s in scenarios for v in vehicles for seed in seeds]
+    counter = Counter(len(tasks), f"docking ({controller})", progress)
+    rows: dict[tuple, dict] = {}
+    with contextlib.closing(completed(_task, tasks, jobs)) as done:
+        for key, row in done:
+            rows[key] = row
+            counter.step(f"{key[0]} {key[1]} seed {key[2]}: "
+                         + ("docked" if row["success"] else row["failure"]))
+    return [rows[key] for key, _ in tasks]

@@ -1,0 +1,251 @@
+"""Scores of a docking run, and the table over seeded starts with 95 % intervals.
+
+Per run (:func:`score`), from the plant's true signals (the controller's
+noisy ones never enter a score):
+
+- ``success``: no failure (collision, jackknife, timeout, no plan, a diverged
+  plant or a controller error), the controller said it was done, and the
+  rear came to rest at the door: at most :data:`DOCKED` short of the face,
+  off its centre line and askew. A run that stops outside them fails as
+  ``missed the door``. (The gates are the benchmark's: what a dock
+  leveller's lip and the door's seals take up.)
+- final ``lateral_error_m`` (positive: left of the line, seen from the
+  dock), ``longitudinal_error_m`` (positive: short of the face) of the
+  semitrailer's rear centre, and ``heading_error_deg`` of the semitrailer;
+- ``max_gamma_deg`` and its ``gamma_margin_deg`` to the vehicle's limit;
+- ``direction_changes``: sign changes of the tractor's speed beyond 5 cm/s;
+- ``time_s`` to rest; ``path_length_m``: the drive axle's travel;
+- ``swept_area_m2``: the ground the two outlines covered (0.1 m grid), and
+  ``swept_width_m``: that area less the start's footprint, per metre of the
+  semitrailer axle's travel: the outline's width when reversing straight,
+  wider in a turn;
+- ``solve_ms_p50``, ``solve_ms_p99``: the controller's compute time per command.
+
+The table (:func:`table`) groups by scenario, vehicle and controller: the
+success rate with its Wilson 95 % interval, and the means of the errors
+over the successes with seeded bootstrap 95 % intervals, printed to the
+digits the interval supports. :func:`paired` compares two controllers over
+the starts both docked.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from artic.mjcf.interface import OBS_INDEX
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.docking.geometry import Frames, swept_cells
+
+DOCKED = (0.3, 0.3, math.radians(3.0))
+"""Largest distance short of the face [m], offset from the centre line [m] and
+heading error [rad] of a docked rear."""
+
+REVERSING = 0.05
+"""Speed beyond which the tractor counts as moving in a direction [m/s]."""
+
+SWEPT_CELL = 0.1
+"""Grid of the swept area [m]."""
+
+COLUMNS = ("scenario", "vehicle", "controller", "seed", "success", "failure",
+           "lateral_error_m", "longitudinal_error_m", "heading_error_deg", "max_gamma_deg",
+           "gamma_margin_deg", "direction_changes", "time_s", "path_length_m", "swept_width_m",
+           "swept_area_m2", "solve_ms_p50", "solve_ms_p99", "plan_ms", "plan_expansions",
+           "plan_direction_changes", "plan_length_m", "start_x_m", "start_y_m",
+           "start_heading_deg", "start_gamma_deg")
+"""Columns of ``dock.csv``, in order."""
+
+
+def score(trace, yard, vehicle: Vehicle, frames: Frames, start) -> dict:
+    """The scores of one run (see the module docstring).
+
+    Parameters
+    ----------
+    trace : artic.validation.docking.run.Trace
+        What happened.
+    yard : Yard
+        The dock.
+    vehicle : Vehicle
+        Its ``gamma_max``.
+    frames : Frames
+        Its geometry.
+    start : Start
+        Where it started.
+    """
+    a = trace.arrays()
+    row = {"success": False, "failure": trace.failure,
+           "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
+           "start_heading_deg": math.degrees(start.psi_2),
+           "start_gamma_deg": math.degrees(start.gamma)}
+    nan = math.nan
+    row.update({k: nan for k in COLUMNS if k.endswith(("_m", "_deg", "_s", "_m2", "_ms_p50",
+                                                       "_ms_p99")) and k not in row})
+    row["direction_changes"] = 0
+    solve = a["solve_ms"]
+    if solve.size:
+        row["solve_ms_p50"] = float(np.percentile(solve, 50))
+        row["solve_ms_p99"] = float(np.percentile(solve, 99))
+    true = a["true"]
+    if true.shape[0] == 0:
+        return row
+    x_r, y_r, psi_2 = frames.rear_of_signals(true[-1])
+    lon, lat = float(x_r - yard.x_dock), float(y_r - yard.y_dock)
+    head = float(math.remainder(psi_2, 2 * math.pi))
+    gamma = np.abs(true[:, OBS_INDEX["gamma"]])
+    row.update({"lateral_error_m": lat, "longitudinal_error_m": lon,
+                "heading_error_deg": math.degrees(head),
+                "max_gamma_deg": math.degrees(float(gamma.max())),
+                "gamma_margin_deg": math.degrees(vehicle.gamma_max - float(gamma.max())),
+                "time_s": float(a["t"][-1])})
+    v = true[:, OBS_INDEX["v_x_1"]]
+    moving = np.sign(v[np.abs(v) > REVERSING])
+    row["direction_changes"] = int(np.count_nonzero(np.diff(moving))) if moving.size else 0
+    tractor, trailer = frames.unit_poses_of_signals(true)
+    row["path_length_m"] = float(np.sum(np.hypot(*np.diff(tractor[:, :2], axis=0).T)))
+    axle = trailer[:, :2] - frames.P[2] * np.column_stack([np.cos(trailer[:, 2]),
+                                                           np.sin(trailer[:, 2])])
+    axle_travel = float(np.sum(np.hypot(*np.diff(axle, axis=0).T)))
+    area, footprint = swept_area(tractor, trailer, frames)
+    row["swept_area_m2"] = area
+    row["swept_width_m"] = (area - footprint) / axle_travel if axle_travel > 1.0 else nan
+    if not trace.failure:
+        if not trace.done:
+            row["failure"] = "the controller never finished"
+        elif not (-DOCKED[0] <= lon <= DOCKED[0] and abs(lat) <= DOCKED[1]
+                  and abs(head) <= DOCKED[2]):
+            row["failure"] = (f"missed the door: rear {100 * lon:.0f} cm from the face, "
+                              f"{100 * lat:.0f} cm off the line, "
+                              f"{math.degrees(head):.1f} deg askew")
+        else:
+            row["success"] = True
+    return row
+
+
+def swept_area(tractor: np.ndarray, trailer: np.ndarray, frames: Frames,
+               every: int = 5) -> tuple[float, float]:
+    """Ground covered by the outlines over a run, and by them at the start alone [m^2].
+
+    Parameters
+    ----------
+    tractor, trailer : ndarray, shape (n, 3)
+        Drive-axle and kingpin poses per plant step.
+    frames : Frames
+        The outlines.
+    every : int
+        Use every ``every``-th pose (at 10 ms steps and 6 km/h, 5 steps are 8 cm).
+    """
+    sel = np.r_[np.arange(0, len(tractor), every), len(tractor) - 1]
+    t, k = tractor[sel], trailer[sel]
+    reach = float(frames.trailer_box[1] + abs(frames.trailer_box[0]) + frames.tractor_box[1]
+                  + abs(frames.tractor_box[0]) + 2.0)
+    x0 = float(min(t[:, 0].min(), k[:, 0].min()) - reach)
+    y0 = float(min(t[:, 1].min(), k[:, 1].min()) - reach)
+    nx = int((max(t[:, 0].max(), k[:, 0].max()) + reach - x0) / SWEPT_CELL) + 1
+    ny = int((max(t[:, 1].max(), k[:, 1].max()) + reach - y0) / SWEPT_CELL) + 1
+    cell2 = SWEPT_CELL ** 2
+    all_ = swept_cells(t, k, frames.tractor_box, frames.trailer_box, x0, y0, SWEPT_CELL, nx, ny)
+    first = swept_cells(t[:1], k[:1], frames.tractor_box, frames.trailer_box, x0, y0,
+                        SWEPT_CELL, nx, ny)
+    return float(all_.sum() * cell2), float(first.sum() * cell2)
+
+
+# ---------------------------------------------------------------- statistics
+BOOTSTRAP = 2000
+"""Bootstrap resamples of a mean's interval."""
+
+
+def mean_ci(x: Sequence[float], seed: int = 0) -> tuple[float, float, float]:
+    """Mean and its 95 % interval (seeded percentile bootstrap); NaN bounds below 2 values."""
+    x = np.asarray([v for v in x if np.isfinite(v)], dtype=float)
+    if x.size == 0:
+        return math.nan, math.nan, math.nan
+    m = float(x.mean())
+    if x.size < 2 or np.all(x == x[0]):
+        return m, (m if x.size > 1 else math.nan), (m if x.size > 1 else math.nan)
+    res = stats.bootstrap((x,), np.mean, n_resamples=BOOTSTRAP, confidence_level=0.95,
+                          method="percentile", random_state=np.random.default_rng(seed))
+    return m, float(res.confidence_interval.low), float(res.confidence_interval.high)
+
+
+def rate_ci(k: int, n: int) -> tuple[float, float, float]:
+    """Success rate and its Wilson 95 % interval."""
+    if n == 0:
+        return math.nan, math.nan, math.nan
+    ci = stats.binomtest(int(k), int(n)).proportion_ci(0.95, method="wilson")
+    return k / n, float(ci.low), float(ci.high)
+
+
+def fmt_ci(m: float, lo: float, hi: float, scale: float = 1.0) -> str:
+    """``m [lo, hi]`` to the decimals the interval supports (its half-width's first digit)."""
+    if not np.isfinite(m):
+        return "-"
+    m, lo, hi = m * scale, lo * scale, hi * scale
+    if not (np.isfinite(lo) and np.isfinite(hi)) or hi <= lo:
+        return f"{m:.3g}"
+    d = max(0, -math.floor(math.log10((hi - lo) / 2)))
+    return f"{m:.{d}f} [{lo:.{d}f}, {hi:.{d}f}]"
+
+
+TABLE_METRICS = (("|lateral| [cm]", "lateral_error_m", 100.0, True),
+                 ("|longitudinal| [cm]", "longitudinal_error_m", 100.0, True),
+                 ("|heading| [deg]", "heading_error_deg", 1.0, True),
+                 ("max |gamma| [deg]", "max_gamma_deg", 1.0, False),
+                 ("direction changes", "direction_changes", 1.0, False),
+                 ("time [s]", "time_s", 1.0, False),
+                 ("path [m]", "path_length_m", 1.0, False),
+                 ("swept width [m]", "swept_width_m", 1.0, False))
+"""The table's means over successes: label, column, scale, and whether of the magnitude."""
+
+
+def table(rows: pd.DataFrame) -> pd.DataFrame:
+    """One row per scenario, vehicle and controller (see the module docstring)."""
+    out = []
+    for (scen, veh, ctrl), g in rows.groupby(["scenario", "vehicle", "controller"], sort=False):
+        ok = g[g["success"].astype(bool)]
+        r, lo, hi = rate_ci(len(ok), len(g))
+        rec = {"scenario": scen, "vehicle": veh, "controller": ctrl, "runs": len(g),
+               "docked": len(ok), "success [95 % CI]": fmt_ci(r, lo, hi)}
+        for label, col, scale, absolute in TABLE_METRICS:
+            x = ok[col].to_numpy(dtype=float)
+            rec[label] = fmt_ci(*mean_ci(np.abs(x) if absolute else x), scale=scale)
+        for label, col in (("max |lateral| [cm]", "lateral_error_m"),
+                           ("max |heading| [deg]", "heading_error_deg")):
+            x = np.abs(ok[col].to_numpy(dtype=float)) * (100.0 if "cm" in label else 1.0)
+            rec[label] = f"{x.max():.1f}" if x.size else "-"
+        rec["jackknifes"] = int(g["failure"].astype(str).str.startswith("jackknife").sum())
+        rec["collisions"] = int(g["failure"].astype(str).str.startswith("collision").sum())
+        rec["solve p50 [ms]"] = f"{g['solve_ms_p50'].median():.2g}"
+        rec["solve p99 [ms]"] = f"{g['solve_ms_p99'].max():.2g}"
+        out.append(rec)
+    return pd.DataFrame(out)
+
+
+def paired(rows: pd.DataFrame, a: str, b: str, column: str, absolute: bool = True,
+           seed: int = 0) -> dict:
+    """Controller ``a`` minus ``b`` on ``column`` over the starts both docked, with its 95 % CI.
+
+    Pairs are (scenario, vehicle, seed). The difference is resolved when
+    its interval excludes zero.
+    """
+    key = ["scenario", "vehicle", "seed"]
+    ra = rows[(rows["controller"] == a) & rows["success"].astype(bool)].set_index(key)[column]
+    rb = rows[(rows["controller"] == b) & rows["success"].astype(bool)].set_index(key)[column]
+    both = ra.index.intersection(rb.index)
+    d = (ra.loc[both].abs() - rb.loc[both].abs()) if absolute else (ra.loc[both] - rb.loc[both])
+    m, lo, hi = mean_ci(d.to_numpy(dtype=float), seed)
+    return {"a": a, "b": b, "metric": column, "pairs": len(both),
+            "difference [95 % CI]": fmt_ci(m, lo, hi),
+            "resolved": bool(np.isfinite(lo) and (lo > 0 or hi < 0)),
+            "mean_difference": m, "low": lo, "high": hi}
+
+
+def markdown(t: pd.DataFrame) -> str:
+    """The table as GitHub Markdown."""
+    cols = list(t.columns)
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    lines += ["| " + " | ".join(str(v) for v in r) + " |" for r in t.itertuples(index=False)]
+    return "\n".join(lines) + "\n"
