@@ -143,10 +143,14 @@ def test_channel_map_errors_name_the_key(tmp_path):
         read_map(bad)
     bad.write_text('[time]\ncolumn = "t"\nunit = "s"\n[channels]\n'
                    'delta_h = { column = "a", unit = "deg" }\n')
-    with pytest.raises(LogError, match="missing x_1"):
+    with pytest.raises(LogError, match=r"no unit's pose; name x_1, y_1, psi_1"):
+        read_map(bad)
+    bad.write_text('[time]\ncolumn = "t"\nunit = "s"\n[channels]\n'
+                   'x_1 = { column = "X", unit = "m" }\npsi_1 = { column = "h", unit = "rad" }\n')
+    with pytest.raises(LogError, match=r"has x_1, psi_1 but not y_1"):
         read_map(bad)
     spec = read_map(EXAMPLE)
-    assert spec["channels"]["gamma"][2] == -1.0 and spec["max_gap"] == 0.3
+    assert spec.entries["gamma"].scale == -1.0 and spec.max_gap == 0.3
 
 
 def test_canonical_csv_without_the_semitrailer_is_derived(tmp_path, unloaded, plant_run):

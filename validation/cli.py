@@ -6,12 +6,14 @@ Subcommands:
 - ``artic vehicle keys``: the parameter file format;
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
 - ``artic validate LOG.parquet ... --vehicle V --models kin,stm,mbd [--gain K]
-  [--gain-sweep] [--no-recordings] --out-dir DIR``: metrics, the Table 2/3
+  [--gain-sweep] [--no-recordings] [--steer-from log|yaw-rate] --out-dir DIR``:
+  metrics (a log split at gaps pooled over its segments), the Table 2/3
   summaries and one Rerun recording per log;
 - ``artic tune LOG.parquet ... --vehicle V --models kin,stm,mbd --out PARAMS.toml``;
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
 - ``artic logs import SRC... [--channels MAP.toml] [--vehicle V] --out-dir DIR``:
-  exports (or CSVs through a channel map) to canonical Parquet;
+  exports (or CSVs, ROS bags and MCAP files through a channel map) to canonical
+  Parquet;
 - ``artic campaign [--out-dir DIR]``: the main job.
 
 Errors in the user's input end with exit code 2 and a one-line message that
@@ -121,7 +123,11 @@ def _simulate(args: argparse.Namespace) -> int:
 
 def _read_logs(args: argparse.Namespace, vehicle) -> list:
     accept = parse_accept(args.accept)
-    return [read_log(p, vehicle, accept) for p in args.logs]
+    logs = [read_log(p, vehicle, accept) for p in args.logs]
+    if getattr(args, "steer_from", "log") == "yaw-rate":
+        for log in logs:
+            log.meta["steer_from"] = "yaw-rate"
+    return logs
 
 
 def _validate(args: argparse.Namespace) -> int:
@@ -132,6 +138,7 @@ def _validate(args: argparse.Namespace) -> int:
         validate_runs,
         write_metrics,
     )
+    from artic.validation.criteria.pooled import pool_segments, segment_of, whole_logs
     from artic.validation.models import parse_models
 
     v = load_vehicle(args.vehicle)
@@ -141,10 +148,15 @@ def _validate(args: argparse.Namespace) -> int:
     for log in logs:
         if log.meta.get("derived"):
             print(f"note: {log.name}: {log.meta['derived']['note']}")
+        if log.meta.get("steer_from") == "yaw-rate":
+            print(f"note: {log.name}: --steer-from yaw-rate: the models' tractors follow the "
+                  "measured yaw rate, so the comparison is about the semitrailer")
     with OutDirLock(out, "validate"):
         clean_stale(out)
         metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
                                 progress=stderr_progress, jobs=args.jobs)
+        if any(segment_of(log) for log in logs):
+            metrics = pool_segments(metrics, logs, out / "runs")
         path = write_metrics(metrics, out / "metrics.csv")
         failed = metrics[metrics["status"].astype(str).str.startswith(FAILED)]
         print(f"wrote {path} ({len(metrics)} rows) and {len(metrics) - len(failed)} runs in "
@@ -154,7 +166,7 @@ def _validate(args: argparse.Namespace) -> int:
             _validate_recordings(out, logs, v, models, metrics)
         for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
                                        ("reverse", "table3_reverse", "Reverse (Table 3 columns)")):
-            table = summary(metrics, direction)
+            table = summary(whole_logs(metrics), direction)
             if len(table):
                 write_table(table, out / stem, title)
                 print(f"\n{title}\n\n{markdown(table)}")
@@ -201,11 +213,17 @@ def _tune(args: argparse.Namespace) -> int:
     from artic.validation.campaign.tuning import tune
     from artic.validation.campaign.validate import stderr_progress
     from artic.validation.models import parse_models
+    from artic.validation.yawsteer import wants_yaw_rate
 
     out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
     logs = _read_logs(args, v)
+    unsteered = [log.name for log in logs if wants_yaw_rate(log.meta)]
+    if unsteered:
+        raise ValueError(f"{', '.join(unsteered)}: no steering channel (delta_h derived from the "
+                         "yaw rate); tuning fits the steering map and needs a measured steering "
+                         "wheel: leave it out")
     reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
     if reverse:
         raise ValueError(f"tuning uses forward manoeuvres; {', '.join(reverse)} reverse(s) "
@@ -390,6 +408,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default: on)")
     val.add_argument("--jobs", type=options.JOBS, default=JOBS,
                      help="threads (default: the number of cores, %(default)s)")
+    val.add_argument("--steer-from", choices=("log", "yaw-rate"), default="log",
+                     help="steer the models from the log's steering wheel (log; a log without "
+                          "one is steered from its yaw rate) or from the measured yaw rate "
+                          "(yaw-rate: the tractors follow it, and the comparison is about the "
+                          "semitrailer) (default: %(default)s)")
     _add_accept(val)
     val.set_defaults(func=_validate)
 
@@ -413,8 +436,9 @@ def build_parser() -> argparse.ArgumentParser:
     lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path,
-                     help="canonical .parquet/.csv, .mat, or a folder with tractor.csv, "
-                          "trailer.csv, can.csv")
+                     help="canonical .parquet/.csv, .mat, a folder with tractor.csv, "
+                          "trailer.csv, can.csv, or with --channels a CSV, a ROS 1 .bag, a ROS 2 "
+                          "bag folder or an .mcap file")
     imp.add_argument("--out-dir", required=True, type=Path)
     imp.add_argument("--vehicle", default=None,
                      help="preset name or TOML file for the steering and hitch checks, and "
@@ -422,8 +446,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "log (default: the steering check with the gosar2022-unloaded map, "
                           "the hitch fitted, and gosar2022-unloaded's geometry)")
     imp.add_argument("--channels", type=Path, default=None,
-                     help="a channel map (.toml) for a CSV with other column names and units; "
-                          "see docs/channels-example.toml")
+                     help="a channel map (.toml) for a CSV with other column names and units, "
+                          "or for a ROS bag or MCAP file (topics and fields); see "
+                          "docs/channels-example.toml and docs/channels-bag-example.toml")
     _add_accept(imp)
     imp.set_defaults(func=_logs_import)
     gen = lsub.add_parser("generate", help="the synthetic measured campaign")

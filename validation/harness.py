@@ -13,7 +13,10 @@ would destabilise the loop for such K, so it is off.
 
 Inputs per sample ``k`` (held over the step to ``k + 1``):
 
-- ``delta_center`` from the log's ``delta_h`` through the model's eq. (3) map;
+- ``delta_center`` from the log's ``delta_h`` through the model's eq. (3) map,
+  or, for a log steered from its yaw rate (``--steer-from yaw-rate``, or a
+  ``delta_h`` derived at import), the road-wheel angle of
+  :mod:`artic.validation.yawsteer`;
 - the tractor speed ``u1 = v_x_1 + r_1 * y_s1``, exact for a rigid tractor
   whose sensor sits ``y_s1`` off its centre line, smoothed by a quadratic
   Savitzky-Golay filter over :data:`SPEED_WINDOW` and rising linearly to the
@@ -48,6 +51,12 @@ from artic.validation.feedback import feedback_law
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import Model
 from artic.validation.steering import SteeringMap
+from artic.validation.yawsteer import (
+    equivalent_wheelbase,
+    road_wheel_from_yaw_rate,
+    steering_wheel,
+    wants_yaw_rate,
+)
 
 DEFAULT_GAIN = 3.0
 """The paper's feedback gain K [rad/rad]."""
@@ -100,7 +109,23 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
     steering : SteeringMap
         The model's eq. (3) map.
     """
-    return steered(unsteered_inputs(run, vehicle), steering, f"{run.name}: column delta_h")
+    inputs = unsteered_inputs(run, vehicle)
+    if wants_yaw_rate(run.meta):
+        return yaw_steered(inputs, run, vehicle, steering)
+    return steered(inputs, steering, f"{run.name}: column delta_h")
+
+
+def yaw_steered(inputs: LoopInputs, run: Run, vehicle: Vehicle,
+                steering: SteeringMap) -> LoopInputs:
+    """``inputs`` with ``delta_c`` from the measured yaw rate (:mod:`artic.validation.yawsteer`).
+
+    ``delta_h`` becomes the steering-wheel angle that gives ``delta_c`` through
+    the model's map, for the record.
+    """
+    r1 = smooth_speed(inputs.t, run.frame["r_1"].to_numpy(dtype=float))
+    delta_c = road_wheel_from_yaw_rate(inputs.u1, r1, equivalent_wheelbase(vehicle))
+    delta_h = steering_wheel(steering, delta_c, vehicle.steering.delta_max)
+    return replace(inputs, delta_c=delta_c, delta_h=delta_h)
 
 
 def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
