@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
@@ -122,3 +123,150 @@ def test_bag_through_a_map_recovers_the_articulation(fmt, tmp_path, truth, unloa
     w = seg["s_max"] / seg["s_max"].sum()
     assert pooled["eps_y2"].item() == pytest.approx(
         math.sqrt(float(np.sum(w * seg["eps_y2"] ** 2))), rel=1e-5)
+
+
+# ------------------------------------------------------------------ hostile bags and maps
+@pytest.fixture(scope="module")
+def short_truth():
+    """A measured 12 s slalom of the STM (the hostile-input suite's), gap included."""
+    from hostile_logs import slalom
+
+    return slalom().frame.iloc[:1200].reset_index(drop=True)
+
+
+MCAP_MAP = bag_logs.channel_map("mcap")
+POSE_X = 'x_1 = { topic = "/vive/pose", field = "pose.position.x", unit = "m" }'
+
+HOSTILE_MAPS = {
+    "missing topic": (MCAP_MAP.replace('topic = "/encoder/angle"', 'topic = "/encoder/hitch"'),
+                      r"topic /encoder/hitch \(field data, for gamma in .*\) is not in the bag"),
+    "wrong field path": (MCAP_MAP.replace("pose.position.x", "pose.positon.x"),
+                         r"topic /vive/pose .*field pose\.positon\.x .*no field 'positon' there; "
+                         r"the message has position, orientation"),
+    "not a field path": (MCAP_MAP.replace("pose.position.x", "pose..x]"),
+                         r"topic /vive/pose, field 'pose\.\.x\]' .*not a field path"),
+    "a message, not a number": (MCAP_MAP.replace("pose.position.x", "pose.position"),
+                                r"field pose\.position .*not a number but a message with x, y, z"),
+    "index out of range": (MCAP_MAP.replace("pose.position.x", "pose.position[3]"),
+                           r"field pose\.position\[3\] .*no element 3"),
+    "quaternion of a number": (MCAP_MAP.replace("pose.orientation", "pose.position.z"),
+                               r"field pose\.position\.z .*unit quaternion needs a "
+                               r"geometry_msgs/Quaternion"),
+    "custom type, text field": (MCAP_MAP.replace(
+        'gamma = { topic = "/encoder/angle", field = "data", unit = "deg", scale = -1.0',
+        'gamma = { topic = "/diagnostics/rig", field = "state", unit = "deg", scale = -1.0'),
+        r"topic /diagnostics/rig \(my_rig/msg/Diagnostics\), field state .*is text \('ok'\)"),
+    "no header": (MCAP_MAP.replace(', time = "receive" }', " }"),
+                  r"topic /encoder/angle \(std_msgs/msg/Float32\), field data: its messages have "
+                  r'no header stamp; give gamma time = "receive"'),
+    "CSV map for a bag": ('[time]\ncolumn = "t"\nunit = "s"\n[channels]\n'
+                          'x_1 = { column = "X", unit = "m" }\ny_1 = { column = "Y", unit = "m" }\n'
+                          'psi_1 = { column = "h", unit = "rad" }\n'
+                          'gamma = { column = "g", unit = "rad" }\n',
+                          r"the map names CSV columns .* but the log is a ROS bag"),
+}
+
+
+def _one_line(code: int, err: str) -> str:
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("artic: error: ") and "Traceback" not in err
+    return lines[0]
+
+
+@pytest.mark.parametrize("case", list(HOSTILE_MAPS))
+def test_hostile_maps_give_one_line_with_file_topic_and_field(case, tmp_path, short_truth):
+    path, _ = bag_logs.write_log("mcap", tmp_path / "rig", short_truth)
+    text, expected = HOSTILE_MAPS[case]
+    chmap = tmp_path / "map.toml"
+    chmap.write_text(text)
+    line = _one_line(*artic("logs", "import", path, "--channels", chmap, "--out-dir",
+                            tmp_path / "out")[::2])
+    assert re.search(expected, line), line
+    assert str(path) in line or str(chmap) in line
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+@pytest.mark.parametrize("fmt", bag_logs.FORMATS)
+def test_truncated_bags_give_one_line(fmt, tmp_path, short_truth):
+    path, text = bag_logs.write_log(fmt, tmp_path / "rig", short_truth)
+    target = path if path.is_file() else next(p for p in path.iterdir()
+                                              if p.suffix in (".db3", ".mcap"))
+    data = target.read_bytes()
+    target.write_bytes(data[: len(data) * 2 // 3])
+    chmap = tmp_path / "map.toml"
+    chmap.write_text(text)
+    line = _one_line(*artic("logs", "import", path, "--channels", chmap, "--out-dir",
+                            tmp_path / "out")[::2])
+    assert str(path) in line and "truncated or damaged" in line
+    assert "field pose" in line and "topic /" in line  # what could not be read
+
+
+def test_empty_topic_and_nan_runs(tmp_path, short_truth):
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    msgs = bag_logs.messages("sqlite3", short_truth)
+    ts = bag_logs._stores(False)
+    path = tmp_path / "rig"
+    with Writer(path, version=9, storage_plugin=StoragePlugin.SQLITE3) as w:
+        conns = {}
+        for topic, typ, m, ns in msgs:
+            if topic not in conns:
+                conns[topic] = w.add_connection(topic, typ, typestore=ts)
+            if topic == "/encoder/angle":
+                continue  # announced, never published
+            w.write(conns[topic], ns, ts.serialize_cdr(m, typ))
+    chmap = tmp_path / "map.toml"
+    chmap.write_text(bag_logs.channel_map("sqlite3"))
+    line = _one_line(*artic("logs", "import", path, "--channels", chmap, "--out-dir",
+                            tmp_path / "out")[::2])
+    assert re.search(r"topic /encoder/angle \(std_msgs/msg/Float64\), field data \(for gamma\): "
+                     "no messages", line), line
+    # NaN in a field: short runs interpolated and reported, a long one refused with the topic
+    for n, ok in ((3, True), (60, False)):  # 50 Hz: 3 NaN span 0.08 s, under 0.1 s
+        nan_path = tmp_path / f"nan{n}"
+        with Writer(nan_path, version=9, storage_plugin=StoragePlugin.SQLITE3) as w:
+            conns = {}
+            k = 0
+            for topic, typ, m, ns in msgs:
+                if topic not in conns:
+                    conns[topic] = w.add_connection(topic, typ, typestore=ts)
+                if topic == "/encoder/angle":
+                    k += 1
+                    if 100 <= k < 100 + n:
+                        m.data = math.nan
+                w.write(conns[topic], ns, ts.serialize_cdr(m, typ))
+        code, out, err = artic("logs", "import", nan_path, "--channels", chmap, "--out-dir",
+                               tmp_path / f"out{n}")
+        if ok:
+            assert code == 0, err
+            assert re.search(rf"channel /encoder/angle \(field data\): interpolated {n} "
+                             "missing value", out), out
+        else:
+            line = _one_line(code, err)
+            assert re.search(r"channel /encoder/angle \(field data\): 60 missing value", line)
+            assert str(nan_path) in line
+
+
+def test_a_bag_without_a_map_is_refused_with_the_fix(tmp_path, short_truth):
+    path, _ = bag_logs.write_log("ros1", tmp_path / "rig", short_truth)
+    line = _one_line(*artic("logs", "import", path, "--out-dir", tmp_path / "out")[::2])
+    assert str(path) in line and "--channels MAP.toml" in line
+
+
+def test_a_custom_type_with_its_definition_decodes(tmp_path, short_truth, unloaded):
+    """The bag carries my_rig/msg/Diagnostics' definition: a map may read it."""
+    from artic.validation.logs.bags import read_bag
+    from artic.validation.logs.channelmap import read_map
+
+    path, text = bag_logs.write_log("ros1", tmp_path / "rig", short_truth)
+    chmap = tmp_path / "map.toml"
+    chmap.write_text(text.replace(
+        'gamma = { topic = "/joint_states", field = "position[hitch]", unit = "rad", '
+        'scale = -1.0 }',
+        'gamma = { topic = "/diagnostics/rig", field = "counters[0]", unit = "rad", '
+        'time = "receive" }'))
+    streams, lines = read_bag(path, read_map(chmap))
+    diag = next(s for s in streams if s.name.startswith("/diagnostics/rig"))
+    assert list(diag.raw.values())[0][:3].tolist() == [0.0, 1.0, 2.0]
+    assert any("/joint_states (sensor_msgs/msg/JointState)" in line for line in lines)

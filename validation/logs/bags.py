@@ -96,6 +96,14 @@ def _parse(path: Path, entry: Entry, map_path: str) -> list[str | int]:
     return steps
 
 
+def _wanted(chmap: ChannelMap) -> str:
+    """The topics and fields a map reads, for messages about the whole file."""
+    by: dict[str, list[str]] = {}
+    for e in chmap.entries.values():
+        by.setdefault(e.source, []).append(str(e.field))
+    return ", ".join(f"topic {t} (field {', '.join(fs)})" for t, fs in by.items())
+
+
 def _fields_of(obj: Any) -> str:
     names = [n for n in getattr(obj, "__dataclass_fields__", {}) if not n.startswith("__")]
     return ", ".join(names) if names else "none (it is a value)"
@@ -213,8 +221,8 @@ def read_bag(path: Path, chmap: ChannelMap) -> tuple[list, list[str]]:
     except (*reader_errors, OSError, ValueError, KeyError, IndexError, EOFError) as exc:
         kind = "ROS 1 bag" if ros1 else "ROS 2 bag or MCAP file"
         raise LogError(f"{path}: not a readable {kind}; it may be truncated or damaged "
-                       f"({' '.join(str(exc).split()) or type(exc).__name__}): "
-                       f"{_repair_hint(path)}") from exc
+                       f"({' '.join(str(exc).split()) or type(exc).__name__}), so none of "
+                       f"{_wanted(chmap)} can be read: {_repair_hint(path)}") from exc
     try:
         return _read(path, reader, chmap, ros1, typesys, reader_errors, Stream)
     finally:
@@ -279,7 +287,7 @@ def _read(path, reader, chmap: ChannelMap, ros1: bool, typesys, reader_errors, S
         where = f" after {count[last]} message(s) of topic {last}" if last else ""
         raise LogError(f"{path}: truncated or damaged{where} "
                        f"({' '.join(str(exc).split()) or type(exc).__name__}) while reading "
-                       f"{', '.join(named)}: {_repair_hint(path)}") from exc
+                       f"{_wanted(chmap)}: {_repair_hint(path)}") from exc
     for topic, entries in named.items():
         if not count[topic]:
             raise LogError(f"{path}: topic {topic} ({by_topic[topic][0].msgtype}), field "
