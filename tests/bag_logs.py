@@ -16,7 +16,9 @@ late, together with the next). Formats:
 - ``"ros2-mcap"``: a ROS 2 bag with MCAP storage tracking the *semitrailer*
   (``PoseStamped``) and a ``Float64`` encoder at its receive time;
 - ``"mcap"``: a bare ``.mcap`` file (the ``mcap`` library's ROS 2 writer):
-  tractor ``PoseStamped`` and a ``Float32`` encoder.
+  tractor ``PoseStamped`` and a ``Float32`` encoder in degrees;
+- ``"example"``: the same with a ``Float64`` encoder in radians, the layout of
+  ``docs/channels-bag-example.toml``.
 
 Each comes with its channel map (TOML text).
 """
@@ -136,7 +138,7 @@ def messages(fmt: str, truth: pd.DataFrame, seed: int = 0):
             m = J(header=_header(ts, ns_true, "hitch"), name=["steer_dummy", "hitch"],
                   position=np.array([0.0, -g[k]]), velocity=np.zeros(2), effort=np.zeros(2))
             out.append(("/joint_states", "sensor_msgs/msg/JointState", m, ns_rx))
-        elif fmt == "mcap":
+        elif fmt == "mcap":  # Float32 in degrees
             F = ts.types["std_msgs/msg/Float32"]
             out.append(("/encoder/angle", "std_msgs/msg/Float32", F(data=-math.degrees(g[k])),
                         ns_rx))
@@ -147,7 +149,7 @@ def messages(fmt: str, truth: pd.DataFrame, seed: int = 0):
     for k, t in enumerate(_sample(truth, 5.0, rng)):
         out.append(("/diagnostics/rig", "my_rig/msg/Diagnostics",
                     D(battery=12.0 - 0.01 * k, state="ok",
-                      counters=[k] if fmt == "mcap" else np.array([k], np.uint32)),
+                      counters=[k] if fmt in ("mcap", "example") else np.array([k], np.uint32)),
                     T0_NS + int(t * 1e9)))
     out.sort(key=lambda m: m[3])
     return out
@@ -181,7 +183,7 @@ def write_log(fmt: str, path: Path, truth: pd.DataFrame, seed: int = 0) -> tuple
     else:
         from mcap_ros2.writer import Writer
 
-        path = path.with_suffix(".mcap")
+        path = path.with_suffix(".mcap")  # "mcap" and "example"
         with path.open("wb") as f:
             w = Writer(f)
             schemas = {}
@@ -196,6 +198,9 @@ def write_log(fmt: str, path: Path, truth: pd.DataFrame, seed: int = 0) -> tuple
 
 def channel_map(fmt: str) -> str:
     """The channel map of ``fmt``'s log (TOML)."""
+    if fmt == "example":
+        return (Path(__file__).resolve().parents[1] / "docs"
+                / "channels-bag-example.toml").read_text()
     if fmt == "ros1":
         return """[time]
 source = "header"

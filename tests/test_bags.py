@@ -137,6 +137,14 @@ def test_bag_through_a_map_recovers_the_articulation(fmt, tmp_path, truth, unloa
         math.sqrt(float(np.sum(w * seg["eps_y2"] ** 2))), rel=1e-5)
 
 
+def test_the_readme_example(tmp_path, truth, unloaded):
+    """docs/channels-bag-example.toml on the rig it describes, as the README runs it."""
+    path, _, metrics = run_format("example", tmp_path, truth, unloaded)
+    assert path.suffix == ".mcap"
+    assert (metrics["segment"] == "pooled 2").sum() == 1
+    assert (metrics["status"] == "ok").all()
+
+
 # ------------------------------------------------------------------ hostile bags and maps
 @pytest.fixture(scope="module")
 def short_truth():

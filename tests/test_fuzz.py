@@ -11,6 +11,11 @@ run) generation of four kinds of input, each fed to ``artic`` in-process:
 - damaged logs: a measured slalom with NaN runs, scaled or flipped channels,
   gaps, jumps, shuffled or repeated rows, text in number columns, truncated
   rows, or damaged bytes, as CSV or Parquet, through ``logs import`` and
+  ``validate``;
+- bags and their channel maps: an MCAP file of the rig in ``bag_logs`` whose
+  map names missing topics, wrong or hostile field paths (text, messages,
+  out-of-range indices, custom types), wrong units, scales and time sources,
+  and whose bytes are damaged or truncated, through ``logs import`` and
   ``validate``.
 
 The property, per case: the command exits 0 with a sound result (strict JSON;
@@ -25,6 +30,7 @@ exit 1). ``OUTCOMES`` counts the cases; ``pytest -s`` prints them.
 from __future__ import annotations
 
 import copy
+import functools
 import io
 import json
 import math
@@ -48,6 +54,14 @@ from artic.validation.cli import main
 from artic.validation.logs.runfile import check_frame, read_run, write_run
 from artic.validation.logs.schema import COLUMNS
 from hostile_logs import slalom
+
+try:
+    import mcap_ros2  # noqa: F401
+    import rosbags  # noqa: F401
+
+    import bag_logs
+except ImportError:  # pragma: no cover - the test extra installs them
+    bag_logs = None
 
 OUTCOMES: dict[str, Counter] = {}
 """Per input kind, the count of cases by outcome."""
@@ -358,6 +372,85 @@ def check_log(damage, fmt: str, byte_damage: int | None) -> None:
             assert np.all(np.isfinite(ok[["eps_p", "eps_a", "eps_v"]].to_numpy(float)))
 
 
+BAG_CHANNELS = ["x_1", "y_1", "psi_1", "gamma"]
+BAG_FIELDS = st.one_of(st.sampled_from([
+    "pose.position.x", "pose.position", "pose", "header.stamp.sec", "header.frame_id",
+    "pose.orientation.w", "data", "position[0]", "position[hitch]", "[0]", "counters[0]",
+    "pose.position.x.y", "__msgtype__", "pose.__class__", "state", "battery", "pose[2]"]),
+    st.text(max_size=10))
+BAG_EDITS = st.lists(st.one_of(
+    st.tuples(st.just("topic"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
+        ["/vive/pose", "/encoder/angle", "/diagnostics/rig", "/nope", "", "vive/pose"])),
+    st.tuples(st.just("field"), st.sampled_from(BAG_CHANNELS), BAG_FIELDS),
+    st.tuples(st.just("unit"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
+        ["m", "deg", "rad", "quaternion", "km/h", "s", "", "furlong"])),
+    st.tuples(st.just("scale"), st.sampled_from(BAG_CHANNELS), HOSTILE_NUMBERS),
+    st.tuples(st.just("time"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
+        ["header", "receive", "later"])),
+    st.tuples(st.just("delete"), st.sampled_from(BAG_CHANNELS), st.none()),
+    st.tuples(st.just("source"), st.none(), st.sampled_from(["header", "receive", "x"])),
+    st.tuples(st.just("window"), st.none(), HOSTILE_NUMBERS),
+    st.tuples(st.just("max_gap"), st.none(), HOSTILE_NUMBERS),
+), min_size=0, max_size=3)
+
+
+@functools.cache
+def _rig_mcap() -> tuple[bytes, str]:
+    with tempfile.TemporaryDirectory() as tmp:
+        path, text = bag_logs.write_log("mcap", Path(tmp) / "rig",
+                                        slalom().frame.iloc[:1400].reset_index(drop=True))
+        return path.read_bytes(), text
+
+
+def bag_map(edits) -> str:
+    data = tomllib.loads(_rig_mcap()[1])
+    for op, ch, value in edits:
+        if op in ("source", "max_gap"):
+            data["time"][op] = value
+        elif op == "window":
+            data["derive"] = {"window": value}
+        elif op == "delete":
+            data["channels"].pop(ch, None)
+        elif ch in data["channels"]:
+            data["channels"][ch][op] = value
+    try:
+        return tomli_w.dumps(data)
+    except (TypeError, ValueError):  # not TOML (NaN keys and the like): the map as shipped
+        return _rig_mcap()[1]
+
+
+def check_bag(edits, byte_damage: int | None, truncate: int | None) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        raw, _ = _rig_mcap()
+        data = bytearray(raw)
+        if byte_damage is not None:
+            data[byte_damage % len(data)] ^= 0xFF
+        if truncate is not None:
+            data = data[: len(data) - truncate % len(data)]
+        p = Path(tmp) / "rig.mcap"
+        p.write_bytes(bytes(data))
+        chmap = Path(tmp) / "map.toml"
+        chmap.write_text(bag_map(edits))
+        out = Path(tmp) / "out"
+        code, _, err = artic("logs", "import", p, "--channels", chmap, "--out-dir", out)
+        if judge("bags and maps, import", code, err) != "ok":
+            return
+        logs = sorted(out.glob("*.parquet"))
+        assert logs
+        for f in logs:
+            check_frame(read_run(f).frame)
+        code, _, err = artic("validate", *logs, "--models", "kin", "--no-recordings",
+                             "--out-dir", Path(tmp) / "val")
+        if judge("bags and maps, validate", code, err) == "ok":
+            m = pd.read_csv(Path(tmp) / "val" / "metrics.csv")
+            ok = m[m.status == "ok"]
+            assert np.all(np.isfinite(ok[["eps_p", "eps_a", "eps_v"]].to_numpy(float)))
+
+
+BAGS = pytest.mark.skipif(bag_logs is None, reason="rosbags and mcap-ros2-support (the test "
+                                                    "extra) are not installed")
+
+
 # ------------------------------------------------------------------ the fast part
 @FAST
 @given(edits=VEHICLE_EDITS, damage=st.one_of(st.none(), st.integers(0, 10 ** 6)))
@@ -382,6 +475,14 @@ def test_fuzz_cli_options(opts):
        byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)))
 def test_fuzz_damaged_logs(damage, fmt, byte_damage):
     check_log(damage, fmt, byte_damage)
+
+
+@BAGS
+@FAST
+@given(edits=BAG_EDITS, byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)),
+       truncate=st.one_of(st.none(), st.none(), st.integers(1, 10 ** 6)))
+def test_fuzz_bags_and_maps(edits, byte_damage, truncate):
+    check_bag(edits, byte_damage, truncate)
 
 
 # ------------------------------------------------------------------ the slow part
@@ -412,3 +513,12 @@ def test_fuzz_cli_options_many(opts):
        byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)))
 def test_fuzz_damaged_logs_many(damage, fmt, byte_damage):
     check_log(damage, fmt, byte_damage)
+
+
+@pytest.mark.slow
+@BAGS
+@SLOW
+@given(edits=BAG_EDITS, byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)),
+       truncate=st.one_of(st.none(), st.none(), st.integers(1, 10 ** 6)))
+def test_fuzz_bags_and_maps_many(edits, byte_damage, truncate):
+    check_bag(edits, byte_damage, truncate)
