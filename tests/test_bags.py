@@ -290,3 +290,83 @@ def test_a_custom_type_with_its_definition_decodes(tmp_path, short_truth, unload
     diag = next(s for s in streams if s.name.startswith("/diagnostics/rig"))
     assert list(diag.raw.values())[0][:3].tolist() == [0.0, 1.0, 2.0]
     assert any("/joint_states (sensor_msgs/msg/JointState)" in line for line in lines)
+
+
+def test_the_standard_types_decode(tmp_path, short_truth, unloaded):
+    """NavSatFix (latitude and longitude to the local plane), Imu, TwistStamped, and header-less
+    Pose, Twist and Float64, in one ROS 2 bag: every channel back as it went in."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    from artic.validation.logs.importers import import_runs
+    from artic.validation.logs.oxts import radii
+
+    f = short_truth.iloc[:800].reset_index(drop=True)  # before the gap of bag_logs
+    ts = bag_logs._stores(False)
+    ty = ts.types
+    lat0, lon0 = math.radians(51.45), math.radians(5.39)
+    M, N = radii(lat0)
+    V3 = ty["geometry_msgs/msg/Vector3"]
+    path = tmp_path / "std"
+    with Writer(path, version=9, storage_plugin=StoragePlugin.SQLITE3) as w:
+        conns = {}
+
+        def put(topic, typ, msg, ns):
+            if topic not in conns:
+                conns[topic] = w.add_connection(topic, typ, typestore=ts)
+            w.write(conns[topic], ns, ts.serialize_cdr(msg, typ))
+
+        for k, row in f.iterrows():
+            ns = bag_logs.T0_NS + k * 10_000_000
+            h = bag_logs._header(ts, ns, "base")
+            put("/gps/fix", "sensor_msgs/msg/NavSatFix", ty["sensor_msgs/msg/NavSatFix"](
+                header=h, status=ty["sensor_msgs/msg/NavSatStatus"](status=2, service=1),
+                latitude=math.degrees(lat0 + row.y_1 / M),
+                longitude=math.degrees(lon0 + row.x_1 / (N * math.cos(lat0))), altitude=0.0,
+                position_covariance=np.zeros(9), position_covariance_type=0), ns)
+            put("/imu", "sensor_msgs/msg/Imu", ty["sensor_msgs/msg/Imu"](
+                header=h, orientation=bag_logs._quat(ts, row.psi_1),
+                orientation_covariance=np.zeros(9),
+                angular_velocity=V3(x=0.0, y=0.0, z=row.r_1),
+                angular_velocity_covariance=np.zeros(9),
+                linear_acceleration=V3(x=0.0, y=0.0, z=9.81),
+                linear_acceleration_covariance=np.zeros(9)), ns)
+            put("/vel", "geometry_msgs/msg/TwistStamped", ty["geometry_msgs/msg/TwistStamped"](
+                header=h, twist=ty["geometry_msgs/msg/Twist"](
+                    linear=V3(x=row.v_x_1, y=row.v_y_1, z=0.0), angular=V3(x=0.0, y=0.0, z=0.0))),
+                ns)
+            put("/trailer/pose", "geometry_msgs/msg/Pose",
+                bag_logs._pose(ts, row.x_2, row.y_2, row.psi_2), ns)
+            put("/trailer/twist", "geometry_msgs/msg/Twist", ty["geometry_msgs/msg/Twist"](
+                linear=V3(x=row.v_x_2, y=row.v_y_2, z=0.0), angular=V3(x=0.0, y=0.0, z=row.r_2)),
+                ns)
+            put("/steer", "std_msgs/msg/Float64", ty["std_msgs/msg/Float64"](data=row.delta_h),
+                ns)
+    chmap = tmp_path / "map.toml"
+    chmap.write_text("""[time]
+source = "header"
+[channels]
+delta_h = { topic = "/steer", field = "data", unit = "rad", time = "receive" }
+x_1 = { topic = "/gps/fix", field = "longitude", unit = "longitude" }
+y_1 = { topic = "/gps/fix", field = "latitude", unit = "latitude" }
+psi_1 = { topic = "/imu", field = "orientation", unit = "quaternion" }
+r_1 = { topic = "/imu", field = "angular_velocity.z", unit = "rad/s" }
+v_x_1 = { topic = "/vel", field = "twist.linear.x", unit = "m/s" }
+v_y_1 = { topic = "/vel", field = "twist.linear.y", unit = "m/s" }
+x_2 = { topic = "/trailer/pose", field = "position.x", unit = "m", time = "receive" }
+y_2 = { topic = "/trailer/pose", field = "position.y", unit = "m", time = "receive" }
+psi_2 = { topic = "/trailer/pose", field = "orientation", unit = "quaternion", time = "receive" }
+v_x_2 = { topic = "/trailer/twist", field = "linear.x", unit = "m/s", time = "receive" }
+v_y_2 = { topic = "/trailer/twist", field = "linear.y", unit = "m/s", time = "receive" }
+r_2 = { topic = "/trailer/twist", field = "angular.z", unit = "rad/s", time = "receive" }
+""")
+    (run,), report = import_runs(path, vehicle=unloaded, channels=chmap)
+    assert "derived" not in run.meta and any("local east/north plane" in r for r in report)
+    g = run.frame
+    n = len(g)
+    assert n == len(f)  # header and receive stamps coincide here: nothing trimmed
+    # The local plane is the fix's tangent plane at the first fix; the truth's starts at 0.
+    for c, tol in (("x_1", 1e-6), ("y_1", 1e-6)):
+        np.testing.assert_allclose(g[c], f[c] - f[c].iloc[0], atol=tol, err_msg=c)
+    for c in ("psi_1", "r_1", "v_x_1", "v_y_1", "x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2",
+              "delta_h", "gamma"):
+        np.testing.assert_allclose(g[c], f[c], atol=1e-9, err_msg=c)

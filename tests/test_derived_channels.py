@@ -202,3 +202,42 @@ def test_pool_of_one_segment_is_that_segment():
     assert pool([part, part])["eps_y1"] == pytest.approx(0.2)
     other = {**part, "eps_y1": 0.5, "s_max": 60.0}
     assert pool([part, other])["eps_y1"] == pytest.approx(math.sqrt((0.04 + 2 * 0.25) / 3))
+
+
+# ------------------------------------------------------------------ the command line
+def test_steer_from_yaw_rate_and_tune_refusal(tmp_path, unloaded):
+    import io
+    from contextlib import redirect_stderr, redirect_stdout
+
+    from artic.validation.cli import main
+    from artic.validation.logs.runfile import write_run
+    from hostile_logs import slalom
+
+    log = tmp_path / "slalom.parquet"
+    write_run(slalom(), log)
+
+    def artic(*argv):
+        out, err = io.StringIO(), io.StringIO()
+        with redirect_stdout(out), redirect_stderr(err):
+            code = main([str(a) for a in argv])
+        return code, out.getvalue(), err.getvalue()
+
+    code, out, err = artic("validate", log, "--models", "kin", "--no-recordings",
+                           "--steer-from", "yaw-rate", "--out-dir", tmp_path / "yaw")
+    assert code == 0, err
+    assert "comparison is about the semitrailer" in out
+    yaw = read_run(tmp_path / "yaw" / "runs" / "slalom.kin.parquet")
+    code, _, err = artic("validate", log, "--models", "kin", "--no-recordings",
+                         "--out-dir", tmp_path / "wheel")
+    wheel = read_run(tmp_path / "wheel" / "runs" / "slalom.kin.parquet")
+    assert yaw.meta["steer_from"] == "yaw-rate" and wheel.meta["steer_from"] == "delta_h"
+    # KIN's tractor follows the measured yaw rate far closer when steered from it
+    e_yaw = distance_rms(yaw.frame["r_1"] - slalom().frame["r_1"], np.ones(len(yaw.frame)))
+    e_wheel = distance_rms(wheel.frame["r_1"] - slalom().frame["r_1"], np.ones(len(yaw.frame)))
+    assert e_yaw < 0.5 * e_wheel
+    # a log whose delta_h was derived cannot tune the steering map
+    derived = Run(slalom().frame, {"derived": {"channels": ["delta_h"], "note": "x"}})
+    write_run(derived, tmp_path / "derived.parquet")
+    code, _, err = artic("tune", tmp_path / "derived.parquet", "--models", "kin", "--out",
+                         tmp_path / "t.toml")
+    assert code == 2 and "no steering channel" in err and "derived" in err

@@ -278,6 +278,7 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
         "vehicle_path": vehicle.path, "status": status,
         "steering": {"i_s": steering.i_s, "q": steering.q,
                      "delta_h_offset": steering.delta_h_offset},
+        "steer_from": "yaw-rate" if wants_yaw_rate(run.meta) else "delta_h",
         **{k: run.meta[k] for k in ("manoeuvre", "direction", "load") if k in run.meta},
     }
     return Run(frame, meta)

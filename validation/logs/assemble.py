@@ -41,7 +41,7 @@ import pandas as pd
 
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.logs.channelmap import POSE, RATES, ChannelMap, Entry
+from artic.validation.logs.channelmap import GEODETIC, POSE, RATES, ChannelMap, Entry
 from artic.validation.logs.checks import Report, clean_time, fill_nan_runs
 from artic.validation.logs.derive import TRACTOR, TRAILER, derive_tractor, derive_trailer
 from artic.validation.logs.differentiate import derivative, rates_from_pose
@@ -125,6 +125,30 @@ def _clean(stream: Stream, chmap: ChannelMap, report: Report, factor: float) -> 
     return _Clean(t, si, gaps, max_gap, stream.name)
 
 
+def _local_plane(cleaned: list[_Clean], chmap: ChannelMap, report: Report) -> None:
+    """Latitude and longitude [rad] to east and north [m] in the plane tangent at the first fix."""
+    from artic.validation.logs.oxts import radii
+
+    geo = {e.channel: e.unit for e in chmap.entries.values() if e.unit in GEODETIC}
+    if not geo:
+        return
+    lats = [c.si[ch] for c in cleaned for ch in c.si if geo.get(ch) == "latitude"]
+    lons = [c.si[ch] for c in cleaned for ch in c.si if geo.get(ch) == "longitude"]
+    if not lats or not lons:
+        raise LogError(f"{chmap.path}: a position in latitude needs its longitude (and the "
+                       "other way round): give both x and y of the unit in degrees")
+    lat0, lon0 = float(lats[0][0]), float(lons[0][0])
+    M, N = radii(lat0)
+    for c in cleaned:
+        for ch in c.si:
+            if geo.get(ch) == "latitude":
+                c.si[ch] = M * (c.si[ch] - lat0)
+            elif geo.get(ch) == "longitude":
+                c.si[ch] = N * math.cos(lat0) * (c.si[ch] - lon0)
+    report.add(f"latitude and longitude to a local east/north plane tangent at "
+               f"{math.degrees(lat0):.7f}, {math.degrees(lon0):.7f} deg (WGS84)")
+
+
 def segments(cleaned: list[_Clean], report: Report) -> list[tuple[float, float]]:
     """The gap-free spans [s] that every stream covers, each at least :data:`MIN_SEGMENT` long."""
     start = max(c.t[0] for c in cleaned)
@@ -187,7 +211,9 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
         Stamps to seconds.
     """
     cleaned = [_clean(s, chmap, report, time_factor) for s in streams]
+    _local_plane(cleaned, chmap, report)
     spans = segments(cleaned, report)
+    origin = min(float(c.t[0]) for c in cleaned)
     runs = []
     for k, (a, b) in enumerate(spans, start=1):
         grid = a + np.arange(int(math.floor((b - a) * RATE + 1e-9)) + 1) / RATE
@@ -205,7 +231,9 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
         if derived:
             meta["derived"] = derived
         if len(spans) > 1:
-            meta["segment"] = {"index": k, "of": len(spans), "t0": a, "t1": b}
+            # from the log's first sample [s]: where the segment lies in the source
+            meta["segment"] = {"index": k, "of": len(spans), "t0": a - origin,
+                               "t1": b - origin}
         runs.append(Run(df, meta))
     direction = _direction(runs)
     report.add(f"direction: {direction[0]} ({100.0 * direction[1]:.0f} % of the distance)")

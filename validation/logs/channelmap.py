@@ -25,7 +25,9 @@ in the source's unit): the channel is ``unit * (scale * value + offset)``.
 
 Units: ``s, ms``; ``m, cm, mm``; ``m/s, km/h, mph``; ``rad, deg``; ``rad/s,
 deg/s``; ``quaternion`` (the yaw of a ``geometry_msgs/Quaternion``, for
-``psi_1``, ``psi_2`` and ``gamma``). A bag channel may take its stamps from
+``psi_1``, ``psi_2`` and ``gamma``); ``latitude`` and ``longitude`` in degrees
+(a NavSatFix's, for ``y_i`` and ``x_i``), which become a local east/north
+plane tangent at the log's first fix. A bag channel may take its stamps from
 the other source than ``[time]`` says with ``time = "header" | "receive"``
 (a std_msgs value has no header).
 
@@ -57,11 +59,15 @@ UNITS: dict[str, tuple[str, float]] = {
     "rad": ("angle", 1.0), "deg": ("angle", math.pi / 180),
     "rad/s": ("rate", 1.0), "deg/s": ("rate", math.pi / 180),
     "quaternion": ("angle", 1.0),
+    "latitude": ("length", math.pi / 180), "longitude": ("length", math.pi / 180),
 }
 """Unit name to (dimension, factor to SI)."""
 
 QUATERNION_CHANNELS = ("psi_1", "psi_2", "gamma")
 """Channels that may be given as a quaternion (its yaw)."""
+
+GEODETIC = {"latitude": ("y_1", "y_2"), "longitude": ("x_1", "x_2")}
+"""Channels that may be given as latitude or longitude [deg] (north and east)."""
 
 POSE = {i: (f"x_{i}", f"y_{i}", f"psi_{i}") for i in (1, 2)}
 RATES = {i: (f"v_x_{i}", f"v_y_{i}", f"r_{i}") for i in (1, 2)}
@@ -136,7 +142,8 @@ class ChannelMap:
 
 
 def _units_of(dim: str) -> str:
-    return ", ".join(u for u, (d, _) in UNITS.items() if d == dim and u != "quaternion")
+    return ", ".join(u for u, (d, _) in UNITS.items()
+                     if d == dim and u not in ("quaternion", *GEODETIC))
 
 
 def _number(path, key: str, spec: dict, name: str, default: float) -> float:
@@ -165,7 +172,8 @@ def _entry(path, key: str, spec, bag: bool) -> Entry:
                        f"{', '.join(sorted(allowed))}")
     unit = str(spec["unit"])
     allowed_units = [u for u, (d, _) in UNITS.items() if d == dim and (
-        u != "quaternion" or (bag and channel in QUATERNION_CHANNELS))]
+        u != "quaternion" or (bag and channel in QUATERNION_CHANNELS))
+        and channel in GEODETIC.get(u, (channel,))]
     if unit not in allowed_units:
         raise LogError(f"{path}: {key}: unit {unit!r} is not a unit of {dim} here; use one of "
                        f"{', '.join(allowed_units)}")
