@@ -157,7 +157,11 @@ def messages(fmt: str, truth: pd.DataFrame, seed: int = 0):
 
 def write_log(fmt: str, path: Path, truth: pd.DataFrame, seed: int = 0) -> tuple[Path, str]:
     """Write the rig's log of ``truth`` in ``fmt``; returns the log's path and its map."""
-    msgs = messages(fmt, truth, seed)
+    return write_messages(fmt, path, messages(fmt, truth, seed)), channel_map(fmt)
+
+
+def write_messages(fmt: str, path: Path, msgs: list) -> Path:
+    """Write ``messages(fmt, ...)`` (or an edited copy) as ``fmt``; returns the path."""
     ts = _stores(fmt == "ros1")
     path = Path(path)
     if fmt == "ros1":
@@ -193,7 +197,7 @@ def write_log(fmt: str, path: Path, truth: pd.DataFrame, seed: int = 0) -> tuple
                     schemas[typ] = w.register_msgdef(typ, text)
                 w.write_message(topic, schemas[typ], m, log_time=ns, publish_time=ns)
             w.finish()
-    return path, channel_map(fmt)
+    return path
 
 
 def channel_map(fmt: str) -> str:

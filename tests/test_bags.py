@@ -268,6 +268,20 @@ def test_empty_topic_and_nan_runs(tmp_path, short_truth):
             assert str(nan_path) in line
 
 
+def test_unset_header_stamps_are_named(tmp_path, short_truth):
+    msgs = bag_logs.messages("mcap", short_truth)
+    for topic, _, m, _ in msgs:
+        if topic == "/vive/pose":
+            m.header.stamp.sec, m.header.stamp.nanosec = 0, 0
+    path = bag_logs.write_messages("mcap", tmp_path / "rig", msgs)
+    chmap = tmp_path / "map.toml"
+    chmap.write_text(bag_logs.channel_map("mcap"))
+    line = _one_line(*artic("logs", "import", path, "--channels", chmap, "--out-dir",
+                            tmp_path / "out")[::2])
+    assert re.search(r"topic /vive/pose \(geometry_msgs/msg/PoseStamped\), field "
+                     r"pose\.position\.x: every header stamp is 0 s.*time = \"receive\"", line)
+
+
 def test_a_bag_without_a_map_is_refused_with_the_fix(tmp_path, short_truth):
     path, _ = bag_logs.write_log("ros1", tmp_path / "rig", short_truth)
     line = _one_line(*artic("logs", "import", path, "--out-dir", tmp_path / "out")[::2])

@@ -309,6 +309,13 @@ def _read(path, reader, chmap: ChannelMap, ros1: bool, typesys, reader_errors, S
                         f"{e.field}: its messages have no header stamp; give {e.channel} "
                         f'time = "receive" in {chmap.path}, or [time] source = "receive"')
                 ns = np.asarray(stamps[topic], dtype=np.int64)
+                if ns.size > 1 and np.all(ns == ns[0]):
+                    e = entries[idx[0]]
+                    raise LogError(
+                        f"{path}: topic {topic} ({by_topic[topic][0].msgtype}), field "
+                        f"{e.field}: every header stamp is {ns[0] * 1e-9:.9g} s, so its "
+                        f'publisher does not set them; give {e.channel} time = "receive" in '
+                        f"{chmap.path}")
             else:
                 ns = np.asarray(receive[topic], dtype=np.int64)
             raw_streams.append((topic, source, ns, [entries[k] for k in idx],
