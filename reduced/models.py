@@ -163,12 +163,14 @@ class SingleTrackModel(CompiledModel):
         x = np.zeros(N_BODY + self.n_axles)
         x[:N_BODY] = [initial.x_1 - dx, initial.y_1 - dy, initial.psi_1,
                       wrap_angle(initial.gamma), v, initial.r_1, initial.r_1 - initial.r_2]
-        v_long, v_lat = self.axle_velocities(x, initial.u1, 0.0)
+        # the steered axles' slip at the log's first road-wheel angle: a log that
+        # starts in a turn would otherwise start with its slip off by that angle
+        v_long, v_lat = self.axle_velocities(x, initial.u1, initial.delta)
         x[N_BODY:] = [slip_angle(a, b) * min(1.0, math.hypot(a, b) / U_SLIP_KNOWN)
                       for a, b in zip(v_long, v_lat, strict=True)]
         self.x = x
         self._u1 = initial.u1
-        self._delta = 0.0
+        self._delta = initial.delta
 
     def axle_velocities(self, x: np.ndarray, u1: float, delta: float):
         """Axle-centre velocities ``(v_long, v_lat)`` in wheel frames [m/s]."""

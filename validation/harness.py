@@ -125,7 +125,7 @@ def yaw_steered(inputs: LoopInputs, run: Run, vehicle: Vehicle,
     r1 = smooth_speed(inputs.t, run.frame["r_1"].to_numpy(dtype=float))
     delta_c = road_wheel_from_yaw_rate(inputs.u1, r1, equivalent_wheelbase(vehicle))
     delta_h = steering_wheel(steering, delta_c, vehicle.steering.delta_max)
-    return replace(inputs, delta_c=delta_c, delta_h=delta_h)
+    return _started(replace(inputs, delta_c=delta_c, delta_h=delta_h))
 
 
 def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
@@ -161,7 +161,16 @@ def steered(inputs: LoopInputs, steering: SteeringMap, source: str) -> LoopInput
         When the steering wheel passes the map's fold; ``source`` names the data.
     """
     steering.check_range(inputs.delta_h, source)
-    return replace(inputs, delta_c=np.asarray(steering.road_wheel(inputs.delta_h)))
+    return _started(replace(inputs, delta_c=np.asarray(steering.road_wheel(inputs.delta_h))))
+
+
+def _started(inputs: LoopInputs) -> LoopInputs:
+    """``inputs`` whose initial state carries the first road-wheel angle.
+
+    A log that starts in a turn (a segment after a gap) then starts with its
+    tyres at that angle's slip.
+    """
+    return replace(inputs, initial=replace(inputs.initial, delta=float(inputs.delta_c[0])))
 
 
 def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) -> tuple:
