@@ -245,16 +245,24 @@ def test_step_jacobians_along_the_straight_line_are_rk4s_polynomial(kin):
 def test_straight_line_eigenvalue_is_eq4(kin, u):
     L1, L1c, L2 = kin.L1, kin.L1c, kin.L2
     assert L1c > 0.1  # a hitch well off the axle, so that the L1c term's sign shows
-    A, B = kin.linearise(*kin.straight(u))
-    eig = np.linalg.eigvals(A)
-    # Eq. (4): gamma_dot = u (-gamma / L2 + (1 - L1c / L2) delta / L1). X, Y and
-    # psi_1 are free (zero eigenvalues); gamma's is -u / L2: positive in reverse.
-    lam = eig[np.argmax(np.abs(eig))]
-    assert lam == pytest.approx(-u / L2, rel=1e-12)
-    assert (lam > 0) == (u < 0)
-    np.testing.assert_allclose(np.sort(np.abs(eig))[:3], 0.0, atol=1e-15)
-    assert B[3, 0] == pytest.approx(u * (1 - L1c / L2) / L1, rel=1e-12)
-    assert B[2, 0] == pytest.approx(u / L1, rel=1e-12)
+    x0, u0 = kin.straight(u)
+    A, B = kin.linearise(x0, u0)
+    # The same from the right-hand side itself, so that a sign flipped in
+    # eq. (1) fails here as well as one flipped in the Jacobian (within the
+    # differences' 1e-10).
+    A_fd = central(lambda z: kin.rhs(z, u0), x0)[0]
+    B_fd = central(lambda w: kin.rhs(x0, w), u0)[0]
+    for A_, B_, rel in ((A, B, 1e-12), (A_fd, B_fd, 1e-8)):
+        eig = np.linalg.eigvals(A_)
+        # Eq. (4): gamma_dot = u (-gamma / L2 + (1 - L1c / L2) delta / L1). X, Y
+        # and psi_1 are free (zero eigenvalues); gamma's is -u / L2: positive
+        # in reverse.
+        lam = eig[np.argmax(np.abs(eig))]
+        assert lam == pytest.approx(-u / L2, rel=rel)
+        assert (lam > 0) == (u < 0)
+        np.testing.assert_allclose(np.sort(np.abs(eig))[:3], 0.0, atol=1e-15)
+        assert B_[3, 0] == pytest.approx(u * (1 - L1c / L2) / L1, rel=rel)
+        assert B_[2, 0] == pytest.approx(u / L1, rel=rel)
     # Eq. (6): the harness's feedback delta = K gamma closes the loop at
     # u (-L1 + K (L2 - L1c)) / (L1 L2), stable in reverse for K > L1 / (L2 - L1c).
     for K in (0.5 * L1 / (L2 - L1c), 3.0):
@@ -275,9 +283,11 @@ def test_steady_turn_eigenvalue_is_the_semitrailer_speed_over_L2(kin, delta, u):
     # the sign of the L1c sin(gamma) term is wrong.
     x0, u0 = kin.steady_turn(delta, u)
     A, _ = kin.linearise(x0, u0)
+    A_fd = central(lambda z: kin.rhs(z, u0), x0)[0]
     R1 = kin.L1 / math.tan(abs(delta))
     R2 = math.sqrt(R1 ** 2 + kin.L1c ** 2 - kin.L2 ** 2)
     assert A[3, 3] == pytest.approx(-u * R2 / (R1 * kin.L2), rel=1e-12)
+    assert A_fd[3, 3] == pytest.approx(-u * R2 / (R1 * kin.L2), rel=1e-8)
 
 
 def test_stm_jackknife_eigenvalue_tends_to_kins_as_the_tyres_stiffen(vehicle):
