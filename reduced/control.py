@@ -508,7 +508,12 @@ class STM(ControlModel):
             raise ValueError("STM.steady_turn: u = 0: at standstill the tyres' slip angles "
                              "are frozen and every articulation is a trim; give u != 0")
         L1, _, x_n = wheelbases(self.vehicle)
-        kin_trim = KIN(self.vehicle).steady_turn(delta, u)[0]
+        try:
+            kin_trim = KIN(self.vehicle).steady_turn(delta, u)[0]
+        except ValueError:
+            raise ValueError(f"STM.steady_turn: delta = {delta} rad turns the tractor tighter "
+                             f"than the semitrailer can follow even without tyre slip: no "
+                             f"steady articulation; use a smaller |delta|") from None
         r = u * math.tan(delta) / L1
         x = np.zeros(self.nstates)
         x[3] = kin_trim[3]

@@ -105,9 +105,9 @@ def kin_jacobian(x: np.ndarray, u: np.ndarray, P: np.ndarray) -> tuple[np.ndarra
     Returns
     -------
     A : ndarray, shape (batch, 4, 4)
-        [1/s, m/s].
+        ``A[:, i, j] = d x_i_dot / d x_j``, in row ``i``'s rate per unit of state ``j``.
     B : ndarray, shape (batch, 4, 2)
-        [m/s, 1/s, rad/s, ...] per unit of ``delta`` [rad] and ``u1`` [m/s].
+        ``B[:, i, k] = d x_i_dot / d u_k``, per radian of ``delta`` and per m/s of ``u1``.
     """
     L1, L1c, L2 = P[0], P[1], P[2]
     psi, gamma = x[:, 2], x[:, 3]
@@ -151,7 +151,9 @@ def stm_jacobian(x, u1, u1_dot, delta, P):
     Returns
     -------
     A : ndarray, shape (n, n)
+        ``A[i, j] = d x_i_dot / d x_j``.
     B : ndarray, shape (n, 3)
+        ``B[i, k] = d x_i_dot / d (delta, u1, u1_dot)_k``.
     """
     m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C = stm_unpack(P)
     n = x.size

@@ -187,10 +187,11 @@ def test_step_converges_at_fourth_order(which, direction, request):
 # -- Jacobians ------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("which", ["kin", "stm"])
+@pytest.mark.parametrize("preset", ["gosar2022-unloaded", "six-axle"])  # six-axle: a tag axle
+@pytest.mark.parametrize("which", [KIN, STM])
 @pytest.mark.parametrize("direction", [1, -1])
-def test_jacobians_equal_central_differences(which, direction, request):
-    model = request.getfixturevalue(which)
+def test_jacobians_equal_central_differences(preset, which, direction):
+    model = which(load_vehicle(preset))
     rng = np.random.default_rng(21 + direction)
     for _ in range(8):
         x, u = random_point(model, rng, direction)
@@ -351,9 +352,11 @@ def test_stm_steady_turn_is_where_a_forward_turn_settles(stm):
     np.testing.assert_allclose(x[3:], x0[3:], atol=1e-9)
 
 
-def test_stm_steady_turn_needs_speed(stm):
+def test_stm_steady_turn_refuses_what_has_no_trim(stm):
     with pytest.raises(ValueError, match="u = 0"):
         stm.steady_turn(0.2, 0.0)
+    with pytest.raises(ValueError, match="STM.steady_turn: .*tighter than the semitrailer"):
+        stm.steady_turn(1.5, 1.0)
 
 
 # -- outputs ------------------------------------------------------------------
