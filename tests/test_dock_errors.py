@@ -1,4 +1,4 @@
-"""Dock errors: the semitrailer's rear and heading at the end, in the measured semitrailer's frame."""
+"""Dock errors: the semitrailer's rear and heading at the end, in the measured one's frame."""
 
 from __future__ import annotations
 
