@@ -161,6 +161,7 @@ def _validate(args: argparse.Namespace) -> int:
         if args.gain_sweep:
             from artic.validation.campaign.gainsweep import (
                 DEFAULT_GAINS,
+                bounds_text,
                 gain_sweep,
                 plot_gain_sweep,
                 sweep_table,
@@ -175,7 +176,7 @@ def _validate(args: argparse.Namespace) -> int:
             atomic_write(out / "gain_sweep.csv",
                          lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
             plot_gain_sweep(sweep, out / "gain_sweep.png", args.gain)
-            print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
+            print(f"\nGain sweep (stability bound K_min: {bounds_text(sweep.attrs['K_min'])}; "
                   f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
     return 1 if len(failed) else 0
 

@@ -600,7 +600,8 @@ def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFram
     """The gain sweep of an earlier run with the same key and models, if any."""
     path = out_dir / "gain_sweep.json"
     saved = _read_json(path)
-    if saved is None or saved.get("key") != key or saved.get("models") != list(models):
+    if saved is None or saved.get("key") != key or saved.get("models") != list(models) \
+            or not isinstance(saved.get("K_min"), dict):
         return None
     stderr_progress(f"gain sweep reused from {path}")
     sweep = pd.DataFrame(saved["rows"])
