@@ -188,11 +188,14 @@ def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:
         ax.axvspan(0.0, min(bounds.values()), color="0.85", label="unstable for every model")
         ax.axvline(gain, color="k", ls="--", lw=1, label=f"campaign K = {gain:g}")
         # Both criteria are non-negative; a few logs' wide intervals must not hide the means.
-        top = float(np.nanmax(sweep[col])) * 1.1
-        if f"{col}_hi" in sweep and np.isfinite(sweep[f"{col}_hi"]).any():
-            top = min(max(top, float(np.nanmax(sweep[f"{col}_hi"])) * 1.05), 2.0 * top)
-        if np.isfinite(top) and top > 0:
-            ax.set_ylim(0.0, top)
+        means = sweep[col].to_numpy(dtype=float)
+        if np.isfinite(means).any():
+            top = float(np.nanmax(means)) * 1.1
+            his = sweep[f"{col}_hi"].to_numpy(dtype=float) if f"{col}_hi" in sweep else means
+            if np.isfinite(his).any():
+                top = min(max(top, float(np.nanmax(his)) * 1.05), 2.0 * top)
+            if top > 0:
+                ax.set_ylim(0.0, top)
         ax.set_xlabel("feedback gain K [rad/rad]")
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
