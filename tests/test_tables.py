@@ -184,3 +184,30 @@ def test_report_states_no_unresolved_ranking_and_no_nan(manoeuvres):
     # No mean printed with more digits than its interval carries: eps_n means of about
     # 40 with intervals of a few points print as whole numbers.
     assert not re.search(r"\b4\d\.\d\d ", text)
+
+
+def test_pooled_files_and_report_over_three_trucks(tmp_path, manoeuvres, capsys):
+    # The files --seeds N writes on top of the per-seed campaigns, from hand-made trucks:
+    # KIN and STM alike on every truck, MBD 3 points above them.
+    from artic.validation.campaign.seeds import write_pooled
+
+    rng = np.random.default_rng(9)
+    trucks, plant = [], []
+    for s in range(3):
+        per = {k: v + 2.0 * s + rng.normal(0, 0.5, N) for k, v in manoeuvres.items()}
+        trucks.append(pd.concat([frame(per, seed=s), frame(per, "forward", seed=s)]))
+        plant.append(frame({k: per[k] for k in ("kin", "stm")}, seed=s))
+    paths = write_pooled(tmp_path, trucks, plant, {0: 90.0, 1: 91.0, 2: 92.0},
+                         {s: tmp_path / f"seed-{s}" / "report.md" for s in range(3)},
+                         {"gain": 3.0, "only": ["45-"]})
+    for stem in ("table2_forward", "table3_reverse", "table3_vs_plant", "paired_reverse",
+                 "paired_reverse_vs_plant", "table3_reverse_by_seed"):
+        assert (tmp_path / f"{stem}.csv").is_file() and (tmp_path / f"{stem}.md").is_file()
+    assert set(pd.read_csv(paths["metrics"]).seed) == {0, 1, 2}
+    text = (tmp_path / "report.md").read_text()
+    assert not re.search(r"(?i)\bnan\b", text)
+    assert "over 3 trucks" in text and "--only 45-" in text
+    assert "KIN and STM not resolved" in text and "STM below MBD" in text
+    assert "KIN below STM" not in text and "STM below KIN" not in text
+    assert "trucks / manoeuvres" in text and "seed-1/report.md" in text
+    assert "pooled over 3 trucks" in capsys.readouterr().out

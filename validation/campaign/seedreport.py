@@ -24,6 +24,7 @@ from artic.validation.campaign.tables import (
     paired_markdown,
     spread_markdown,
 )
+from artic.validation.harness import DEFAULT_GAIN
 
 KEY_CRITERIA = {"forward": ("eps_n", "eps_p"), "reverse": ("eps_n", "J_steer")}
 """The paper's criteria the report ranks by, per direction."""
@@ -71,8 +72,6 @@ def _criteria(pairs: pd.DataFrame, direction: str) -> list[str]:
 
 def render(r: SeedResults, metrics: pd.DataFrame) -> str:
     """The whole pooled report as Markdown."""
-    from artic.validation.harness import DEFAULT_GAIN
-
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
     seeds = sorted(r.walls)
     models = [m for m in dict.fromkeys(metrics["model"]) if m != "floor"]
@@ -81,7 +80,7 @@ def render(r: SeedResults, metrics: pd.DataFrame) -> str:
     lines = [
         f"# artic validation campaign over {len(seeds)} trucks", "",
         f"{stamp}; {platform.machine()}, {os.cpu_count()} cores, Python "
-        f"{platform.python_version()}; `artic campaign --seeds {len(seeds)} --seed {seeds[0]}`"
+        f"{platform.python_version()}; `{_command(r, seeds)}`"
         f": seeds {', '.join(map(str, seeds))}, models {', '.join(models)}, reversing "
         f"feedback K = {gain:g}, truth {r.campaign.get('truth', 'structural')}; wall time "
         f"{total:.0f} s (" + ", ".join(f"seed {s} {w:.0f} s" for s, w in r.walls.items())
@@ -124,6 +123,21 @@ def render(r: SeedResults, metrics: pd.DataFrame) -> str:
     lines += ["## Each truck's own report", "",
               *[f"- seed {s}: `{p}`" for s, p in r.reports.items()], ""]
     return "\n".join(lines)
+
+
+def _command(r: SeedResults, seeds: list[int]) -> str:
+    """The ``artic campaign`` options that chose these results (not the output folder)."""
+    c = r.campaign
+    parts = ["artic campaign", f"--seeds {len(seeds)}", f"--seed {seeds[0]}"]
+    if c.get("models"):
+        parts.append(f"--models {','.join(c['models'])}")
+    if c.get("only"):
+        parts.append(f"--only {','.join(c['only'])}")
+    if c.get("gain") is not None and c["gain"] != DEFAULT_GAIN:
+        parts.append(f"--gain {c['gain']:g}")
+    if c.get("truth", "structural") != "structural":
+        parts.append(f"--truth {c['truth']}")
+    return " ".join(parts)
 
 
 def closing(r: SeedResults, report: Path) -> str:
