@@ -141,7 +141,7 @@ def _criterion_of(df: pd.DataFrame) -> dict[str, str]:
     return out
 
 
-def cell(v, digits: int = 4) -> str:
+def cell(v: object, digits: int = 4) -> str:
     """One value as table text: ``-`` for a missing number, never ``nan``."""
     if isinstance(v, float | np.floating):
         return "-" if not math.isfinite(v) else f"{v:.{digits}g}"
