@@ -119,6 +119,14 @@ def _simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_tyre_data(vehicle, models: Sequence[str]) -> None:
+    """Refuse, before any work, models the vehicle has no fitting tyre data for."""
+    from artic.mjcf.plausible import check_tyre_data
+
+    for m in models:
+        check_tyre_data(vehicle, m)
+
+
 def _read_logs(args: argparse.Namespace, vehicle) -> list:
     accept = parse_accept(args.accept)
     return [read_log(p, vehicle, accept) for p in args.logs]
@@ -136,6 +144,7 @@ def _validate(args: argparse.Namespace) -> int:
 
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     out = check_output_dir(args.out_dir)
     logs = _read_logs(args, v)
     for log in logs:
@@ -205,6 +214,7 @@ def _tune(args: argparse.Namespace) -> int:
     out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     logs = _read_logs(args, v)
     reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
     if reverse:
