@@ -40,7 +40,7 @@ from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation import options
 from artic.validation.harness import DEFAULT_GAIN
-from artic.validation.logs.consistency import CHECKS, parse_accept
+from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import read_log
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
 from artic.validation.models import NAMES
@@ -229,8 +229,7 @@ def _tune(args: argparse.Namespace) -> int:
                   f"{row['fitted']:<12.6g} [{row['lo']:.4g}, {row['hi']:.4g}]{flag}")
         print(f"{fit.model:<6} eps_n before {fit.eps_n_before:.3f} %, after "
               f"{fit.eps_n_after:.3f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)")
-    accepted = sorted({line.split(":", 1)[0].removeprefix("accepted ")
-                       for log in logs for line in log.meta.get("accepted_checks", [])})
+    accepted = sorted({name for log in logs for name in accepted_in(log.meta)})
     source = f"Tuned by artic on {', '.join(log.name for log in logs)}" + (
         f" (checks accepted with --accept: {', '.join(accepted)})" if accepted else "")
     data = updated(args.vehicle, fitted_changes(v, {f.model: f.fitted for f in fits}),
