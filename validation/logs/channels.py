@@ -307,6 +307,8 @@ def _check_velocity_unit(t: np.ndarray, si: dict, i: int, ctx: consistency.Conte
     position step away from what the velocity explains, which would otherwise
     be named as a GNSS jump.
     """
+    if t.size < 2:  # refused as truncated further on
+        return
     cols = [f"{c}_{i}" for c in ("x", "y", "psi", "v_x", "v_y")]
     frame = pd.DataFrame({c: si[c] for c in cols})
     found = consistency.check_velocity(t, frame, i, ctx, scale)
