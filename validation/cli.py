@@ -40,7 +40,7 @@ from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation import options
 from artic.validation.harness import DEFAULT_GAIN
-from artic.validation.logs.consistency import CHECKS, parse_accept
+from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import read_log
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
 from artic.validation.models import NAMES
@@ -119,6 +119,14 @@ def _simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_tyre_data(vehicle, models: Sequence[str]) -> None:
+    """Refuse, before any work, models the vehicle has no fitting tyre data for."""
+    from artic.mjcf.plausible import check_tyre_data
+
+    for m in models:
+        check_tyre_data(vehicle, m)
+
+
 def _read_logs(args: argparse.Namespace, vehicle) -> list:
     accept = parse_accept(args.accept)
     return [read_log(p, vehicle, accept) for p in args.logs]
@@ -137,6 +145,7 @@ def _validate(args: argparse.Namespace) -> int:
 
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     out = check_output_dir(args.out_dir)
     logs = _read_logs(args, v)
     for log in logs:
@@ -231,6 +240,7 @@ def _tune(args: argparse.Namespace) -> int:
     out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     logs = _read_logs(args, v)
     reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
     if reverse:
@@ -245,8 +255,7 @@ def _tune(args: argparse.Namespace) -> int:
                   f"{row['fitted']:<12.6g} [{row['lo']:.4g}, {row['hi']:.4g}]{flag}")
         print(f"{fit.model:<6} eps_n before {fit.eps_n_before:.3f} %, after "
               f"{fit.eps_n_after:.3f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)")
-    accepted = sorted({line.split(":", 1)[0].removeprefix("accepted ")
-                       for log in logs for line in log.meta.get("accepted_checks", [])})
+    accepted = sorted({name for log in logs for name in accepted_in(log.meta)})
     source = f"Tuned by artic on {', '.join(log.name for log in logs)}" + (
         f" (checks accepted with --accept: {', '.join(accepted)})" if accepted else "")
     data = updated(args.vehicle, fitted_changes(v, {f.model: f.fitted for f in fits}),

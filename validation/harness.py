@@ -6,10 +6,13 @@ paper's eq. (5) intends, with the stabilising sign of its eqs. (6)-(7):
 
     delta = delta_center(delta_h) + K * (gamma_model - gamma_measured)
 
-only while the tractor reverses (``v_x_1 < 0``). The linearised articulation
+only while the tractor reverses. The linearised articulation
 dynamics then have the eigenvalue ``u1 (K (L2 - L1c) - L1) / (L1 L2)``, which is
 negative for ``u1 < 0`` once ``K > L1 / (L2 - L1c)``. Forward, the same feedback
-would destabilise the loop for such K, so it is off.
+would destabilise the loop for such K, so it is off. Whether the tractor
+reverses is decided once per log on the speed input ``u1`` below, with a dead
+band and a minimum duration (:mod:`artic.validation.reversing`), so that speed
+noise at standstill never switches the feedback on in a forward run.
 
 Inputs per sample ``k`` (held over the step to ``k + 1``):
 
@@ -47,6 +50,7 @@ from artic.mjcf.vehicle import Vehicle
 from artic.validation.feedback import feedback_law
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import Model
+from artic.validation.reversing import reversing
 from artic.validation.steering import SteeringMap
 
 DEFAULT_GAIN = 3.0
@@ -106,6 +110,9 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
 def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     """:func:`loop_inputs` before the steering map: ``delta_c`` is NaN.
 
+    ``reversing`` comes from ``u1`` with hysteresis
+    (:func:`artic.validation.reversing.reversing`).
+
     Tuning derives these once per log and applies each trial's map with
     :func:`steered`.
     """
@@ -119,7 +126,7 @@ def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     return LoopInputs(
         t=t, delta_h=delta_h, delta_c=np.full_like(delta_h, np.nan), u1=u1,
         u1_dot=u1_dot, gamma_meas=df["gamma"].to_numpy(dtype=float),
-        reversing=df["v_x_1"].to_numpy(dtype=float) < 0.0,
+        reversing=reversing(t, u1, vehicle.speed_ratio),
         initial=initial_state(df, 0, float(u1[0])))
 
 

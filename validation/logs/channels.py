@@ -46,7 +46,9 @@ import pandas as pd
 
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.logs import consistency
 from artic.validation.logs.checks import (
+    MAX_JUMP,
     Report,
     check_jumps,
     clean_time,
@@ -54,6 +56,7 @@ from artic.validation.logs.checks import (
 )
 from artic.validation.logs.derive import TRAILER, derive_trailer
 from artic.validation.logs.runfile import LogError, Run, check_frame
+from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS
 
 RATE = 100.0
@@ -157,8 +160,9 @@ def read_map(path: Path | dict) -> dict:
             "channels": parsed}
 
 
-def import_mapped(csv: Path, map_path: Path | dict,
-                  vehicle: Vehicle) -> tuple[Run, list[str]]:
+def import_mapped(csv: Path, map_path: Path | dict, vehicle: Vehicle,
+                  accept: tuple[str, ...] = (),
+                  scale: LogScale = FULL_SIZE) -> tuple[Run, list[str]]:
     """Import a CSV through a channel map onto the 100 Hz base.
 
     Parameters
@@ -170,6 +174,13 @@ def import_mapped(csv: Path, map_path: Path | dict,
     vehicle : Vehicle
         Geometry for deriving the semitrailer's channels, when the log has
         only the tractor's and the articulation angle.
+    accept : tuple of str
+        Consistency checks accepted knowingly: ``gap`` and ``jump`` let the
+        raw samples' gaps and jumps through to the canonical log's checks, which
+        record them; ``velocity`` skips the raw velocity's unit check.
+    scale : LogScale
+        The vehicle's scale, for the jump distance and the limits of speeds
+        and yaw rates (:mod:`artic.validation.logs.scale`).
 
     Returns
     -------
@@ -204,6 +215,7 @@ def import_mapped(csv: Path, map_path: Path | dict,
     finite = np.diff(t_raw[np.isfinite(t_raw)])
     median_dt = float(np.median(finite[finite > 0])) if (finite > 0).any() else 0.0
     max_gap = spec["max_gap"] if spec["max_gap"] is not None else 2.5 * median_dt * t_factor
+    max_gap = math.inf if "gap" in accept else max_gap
     raw = clean_time(raw, t_col, report, max_gap=max_gap / t_factor)
     cols = [c for c, _, _, _ in spec["channels"].values()]
     raw = fill_nan_runs(raw, list(dict.fromkeys(cols)), t_col, report)
@@ -213,12 +225,17 @@ def import_mapped(csv: Path, map_path: Path | dict,
     for name in ANGLES:
         if name in si:
             si[name] = np.unwrap(si[name])
+    ctx = map_context(csv, spec)
     for i in (1, 2):
         if f"psi_{i}" not in si:
             continue
         psi = si[f"psi_{i}"]
-        ve, vn = _world(psi, si[f"v_x_{i}"], si[f"v_y_{i}"])
-        check_jumps(t, si[f"x_{i}"], si[f"y_{i}"], ve, vn, report)
+        if "velocity" not in accept:  # a speed in km/h is named as such, not as a jump
+            _check_velocity_unit(t, si, i, ctx, scale, csv)
+        if "jump" not in accept:
+            ve, vn = _world(psi, si[f"v_x_{i}"], si[f"v_y_{i}"])
+            check_jumps(t, si[f"x_{i}"], si[f"y_{i}"], ve, vn, report,
+                        scale.distance(MAX_JUMP))
     if len(t) < 2:
         raise LogError(f"{csv}: fewer than two samples; the file may be truncated")
     grid = t[0] + np.arange(int(math.floor((t[-1] - t[0]) * RATE + 1e-9)) + 1) / RATE
@@ -243,7 +260,7 @@ def import_mapped(csv: Path, map_path: Path | dict,
                            "rate": "gamma_rate" if rate is not None else "d gamma / dt"}
     df["gamma"] = wrap_angle(df["gamma"].to_numpy())
     df = df[list(COLUMNS)]
-    check_frame(df, f"{csv} (imported through {map_path})")
+    check_frame(df, f"{csv} (imported through {map_path})", scale)
     meta["import"]["report"] = report.lines
     return Run(df, meta), report.lines
 
@@ -259,6 +276,44 @@ def tractor_only_map(csv: Path) -> dict:
     si = {"time": "s", "length": "m", "angle": "rad", "speed": "m/s", "rate": "rad/s"}
     return {"time": {"column": "t", "unit": "s"},
             "channels": {c: {"column": c, "unit": si[DIMENSION[c]]} for c in names}}
+
+
+def map_context(csv: Path | str, spec: dict) -> consistency.Context:
+    """Names and declared units of a mapped log's columns, for the consistency messages.
+
+    Parameters
+    ----------
+    csv : Path or str
+        The log.
+    spec : dict
+        Its map, as :func:`read_map` returns it (or the map itself).
+    """
+    if not isinstance(spec, dict) or "channels" not in spec or not all(
+            isinstance(v, tuple) for v in spec["channels"].values()):
+        spec = read_map(spec)
+    names, units = {}, {}
+    for name, (col, factor, _, _) in spec["channels"].items():
+        names[name] = f"{csv}: {col}"
+        units[name] = next((u for u, (d, f) in UNITS.items()
+                            if d == DIMENSION[name] and f == factor), "")
+    return consistency.Context(names, units, dict(consistency.CANONICAL.signs))
+
+
+def _check_velocity_unit(t: np.ndarray, si: dict, i: int, ctx: consistency.Context,
+                         scale: LogScale, csv: Path) -> None:
+    """Refuse a velocity in the wrong unit or sign, on the raw samples, naming the unit.
+
+    Run before the jump check: a speed 3.6 times too large also moves every
+    position step away from what the velocity explains, which would otherwise
+    be named as a GNSS jump.
+    """
+    if t.size < 2:  # refused as truncated further on
+        return
+    cols = [f"{c}_{i}" for c in ("x", "y", "psi", "v_x", "v_y")]
+    frame = pd.DataFrame({c: si[c] for c in cols})
+    found = consistency.check_velocity(t, frame, i, ctx, scale)
+    if found is not None and not found.direction:
+        raise LogError(found.finding.message(str(csv)))
 
 
 def _world(psi: np.ndarray, vx: np.ndarray, vy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
