@@ -11,9 +11,13 @@ Vehicles and logs
     :func:`read_log` (any supported log file), :func:`read_run` (a canonical
     run file), :class:`Run`.
 Models
-    :class:`KinematicModel` (KIN) and :class:`SingleTrackModel` (STM), the
-    reduced models as the harness drives them; :class:`Plant`, the MuJoCo
-    multibody reference; :func:`build_model` builds any of them by name.
+    :class:`KIN` and :class:`STM`, the reduced models for planners and
+    controllers (named states and inputs, ``rhs``, a discrete ``step``,
+    analytic Jacobians, ``linearise`` about a straight line or a steady turn,
+    over batches); :class:`KinematicModel` and :class:`SingleTrackModel`, the
+    same models as the harness drives them; :class:`Plant`, the MuJoCo
+    multibody reference; :func:`build_model` builds any of the harness's by
+    name.
 Simulating and validating
     :func:`simulate` (open loop), :func:`run_closed_loop` (the harness with the
     reversing feedback of eqs. (5)-(7)), :func:`run_metrics` (the criteria of
@@ -45,6 +49,8 @@ _PUBLIC = {
     "read_run": ("artic.validation.logs.runfile", "read_run"),
     "write_run": ("artic.validation.logs.runfile", "write_run"),
     "read_log": ("artic.validation.logs.importers", "read_log"),
+    "KIN": ("artic.reduced.control", "KIN"),
+    "STM": ("artic.reduced.control", "STM"),
     "KinematicModel": ("artic.reduced.models", "KinematicModel"),
     "SingleTrackModel": ("artic.reduced.models", "SingleTrackModel"),
     "Plant": ("artic.plant.plant", "Plant"),

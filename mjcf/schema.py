@@ -47,10 +47,16 @@ class Field:
     default: Any = None
 
 
+CLASSES = ("full-size", "scale-model")
+"""Vehicle classes ``[vehicle] class`` may name: each has its own plausibility ranges
+(:mod:`artic.mjcf.plausible`); a ``scale-model`` may leave out its tyre data."""
+
 VEHICLE = {
     "name": Field("", "preset or vehicle name", "str"),
     "description": Field("", "one-line description", "str"),
     "sources": Field("", "where every number comes from", "strlist"),
+    "class": Field("", f"vehicle class, one of {', '.join(CLASSES)}: the plausibility ranges "
+                   "its numbers are judged by", "str", optional=True, default=CLASSES[0]),
 }
 
 TRACTOR = {
@@ -122,6 +128,12 @@ TYRE = {
     "file": Field("", "PAC2002 tyre property file of the plant: a path relative to this "
                   "file, or the name of one shipped with artic", "str"),
 }
+
+TYRE_SCALE_MODEL = {
+    key: Field(f.unit, f.doc + " (a scale model may leave it out: KIN needs no tyre data)",
+               f.kind, optional=True, default=None) for key, f in TYRE.items()}
+"""``[tyre]`` of a ``scale-model``: optional, as full-size tyre data does not fit a model's
+tyres; the STM and the plant refuse such a vehicle, naming the key."""
 
 TYRE_SCALING = ("LFZO", "LCX", "LMUX", "LEX", "LKX", "LHX", "LVX", "LCY", "LMUY", "LEY",
                 "LKY", "LHY", "LVY", "LTR", "LRES", "LXAL", "LYKA", "LVYKA", "LS", "LMY",

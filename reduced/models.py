@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from artic.mjcf.interface import InitialState, rotate, wrap_angle
+from artic.mjcf.plausible import check_tyre_data
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.integrate import KIN, STM, observe, rk4_step
 from artic.reduced.kinematic import kin_parameters, wheelbases
@@ -136,6 +137,7 @@ class SingleTrackModel(CompiledModel):
 
     def __init__(self, vehicle: Vehicle, f: float | None = None,
                  trailer_axles: np.ndarray | None = None) -> None:
+        check_tyre_data(vehicle, "stm")  # a scale model may have none: refused, by key
         self.vehicle = vehicle
         self.P = stm_parameters(vehicle, f, trailer_axles)
         self.n_axles = int(self.P[7] + self.P[8])

@@ -133,8 +133,10 @@ def test_bag_through_a_map_recovers_the_articulation(fmt, tmp_path, truth, unloa
     assert pooled["s_max"].item() == pytest.approx(seg["s_max"].sum(), rel=1e-5)
     # Distance-weighted: the pooled RMS is the segments' RMS weighted by their distance.
     w = seg["s_max"] / seg["s_max"].sum()
-    assert pooled["eps_y2"].item() == pytest.approx(
-        math.sqrt(float(np.sum(w * seg["eps_y2"] ** 2))), rel=1e-5)
+    for c in ("eps_y2", "eps_gamma"):
+        assert pooled[c].item() == pytest.approx(
+            math.sqrt(float(np.sum(w * seg[c] ** 2))), rel=1e-5)
+    assert pooled["eps_gamma"].item() < bound
 
 
 def test_the_readme_example(tmp_path, truth, unloaded):

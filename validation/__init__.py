@@ -3,7 +3,8 @@
 At this level, what every validation shares:
 
 - :mod:`~artic.validation.harness`: the closed-loop harness and its reversing
-  feedback law, eqs. (5)-(7);
+  feedback law, eqs. (5)-(7); :mod:`~artic.validation.reversing`: when that
+  feedback is on (hysteresis on the speed);
 - :mod:`~artic.validation.metrics`: the distance-based error criteria, eqs. (8)-(10),
   with :mod:`~artic.validation.pathdist` for the lateral position error;
 - :mod:`~artic.validation.steering`: the steering map, eq. (3);

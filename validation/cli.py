@@ -14,7 +14,7 @@ Subcommands:
 - ``artic logs import SRC... [--channels MAP.toml] [--vehicle V] --out-dir DIR``:
   exports (or CSVs, ROS bags and MCAP files through a channel map) to canonical
   Parquet;
-- ``artic campaign [--out-dir DIR]``: the main job.
+- ``artic campaign [--out-dir DIR] [--seeds N]``: the main job, on one truck or several.
 
 Errors in the user's input end with exit code 2 and a one-line message that
 names the file and what to change; no traceback. That covers the options
@@ -42,7 +42,7 @@ from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation import options
 from artic.validation.harness import DEFAULT_GAIN
-from artic.validation.logs.consistency import CHECKS, parse_accept
+from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import read_log
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
 from artic.validation.models import NAMES
@@ -121,6 +121,14 @@ def _simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_tyre_data(vehicle, models: Sequence[str]) -> None:
+    """Refuse, before any work, models the vehicle has no fitting tyre data for."""
+    from artic.mjcf.plausible import check_tyre_data
+
+    for m in models:
+        check_tyre_data(vehicle, m)
+
+
 def _read_logs(args: argparse.Namespace, vehicle) -> list:
     accept = parse_accept(args.accept)
     logs = [read_log(p, vehicle, accept) for p in args.logs]
@@ -138,11 +146,13 @@ def _validate(args: argparse.Namespace) -> int:
         validate_runs,
         write_metrics,
     )
+    from artic.validation.criteria.fixedscale import SCALE_FILE, write_scale
     from artic.validation.criteria.pooled import pool_segments, segment_of, whole_logs
     from artic.validation.models import parse_models
 
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     out = check_output_dir(args.out_dir)
     logs = _read_logs(args, v)
     for log in logs:
@@ -158,10 +168,12 @@ def _validate(args: argparse.Namespace) -> int:
         if any(segment_of(log) for log in logs):
             metrics = pool_segments(metrics, logs, out / "runs")
         path = write_metrics(metrics, out / "metrics.csv")
+        write_scale(metrics.attrs["scale"], out / SCALE_FILE)
         failed = metrics[metrics["status"].astype(str).str.startswith(FAILED)]
         print(f"wrote {path} ({len(metrics)} rows) and {len(metrics) - len(failed)} runs in "
               f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
                                    "status in metrics.csv" if len(failed) else ""))
+        print("\n" + per_run_lines(metrics))
         if args.recordings:
             _validate_recordings(out, logs, v, models, metrics)
         for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
@@ -173,6 +185,7 @@ def _validate(args: argparse.Namespace) -> int:
         if args.gain_sweep:
             from artic.validation.campaign.gainsweep import (
                 DEFAULT_GAINS,
+                bounds_text,
                 gain_sweep,
                 plot_gain_sweep,
                 sweep_table,
@@ -187,9 +200,31 @@ def _validate(args: argparse.Namespace) -> int:
             atomic_write(out / "gain_sweep.csv",
                          lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
             plot_gain_sweep(sweep, out / "gain_sweep.png", args.gain)
-            print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
+            print(f"\nGain sweep (stability bound K_min: {bounds_text(sweep.attrs['K_min'])}; "
                   f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
     return 1 if len(failed) else 0
+
+
+def per_run_lines(metrics) -> str:
+    """One line per (log, model): the articulation error, eps_n and the status.
+
+    The articulation error comes first: many real logs have a hitch sensor
+    and little else, and ``eps_gamma`` needs nothing more.
+    """
+    lines = ["Per run: eps_gamma (articulation error, eq. 8) and eps_n"]
+    width = max((len(f"{r.log} / {r.model}") for r in metrics.itertuples()), default=0)
+    for r in metrics.itertuples():
+        what = f"{r.log} / {r.model}"
+        g, n = float(r.eps_gamma), float(r.eps_n)
+        if math.isnan(g):
+            shown = "eps_gamma -"
+        else:
+            shown = f"eps_gamma {math.degrees(g):6.2f} deg ({g:.4f} rad)"
+        shown += "; eps_n -" if math.isnan(n) else f"; eps_n {n:.3g} %"
+        if r.status != "ok":
+            shown += f"; {r.status}"
+        lines.append(f"  {what:<{width}}  {shown}")
+    return "\n".join(lines)
 
 
 def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
@@ -218,6 +253,7 @@ def _tune(args: argparse.Namespace) -> int:
     out = check_output_file(args.out)
     v = load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     logs = _read_logs(args, v)
     unsteered = [log.name for log in logs if wants_yaw_rate(log.meta)]
     if unsteered:
@@ -237,8 +273,7 @@ def _tune(args: argparse.Namespace) -> int:
                   f"{row['fitted']:<12.6g} [{row['lo']:.4g}, {row['hi']:.4g}]{flag}")
         print(f"{fit.model:<6} eps_n before {fit.eps_n_before:.3f} %, after "
               f"{fit.eps_n_after:.3f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)")
-    accepted = sorted({line.split(":", 1)[0].removeprefix("accepted ")
-                       for log in logs for line in log.meta.get("accepted_checks", [])})
+    accepted = sorted({name for log in logs for name in accepted_in(log.meta)})
     source = f"Tuned by artic on {', '.join(log.name for log in logs)}" + (
         f" (checks accepted with --accept: {', '.join(accepted)})" if accepted else "")
     data = updated(args.vehicle, fitted_changes(v, {f.model: f.fitted for f in fits}),
@@ -340,7 +375,7 @@ def _campaign(args: argparse.Namespace) -> int:
     run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
                  sweep_models=sweep, only=only, recordings=args.recordings,
                  executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth,
-                 remeasure=args.remeasure)
+                 remeasure=args.remeasure, seeds=args.seeds)
     return 0
 
 
@@ -370,6 +405,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
         "in reverse, and their validation.")
+    import artic
+
+    p.add_argument("--version", action="version", version=f"artic {artic.__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")
@@ -482,7 +520,11 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--models", default="kin,stm,mbd",
                       help="comma-separated, from kin, stm, mbd (default: %(default)s)")
     camp.add_argument("--seed", type=options.SEED, default=0,
-                      help="seed of the synthetic campaign")
+                      help="seed of the synthetic campaign (with --seeds, the first)")
+    camp.add_argument("--seeds", type=options.SEEDS, default=1,
+                      help="trucks: one campaign per seed in OUT/seed-K and the pooled tables "
+                           "and report in OUT, about 90 s per seed on two cores "
+                           "(default: %(default)s, the single campaign in OUT)")
     camp.add_argument("--truth", choices=("structural", "legacy"), default="structural",
                       help="the synthetic campaign's truth: one that differs from the presets "
                            "in structure, or the first near-identical one, for regression "

@@ -28,7 +28,8 @@ PRESENTATION = frozenset({
     "validation/campaign/report.py", "validation/campaign/tables.py",
     "validation/campaign/plots.py", "validation/campaign/recording.py",
     "validation/cli.py", "validation/entry.py", "validation/campaign/plantshape.py",
-    "validation/progress.py",
+    "validation/progress.py", "validation/campaign/rankings.py",
+    "validation/campaign/seeds.py", "validation/campaign/seedreport.py",
 })
 """Files that turn results into text and pictures; no cached result depends on them."""
 

@@ -12,7 +12,14 @@ integrals of eq. (8) add over disjoint stretches of road):
 - ``eps_n``: the pooled ``eps_a`` and ``eps_v`` over the pooled
   distance-means of ``|r|`` and ``|v_y|`` (``sum s_k m_k / sum s_k``);
 - ``J_steer``: the pooled distance-RMS of ``delta_fb`` over the pooled
-  distance-mean of ``|delta_center|``.
+  distance-mean of ``|delta_center|``;
+- ``eps_gamma``: a distance-RMS error like the others; ``eps_n_fixed`` from the
+  pooled ``eps_a`` and ``eps_v`` on the set's fixed scale;
+- the open-loop prediction errors ``pred_*``: means over start points placed
+  every :data:`artic.validation.criteria.prediction.SPACING` metres, so their
+  count is the distance's and the pooled mean is the distance-weighted mean
+  of the segments' (those with a value);
+- the dock errors ``dock_*``: the last segment's, where the log ends at the dock.
 
 The distance-means are taken from the segments' logs and run files over the
 samples each run compared.
@@ -27,6 +34,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from artic.validation.criteria import columns as extra
+from artic.validation.criteria.fixedscale import eps_n_fixed
 from artic.validation.logs.runfile import LogError, Run, read_run
 from artic.validation.metrics import (
     CRITERIA,
@@ -35,8 +44,11 @@ from artic.validation.metrics import (
     distance_weights,
 )
 
-RMS = ("eps_y1", "eps_y2", "eps_r1", "eps_r2", "eps_vy1", "eps_vy2")
+RMS = ("eps_y1", "eps_y2", "eps_r1", "eps_r2", "eps_vy1", "eps_vy2", "eps_gamma")
 """The criteria that are distance-RMS errors, eq. (8)."""
+
+POOLED = (*CRITERIA, *extra.COLUMNS)
+"""Every criterion column a pooled row has."""
 
 
 def segment_of(log: Run) -> dict | None:
@@ -63,14 +75,18 @@ def _means(log: Run, runs_dir: Path | None, model: str, n: int) -> dict[str, flo
     return out
 
 
-def pool(parts: Sequence[dict]) -> dict[str, float]:
+def pool(parts: Sequence[dict], scale: dict | None = None) -> dict[str, float]:
     """Pooled criteria of segments (see the module docstring).
 
     Parameters
     ----------
     parts : sequence of dict
         Per segment: the :data:`artic.validation.metrics.CRITERIA`, ``s_max`` [m],
-        and the distance-means ``r`` [rad/s], ``v_y`` [m/s] and ``delta_c`` [rad].
+        and the distance-means ``r`` [rad/s], ``v_y`` [m/s] and ``delta_c`` [rad];
+        in segment order.
+    scale : dict, optional
+        The direction's fixed scale of ``eps_n_fixed``
+        (:func:`artic.validation.criteria.fixedscale.campaign_scale`).
 
     Returns
     -------
@@ -80,7 +96,7 @@ def pool(parts: Sequence[dict]) -> dict[str, float]:
     s = np.array([p["s_max"] for p in parts], dtype=float)
     total = float(s.sum())
     if total <= 0:
-        return dict.fromkeys(CRITERIA, math.nan) | {"s_max": total}
+        return dict.fromkeys(POOLED, math.nan) | {"s_max": total}
 
     def mean(key: str) -> float:
         return float(np.sum(s * np.array([p[key] for p in parts], dtype=float)) / total)
@@ -88,7 +104,7 @@ def pool(parts: Sequence[dict]) -> dict[str, float]:
     def rms(values) -> float:
         return float(np.sqrt(np.sum(s * np.square(np.asarray(values, dtype=float))) / total))
 
-    out = {c: rms([p[c] for p in parts]) for c in RMS}
+    out = {c: rms([p.get(c, math.nan) for p in parts]) for c in RMS}
     out["eps_p"] = out["eps_y1"] + out["eps_y2"]
     out["eps_a"] = out["eps_r1"] + out["eps_r2"]
     out["eps_v"] = out["eps_vy1"] + out["eps_vy2"]
@@ -98,7 +114,15 @@ def pool(parts: Sequence[dict]) -> dict[str, float]:
     dc = mean("delta_c")
     fb = rms([p["J_steer"] * p["delta_c"] / 100.0 for p in parts])
     out["J_steer"] = 100.0 * fb / dc if dc > 0 else math.nan
-    return {c: out[c] for c in CRITERIA} | {"s_max": total}
+    out["eps_n_fixed"] = eps_n_fixed(out["eps_a"], out["eps_v"], scale)
+    for c in extra.COLUMNS:
+        if c.startswith("pred_"):
+            v = np.array([p.get(c, math.nan) for p in parts], dtype=float)
+            ok = np.isfinite(v) & (s > 0)
+            out[c] = float(np.sum(s[ok] * v[ok]) / np.sum(s[ok])) if ok.any() else math.nan
+        elif c.startswith("dock_"):
+            out[c] = float(parts[-1].get(c, math.nan))
+    return {c: out.get(c, math.nan) for c in POOLED} | {"s_max": total}
 
 
 def pool_segments(metrics: pd.DataFrame, logs: Sequence[Run],
@@ -127,7 +151,9 @@ def pool_segments(metrics: pd.DataFrame, logs: Sequence[Run],
     out["segment"] = [f"{segs[n]['index']}/{segs[n]['of']}" if segs.get(n) else ""
                       for n in out["log"]]
     groups: dict[tuple[str, str], list] = {}
-    for row in out.itertuples(index=False):
+    rows_in_order = sorted(out.itertuples(index=False),
+                           key=lambda r: segs[r.log]["index"] if segs.get(r.log) else 0)
+    for row in rows_in_order:
         seg = segs.get(row.log)
         if seg is not None:
             groups.setdefault((seg["log"], row.model), []).append(row)
@@ -138,9 +164,12 @@ def pool_segments(metrics: pd.DataFrame, logs: Sequence[Run],
         for r in ok:
             log = by_name[r.log]
             n = int(np.searchsorted(log.frame["t"].to_numpy(), r.duration_s + 1e-9))
-            parts.append({**{c: getattr(r, c) for c in CRITERIA}, "s_max": r.s_max,
+            parts.append({**{c: getattr(r, c) for c in POOLED if hasattr(r, c)},
+                          "s_max": r.s_max,
                           **_means(log, runs_dir, model, min(n, len(log.frame)))})
-        crit = pool(parts) if parts else dict.fromkeys(CRITERIA, math.nan) | {"s_max": 0.0}
+        scale = (metrics.attrs.get("scale") or {}).get(rows[0].direction)
+        crit = (pool(parts, scale) if parts
+                else dict.fromkeys(POOLED, math.nan) | {"s_max": 0.0})
         of = segs[rows[0].log]["of"]
         status = "ok" if len(ok) == of else (
             f"partial: pooled over {len(ok)} of {of} segments" if ok
@@ -152,6 +181,7 @@ def pool_segments(metrics: pd.DataFrame, logs: Sequence[Run],
                        "segment": f"pooled {of}"})
     if pooled:
         out = pd.concat([out, pd.DataFrame(pooled, columns=out.columns)], ignore_index=True)
+    out.attrs = dict(metrics.attrs)
     return out
 
 

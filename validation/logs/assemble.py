@@ -41,11 +41,14 @@ import pandas as pd
 
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.logs import consistency
 from artic.validation.logs.channelmap import GEODETIC, POSE, RATES, ChannelMap, Entry
-from artic.validation.logs.checks import Report, clean_time, fill_nan_runs
+from artic.validation.logs.checks import MAX_JUMP, Report, check_jumps, clean_time, fill_nan_runs
+from artic.validation.logs.consistency import CANONICAL, Context
 from artic.validation.logs.derive import TRACTOR, TRAILER, derive_tractor, derive_trailer
 from artic.validation.logs.differentiate import derivative, rates_from_pose
 from artic.validation.logs.runfile import LogError, Run, check_frame
+from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS
 
 RATE = 100.0
@@ -100,7 +103,8 @@ class _Clean:
     name: str
 
 
-def _clean(stream: Stream, chmap: ChannelMap, report: Report, factor: float) -> _Clean:
+def _clean(stream: Stream, chmap: ChannelMap, report: Report, factor: float,
+           split: bool = True) -> _Clean:
     df = pd.DataFrame({stream.name: stream.t, **stream.raw})
     df = clean_time(df, stream.name, report, max_gap=math.inf)
     df = fill_nan_runs(df, list(stream.raw), stream.name, report)
@@ -115,6 +119,7 @@ def _clean(stream: Stream, chmap: ChannelMap, report: Report, factor: float) -> 
     dt = np.diff(t)
     med = float(np.median(dt[dt > 0])) if (dt > 0).any() else 0.0
     max_gap = chmap.max_gap if chmap.max_gap is not None else max(GAP_FACTOR * med, GAP_FLOOR)
+    max_gap = max_gap if split else math.inf  # --accept gap: interpolated across
     gaps = [(float(t[i]), float(t[i + 1])) for i in np.flatnonzero(dt > max_gap)]
     bursts = int(np.sum(dt < BURST))
     report.add(f"{stream.name}: {t.size} samples at intervals of {dt.min():.3g} to "
@@ -192,7 +197,8 @@ def segments(cleaned: list[_Clean], report: Report) -> list[tuple[float, float]]
 
 
 def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source: str,
-             report: Report, time_factor: float = 1.0) -> list[Run]:
+             report: Report, time_factor: float = 1.0, accept: tuple[str, ...] = (),
+             scale: LogScale = FULL_SIZE, ctx: Context | None = None) -> list[Run]:
     """Canonical runs, one per gap-free segment, from a map's streams (see the module docstring).
 
     Parameters
@@ -209,8 +215,15 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
         Receives every repair, trim, split and derivation.
     time_factor : float
         Stamps to seconds.
+    accept : tuple of str
+        ``gap``: interpolate across gaps, no split; ``velocity``, ``jump``: skip
+        the measured velocities' unit and jump checks here.
+    scale : LogScale
+        The vehicle's scale, for the checks' thresholds.
+    ctx : Context, optional
+        The channels' names and declared units, for the messages.
     """
-    cleaned = [_clean(s, chmap, report, time_factor) for s in streams]
+    cleaned = [_clean(s, chmap, report, time_factor, "gap" not in accept) for s in streams]
     _local_plane(cleaned, chmap, report)
     spans = segments(cleaned, report)
     origin = min(float(c.t[0]) for c in cleaned)
@@ -225,7 +238,8 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
         if k == 1:
             for note in derived.get("notes", []):
                 report.add(note)
-        check_frame(df, f"{where}, imported through {chmap.path}")
+        _check_measured(df, chmap, where, report, accept, scale, ctx or CANONICAL)
+        check_frame(df, f"{where}, imported through {chmap.path}", scale)
         meta: dict = {"source": "measured",
                       "import": {"file": source, "channels": chmap.path}}
         if derived:
@@ -251,6 +265,29 @@ def _direction(runs: list[Run]) -> tuple[str, float]:
     back = sum(float(np.trapezoid(v * rev, t)) for v, rev, t in ds)
     share = back / total if total > 0 else 0.0
     return ("reverse", share) if share > 0.5 else ("forward", 1.0 - share)
+
+
+def _check_measured(df: pd.DataFrame, chmap: ChannelMap, where: str, report: Report,
+                    accept: tuple[str, ...], scale: LogScale, ctx: Context) -> None:
+    """A measured velocity's unit and sign, then GNSS jumps, named before the structural checks.
+
+    A speed in km/h is named as such here (it would also move every position
+    step away from what the velocity explains, and read as a jump).
+    """
+    t = df["t"].to_numpy()
+    for i in chmap.units():
+        if not all(c in chmap.entries for c in (f"v_x_{i}", f"v_y_{i}")):
+            continue  # derived from the pose: consistent with it by construction
+        if "velocity" not in accept:
+            found = consistency.check_velocity(t, df, i, ctx, scale)
+            if found is not None and not found.direction:
+                raise LogError(found.finding.message(where))
+        if "jump" not in accept:
+            psi = df[f"psi_{i}"].to_numpy()
+            vx, vy = df[f"v_x_{i}"].to_numpy(), df[f"v_y_{i}"].to_numpy()
+            c, s = np.cos(psi), np.sin(psi)
+            check_jumps(t, df[f"x_{i}"].to_numpy(), df[f"y_{i}"].to_numpy(), c * vx - s * vy,
+                        s * vx + c * vy, Report(where), scale.distance(MAX_JUMP))
 
 
 def complete(df: pd.DataFrame, chmap: ChannelMap, vehicle: Vehicle) -> tuple[pd.DataFrame, dict]:

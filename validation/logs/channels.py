@@ -35,18 +35,21 @@ from pathlib import Path
 import pandas as pd
 
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.logs import consistency
 from artic.validation.logs.assemble import RATE, Stream, assemble
 from artic.validation.logs.bags import is_bag, read_bag
 from artic.validation.logs.channelmap import DIMENSION, ChannelMap, read_map
 from artic.validation.logs.checks import Report
 from artic.validation.logs.derive import TRACTOR
 from artic.validation.logs.runfile import LogError, Run
+from artic.validation.logs.scale import FULL_SIZE, LogScale
 
-__all__ = ["RATE", "import_mapped", "read_map", "tractor_only_map"]
+__all__ = ["RATE", "import_mapped", "map_context", "read_map", "tractor_only_map"]
 
 
-def import_mapped(path: Path, map_path: Path | dict,
-                  vehicle: Vehicle) -> tuple[list[Run], list[str]]:
+def import_mapped(path: Path, map_path: Path | dict, vehicle: Vehicle,
+                  accept: tuple[str, ...] = (),
+                  scale: LogScale = FULL_SIZE) -> tuple[list[Run], list[str]]:
     """Import a CSV or a bag through a channel map onto the 100 Hz base.
 
     Parameters
@@ -57,6 +60,14 @@ def import_mapped(path: Path, map_path: Path | dict,
         Its channel map, or the map's data.
     vehicle : Vehicle
         Geometry for the derived unit, steering map for a derived ``delta_h``.
+    accept : tuple of str
+        Consistency checks accepted knowingly: ``gap`` interpolates across gaps
+        instead of splitting the log there; ``jump`` and ``velocity`` skip the
+        import's jump and velocity-unit checks (the canonical log's checks
+        still record them).
+    scale : LogScale
+        The vehicle's scale, for the jump distance and the limits of speeds
+        and yaw rates (:mod:`artic.validation.logs.scale`).
 
     Returns
     -------
@@ -70,6 +81,7 @@ def import_mapped(path: Path, map_path: Path | dict,
     path = Path(path)
     chmap = read_map(map_path)
     report = Report(str(path))
+    checks = {"accept": tuple(accept), "scale": scale, "ctx": map_context(path, chmap)}
     bag = is_bag(path)
     if bag != chmap.bag:
         what = ("names CSV columns (column = ...) but the log is a ROS bag or MCAP file: give "
@@ -80,11 +92,28 @@ def import_mapped(path: Path, map_path: Path | dict,
         streams, lines = read_bag(path, chmap)
         for line in lines:
             report.add(line)
-        runs = assemble(streams, chmap, vehicle, str(path), report)
+        runs = assemble(streams, chmap, vehicle, str(path), report, **checks)
     else:
         runs = assemble([_csv_stream(path, chmap, report)], chmap, vehicle, str(path), report,
-                        chmap.time_factor)
+                        chmap.time_factor, **checks)
     return runs, report.lines
+
+
+def map_context(path: Path | str, chmap: ChannelMap | Path | dict) -> consistency.Context:
+    """Names and declared units of a mapped log's channels, for the consistency messages.
+
+    Parameters
+    ----------
+    path : Path or str
+        The log.
+    chmap : ChannelMap, Path or dict
+        Its map, read or to read.
+    """
+    if not isinstance(chmap, ChannelMap):
+        chmap = read_map(chmap)
+    names = {c: f"{path}: {e.label}" for c, e in chmap.entries.items()}
+    units = {c: e.unit for c, e in chmap.entries.items() if e.unit != "quaternion"}
+    return consistency.Context(names, units, dict(consistency.CANONICAL.signs))
 
 
 def _csv_stream(csv: Path, chmap: ChannelMap, report: Report) -> Stream:

@@ -42,13 +42,24 @@ from artic.validation.logs.runfile import (
     read_run,
     write_run,
 )
+from artic.validation.logs.scale import LogScale
 
 
-def _checked(run: Run, source: str, vehicle, accept: Collection[str]) -> Run:
-    """The run, after the consistency checks; accepted findings recorded in its metadata."""
-    accepted = consistency.check_log(run.frame, source, vehicle, tuple(accept))
+def _checked(run: Run, source: str, vehicle, accept: Collection[str],
+             ctx: consistency.Context = consistency.CANONICAL) -> Run:
+    """The run, after the consistency checks; accepted findings recorded in its metadata.
+
+    The checks accepted when the run was imported (``meta["accepted"]``) stay
+    accepted: ``validate`` and ``tune`` remember an ``--accept`` given to ``logs import``.
+    """
+    accept = tuple(dict.fromkeys([*accept, *consistency.accepted_in(run.meta)]))
+    accepted = consistency.check_log(run.frame, source, vehicle, accept, ctx,
+                                     derived=bool(run.meta.get("derived")))
+    if accept:
+        run.meta["accepted"] = list(accept)
     if accepted:
-        run.meta["accepted_checks"] = [*run.meta.get("accepted_checks", []), *accepted]
+        lines = [*run.meta.get("accepted_checks", []), *accepted]
+        run.meta["accepted_checks"] = list(dict.fromkeys(lines))
     return run
 
 
@@ -70,7 +81,9 @@ def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Ru
     LogError
         For an unreadable file or the first finding not accepted.
     """
-    return _checked(read_run(path), str(path), vehicle, accept)
+    run = read_run(path, check=False)
+    check_frame(run.frame, str(path), LogScale.of(vehicle))
+    return _checked(run, str(path), vehicle, accept)
 
 
 def _meta_json(path: Path) -> dict:
@@ -127,15 +140,17 @@ def import_runs(path: Path, accept: Collection[str] = (), vehicle=None,
                        "names a topic and field per channel: pass --channels MAP.toml (see "
                        "docs/channels-bag-example.toml)")
     if channels is not None or _tractor_only(path):
-        from artic.validation.logs.channels import import_mapped, tractor_only_map
+        from artic.validation.logs.channels import import_mapped, map_context, tractor_only_map
 
         geometry = vehicle if vehicle is not None else load_vehicle("gosar2022-unloaded")
-        runs, report = import_mapped(path, channels or tractor_only_map(path), geometry)
+        spec = channels or tractor_only_map(path)
+        runs, report = import_mapped(path, spec, geometry, accept, LogScale.of(vehicle))
+        ctx = map_context(path, spec)
         name = source_name(path)
         for run in runs:
             seg = run.meta.get("segment")
             where = str(path) if seg is None else f"{path} (segment {seg['index']} of {seg['of']})"
-            _checked(run, where, vehicle, accept)
+            _checked(run, where, vehicle, accept, ctx)
             run.meta["name"] = name if seg is None else f"{name}.seg{seg['index']}"
             if seg is not None:
                 seg["log"] = name
@@ -181,7 +196,7 @@ def _import_export(path: Path, accept: tuple[str, ...], vehicle) -> tuple[Run, l
         if not path.is_file():
             raise LogError(f"{path}: no such file")
         frame = read_csv(path)
-        check_frame(frame, str(path))
+        check_frame(frame, str(path), LogScale.of(vehicle))
         run, report = _checked(Run(frame, {"source": "measured"}), str(path), vehicle,
                                accept), []
     else:
