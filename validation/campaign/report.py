@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from artic.validation.campaign.tables import PAPER_FORWARD, PAPER_REVERSE, markdown, versus_paper
+from artic.validation.models import label
 
 
 @dataclass
@@ -57,12 +58,12 @@ def _gaps(table: pd.DataFrame, col: str = "eps_n") -> str:
     if FLOOR not in table.index:
         return ""
     floor = float(table.loc[FLOOR, col])
-    return ", ".join(f"{m.upper()} {float(table.loc[m, col]) - floor:+.3g}"
+    return ", ".join(f"{label(m)} {float(table.loc[m, col]) - floor:+.3g}"
                      for m, _ in _rank(table, col))
 
 
 def _ranking_text(table: pd.DataFrame, col: str, unit: str) -> str:
-    return ", then ".join(f"{m.upper()} ({v:.3g} {unit})" for m, v in _rank(table, col))
+    return ", then ".join(f"{label(m)} ({v:.3g} {unit})" for m, v in _rank(table, col))
 
 
 def discussion(r: CampaignResults) -> list[str]:
@@ -72,7 +73,7 @@ def discussion(r: CampaignResults) -> list[str]:
     if len(fwd):
         best = _rank(fwd, "eps_n")[0][0]
         text = (f"**Forward.** By eps_n the ranking is {_ranking_text(fwd, 'eps_n', '%')}; by "
-                f"eps_p it is {_ranking_text(fwd, 'eps_p', 'm')}. {best.upper()} is the most "
+                f"eps_p it is {_ranking_text(fwd, 'eps_p', 'm')}. {label(best)} is the most "
                 "accurate forward model here; the paper found MBD best (4.83 %), then STM "
                 "(5.9 %) and KIN (9.26 %).")
         f_fit = [p["fitted"]["stm"]["f"] for p in r.tuned.values() if "stm" in p["fitted"]]
@@ -90,9 +91,9 @@ def discussion(r: CampaignResults) -> list[str]:
         steer = _rank(rev, "J_steer")
         out.append(
             f"**Reverse.** By eps_n the ranking is {_ranking_text(rev, 'eps_n', '%')}, so "
-            f"{best.upper()} is the most accurate reversing model here (the paper: STM, "
+            f"{label(best)} is the most accurate reversing model here (the paper: STM, "
             f"27.7 %). The steering-effort ranking J_steer is "
-            f"{_ranking_text(rev, 'J_steer', '%')}: {steer[0][0].upper()} needs the least "
+            f"{_ranking_text(rev, 'J_steer', '%')}: {label(steer[0][0])} needs the least "
             "correction from the harness to follow the measured articulation (the paper: STM "
             "21.15 %, MBD 26.14 %, KIN 26.96 %). A model whose articulation dynamics match "
             "the truck's needs little feedback, so J_steer ranks the models' reversing "
@@ -135,7 +136,7 @@ def discussion(r: CampaignResults) -> list[str]:
         vs = versus_paper(rev, PAPER_REVERSE)
         out.append(
             "**Against the paper's Table 3.** Reverse eps_n here is "
-            + ", ".join(f"{m.upper()} {vs.loc[m, 'eps_n']:.3g} % (paper "
+            + ", ".join(f"{label(m)} {vs.loc[m, 'eps_n']:.3g} % (paper "
                         f"{vs.loc[m, 'eps_n (paper)']:.3g} %)" for m in vs.index)
             + ". The synthetic docking and parking runs come from a driver model that steers "
             "smoothly and stops at the dock; the paper's experienced driver shuffled and "
@@ -144,7 +145,7 @@ def discussion(r: CampaignResults) -> list[str]:
             "in both.")
     if r.efficiency is not None and "ratio_to_mbd" in r.efficiency:
         e = r.efficiency
-        parts = [f"{m.upper()}/MBD = {e.loc[m, 'ratio_to_mbd']:.3g} "
+        parts = [f"{label(m)}/MBD = {e.loc[m, 'ratio_to_mbd']:.3g} "
                  f"(paper {e.loc[m, 'paper_ratio']:.2g})" for m in e.index if m != "mbd"]
         out.append(
             "**Efficiency.** Wall time per simulated second, as ratios to the multibody "
@@ -172,7 +173,7 @@ def _tuning_text(r: CampaignResults) -> list[str]:
         for m, fit in part["fitted"].items():
             if "i_s" in fit and "delta_h_offset" in fit:
                 recovered.append(
-                    f"{m.upper()} i_s {fit['i_s']:.4g} ({100 * (fit['i_s'] / i_s_true - 1):+.2f} "
+                    f"{label(m)} i_s {fit['i_s']:.4g} ({100 * (fit['i_s'] / i_s_true - 1):+.2f} "
                     f"%), offset {math.degrees(fit['delta_h_offset']):.3g} deg "
                     f"({math.degrees(fit['delta_h_offset'] - off_true):+.2f} deg)")
         lines += [
