@@ -137,7 +137,8 @@ def discussion(r: CampaignResults) -> list[str]:
         out.append(
             "**Against the paper's Table 3.** Reverse eps_n here is "
             + ", ".join(f"{label(m)} {vs.loc[m, 'eps_n']:.3g} % (paper "
-                        f"{vs.loc[m, 'eps_n (paper)']:.3g} %)" for m in vs.index)
+                        f"{vs.loc[m, 'eps_n (paper)']:.3g} %)" for m in vs.index
+                        if m in PAPER_REVERSE.index)
             + ". The synthetic docking and parking runs come from a driver model that steers "
             "smoothly and stops at the dock; the paper's experienced driver shuffled and "
             "corrected more, and its reverse runs reached 40 to 45 deg of articulation on "
