@@ -137,3 +137,10 @@ def test_validate_gain_sweep_marks_the_bound(tmp_path, capsys):
     sweep = pd.read_csv(out / "gain_sweep.csv")
     assert len(sweep) == 12 and (out / "gain_sweep.png").is_file()
     assert (out / "table3_reverse.csv").is_file()
+
+
+def test_version_names_the_installed_release(capsys):
+    from importlib.metadata import version
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"artic {version('artic')}"

@@ -141,6 +141,7 @@ def _validate(args: argparse.Namespace) -> int:
         validate_runs,
         write_metrics,
     )
+    from artic.validation.criteria.fixedscale import SCALE_FILE, write_scale
     from artic.validation.models import parse_models
 
     v = _load_vehicle(args.vehicle)
@@ -155,10 +156,12 @@ def _validate(args: argparse.Namespace) -> int:
         metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
                                 progress=stderr_progress, jobs=args.jobs)
         path = write_metrics(metrics, out / "metrics.csv")
+        write_scale(metrics.attrs["scale"], out / SCALE_FILE)
         failed = metrics[metrics["status"].astype(str).str.startswith(FAILED)]
         print(f"wrote {path} ({len(metrics)} rows) and {len(metrics) - len(failed)} runs in "
               f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
                                    "status in metrics.csv" if len(failed) else ""))
+        print("\n" + per_run_lines(metrics))
         if args.recordings:
             _validate_recordings(out, logs, v, models, metrics)
         for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
@@ -187,6 +190,28 @@ def _validate(args: argparse.Namespace) -> int:
             print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
                   f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
     return 1 if len(failed) else 0
+
+
+def per_run_lines(metrics) -> str:
+    """One line per (log, model): the articulation error, eps_n and the status.
+
+    The articulation error comes first: many real logs have a hitch sensor
+    and little else, and ``eps_gamma`` needs nothing more.
+    """
+    lines = ["Per run: eps_gamma (articulation error, eq. 8) and eps_n"]
+    width = max((len(f"{r.log} / {r.model}") for r in metrics.itertuples()), default=0)
+    for r in metrics.itertuples():
+        what = f"{r.log} / {r.model}"
+        g, n = float(r.eps_gamma), float(r.eps_n)
+        if math.isnan(g):
+            shown = "eps_gamma -"
+        else:
+            shown = f"eps_gamma {math.degrees(g):6.2f} deg ({g:.4f} rad)"
+        shown += "; eps_n -" if math.isnan(n) else f"; eps_n {n:.3g} %"
+        if r.status != "ok":
+            shown += f"; {r.status}"
+        lines.append(f"  {what:<{width}}  {shown}")
+    return "\n".join(lines)
 
 
 def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
@@ -375,6 +400,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
         "in reverse, and their validation.")
+    import artic
+
+    p.add_argument("--version", action="version", version=f"artic {artic.__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")

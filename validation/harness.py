@@ -116,15 +116,41 @@ def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     u1 = smooth_speed(t, df["v_x_1"].to_numpy(dtype=float) + r1 * vehicle.sensor1[1])
     u1_dot = np.zeros_like(u1)
     u1_dot[:-1] = np.diff(u1) / np.diff(t)
-    first = df.iloc[0]
-    initial = InitialState(
-        x_1=float(first["x_1"]), y_1=float(first["y_1"]), psi_1=float(first["psi_1"]),
-        gamma=float(first["gamma"]), v_y_1=float(first["v_y_1"]), r_1=float(first["r_1"]),
-        r_2=float(first["r_2"]), u1=float(u1[0]))
     return LoopInputs(
         t=t, delta_h=delta_h, delta_c=np.full_like(delta_h, np.nan), u1=u1,
         u1_dot=u1_dot, gamma_meas=df["gamma"].to_numpy(dtype=float),
-        reversing=df["v_x_1"].to_numpy(dtype=float) < 0.0, initial=initial)
+        reversing=df["v_x_1"].to_numpy(dtype=float) < 0.0,
+        initial=initial_state(df, 0, float(u1[0])))
+
+
+def initial_state(frame: pd.DataFrame, k: int, u1: float) -> InitialState:
+    """The state a model starts from at a log's sample ``k``: its pose and motion there.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        The log, in the signal schema.
+    k : int
+        The sample (0 for the harness's run).
+    u1 : float
+        The tractor's speed at ``k`` as the harness feeds it (smoothed) [m/s].
+    """
+    row = frame.iloc[k]
+    return InitialState(
+        x_1=float(row["x_1"]), y_1=float(row["y_1"]), psi_1=float(row["psi_1"]),
+        gamma=float(row["gamma"]), v_y_1=float(row["v_y_1"]), r_1=float(row["r_1"]),
+        r_2=float(row["r_2"]), u1=float(u1))
+
+
+def window(inputs: LoopInputs, frame: pd.DataFrame, start: int, stop: int) -> LoopInputs:
+    """The inputs of samples ``start`` to ``stop - 1``, starting from the log's state at ``start``.
+
+    What the open-loop predictions (:mod:`artic.validation.criteria.prediction`)
+    drive a model with from a point inside a log.
+    """
+    part = {f: getattr(inputs, f)[start:stop]
+            for f in ("t", "delta_h", "delta_c", "u1", "u1_dot", "gamma_meas", "reversing")}
+    return LoopInputs(**part, initial=initial_state(frame, start, float(inputs.u1[start])))
 
 
 def steered(inputs: LoopInputs, steering: SteeringMap, source: str) -> LoopInputs:

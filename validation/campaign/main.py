@@ -10,7 +10,9 @@ Stages, each timed and each resumable:
    forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`); ``OUT/tuning.json``,
    and one tuned vehicle file per load condition in ``OUT/params``;
 3. **validation**: every model through the closed-loop harness on every other
-   log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``;
+   log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``
+   (with the criteria of :mod:`artic.validation.criteria`; the fixed scale of
+   ``eps_n_fixed``, from the validated logs, in ``OUT/eps_n_fixed_scale.json``);
 4. **references**: the two references' own numbers. The *floor*: the truth's
    own plant (``truth-LOAD.toml``, with each manoeuvre's yard slope) through the
    same harness against the same logs, a ``floor`` row in ``metrics.csv``; no
@@ -68,6 +70,7 @@ from artic.validation.campaign.validate import (
     validate_runs,
     write_metrics,
 )
+from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.harness import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
@@ -416,6 +419,9 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         vehicles = _tuned_vehicles(out_dir, tuned, seed)
         tuning_logs = {n for part in tuned["loads"].values() for n in part["logs"]}
         paths["tuning"] = out_dir / "tuning.json"
+    validated = [log for log in logs if log.name not in tuning_logs]
+    scale = campaign_scale(validated)  # one scale for every row of eps_n_fixed
+    paths["eps_n_fixed_scale"] = write_scale(scale, out_dir / SCALE_FILE)
     with stage("validation"):
         parts = []
         for load in LOADS:
@@ -425,13 +431,13 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                            out_dir=out_dir, progress=stderr_progress,
                                            reuse_key=f"{key}.{load}", jobs=jobs,
-                                           executor=pool, label=f"validation, {load}"))
+                                           executor=pool, label=f"validation, {load}",
+                                           scale=scale))
         stage.reused(all(p.attrs.get("reused") == len(p) for p in parts))
         metrics = pd.concat(parts, ignore_index=True)
     load_of = {log.name: log.meta.get("load") for log in logs}
     with stage("references"):
-        validated = [log for log in logs if log.name not in tuning_logs]
-        floor = _floor(out_dir, validated, seed, truth, gain, key, jobs, pool)
+        floor = _floor(out_dir, validated, seed, truth, gain, key, jobs, pool, scale)
         all_reused = floor.attrs.get("reused") == len(floor)
         metrics = pd.concat([metrics, floor], ignore_index=True)
         metrics["load"] = metrics["log"].map(load_of)
@@ -439,7 +445,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         vs_plant = None
         if "mbd" in models:
             reduced = [m for m in models if m != "mbd"]
-            vs_plant = _versus_plant(out_dir, validated, vehicles, reduced, gain, key, jobs)
+            vs_plant = _versus_plant(out_dir, validated, vehicles, reduced, gain, key, jobs,
+                                     scale)
             if vs_plant is not None:
                 all_reused = all_reused and vs_plant.attrs.get("reused") == len(vs_plant)
                 vs_plant["load"] = vs_plant["log"].map(load_of)
@@ -531,7 +538,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
 
 
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
-           jobs: int, pool) -> pd.DataFrame:
+           jobs: int, pool, scale: dict | None = None) -> pd.DataFrame:
     """The truth's own plant against the logs: the ``floor`` rows of the tables against logs."""
     from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
 
@@ -542,18 +549,19 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
 
     return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
-                         executor=pool, label="references, the truth's plant")
+                         executor=pool, label="references, the truth's plant", scale=scale)
 
 
 def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
                   models: Sequence[str], gain: float, key: str,
-                  jobs: int) -> pd.DataFrame | None:
+                  jobs: int, scale: dict | None = None) -> pd.DataFrame | None:
     """KIN and STM against the plant's runs of the same manoeuvres, the plant as reference.
 
     The plant's run of a log (``runs/LOG.mbd.parquet``) becomes the reference
     log: its signals, the log's steering wheel and speed, and the log's
     metadata. It ran forward open loop and in reverse under the harness; the
-    reduced models run through the same harness against it.
+    reduced models run through the same harness against it. ``eps_n_fixed``
+    uses ``scale``, the measured logs' (the same unit as against the logs).
     """
     from artic.validation.logs.schema import COLUMNS
 
@@ -571,7 +579,8 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
             parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                        out_dir=out_dir / "vs_plant", progress=stderr_progress,
                                        reuse_key=f"{key}.{load}.vs_plant", jobs=jobs,
-                                       label=f"references, {load}, against the plant"))
+                                       label=f"references, {load}, against the plant",
+                                       scale=scale))
     if not parts:
         return None
     out = pd.concat(parts, ignore_index=True)

@@ -1,0 +1,36 @@
+"""Sphinx configuration for artic's documentation site.
+
+Built in ``.ci/run`` with ``sphinx-build -W`` (warnings are errors), so a
+broken reference or a malformed docstring fails CI. The pages are Markdown
+(MyST); the API reference is generated from the numpydoc docstrings of the
+public names in ``artic.__all__``.
+"""
+
+from __future__ import annotations
+
+import artic
+
+project = "artic"
+author = "artic developers"
+copyright = "artic developers"  # noqa: A001 (Sphinx's name)
+release = artic.__version__
+version = release
+
+extensions = [
+    "myst_parser",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "numpydoc",
+]
+source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+exclude_patterns = ["_build", "images"]
+myst_enable_extensions = ["colon_fence"]
+myst_heading_anchors = 3
+
+autosummary_generate = True
+autodoc_typehints = "none"  # numpydoc's Parameters sections carry the types and units
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+
+html_theme = "furo"
+html_title = f"artic {release}"
