@@ -7,6 +7,7 @@ that is wrong; the session's logs are made once and read back after.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import subprocess
@@ -169,13 +170,29 @@ def test_the_criteria_table():
     assert len({line.index("criterion") for line in lines[:1]}) == 1
 
 
-def test_the_plugins_default_gain_is_the_harness_one():
+def test_eps_gamma_of_kin_reversing_is_eq_6s_decay(unloaded):
+    # KIN reversing straight from 3 deg, under the harness's default gain
+    # (the paper's K = 3), with a steering map that centres at delta_h = 0:
+    # gamma = gamma0 e^(lambda t) with eq. (6)'s lambda = u (K (L2 - L1c) -
+    # L1) / (L1 L2), and the log's articulation is zero, so eps_gamma is the
+    # time RMS of that decay. Within 1 %: the steering held over each 10 ms
+    # step and the trapezoidal weights are of order |lambda| dt / 2 = 0.3 %,
+    # the tan and sin of 3 and 9 deg less.
+    from artic.reduced.kinematic import kin_parameters
     from artic.validation.harness import DEFAULT_GAIN
 
-    log = straight_log(n=400, u=-0.8, gamma0=math.radians(3.0))
-    a = assert_tracks("kin", log, within={"eps_p": 10.0}, vehicle="gosar2022-unloaded")
-    b = assert_tracks("kin", log, within={"eps_p": 10.0}, vehicle="gosar2022-unloaded",
-                      gain=DEFAULT_GAIN)
-    np.testing.assert_equal(a, b)  # NaN where eps_n is undefined (no yaw to speak of)
-    assert a["straight"]["J_steer"] > 0
+    v = dataclasses.replace(unloaded, steering=dataclasses.replace(
+        unloaded.steering, delta_h_offset=0.0), steering_overrides={})
+    u, g0, n = -0.8, math.radians(3.0), 400
+    log = straight_log(n=n, u=u, gamma0=g0)
+    L1, L1c, L2 = kin_parameters(v)
+    lam = u * (DEFAULT_GAIN * (L2 - L1c) - L1) / (L1 * L2)
+    T = (n - 1) * 0.01
+    expected = g0 * math.sqrt(math.expm1(2 * lam * T) / (2 * lam * T))
+    got = assert_tracks("kin", log, within={"eps_gamma": 1.01 * expected}, vehicle=v)
+    np.testing.assert_equal(got, assert_tracks("kin", log, {"eps_gamma": 1.0}, vehicle=v,
+                                               gain=DEFAULT_GAIN))  # NaN: eps_n undefined
+    assert got["straight"]["eps_gamma"] > 0.99 * expected
+    with pytest.raises(AssertionError, match=r"eps_gamma .* rad .* FAIL"):
+        assert_tracks("kin", log, within={"eps_gamma": 0.99 * expected}, vehicle=v)
     assert testing.DEFAULT_LOGS[0].startswith("00-") and testing.DEFAULT_VEHICLE

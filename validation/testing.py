@@ -32,9 +32,11 @@ Assertions
 Both drive the models through artic's closed-loop harness
 (:func:`artic.validation.harness.run_closed_loop`) and compare with the
 criteria of eqs. (8)-(10) (:func:`artic.validation.metrics.run_metrics`).
-``within`` maps criterion names (:data:`artic.validation.metrics.CRITERIA`)
-to upper limits in their units (``eps_p`` [m], ``eps_a`` [rad/s],
-``eps_v`` [m/s], ``eps_n`` and ``J_steer`` [%]). A failure's message is the
+``within`` maps criterion names (:data:`artic.validation.metrics.CRITERIA`,
+and the articulation error ``eps_gamma`` of
+:mod:`artic.validation.criteria.articulation`) to upper limits in their units
+(``eps_p`` [m], ``eps_a`` [rad/s], ``eps_v`` [m/s], ``eps_n`` and ``J_steer``
+[%], ``eps_gamma`` [rad]). A failure's message is the
 criteria table: manoeuvre, criterion, value, limit and pass or FAIL, with
 the status of any run that stopped early. A model is given as a registry
 name (``"kin"``, or one of :func:`artic.validation.models.register_model`),
@@ -222,15 +224,31 @@ def _logs(manoeuvres: Run | Iterable[Run] | Mapping[str, Run]) -> list[Run]:
     return out
 
 
-def _limits(within: Mapping[str, float]) -> dict[str, float]:
-    from artic.validation.metrics import CRITERIA
+def _known() -> dict[str, str]:
+    """The criteria a check may limit, with their units."""
+    from artic.validation.metrics import CRITERIA, UNITS
 
+    return {**{c: UNITS[c] for c in CRITERIA}, "eps_gamma": "rad"}
+
+
+def _criteria(log: Run, run: Run) -> dict[str, float]:
+    """The criteria of ``run`` against ``log``: eqs. (8)-(10) and ``eps_gamma``."""
+    from artic.validation.criteria.articulation import eps_gamma
+    from artic.validation.metrics import run_metrics
+
+    out = run_metrics(log.frame, run.frame)
+    out["eps_gamma"] = eps_gamma(log.frame, run.frame) if len(run.frame) else math.nan
+    return out
+
+
+def _limits(within: Mapping[str, float]) -> dict[str, float]:
+    known = _known()
     if not within:
-        raise ValueError(f"within: give at least one criterion, from {', '.join(CRITERIA)}")
+        raise ValueError(f"within: give at least one criterion, from {', '.join(known)}")
     out = {}
     for k, v in within.items():
-        if k not in CRITERIA:
-            raise ValueError(f"within: unknown criterion {k!r}; choose from {', '.join(CRITERIA)}")
+        if k not in known:
+            raise ValueError(f"within: unknown criterion {k!r}; choose from {', '.join(known)}")
         if not isinstance(v, int | float) or not math.isfinite(v) or v < 0:
             raise ValueError(f"within: {k} = {v!r}: a limit is a finite number >= 0")
         out[k] = float(v)
@@ -249,7 +267,7 @@ def criteria_table(rows: list[tuple[str, dict[str, float], str]],
     limits : mapping of str to float
         Upper limit per criterion, in its unit.
     """
-    from artic.validation.metrics import UNITS
+    units = _known()
 
     def num(x: float, unit: str) -> str:
         return "nan" if not math.isfinite(x) else f"{x:.4g} {unit}"
@@ -261,7 +279,7 @@ def criteria_table(rows: list[tuple[str, dict[str, float], str]],
             v = float(crit.get(k, math.nan))
             ok = math.isfinite(v) and v <= lim
             failed += not ok
-            lines.append((name if i == 0 else "", k, num(v, UNITS[k]), num(lim, UNITS[k]),
+            lines.append((name if i == 0 else "", k, num(v, units[k]), num(lim, units[k]),
                           "pass" if ok else "FAIL"))
         if status != "ok":
             failed += 1
@@ -310,7 +328,6 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
     __tracebackhide__ = True
     _configure()
     from artic.validation.harness import DEFAULT_GAIN, run_closed_loop
-    from artic.validation.metrics import run_metrics
 
     gain = DEFAULT_GAIN if gain is None else gain
     limits = _limits(within)
@@ -319,7 +336,7 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
         v = _vehicle(vehicle, model, one)
         with _model(model, v) as m:
             run = run_closed_loop(m, one, v, gain, extras=False)
-        crit = run_metrics(one.frame, run.frame)
+        crit = _criteria(one, run)
         rows.append((one.name, crit, run.meta["status"]))
         out[one.name] = crit
     table, failed = criteria_table(rows, limits)
@@ -371,7 +388,6 @@ def assert_agree(model_a: Any, model_b: Any,
     from artic.validation.harness import DEFAULT_GAIN, run_closed_loop
     from artic.validation.logs.runfile import Run
     from artic.validation.logs.schema import COLUMNS
-    from artic.validation.metrics import run_metrics
 
     gain = DEFAULT_GAIN if gain is None else gain
     limits = _limits(within)
@@ -387,7 +403,7 @@ def assert_agree(model_a: Any, model_b: Any,
                    "reference": a_name})
         with _model(model_b, vb) as b:
             run_b = run_closed_loop(b, ref, vb, gain, extras=False)
-        crit = run_metrics(ref.frame, run_b.frame)
+        crit = _criteria(ref, run_b)
         status = "; ".join(f"{who} {run.meta['status']}" for who, run in
                            ((a_name, run_a), (b_name, run_b)) if run.meta["status"] != "ok")
         rows.append((log.name, crit, status or "ok"))
