@@ -47,7 +47,7 @@ def test_agrees_with_the_plant(artic_plant, artic_logs):
 @pytest.fixture(scope="module")
 def shared_cache(pytestconfig, tmp_path_factory):
     """A pytest cache folder the users' sessions share, so that they make the logs once."""
-    cache = pytestconfig.cache
+    cache = getattr(pytestconfig, "cache", None)  # None under -p no:cacheprovider
     return cache.mkdir("artic-pytester") if cache is not None else \
         tmp_path_factory.mktemp("artic-pytester")
 
