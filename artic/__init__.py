@@ -17,7 +17,9 @@ Models
     over batches); :class:`KinematicModel` and :class:`SingleTrackModel`, the
     same models as the harness drives them; :class:`Plant`, the MuJoCo
     multibody reference; :func:`build_model` builds any of the harness's by
-    name.
+    name. :func:`register_model` adds a model of your own (or
+    :func:`model_spec` for an ``artic.models`` entry point);
+    :func:`model_names` lists them all.
 Simulating and validating
     :func:`simulate` (open loop), :func:`run_closed_loop` (the harness with the
     reversing feedback of eqs. (5)-(7)), :func:`run_metrics` (the criteria of
@@ -56,6 +58,9 @@ _PUBLIC = {
     "Plant": ("artic.plant.plant", "Plant"),
     "PlantError": ("artic.plant.plant", "PlantError"),
     "build_model": ("artic.validation.models", "build"),
+    "register_model": ("artic.validation.models", "register_model"),
+    "model_spec": ("artic.validation.models", "model_spec"),
+    "model_names": ("artic.validation.models", "names"),
     "simulate": ("artic.validation.simulate", "simulate"),
     "run_closed_loop": ("artic.validation.harness", "run_closed_loop"),
     "run_metrics": ("artic.validation.metrics", "run_metrics"),

@@ -198,7 +198,7 @@ def _values(v: Vehicle) -> list[tuple[str, str, float]]:
     for unit, sensor in (("tractor", v.sensor1), ("trailer", v.sensor2)):
         for axis, x in zip("xyz", sensor, strict=True):
             out.append((f"sensor.{axis}", f"{unit}.sensor ({axis})", x))
-    for model in ("", "kin", "stm", "mbd"):
+    for model in ("", *v.steering_overrides):
         s = v.steering if not model else v.steering_for(model)
         prefix = "steering" if not model else f"steering.{model}"
         if model and not v.steering_overrides.get(model):

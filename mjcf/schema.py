@@ -168,6 +168,11 @@ LIMITS = {
 }
 
 MODELS = ("kin", "stm", "mbd")
+"""The built-in models, each of which may have a ``[steering.NAME]`` table."""
+
+MODEL_NAME = r"[a-z][a-z0-9_]{0,31}"
+"""What a model's name looks like: a ``[steering.NAME]`` table may name a model from
+outside artic too (:func:`artic.validation.models.register_model`)."""
 
 SECTIONS = {
     "vehicle": VEHICLE,
@@ -296,7 +301,7 @@ def describe() -> str:
     lines = []
     groups = [*SECTIONS.items(), *OPTIONAL_SECTIONS.items(),
               ("tractor.axle / trailer.axle", AXLE),
-              ("steering.kin / .stm / .mbd", STEERING_OVERRIDE)]
+              ("steering.kin / .stm / .mbd / .NAME of a registered model", STEERING_OVERRIDE)]
     width = max(len(key) for _, fields in groups for key in fields) + 2  # the longest key fits
     for section, fields in groups:
         lines.append(f"[{section}]")

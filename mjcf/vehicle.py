@@ -18,6 +18,7 @@ Frames and symbols (the paper's, ISO 8855: x forward, y left, z up):
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field, replace
 from importlib import resources
@@ -271,10 +272,12 @@ class Vehicle:
         Parameters
         ----------
         model : str
-            ``"kin"``, ``"stm"`` or ``"mbd"``.
+            ``"kin"``, ``"stm"``, ``"mbd"``, or the name of a model from outside
+            artic; a model without a ``[steering.NAME]`` table gets ``[steering]``.
         """
-        if model not in schema.MODELS:
-            raise ValueError(f"unknown model {model!r}; expected one of {schema.MODELS}")
+        if not isinstance(model, str) or not re.fullmatch(schema.MODEL_NAME, model):
+            raise ValueError(f"model name {model!r}: expected one of {schema.MODELS} or a "
+                             "registered model's name (lower-case letters, digits, _)")
         return replace(self.steering, **self.steering_overrides.get(model, {}))
 
     @property
@@ -474,6 +477,18 @@ def read_vehicle_toml(path: Path) -> dict[str, Any]:
         raise VehicleFileError(f"{path}: cannot read ({exc.strerror or exc})") from exc
 
 
+def _override_names(steering: Any) -> tuple[str, ...]:
+    """The ``[steering.NAME]`` tables a ``[steering]`` section may have.
+
+    The built-in models' and any other table named like a model (one
+    registered from outside artic, :mod:`artic.validation.models`).
+    """
+    if not isinstance(steering, dict):
+        return schema.MODELS
+    return (*schema.MODELS, *(k for k, v in steering.items() if isinstance(v, dict)
+                              and k not in schema.MODELS and re.fullmatch(schema.MODEL_NAME, k)))
+
+
 def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehicle:
     """Check parsed TOML and build a :class:`Vehicle` (see :func:`load_vehicle`)."""
     for key in data:
@@ -491,7 +506,7 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
         if name == "tyre" and vclass == "scale-model":
             fields = schema.TYRE_SCALE_MODEL
         allow = ("axle",) if name in ("tractor", "trailer") else (
-            schema.MODELS if name == "steering" else ())
+            _override_names(data["steering"]) if name == "steering" else ())
         allow = (*allow, "scaling") if name == "tyre" else allow
         sec[name] = schema.check_table(path, name, data[name], fields, allow)
     for name, fields in schema.OPTIONAL_SECTIONS.items():
@@ -505,7 +520,7 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
                                    f"known: {', '.join(schema.TYRE_SCALING)}")
         schema.check_value(path, f"tyre.scaling.{k}", schema.Field("", "factor"), val)
     overrides = {}
-    for model in schema.MODELS:
+    for model in _override_names(data["steering"]):
         if model in data["steering"]:
             o = schema.check_table(path, f"steering.{model}", data["steering"][model],
                                    schema.STEERING_OVERRIDE)

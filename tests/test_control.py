@@ -386,9 +386,8 @@ def test_python_control_signatures(kin):
 
 
 def test_the_docs_planner_example_runs(kin):
-    page = Path(__file__).resolve().parents[1] / "docs" / "design" / "models.md"
-    text = page.read_text().split("## In a planner or controller", 1)[1]
-    code = text.split("```python\n", 1)[1].split("```", 1)[0]
+    page = Path(__file__).resolve().parents[1] / "docs" / "guide" / "planner.md"
+    code = page.read_text().split("```python\n", 1)[1].split("```", 1)[0]
     namespace: dict = {}
     exec(compile(code, str(page), "exec"), namespace)  # noqa: S102
     assert np.linalg.eigvals(namespace["A"]).real.max() == pytest.approx(1.0 / kin.L2)

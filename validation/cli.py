@@ -45,7 +45,6 @@ from artic.validation.harness import DEFAULT_GAIN
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import read_log
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
-from artic.validation.models import NAMES
 from artic.validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
 from artic.validation.steering import SteeringRangeError
 from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
@@ -85,12 +84,22 @@ def _vehicle_keys(args: argparse.Namespace) -> int:
     return 0
 
 
+def _load_vehicle(name: str):
+    """The vehicle file or preset ``name``, its ``[steering.NAME]`` tables checked.
+
+    Each must name a registered model (:func:`artic.validation.models.check_vehicle`).
+    """
+    from artic.validation.models import check_vehicle
+
+    return check_vehicle(load_vehicle(name))
+
+
 def _simulate(args: argparse.Namespace) -> int:
     from artic.validation.models import build
     from artic.validation.simulate import simulate
 
     out = check_output_file(args.out)
-    v = load_vehicle(args.vehicle)
+    v = _load_vehicle(args.vehicle)
     s = v.steering_for(args.model)
     reverse = args.manoeuvre.endswith("reverse")
     speed = args.speed_kph if args.speed_kph is not None else (3.0 if reverse else 5.0)
@@ -150,7 +159,7 @@ def _validate(args: argparse.Namespace) -> int:
     from artic.validation.criteria.pooled import pool_segments, segment_of, whole_logs
     from artic.validation.models import parse_models
 
-    v = load_vehicle(args.vehicle)
+    v = _load_vehicle(args.vehicle)
     models = parse_models(args.models)
     _check_tyre_data(v, models)
     out = check_output_dir(args.out_dir)
@@ -251,7 +260,7 @@ def _tune(args: argparse.Namespace) -> int:
     from artic.validation.yawsteer import wants_yaw_rate
 
     out = check_output_file(args.out)
-    v = load_vehicle(args.vehicle)
+    v = _load_vehicle(args.vehicle)
     models = parse_models(args.models)
     _check_tyre_data(v, models)
     logs = _read_logs(args, v)
@@ -394,6 +403,20 @@ def _add_accept(p: argparse.ArgumentParser) -> None:
                         f"checks: {', '.join(CHECKS)}")
 
 
+def _one_model(text: str) -> str:
+    """``--model``: one model of the registry (built-in or registered), by name."""
+    from artic.validation.models import parse_models
+
+    try:
+        models = parse_models(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"invalid choice: {exc}") from None
+    if len(models) != 1:
+        raise argparse.ArgumentTypeError(f"invalid choice: {text!r} names {len(models)} models; "
+                                         "give one (artic validate takes several)")
+    return models[0]
+
+
 def _add_vehicle(p: argparse.ArgumentParser) -> None:
     """The ``--vehicle`` option every command that builds a model takes."""
     p.add_argument("--vehicle", default="gosar2022-unloaded",
@@ -420,7 +443,8 @@ def build_parser() -> argparse.ArgumentParser:
     keys.set_defaults(func=_vehicle_keys)
 
     sim = sub.add_parser("simulate", help="simulate a manoeuvre open loop")
-    sim.add_argument("--model", required=True, type=str.lower, choices=NAMES)
+    sim.add_argument("--model", required=True, type=_one_model,
+                     help="kin, stm, mbd, or a registered model (see artic.register_model)")
     _add_vehicle(sim)
     sim.add_argument("--manoeuvre", required=True, choices=KINDS)
     sim.add_argument("--amplitude-deg", type=options.AMPLITUDE_DEG, default=None,
@@ -435,7 +459,9 @@ def build_parser() -> argparse.ArgumentParser:
     val = sub.add_parser("validate", help="validate models against logs")
     val.add_argument("logs", nargs="+", type=Path, help="logs in the signal schema (.parquet)")
     _add_vehicle(val)
-    val.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
+    val.add_argument("--models", default="kin,stm",
+                     help="comma-separated: kin, stm, mbd and registered models "
+                          "(default: %(default)s)")
     val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     val.add_argument("--out-dir", required=True, type=Path)
@@ -518,7 +544,8 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
     camp.add_argument("--models", default="kin,stm,mbd",
-                      help="comma-separated, from kin, stm, mbd (default: %(default)s)")
+                      help="comma-separated: kin, stm, mbd and registered models "
+                           "(default: %(default)s)")
     camp.add_argument("--seed", type=options.SEED, default=0,
                       help="seed of the synthetic campaign (with --seeds, the first)")
     camp.add_argument("--seeds", type=options.SEEDS, default=1,

@@ -90,7 +90,7 @@ from artic.validation.logs.runfile import (
     read_run,
     write_run,
 )
-from artic.validation.models import NAMES
+from artic.validation.models import code_of, names
 from artic.validation.outputs import OutDirLock, clean_stale
 from artic.validation.progress import Counter
 from artic.validation.synthetic.generate import generate_campaign
@@ -312,7 +312,7 @@ def _tuned_vehicles(out_dir: Path, tuned: dict, seed: int) -> dict[str, Vehicle]
     return out
 
 
-def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
+def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int = 0,
                  jobs: int | None = None, only: list[str] | None = None,
                  gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
                  recordings: bool = True, executor: str = "local",
@@ -325,8 +325,9 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     ----------
     out_dir : Path
         Output folder.
-    models : tuple of str
-        Models to tune and validate.
+    models : tuple of str, optional
+        Models to tune and validate; every model of the registry by default
+        (:func:`artic.validation.models.names`, registered ones included).
     seed : int
         Seed of the synthetic campaign.
     jobs : int, optional
@@ -374,7 +375,10 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
                          scheduler=scheduler, dask=dask, truth=truth, remeasure=remeasure)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    key = fingerprint.key(seed, list(models), gain, only, truth)
+    models = tuple(names() if models is None else models)
+    # A registered model's code is not artic's: its own fingerprint joins the key.
+    outside = {m: c for m in models if (c := code_of(m))}
+    key = fingerprint.key(seed, list(models), gain, only, truth, *([outside] if outside else []))
     state = _saved_timings(out_dir, key)
     if remeasure:
         state["efficiency"] = None

@@ -19,10 +19,10 @@ FLOOR = "floor"
 
 
 def label(model: str) -> str:
-    """A model's name in prose: its registry label (KIN, STM, MBD, floor)."""
-    from artic.validation.models import REGISTRY
+    """A model's name in prose: its registry label (KIN, STM, MBD, floor, or a registered one's)."""
+    from artic.validation import models
 
-    return REGISTRY[model].label if model in REGISTRY else model.upper()
+    return models.label(model)
 
 
 def _unit(criterion: str) -> str:

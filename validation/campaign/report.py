@@ -200,7 +200,7 @@ def discussion(r: CampaignResults) -> list[str]:
             "in both.")
     if r.efficiency is not None and "ratio_to_mbd" in r.efficiency:
         e = r.efficiency
-        parts = [f"{m.upper()}/MBD = {e.loc[m, 'ratio_to_mbd']:.2g} "
+        parts = [f"{label(m)}/MBD = {e.loc[m, 'ratio_to_mbd']:.2g} "
                  f"(paper {e.loc[m, 'paper_ratio']:.2g})" for m in e.index if m != "mbd"]
         out.append(
             "**Efficiency.** Wall time per simulated second, as ratios to the multibody "
@@ -267,7 +267,7 @@ def _tuning_text(r: CampaignResults) -> list[str]:
         for m, fit in part["fitted"].items():
             if "i_s" in fit and "delta_h_offset" in fit:
                 recovered.append(
-                    f"{m.upper()} i_s {fit['i_s']:.4g} ({100 * (fit['i_s'] / i_s_true - 1):+.2f} "
+                    f"{label(m)} i_s {fit['i_s']:.4g} ({100 * (fit['i_s'] / i_s_true - 1):+.2f} "
                     f"%), offset {math.degrees(fit['delta_h_offset']):.3g} deg "
                     f"({math.degrees(fit['delta_h_offset'] - off_true):+.2f} deg)")
         lines += [

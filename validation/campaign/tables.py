@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from artic.validation.criteria import columns as extra
 from artic.validation.criteria.statistics import (
     Interval,
     format_ci,
@@ -41,16 +42,11 @@ from artic.validation.logs.runfile import atomic_write, atomic_write_text
 
 FORWARD_COLUMNS = ("eps_a", "eps_v", "eps_p", "eps_n")
 REVERSE_COLUMNS = ("eps_a", "eps_v", "J_steer", "eps_n")
-EXTRA_COLUMNS = ("eps_gamma", "eps_n_fixed", "pred_p_2m", "pred_p_5m", "pred_p_10m",
-                 "pred_gamma_2m", "pred_gamma_5m", "pred_gamma_10m", "dock_lat", "dock_lon",
-                 "dock_psi")
+EXTRA_COLUMNS = extra.COLUMNS
 """Criteria beyond the paper's, in the tables whenever a metrics table has values of them."""
 
 UNITS = {"eps_a": "rad/s", "eps_v": "m/s", "eps_p": "m", "eps_n": "%", "J_steer": "%",
-         "eps_gamma": "rad", "eps_n_fixed": "%",
-         "pred_p_2m": "m", "pred_p_5m": "m", "pred_p_10m": "m",
-         "pred_gamma_2m": "rad", "pred_gamma_5m": "rad", "pred_gamma_10m": "rad",
-         "dock_lat": "m", "dock_lon": "m", "dock_psi": "rad"}
+         **extra.UNITS}
 
 PAPER_FORWARD = pd.DataFrame(
     {"eps_a": [0.0064, 0.0049, 0.0037], "eps_v": [0.0431, 0.0211, 0.0159],
