@@ -11,9 +11,15 @@ Vehicles and logs
     :func:`read_log` (any supported log file), :func:`read_run` (a canonical
     run file), :class:`Run`.
 Models
-    :class:`KinematicModel` (KIN) and :class:`SingleTrackModel` (STM), the
-    reduced models as the harness drives them; :class:`Plant`, the MuJoCo
-    multibody reference; :func:`build_model` builds any of them by name.
+    :class:`KIN` and :class:`STM`, the reduced models for planners and
+    controllers (named states and inputs, ``rhs``, a discrete ``step``,
+    analytic Jacobians, ``linearise`` about a straight line or a steady turn,
+    over batches); :class:`KinematicModel` and :class:`SingleTrackModel`, the
+    same models as the harness drives them; :class:`Plant`, the MuJoCo
+    multibody reference; :func:`build_model` builds any of the harness's by
+    name. :func:`register_model` adds a model of your own (or
+    :func:`model_spec` for an ``artic.models`` entry point);
+    :func:`model_names` lists them all.
 Simulating and validating
     :func:`simulate` (open loop), :func:`run_closed_loop` (the harness with the
     reversing feedback of eqs. (5)-(7)), :func:`run_metrics` (the criteria of
@@ -45,11 +51,16 @@ _PUBLIC = {
     "read_run": ("artic.validation.logs.runfile", "read_run"),
     "write_run": ("artic.validation.logs.runfile", "write_run"),
     "read_log": ("artic.validation.logs.importers", "read_log"),
+    "KIN": ("artic.reduced.control", "KIN"),
+    "STM": ("artic.reduced.control", "STM"),
     "KinematicModel": ("artic.reduced.models", "KinematicModel"),
     "SingleTrackModel": ("artic.reduced.models", "SingleTrackModel"),
     "Plant": ("artic.plant.plant", "Plant"),
     "PlantError": ("artic.plant.plant", "PlantError"),
     "build_model": ("artic.validation.models", "build"),
+    "register_model": ("artic.validation.models", "register_model"),
+    "model_spec": ("artic.validation.models", "model_spec"),
+    "model_names": ("artic.validation.models", "names"),
     "simulate": ("artic.validation.simulate", "simulate"),
     "run_closed_loop": ("artic.validation.harness", "run_closed_loop"),
     "run_metrics": ("artic.validation.metrics", "run_metrics"),

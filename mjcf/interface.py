@@ -45,6 +45,9 @@ class InitialState:
         Yaw rates of tractor and semitrailer [rad/s].
     u1 : float
         Tractor longitudinal speed [m/s].
+    delta : float
+        Road-wheel angle at the start [rad]: a log that starts in a turn (a
+        segment after a gap) has its steered tyres at that angle's slip.
     """
 
     x_1: float
@@ -55,6 +58,7 @@ class InitialState:
     r_1: float = 0.0
     r_2: float = 0.0
     u1: float = 0.0
+    delta: float = 0.0
 
 
 def wrap_angle(a: float | np.ndarray) -> float | np.ndarray:

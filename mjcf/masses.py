@@ -112,6 +112,10 @@ def layout(v: Vehicle) -> Layout:
     VehicleFileError
         If the unsprung masses leave no chassis mass or yaw inertia.
     """
+    if not v.tyre_file:  # a scale model may have no tyre data; its wheels need a radius
+        raise VehicleFileError(f"{v.path or v.name}: key 'tyre.file': vehicle {v.name} (class "
+                               f"{v.vehicle_class}) has no tyre file; the multibody model's "
+                               "wheels take their size from a PAC2002 .tir of its own tyres")
     tyre = read_tir(v.tyre_file)
     R0 = tyre.number("UNLOADED_RADIUS")
     k_t = tyre.number("VERTICAL_STIFFNESS")

@@ -17,6 +17,17 @@ The plausible ranges span European and North American tractors and
 semitrailers (EU and FMVSS dimension rules, published inertia and tyre data),
 with margin; the possible ranges are ten times wider or physical limits.
 Inertias are judged by their radius of gyration ``sqrt(J / m)``.
+
+These are the ranges of the ``full-size`` class. A file that declares
+``[vehicle] class = "scale-model"`` is judged by :data:`SCALE_MODEL_RANGES`,
+the same ranges carried to model scale by similitude: a quantity of length
+dimension ``e`` (1 for lengths, 3 for masses, 2 for spring rates ``m g / sag``,
+2.5 for damping ``sqrt(k m)``, 5 for spin inertias ``m r^2``, 0 for angles and
+ratios) scales by ``s^e``. The plausible range spans hobby kits and laboratory
+robots, ``s`` from 1:32 to 1:4; the possible range ``s`` from 1:100 to 1:2. A value
+outside its class's possible range is refused; the message names the class option
+when another class would take it, and a value outside every class's is refused
+whatever the class.
 """
 
 from __future__ import annotations
@@ -62,16 +73,33 @@ class Range:
         ValueError
             Outside the possible range (the caller turns it into its file error).
         """
-        u = f" {self.unit}" if self.unit else ""
         if not math.isfinite(value):
             raise ValueError(f"{where}: {value!r} is not a finite number")
-        if not self.lo <= value <= self.hi:
-            raise ValueError(f"{where}: {value:g}{u} is impossible for a tractor-semitrailer "
-                             f"(possible: {self.lo:g} to {self.hi:g}{u}); check the value and "
-                             "its unit")
+        if not self.possible(value):
+            raise ValueError(f"{where}: {value:g}{self._u} is impossible for a "
+                             f"tractor-semitrailer (possible: {self.span}); check the value "
+                             "and its unit")
+        self.warn(value, where, stacklevel=4)
+
+    @property
+    def _u(self) -> str:
+        return f" {self.unit}" if self.unit else ""
+
+    @property
+    def span(self) -> str:
+        """The possible range as text, ``"1 to 15 m"``."""
+        return f"{self.lo:g} to {self.hi:g}{self._u}"
+
+    def possible(self, value: float) -> bool:
+        """Whether ``value`` lies in the possible range."""
+        return self.lo <= value <= self.hi
+
+    def warn(self, value: float, where: str, stacklevel: int = 3) -> None:
+        """Warn (:class:`PlausibilityWarning`) when ``value`` is outside the plausible range."""
         if not self.plo <= value <= self.phi:
-            warnings.warn(f"{where}: {value:g}{u} is unusual (usual: {self.plo:g} to "
-                          f"{self.phi:g}{u}); check it", PlausibilityWarning, stacklevel=3)
+            warnings.warn(f"{where}: {value:g}{self._u} is unusual (usual: {self.plo:g} to "
+                          f"{self.phi:g}{self._u}); check it", PlausibilityWarning,
+                          stacklevel=stacklevel)
 
 
 INF = math.inf
@@ -107,7 +135,42 @@ VEHICLE_RANGES: dict[str, Range] = {
     "sensor.y": Range(-5.0, -2.0, 2.0, 5.0, "m"),
     "sensor.z": Range(-2.0, 0.0, 4.5, 10.0, "m"),
 }
-"""Keys (or derived quantities) and their ranges."""
+"""Keys (or derived quantities) and their ranges: the ``full-size`` class."""
+
+MODEL_SCALES = (1 / 100, 1 / 32, 1 / 4, 1 / 2)
+"""Length scales of the ``scale-model`` class: possible and plausible, smallest to largest."""
+
+DIMENSION: dict[str, float] = {
+    "tractor.m1": 3.0, "trailer.m2": 3.0, "axle.unsprung_mass": 3.0,
+    "axle.suspension_stiffness": 2.0, "axle.suspension_damping": 2.5,
+    "axle.wheel_inertia": 5.0,
+    **{k: 1.0 for k in ("tractor.J1 (radius of gyration)",
+                        "tractor.a1 + tractor.b1 (wheelbase L1)", "tractor.L1c", "tractor.h1",
+                        "tractor.h5", "trailer.J2 (radius of gyration)", "trailer.a2",
+                        "trailer.L2", "trailer.j", "trailer.h2", "axle.track",
+                        "steering.steering_arm", "tyre.sigma_alpha", "sensor.x", "sensor.y",
+                        "sensor.z")},
+}
+"""Length dimension of each judged number (absent: 0, an angle or a ratio)."""
+
+
+def _scaled(r: Range, e: float) -> Range:
+    """``r`` carried to model scale (see the module docstring)."""
+    slo, plo, phi, shi = (s ** e for s in MODEL_SCALES)
+    return Range(r.lo * (shi if r.lo < 0 else slo), r.plo * (phi if r.plo < 0 else plo),
+                 r.phi * (phi if r.phi > 0 else plo), r.hi * (shi if r.hi > 0 else slo), r.unit)
+
+
+SCALE_MODEL_RANGES: dict[str, Range] = {
+    **{k: _scaled(r, DIMENSION.get(k, 0.0)) for k, r in VEHICLE_RANGES.items()},
+    # A model's steering channel is mostly its road-wheel angle or a servo command.
+    "steering.i_s": Range(0.1, 1.0, 40.0, 200.0, ""),
+}
+"""The ranges of the ``scale-model`` class."""
+
+CLASS_RANGES: dict[str, dict[str, Range]] = {"full-size": VEHICLE_RANGES,
+                                             "scale-model": SCALE_MODEL_RANGES}
+"""Every vehicle class's ranges, by the name ``[vehicle] class`` takes."""
 
 
 def _values(v: Vehicle) -> list[tuple[str, str, float]]:
@@ -135,7 +198,7 @@ def _values(v: Vehicle) -> list[tuple[str, str, float]]:
     for unit, sensor in (("tractor", v.sensor1), ("trailer", v.sensor2)):
         for axis, x in zip("xyz", sensor, strict=True):
             out.append((f"sensor.{axis}", f"{unit}.sensor ({axis})", x))
-    for model in ("", "kin", "stm", "mbd"):
+    for model in ("", *v.steering_overrides):
         s = v.steering if not model else v.steering_for(model)
         prefix = "steering" if not model else f"steering.{model}"
         if model and not v.steering_overrides.get(model):
@@ -153,18 +216,35 @@ def _values(v: Vehicle) -> list[tuple[str, str, float]]:
 
 
 def check_plausible(v: Vehicle, path: str | Path) -> None:
-    """Judge every number of a vehicle against :data:`VEHICLE_RANGES`.
+    """Judge every number of a vehicle against the ranges of its class (:data:`CLASS_RANGES`).
 
     Raises
     ------
     VehicleFileError
-        For an impossible value, naming the file and the key.
+        For an impossible value, naming the file and the key, and the class
+        option when another class takes the value.
     """
+    cls = v.vehicle_class
     for rng, key, value in _values(v):
-        try:
-            VEHICLE_RANGES[rng].judge(float(value), f"{path}: key '{key}'")
-        except ValueError as exc:
-            raise VehicleFileError(str(exc)) from None
+        where, value = f"{path}: key '{key}'", float(value)
+        if key.startswith("tyre.") and not v.has_tyre_data and not math.isfinite(value):
+            continue  # a scale model without tyre data: the STM and the plant refuse it
+        r = CLASS_RANGES[cls][rng]
+        if not math.isfinite(value):
+            raise VehicleFileError(f"{where}: {value!r} is not a finite number")
+        if r.possible(value):
+            r.warn(value, where)
+            continue
+        others = [c for c, table in CLASS_RANGES.items() if c != cls and table[rng].possible(value)]
+        if others:
+            raise VehicleFileError(
+                f"{where}: {value:g}{r._u} is impossible for a tractor-semitrailer of class "
+                f"{cls} (possible: {r.span}); check the value and its unit, or, for a "
+                f"vehicle of class {others[0]} (possible: {CLASS_RANGES[others[0]][rng].span}), "
+                f"declare [vehicle] class = \"{others[0]}\"")
+        spans = "; ".join(f"{c}: {t[rng].span}" for c, t in CLASS_RANGES.items())
+        raise VehicleFileError(f"{where}: {value:g}{r._u} is impossible for a tractor-semitrailer "
+                               f"of any class ({spans}); check the value and its unit")
 
 
 def check_tir_file(path: Path, context: str) -> Path:
@@ -187,3 +267,56 @@ def check_tir_file(path: Path, context: str) -> Path:
     except TirError as exc:
         raise VehicleFileError(f"{context}: {exc}") from None
     return path
+
+
+def check_tyre_data(v: Vehicle, model: str) -> None:
+    """Refuse to build ``model`` on tyre data that the vehicle lacks or that does not fit it.
+
+    KIN needs no tyre data and works at any scale. The STM needs ``[tyre] f`` and
+    ``sigma_alpha``; a ``scale-model`` file may leave them out (a full-size truck's
+    do not fit a model's tyres), and the STM then refuses it. The plant needs a
+    tyre file for every axle whose load range ``[FZMIN, FZMAX]`` holds the axle's
+    static load per tyre: outside it the Magic Formula extrapolates its load
+    dependence, as a truck tyre's data would on a 1:14 model (its 500 N floor is
+    fifty times a model's wheel load).
+
+    Parameters
+    ----------
+    v : Vehicle
+        The vehicle.
+    model : str
+        ``"stm"`` or ``"mbd"`` (anything else needs no tyre data).
+
+    Raises
+    ------
+    VehicleFileError
+        Naming the vehicle file, the key and what fits.
+    """
+    from artic.mjcf.tir import read_tir
+
+    where = f"{v.path or v.name}: key"
+    if model == "stm" and not (math.isfinite(v.f) and math.isfinite(v.sigma_alpha)):
+        raise VehicleFileError(
+            f"{where} 'tyre.f': vehicle {v.name} (class {v.vehicle_class}) has no tyre data; "
+            "the STM needs [tyre] f [1/rad] and sigma_alpha [m] measured on its own tyres (a "
+            "full-size truck's do not fit a scale model); KIN needs none: use --models kin")
+    if model != "mbd":
+        return
+    if not v.tyre_file:
+        raise VehicleFileError(
+            f"{where} 'tyre.file': vehicle {v.name} (class {v.vehicle_class}) has no tyre "
+            "file; the plant needs a PAC2002 .tir of its own tyres whose load range FZMIN to "
+            "FZMAX holds its wheel loads; KIN needs none: use --models kin")
+    for axle, fz in zip(v.axles, v.static_loads, strict=True):
+        path = v.tyre_file_for(axle)
+        tir = read_tir(path)
+        lo, hi = tir.number("FZMIN", 0.0), tir.number("FZMAX", math.inf)
+        per_tyre = float(fz) / (2 * (2 if axle.dual else 1))
+        if not lo <= per_tyre <= hi:
+            key = "tyre_file" if axle.tyre_file else "tyre.file"
+            raise VehicleFileError(
+                f"{where} '{key}': the static load of a tyre on axle '{axle.name}' of vehicle "
+                f"{v.name} (class {v.vehicle_class}) is {per_tyre:.4g} N, outside the load "
+                f"range FZMIN = {lo:g} N to FZMAX = {hi:g} N of {path}: that tyre data does "
+                "not fit this vehicle; give a .tir of its own tyres (KIN needs none: use "
+                "--models kin)")

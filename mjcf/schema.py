@@ -47,10 +47,16 @@ class Field:
     default: Any = None
 
 
+CLASSES = ("full-size", "scale-model")
+"""Vehicle classes ``[vehicle] class`` may name: each has its own plausibility ranges
+(:mod:`artic.mjcf.plausible`); a ``scale-model`` may leave out its tyre data."""
+
 VEHICLE = {
     "name": Field("", "preset or vehicle name", "str"),
     "description": Field("", "one-line description", "str"),
     "sources": Field("", "where every number comes from", "strlist"),
+    "class": Field("", f"vehicle class, one of {', '.join(CLASSES)}: the plausibility ranges "
+                   "its numbers are judged by", "str", optional=True, default=CLASSES[0]),
 }
 
 TRACTOR = {
@@ -123,6 +129,12 @@ TYRE = {
                   "file, or the name of one shipped with artic", "str"),
 }
 
+TYRE_SCALE_MODEL = {
+    key: Field(f.unit, f.doc + " (a scale model may leave it out: KIN needs no tyre data)",
+               f.kind, optional=True, default=None) for key, f in TYRE.items()}
+"""``[tyre]`` of a ``scale-model``: optional, as full-size tyre data does not fit a model's
+tyres; the STM and the plant refuse such a vehicle, naming the key."""
+
 TYRE_SCALING = ("LFZO", "LCX", "LMUX", "LEX", "LKX", "LHX", "LVX", "LCY", "LMUY", "LEY",
                 "LKY", "LHY", "LVY", "LTR", "LRES", "LXAL", "LYKA", "LVYKA", "LS", "LMY",
                 "LGAY", "LGAZ")
@@ -156,6 +168,11 @@ LIMITS = {
 }
 
 MODELS = ("kin", "stm", "mbd")
+"""The built-in models, each of which may have a ``[steering.NAME]`` table."""
+
+MODEL_NAME = r"[a-z][a-z0-9_]{0,31}"
+"""What a model's name looks like: a ``[steering.NAME]`` table may name a model from
+outside artic too (:func:`artic.validation.models.register_model`)."""
 
 SECTIONS = {
     "vehicle": VEHICLE,
@@ -284,7 +301,7 @@ def describe() -> str:
     lines = []
     groups = [*SECTIONS.items(), *OPTIONAL_SECTIONS.items(),
               ("tractor.axle / trailer.axle", AXLE),
-              ("steering.kin / .stm / .mbd", STEERING_OVERRIDE)]
+              ("steering.kin / .stm / .mbd / .NAME of a registered model", STEERING_OVERRIDE)]
     width = max(len(key) for _, fields in groups for key in fields) + 2  # the longest key fits
     for section, fields in groups:
         lines.append(f"[{section}]")

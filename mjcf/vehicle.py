@@ -18,6 +18,7 @@ Frames and symbols (the paper's, ISO 8855: x forward, y left, z up):
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field, replace
 from importlib import resources
@@ -35,6 +36,10 @@ G = 9.81
 
 GEOMETRY_TOL = 1e-3
 """Tolerance on geometric consistency checks [m]: one millimetre."""
+
+REFERENCE_LENGTH = 11.3
+"""``L1 + L2`` of the full-size reference, the ``gosar2022`` presets' combination [m]: the
+length that :attr:`Vehicle.length_ratio` relates a scale model to."""
 
 
 @dataclass(frozen=True)
@@ -177,8 +182,36 @@ class Vehicle:
     sensor2_yaw: float = 0.0
     plant: PlantOptions = PlantOptions()
     tyre_scaling: tuple[tuple[str, float], ...] = ()
+    vehicle_class: str = "full-size"
 
     # ----------------------------------------------------------- derived
+    @property
+    def length_ratio(self) -> float:
+        """The vehicle's size over the full-size reference's [-].
+
+        1 for the ``full-size`` class, whose thresholds were set for the whole
+        class; ``(L1 + L2) / REFERENCE_LENGTH`` for a ``scale-model``.
+        """
+        if self.vehicle_class == "full-size":
+            return 1.0
+        return (self.L1 + self.L2) / REFERENCE_LENGTH
+
+    @property
+    def speed_ratio(self) -> float:
+        """The vehicle's speeds over the full-size reference's [-]: ``sqrt(length_ratio)``.
+
+        Froude similitude: a geometrically similar model with the same ratio of
+        lateral acceleration to gravity (the same manoeuvre, scaled) drives at
+        ``sqrt(length_ratio)`` times the speed, and its times and yaw rates scale
+        by ``sqrt(length_ratio)`` and its inverse.
+        """
+        return float(np.sqrt(self.length_ratio))
+
+    @property
+    def has_tyre_data(self) -> bool:
+        """Whether the file gives ``[tyre]`` data (a scale model may leave it out)."""
+        return bool(np.isfinite(self.f) and np.isfinite(self.sigma_alpha) and self.tyre_file)
+
     @property
     def L1(self) -> float:
         """Tractor wheelbase, front axle to drive axle [m]."""
@@ -239,10 +272,12 @@ class Vehicle:
         Parameters
         ----------
         model : str
-            ``"kin"``, ``"stm"`` or ``"mbd"``.
+            ``"kin"``, ``"stm"``, ``"mbd"``, or the name of a model from outside
+            artic; a model without a ``[steering.NAME]`` table gets ``[steering]``.
         """
-        if model not in schema.MODELS:
-            raise ValueError(f"unknown model {model!r}; expected one of {schema.MODELS}")
+        if not isinstance(model, str) or not re.fullmatch(schema.MODEL_NAME, model):
+            raise ValueError(f"model name {model!r}: expected one of {schema.MODELS} or a "
+                             "registered model's name (lower-case letters, digits, _)")
         return replace(self.steering, **self.steering_overrides.get(model, {}))
 
     @property
@@ -274,7 +309,8 @@ class Vehicle:
         Axles are numbered over the combination from the front, as the
         paper's ``Fz1 ... Fz5``.
         """
-        out: dict[str, Any] = {"name": self.name, "path": self.path}
+        out: dict[str, Any] = {"name": self.name, "path": self.path,
+                               "class": self.vehicle_class}
         for key in ("m1", "J1", "a1", "b1", "L1c", "L1", "Lc", "h1", "h5",
                     "m2", "J2", "a2", "b2", "L2", "j", "h2", "f", "sigma_alpha", "gamma_max"):
             out[key] = float(getattr(self, key))
@@ -441,6 +477,18 @@ def read_vehicle_toml(path: Path) -> dict[str, Any]:
         raise VehicleFileError(f"{path}: cannot read ({exc.strerror or exc})") from exc
 
 
+def _override_names(steering: Any) -> tuple[str, ...]:
+    """The ``[steering.NAME]`` tables a ``[steering]`` section may have.
+
+    The built-in models' and any other table named like a model (one
+    registered from outside artic, :mod:`artic.validation.models`).
+    """
+    if not isinstance(steering, dict):
+        return schema.MODELS
+    return (*schema.MODELS, *(k for k, v in steering.items() if isinstance(v, dict)
+                              and k not in schema.MODELS and re.fullmatch(schema.MODEL_NAME, k)))
+
+
 def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehicle:
     """Check parsed TOML and build a :class:`Vehicle` (see :func:`load_vehicle`)."""
     for key in data:
@@ -448,12 +496,17 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
             raise VehicleFileError(
                 f"{path}: key '{key}': unknown section; sections are: "
                 f"{', '.join([*schema.SECTIONS, *schema.OPTIONAL_SECTIONS])}")
+    vclass = vehicle_class(data, path)
     sec = {}
+    if vclass == "scale-model":  # tyre data is optional: KIN needs none
+        data = {"tyre": {}, **data}
     for name, fields in schema.SECTIONS.items():
         if name not in data:
             raise VehicleFileError(f"{path}: key '{name}': section missing")
+        if name == "tyre" and vclass == "scale-model":
+            fields = schema.TYRE_SCALE_MODEL
         allow = ("axle",) if name in ("tractor", "trailer") else (
-            schema.MODELS if name == "steering" else ())
+            _override_names(data["steering"]) if name == "steering" else ())
         allow = (*allow, "scaling") if name == "tyre" else allow
         sec[name] = schema.check_table(path, name, data[name], fields, allow)
     for name, fields in schema.OPTIONAL_SECTIONS.items():
@@ -467,7 +520,7 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
                                    f"known: {', '.join(schema.TYRE_SCALING)}")
         schema.check_value(path, f"tyre.scaling.{k}", schema.Field("", "factor"), val)
     overrides = {}
-    for model in schema.MODELS:
+    for model in _override_names(data["steering"]):
         if model in data["steering"]:
             o = schema.check_table(path, f"steering.{model}", data["steering"][model],
                                    schema.STEERING_OVERRIDE)
@@ -493,16 +546,38 @@ def vehicle_from_dict(data: dict[str, Any], path: str | Path = "<dict>") -> Vehi
         sensor1=t["sensor"], m2=tr["m2"], J2=tr["J2"], a2=tr["a2"], L2=tr["L2"], j=tr["j"],
         h2=tr["h2"], sensor2=tr["sensor"], axles=tuple(axles),
         steering=Steering(**sec["steering"]), steering_overrides=overrides,
-        f=sec["tyre"]["f"], sigma_alpha=sec["tyre"]["sigma_alpha"],
+        f=_or_nan(sec["tyre"]["f"]), sigma_alpha=_or_nan(sec["tyre"]["sigma_alpha"]),
         gamma_max=sec["limits"]["gamma_max"], hitch_pitch=sec["limits"]["hitch_pitch"],
-        tyre_file=str(resolve_tyre_file(sec["tyre"]["file"], path)), path=str(path),
+        tyre_file=(str(resolve_tyre_file(sec["tyre"]["file"], path))
+                   if sec["tyre"]["file"] is not None else ""), path=str(path),
         sensor1_yaw=t["sensor_yaw"], sensor2_yaw=tr["sensor_yaw"],
         plant=PlantOptions(**sec["plant"]),
         tyre_scaling=tuple(sorted((k, float(val)) for k, val in scaling.items())),
+        vehicle_class=vclass,
     )
     check_geometry(v, path)
     check_plausible(v, path)
     return v
+
+
+def vehicle_class(data: dict[str, Any], path: str | Path = "<dict>") -> str:
+    """The ``[vehicle] class`` of parsed TOML, checked (``full-size`` when absent).
+
+    Raises
+    ------
+    VehicleFileError
+        For a class artic does not know, naming the file, the key and the classes.
+    """
+    table = data.get("vehicle", {})
+    value = table.get("class", schema.CLASSES[0]) if isinstance(table, dict) else schema.CLASSES[0]
+    if value not in schema.CLASSES:
+        raise VehicleFileError(f"{path}: key 'vehicle.class': {value!r} is not a vehicle class; "
+                               f"use one of {', '.join(schema.CLASSES)}")
+    return str(value)
+
+
+def _or_nan(x: float | None) -> float:
+    return math.nan if x is None else float(x)
 
 
 def _fill_load_shares(path: str | Path, axles: list[Axle]) -> list[Axle]:

@@ -56,6 +56,7 @@ from artic.mjcf import naming as nm
 from artic.mjcf.builder import build_model, linkage
 from artic.mjcf.interface import InitialState, rotate, wrap_angle
 from artic.mjcf.masses import layout
+from artic.mjcf.plausible import check_tyre_data
 from artic.mjcf.vehicle import G, Vehicle, resolve_tyre_file
 from artic.plant import callback, closedloop, ctyre
 from artic.plant.tyre import (
@@ -203,6 +204,7 @@ class Plant:
             backend = "numpy"
         self.backend = "c" if backend == "auto" else backend
         vehicle = with_tyre_files(vehicle, tyre_files or {})
+        check_tyre_data(vehicle, "mbd")  # tyre data that fits the vehicle's wheel loads
         self.vehicle = vehicle
         # One coefficient set per tyre file in use; each wheel end names its set.
         files = list(dict.fromkeys(vehicle.tyre_file_for(a) for a in vehicle.axles))

@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from artic.mjcf.interface import InitialState, rotate, wrap_angle
+from artic.mjcf.plausible import check_tyre_data
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.integrate import KIN, STM, observe, rk4_step
 from artic.reduced.kinematic import kin_parameters, wheelbases
@@ -136,6 +137,7 @@ class SingleTrackModel(CompiledModel):
 
     def __init__(self, vehicle: Vehicle, f: float | None = None,
                  trailer_axles: np.ndarray | None = None) -> None:
+        check_tyre_data(vehicle, "stm")  # a scale model may have none: refused, by key
         self.vehicle = vehicle
         self.P = stm_parameters(vehicle, f, trailer_axles)
         self.n_axles = int(self.P[7] + self.P[8])
@@ -163,12 +165,14 @@ class SingleTrackModel(CompiledModel):
         x = np.zeros(N_BODY + self.n_axles)
         x[:N_BODY] = [initial.x_1 - dx, initial.y_1 - dy, initial.psi_1,
                       wrap_angle(initial.gamma), v, initial.r_1, initial.r_1 - initial.r_2]
-        v_long, v_lat = self.axle_velocities(x, initial.u1, 0.0)
+        # the steered axles' slip at the log's first road-wheel angle: a log that
+        # starts in a turn would otherwise start with its slip off by that angle
+        v_long, v_lat = self.axle_velocities(x, initial.u1, initial.delta)
         x[N_BODY:] = [slip_angle(a, b) * min(1.0, math.hypot(a, b) / U_SLIP_KNOWN)
                       for a, b in zip(v_long, v_lat, strict=True)]
         self.x = x
         self._u1 = initial.u1
-        self._delta = 0.0
+        self._delta = initial.delta
 
     def axle_velocities(self, x: np.ndarray, u1: float, delta: float):
         """Axle-centre velocities ``(v_long, v_lat)`` in wheel frames [m/s]."""

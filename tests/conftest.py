@@ -21,6 +21,16 @@ from artic.validation.logs.schema import COLUMNS  # noqa: E402
 PRESETS = ("gosar2022-unloaded", "gosar2022-loaded", "six-axle")
 
 
+def pytest_configure(config):
+    # artic's pytest plugin (artic_logs, ...) comes from its pytest11 entry
+    # point; an environment installed before the plugin existed, or with
+    # PYTEST_DISABLE_PLUGIN_AUTOLOAD set, gets it here.
+    if not config.pluginmanager.has_plugin("artic"):
+        from artic.validation import testing
+
+        config.pluginmanager.register(testing, "artic")
+
+
 @pytest.fixture(scope="session")
 def unloaded():
     return load_vehicle("gosar2022-unloaded")

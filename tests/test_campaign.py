@@ -57,8 +57,17 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
         assert heading in report
     t2 = pd.read_csv(out / "table2_forward.csv", index_col=0)
     t3 = pd.read_csv(out / "table3_reverse.csv", index_col=0)
-    assert list(t2.columns) == ["eps_a", "eps_v", "eps_p", "eps_n", "n"]
-    assert list(t3.columns) == ["eps_a", "eps_v", "J_steer", "eps_n", "n"]
+    # Each mean with its 95 % interval over the manoeuvres.
+    assert list(t2.columns) == [f"{c}{s}" for c in ("eps_a", "eps_v", "eps_p", "eps_n")
+                                for s in ("", "_lo", "_hi")] + ["n"]
+    assert list(t3.columns) == [f"{c}{s}" for c in ("eps_a", "eps_v", "J_steer", "eps_n")
+                                for s in ("", "_lo", "_hi")] + ["n"]
+    for c in ("eps_n", "J_steer"):
+        assert (t3[f"{c}_lo"] <= t3[c]).all() and (t3[c] <= t3[f"{c}_hi"]).all()
+    pairs = pd.read_csv(out / "paired_reverse.csv")
+    assert {"a", "b", "diff", "diff_lo", "diff_hi", "resolved", "lower"} <= set(pairs)
+    assert "## Model-form error" in report and "nan" not in report.lower().split()
+    assert not (out / "seed-0").exists()  # one truck: today's layout
     assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
     eff = pd.read_csv(out / "efficiency.csv", index_col=0)
     assert eff.loc["mbd", "ratio_to_mbd"] == 1.0 and eff.loc["kin", "ratio_to_mbd"] < 1.0
@@ -184,3 +193,42 @@ def test_parallel_and_serial_campaigns_give_identical_metrics(tmp_path):
     ta = json.loads((tmp_path / "one" / "tuning.json").read_text())["loads"]
     tb = json.loads((tmp_path / "two" / "tuning.json").read_text())["loads"]
     assert ta["unloaded"]["fitted"] == tb["unloaded"]["fitted"]
+
+
+@pytest.mark.slow
+def test_two_trucks_pool_and_resume(tmp_path, capsys):
+    # --seeds 2 on one tuning and two validation manoeuvres: a campaign per
+    # seed in seed-K, pooled tables and report on top, and a rerun that reuses both.
+    out = tmp_path / "out"
+    part = ["00-", "02-constant-steer-unloaded-200deg-10kph-left", "45-docking-unloaded-left"]
+    paths = run_campaign(out, models=("kin", "mbd"), only=part, jobs=2, seeds=2, seed=3,
+                         sweep_models=(), recordings=False)
+    for s in (3, 4):
+        assert (out / f"seed-{s}" / "report.md").is_file()
+    m = pd.read_csv(paths["metrics"])
+    assert set(m.seed) == {3, 4} and len(m) == 2 * 2 * 3  # 2 seeds, 2 logs, kin/mbd/floor
+    per_seed = [pd.read_csv(out / f"seed-{s}" / "metrics.csv") for s in (3, 4)]
+    t3 = pd.read_csv(out / "table3_reverse.csv", index_col=0)
+    assert {"eps_n", "eps_n_lo", "eps_n_hi", "eps_n_sd_trucks", "eps_n_sd_manoeuvres",
+            "seeds"} <= set(t3)
+    rev = [p[(p.model == "kin") & (p.direction == "reverse")].eps_n.mean() for p in per_seed]
+    # The CSV holds six significant digits.
+    assert t3.loc["kin", "eps_n"] == pytest.approx(sum(rev) / 2, rel=1e-5)
+    assert t3.loc["kin", "eps_n_sd_trucks"] == pytest.approx(pd.Series(rev).std(), rel=1e-5)
+    assert (t3["seeds"] == 2).all()
+    by_seed = pd.read_csv(out / "table3_reverse_by_seed.csv", index_col=0)
+    assert sorted(by_seed.seed) == [3, 3, 3, 4, 4, 4]
+    pairs = pd.read_csv(out / "paired_reverse.csv")
+    assert {"seeds_resolved", "seeds"} <= set(pairs) and (pairs.seeds == 2).all()
+    report = (out / "report.md").read_text()
+    assert "over 2 trucks" in report and "nan" not in report.lower().split()
+    assert "seed-3/report.md" in report
+    captured = capsys.readouterr()
+    assert "[2/2] trucks: seed 4" in captured.err and "pooled over 2 trucks" in captured.out
+    # A rerun reuses every seed's work.
+    run_campaign(out, models=("kin", "mbd"), only=part, jobs=2, seeds=2, seed=3,
+                 sweep_models=(), recordings=False)
+    err = capsys.readouterr().err
+    assert err.count("tuning reused") == 2 and err.count("4 of 4 runs reused") >= 2
+    again = pd.read_csv(out / "table3_reverse.csv", index_col=0)
+    pd.testing.assert_frame_equal(again, t3)

@@ -15,7 +15,7 @@ from artic.validation.campaign.validate import validate_runs
 from artic.validation.logs.channels import read_map
 from artic.validation.logs.derive import derive_trailer
 from artic.validation.logs.importers import import_source
-from artic.validation.logs.runfile import LogError
+from artic.validation.logs.runfile import LogError, read_run
 from artic.validation.simulate import simulate
 from artic.validation.synthetic.manoeuvres import make_profile
 from artic.validation.synthetic.sensors import SensorModel, measure
@@ -143,10 +143,14 @@ def test_channel_map_errors_name_the_key(tmp_path):
         read_map(bad)
     bad.write_text('[time]\ncolumn = "t"\nunit = "s"\n[channels]\n'
                    'delta_h = { column = "a", unit = "deg" }\n')
-    with pytest.raises(LogError, match="missing x_1"):
+    with pytest.raises(LogError, match=r"no unit's pose; name x_1, y_1, psi_1"):
+        read_map(bad)
+    bad.write_text('[time]\ncolumn = "t"\nunit = "s"\n[channels]\n'
+                   'x_1 = { column = "X", unit = "m" }\npsi_1 = { column = "h", unit = "rad" }\n')
+    with pytest.raises(LogError, match=r"has x_1, psi_1 but not y_1"):
         read_map(bad)
     spec = read_map(EXAMPLE)
-    assert spec["channels"]["gamma"][2] == -1.0 and spec["max_gap"] == 0.3
+    assert spec.entries["gamma"].scale == -1.0 and spec.max_gap == 0.3
 
 
 def test_canonical_csv_without_the_semitrailer_is_derived(tmp_path, unloaded, plant_run):
@@ -160,3 +164,24 @@ def test_canonical_csv_without_the_semitrailer_is_derived(tmp_path, unloaded, pl
     # derivation ignores, and the differentiated articulation rate remain.
     e = np.hypot(run.frame["x_2"] - truth["x_2"], run.frame["y_2"] - truth["y_2"])
     assert float(e.max()) < 0.05
+
+
+def test_a_csv_with_a_gap_is_split_and_a_reimport_replaces_its_segments(tmp_path, unloaded,
+                                                                         plant_run, capsys):
+    from artic.validation.logs.importers import import_sources
+
+    csv = _dataset_csv(plant_run.frame, tmp_path / "dataset.csv")
+    full = pd.read_csv(csv)
+    t = full["t"] - full["t"].iloc[0]
+    full[(t < 8.0) | (t > 9.0)].to_csv(csv, index=False)  # a 1 s hole at 10 Hz
+    out = tmp_path / "logs"
+    paths = import_sources([csv], out, vehicle=unloaded, channels=EXAMPLE)
+    assert [p.name for p in paths] == ["dataset.seg1.parquet", "dataset.seg2.parquet"]
+    seg = read_run(paths[1]).meta["segment"]
+    assert seg["log"] == "dataset" and seg["index"] == 2 and seg["of"] == 2
+    assert 8.9 < seg["t0"] < 9.2  # the first sample after the hole
+    # The same source again, hole repaired: one run, and the segments of before are gone.
+    full.to_csv(csv, index=False)
+    paths = import_sources([csv], out, vehicle=unloaded, channels=EXAMPLE)
+    assert sorted(p.name for p in out.iterdir()) == ["dataset.parquet"]
+    assert "removed" in capsys.readouterr().out

@@ -2,7 +2,10 @@
 
 In the linear low-speed regime the three must agree, within bounds argued
 from what each leaves out; in reverse all three must be held by the harness
-with K = 3 and run away without it.
+with K = 3 and run away without it; on the synthetic logs the STM must sit
+nearer the plant than the plant sits to the truth. The checks through the
+harness use artic's pytest plugin (:mod:`artic.validation.testing`), as a
+user's cross-model tests would.
 """
 
 from __future__ import annotations
@@ -17,7 +20,8 @@ from artic.mjcf.vehicle import G
 from artic.plant import Plant
 from artic.plant.tyre import TyreParams
 from artic.reduced import KinematicModel, SingleTrackModel
-from artic.validation.harness import run_closed_loop
+from artic.reduced.kinematic import kin_parameters
+from artic.validation.testing import assert_agree, assert_tracks
 from conftest import steady_turn, straight_log
 
 U = 5 / 3.6
@@ -93,21 +97,62 @@ def test_linear_regime_stm_and_mbd(linear):
     assert out["mbd"][0] > 0 and out["mbd"][1] > 0
 
 
+def reversing_yaw_errors(vehicle, u: float, gamma0: float, seconds: float,
+                         gain: float) -> tuple[float, float]:
+    """eps_r2 of KIN reversing straight from ``gamma0``, held by ``gain`` and without [rad/s].
+
+    Linearised about straight reversing, with the harness's feedback
+    ``delta = K gamma`` against a straight log, the articulation follows
+    ``gamma' = lambda gamma`` with eq. (6)'s ``lambda = u (K (L2 - L1c) - L1) /
+    (L1 L2)``. The semitrailer's yaw rate is then ``r_2 = r_1 - gamma' =
+    u (K L1c + L1) / (L1 L2) gamma``, and without feedback (``K = 0``, ``r_1
+    = 0``) ``r_2 = -lambda_0 gamma`` with ``lambda_0 = -u / L2``. At constant
+    speed the distance-RMS of eq. (8) is the time RMS, and the log's ``r_2`` is
+    zero, so ``eps_r2`` is ``|coefficient| * RMS(gamma0 e^(lambda t))``.
+    """
+    L1, L1c, L2 = kin_parameters(vehicle)
+
+    def rms(lam):
+        return gamma0 * math.sqrt(math.expm1(2 * lam * seconds) / (2 * lam * seconds))
+
+    held = u * (gain * (L2 - L1c) - L1) / (L1 * L2)
+    runaway = -u / L2
+    return (abs(u * (gain * L1c + L1) / (L1 * L2)) * rms(held), runaway * rms(runaway))
+
+
 @pytest.mark.parametrize("name", ["kin", "stm", "mbd"])
 def test_reverse_held_with_k3_diverges_without(unloaded, name):
     # Straight reversing at 0.8 m/s from 3 deg of articulation, 25 s (20 m,
-    # about 2.5 trailer lengths: the open loop grows by e^(0.13 * 25) ~ 25x).
-    log = straight_log(n=2500, u=-0.8, gamma0=math.radians(3.0))
-    cls = {"kin": KinematicModel, "stm": SingleTrackModel, "mbd": Plant}[name]
-    gammas = {}
-    for k in (0.0, 3.0):
-        model = cls(unloaded)
-        try:
-            run = run_closed_loop(model, log, unloaded, gain=k)
-        finally:
-            if hasattr(model, "close"):
-                model.close()
-        gammas[k] = np.abs(run.frame.gamma.to_numpy())
-    g0 = math.radians(3.0)
-    assert gammas[3.0][-1] < 0.1 * g0 and gammas[3.0].max() < 1.5 * g0
-    assert gammas[0.0].max() > 5 * g0
+    # about 2.5 trailer lengths: the open loop grows by e^(0.104 * 25) ~ 13x).
+    u, g0, seconds = -0.8, math.radians(3.0), 25.0
+    log = straight_log(n=int(seconds / 0.01), u=u, gamma0=g0)
+    held, runaway = reversing_yaw_errors(unloaded, u, g0, seconds, 3.0)
+    # Held: within 4 times KIN's linear estimate. The models start from the
+    # log's first sample, whose zero yaw rates do not fit 3 deg of
+    # articulation under feedback (K gamma0 = 9 deg of steering at once);
+    # the STM's tyres and the plant's suspension build their forces over a
+    # relaxation length first, which adds a start-up transient to their r_2.
+    # A runaway sits far above that limit; K = 0 must end there.
+    held_within = {"eps_r2": 4.0 * held}
+    assert runaway > 5.0 * held_within["eps_r2"]
+    assert_tracks(name, log, held_within, vehicle=unloaded, gain=3.0)
+    with pytest.raises(AssertionError, match=r"eps_r2 .* FAIL"):
+        assert_tracks(name, log, held_within, vehicle=unloaded, gain=0.0)
+    # ... by about the linear estimate of the runaway, for every model.
+    open_loop = assert_tracks(name, log, {"eps_r2": 1.5 * runaway}, vehicle=unloaded, gain=0.0)
+    assert open_loop["straight"]["eps_r2"] > 0.7 * runaway
+
+
+def test_the_stm_sits_nearer_the_plant_than_the_plant_to_the_truth(artic_logs):
+    # The synthetic logs come from a truth that differs from the presets in
+    # structure (another trailer tyre, tyre moments, fifth-wheel friction,
+    # payload, steering play and drift, a driver on the pedals, a sloped
+    # yard). The STM and the plant are built from the same preset and
+    # differ only by what the STM leaves out (load transfer, suspension, the
+    # tyres' non-linearity), which is small below 0.1 g. So the STM must
+    # agree with the plant more closely, in yaw rates and lateral
+    # velocities, than the plant tracks the truth.
+    for log in artic_logs.values():
+        # The plant tracks the truth at all: errors below the signals' own size.
+        plant = assert_tracks("mbd", log, {"eps_n": 100.0})[log.name]
+        assert_agree("mbd", "stm", log, {"eps_a": plant["eps_a"], "eps_v": plant["eps_v"]})

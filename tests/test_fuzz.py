@@ -3,14 +3,25 @@
 Property-based (hypothesis, derandomised so the cases are the same on every
 run) generation of four kinds of input, each fed to ``artic`` in-process:
 
-- vehicle files: the presets with keys set to hostile values (NaN, infinities,
-  zero, negative, huge, wrong types), deleted, added, or the text damaged;
+- vehicle files: the presets, full-size and the 1:14 scale model, with keys set to
+  hostile values (NaN, infinities, zero, negative, huge, wrong types), deleted,
+  added, the vehicle class changed, or the text damaged;
 - ``.tir`` files: the shipped tyre with coefficients set to hostile values,
   lines deleted or garbled;
 - command-line options of ``simulate``: any text where a number goes;
 - damaged logs: a measured slalom with NaN runs, scaled or flipped channels,
-  gaps, jumps, shuffled or repeated rows, text in number columns, truncated
-  rows, or damaged bytes, as CSV or Parquet, through ``logs import`` and
+  gaps, jumps, shuffled or repeated rows, text in number columns, numbers stored
+  as text, absurd offsets (1e15), truncated rows, or damaged bytes, as CSV or
+  Parquet, through ``logs import`` and ``validate``;
+- channel-mapped logs: the slalom and the docking manoeuvre as a
+  tractor-plus-hitch CSV read through the example channel map, with the hitch's
+  sign flipped, speeds in km/h, jumps, NaN runs, text, shuffled rows or damaged
+  bytes, through ``logs import --channels`` (with or without ``--accept``) and
+  ``validate``;
+- bags and their channel maps: an MCAP file of the rig in ``bag_logs`` whose
+  map names missing topics, wrong or hostile field paths (text, messages,
+  out-of-range indices, custom types), wrong units, scales and time sources,
+  and whose bytes are damaged or truncated, through ``logs import`` and
   ``validate``.
 
 The property, per case: the command exits 0 with a sound result (strict JSON;
@@ -25,6 +36,7 @@ exit 1). ``OUTCOMES`` counts the cases; ``pytest -s`` prints them.
 from __future__ import annotations
 
 import copy
+import functools
 import io
 import json
 import math
@@ -48,6 +60,16 @@ from artic.validation.cli import main
 from artic.validation.logs.runfile import check_frame, read_run, write_run
 from artic.validation.logs.schema import COLUMNS
 from hostile_logs import slalom
+
+try:
+    import mcap_ros2  # noqa: F401
+    import rosbags  # noqa: F401
+
+    import bag_logs
+except ImportError:  # pragma: no cover - the test extra installs them
+    bag_logs = None
+
+
 
 OUTCOMES: dict[str, Counter] = {}
 """Per input kind, the count of cases by outcome."""
@@ -155,6 +177,9 @@ def _keys(data: dict, prefix: str = "") -> list[str]:
 
 BASE_VEHICLE = tomllib.loads(PRESET.read_text())
 VEHICLE_KEYS = _keys(BASE_VEHICLE)
+SCALE_PRESET = Path(load_vehicle("scale-model-1to14").path)
+BASE_SCALE = tomllib.loads(SCALE_PRESET.read_text())
+SCALE_KEYS = _keys(BASE_SCALE)
 
 
 def _get(data: dict, dotted: str):
@@ -178,16 +203,24 @@ def _set(data: dict, dotted: str, value, delete: bool = False) -> None:
         node[last] = value
 
 
-VEHICLE_EDITS = st.lists(st.one_of(
-    st.tuples(st.sampled_from(["set", "delete", "add"]), st.sampled_from(VEHICLE_KEYS),
-              HOSTILE_VALUES),
-    st.tuples(st.just("scale"), st.sampled_from(VEHICLE_KEYS), st.floats(0.3, 3.0)),
-), min_size=1, max_size=3)
+def _edits(keys: list[str]):
+    return st.lists(st.one_of(
+        st.tuples(st.sampled_from(["set", "delete", "add"]), st.sampled_from(keys),
+                  HOSTILE_VALUES),
+        st.tuples(st.just("scale"), st.sampled_from(keys), st.floats(0.3, 3.0)),
+        st.tuples(st.just("set"), st.just("vehicle.class"),
+                  st.sampled_from(["scale-model", "full-size", "toy", 3, ""])),
+    ), min_size=1, max_size=3)
 
 
-def vehicle_text(edits, damage: int | None) -> str:
-    data = copy.deepcopy(BASE_VEHICLE)
-    data["tyre"]["file"] = str(TYRE)
+VEHICLE_EDITS = _edits(VEHICLE_KEYS)
+SCALE_EDITS = _edits(SCALE_KEYS)
+
+
+def vehicle_text(edits, damage: int | None, base: dict = BASE_VEHICLE) -> str:
+    data = copy.deepcopy(base)
+    if "file" in data.get("tyre", {}):
+        data["tyre"]["file"] = str(TYRE)
     for op, key, value in edits:
         if op == "scale":
             old = _get(data, key)
@@ -242,9 +275,9 @@ SIM_OPTIONS = st.fixed_dictionaries({
 
 LOG_DAMAGE = st.lists(st.tuples(
     st.sampled_from(["nan", "scale", "flip", "gap", "jump", "shuffle", "repeat", "text",
-                     "drop", "truncate", "swap"]),
+                     "drop", "truncate", "swap", "stringify", "offset"]),
     st.sampled_from(list(COLUMNS)), st.integers(0, 999), st.integers(1, 300),
-    st.sampled_from([57.29577951308232, 1 / 57.29577951308232, 3.6, -1.0, 0.0, 1e6])),
+    st.sampled_from([57.29577951308232, 1 / 57.29577951308232, 3.6, -1.0, 0.0, 1e6, 1e15])),
     min_size=1, max_size=3)
 
 
@@ -280,14 +313,62 @@ def damaged_log(damage) -> pd.DataFrame:
         elif kind == "swap" and col in ("x_1", "x_2"):
             y = col.replace("x", "y")
             f[[col, y]] = f[[y, col]].to_numpy()
+        elif kind == "stringify":  # numbers stored as text: every value parses
+            f[col] = f[col].map(repr)
+        elif kind == "offset" and pd.api.types.is_numeric_dtype(f[col]):
+            f[col] = f[col] + factor
     return f
 
 
+EXAMPLE_MAP = Path(__file__).resolve().parents[1] / "docs" / "channels-example.toml"
+
+MAPPED_DAMAGE = st.lists(st.tuples(
+    st.sampled_from(["hitch-sign", "kph", "jump", "nan", "text", "shuffle", "scale",
+                     "truncate"]),
+    st.sampled_from(["t", "steer_ang", "vx", "yaw", "yaw_rate", "X", "Y", "vy", "hitch",
+                     "hitch_rate"]),
+    st.integers(0, 299), st.integers(1, 60),
+    st.sampled_from([57.29577951308232, 1 / 57.29577951308232, 3.6, -1.0, 1e15])),
+    min_size=1, max_size=3)
+
+
+def mapped_log(make, damage) -> pd.DataFrame:
+    """A measured log as a tractor-plus-hitch CSV at 10 Hz in the example map's layout."""
+    f = make().frame.iloc[::10].reset_index(drop=True)
+    out = pd.DataFrame({
+        "t": f["t"] + 50.0, "steer_ang": np.degrees(f["delta_h"]), "vx": f["v_x_1"],
+        "yaw": f["psi_1"], "yaw_rate": f["r_1"], "X": f["x_1"], "Y": f["y_1"],
+        "vy": f["v_y_1"], "hitch": -np.degrees(f["gamma"]),
+        "hitch_rate": -np.degrees(f["r_1"] - f["r_2"])})
+    for kind, col, row, n, factor in damage:
+        end = min(len(out), row + n)
+        if kind == "hitch-sign":
+            out[["hitch", "hitch_rate"]] *= -1.0
+        elif kind == "kph":
+            out[["vx", "vy"]] *= 3.6
+        elif kind == "jump":
+            out.loc[row:, col] = out.loc[row:, col] + n / 10.0
+        elif kind == "nan":
+            out.loc[row:end, col] = np.nan
+        elif kind == "text":
+            out[col] = out[col].astype(object)
+            out.loc[row, col] = "x"
+        elif kind == "shuffle":
+            idx = out.index.to_numpy().copy()
+            idx[row:end] = idx[row:end][::-1]
+            out = out.loc[idx].reset_index(drop=True)
+        elif kind == "scale":
+            out[col] = out[col] * factor
+        elif kind == "truncate":
+            out = out.iloc[: row % 3]
+    return out
+
+
 # ------------------------------------------------------------------ properties
-def check_vehicle(edits, damage, with_plant: bool = False) -> None:
+def check_vehicle(edits, damage, with_plant: bool = False, base: dict = BASE_VEHICLE) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         p = Path(tmp) / "v.toml"
-        p.write_text(vehicle_text(edits, damage))
+        p.write_text(vehicle_text(edits, damage, base))
         code, out, err = artic("vehicle", "show", p, "--json")
         if judge("vehicle files", code, err) == "ok":
             flat = strict_json(out)
@@ -358,11 +439,134 @@ def check_log(damage, fmt: str, byte_damage: int | None) -> None:
             assert np.all(np.isfinite(ok[["eps_p", "eps_a", "eps_v"]].to_numpy(float)))
 
 
+def check_mapped(make, damage, accept: bool, byte_damage: int | None) -> None:
+    from hostile_logs import docking
+
+    with tempfile.TemporaryDirectory() as tmp:
+        p = Path(tmp) / "log.csv"
+        mapped_log(docking if make == "docking" else slalom, damage).to_csv(p, index=False)
+        if byte_damage is not None:
+            data = bytearray(p.read_bytes())
+            if data:
+                data[byte_damage % len(data)] ^= 0xFF
+            p.write_bytes(bytes(data[: max(0, len(data) - byte_damage % 7)]))
+        out = Path(tmp) / "out"
+        argv = ["logs", "import", p, "--channels", EXAMPLE_MAP, "--out-dir", out]
+        if accept:
+            argv += ["--accept", ",".join(["jump", "velocity", "articulation"])]
+        code, _, err = artic(*argv)
+        if judge("mapped logs, import", code, err) != "ok":
+            return
+        imported = sorted(out.glob("*.parquet"))  # one, or one per gap-free segment
+        assert imported
+        for f in imported:
+            check_frame(read_run(f).frame)
+        code, _, err = artic("validate", *imported, "--models", "kin", "--out-dir",
+                             Path(tmp) / "val", "--no-recordings")
+        if judge("mapped logs, validate", code, err) == "ok":
+            m = pd.read_csv(Path(tmp) / "val" / "metrics.csv")
+            ok = m[m.status == "ok"]
+            assert np.all(np.isfinite(ok[["eps_p", "eps_a", "eps_v"]].to_numpy(float)))
+
+
+BAG_CHANNELS = ["x_1", "y_1", "psi_1", "gamma"]
+BAG_FIELDS = st.one_of(st.sampled_from([
+    "pose.position.x", "pose.position", "pose", "header.stamp.sec", "header.frame_id",
+    "pose.orientation.w", "data", "position[0]", "position[hitch]", "[0]", "counters[0]",
+    "pose.position.x.y", "__msgtype__", "pose.__class__", "state", "battery", "pose[2]"]),
+    st.text(max_size=10))
+BAG_EDITS = st.lists(st.one_of(
+    st.tuples(st.just("topic"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
+        ["/vive/pose", "/encoder/angle", "/diagnostics/rig", "/nope", "", "vive/pose"])),
+    st.tuples(st.just("field"), st.sampled_from(BAG_CHANNELS), BAG_FIELDS),
+    st.tuples(st.just("unit"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
+        ["m", "deg", "rad", "quaternion", "km/h", "s", "", "furlong"])),
+    st.tuples(st.just("scale"), st.sampled_from(BAG_CHANNELS), HOSTILE_NUMBERS),
+    st.tuples(st.just("time"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
+        ["header", "receive", "later"])),
+    st.tuples(st.just("delete"), st.sampled_from(BAG_CHANNELS), st.none()),
+    st.tuples(st.just("source"), st.none(), st.sampled_from(["header", "receive", "x"])),
+    st.tuples(st.just("window"), st.none(), HOSTILE_NUMBERS),
+    st.tuples(st.just("max_gap"), st.none(), HOSTILE_NUMBERS),
+), min_size=0, max_size=3)
+
+
+@functools.cache
+def _rig_mcap() -> tuple[bytes, str]:
+    with tempfile.TemporaryDirectory() as tmp:
+        path, text = bag_logs.write_log("mcap", Path(tmp) / "rig",
+                                        slalom().frame.iloc[:1400].reset_index(drop=True))
+        return path.read_bytes(), text
+
+
+def bag_map(edits) -> str:
+    data = tomllib.loads(_rig_mcap()[1])
+    for op, ch, value in edits:
+        if op in ("source", "max_gap"):
+            data["time"][op] = value
+        elif op == "window":
+            data["derive"] = {"window": value}
+        elif op == "delete":
+            data["channels"].pop(ch, None)
+        elif ch in data["channels"]:
+            data["channels"][ch][op] = value
+    try:
+        return tomli_w.dumps(data)
+    except (TypeError, ValueError):  # not TOML (NaN keys and the like): the map as shipped
+        return _rig_mcap()[1]
+
+
+def check_bag(edits, byte_damage: int | None, truncate: int | None) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        raw, _ = _rig_mcap()
+        data = bytearray(raw)
+        if byte_damage is not None:
+            data[byte_damage % len(data)] ^= 0xFF
+        if truncate is not None:
+            data = data[: len(data) - truncate % len(data)]
+        p = Path(tmp) / "rig.mcap"
+        p.write_bytes(bytes(data))
+        chmap = Path(tmp) / "map.toml"
+        chmap.write_text(bag_map(edits))
+        out = Path(tmp) / "out"
+        code, _, err = artic("logs", "import", p, "--channels", chmap, "--out-dir", out)
+        if judge("bags and maps, import", code, err) != "ok":
+            return
+        logs = sorted(out.glob("*.parquet"))
+        assert logs
+        for f in logs:
+            check_frame(read_run(f).frame)
+        code, _, err = artic("validate", *logs, "--models", "kin", "--no-recordings",
+                             "--out-dir", Path(tmp) / "val")
+        if judge("bags and maps, validate", code, err) == "ok":
+            m = pd.read_csv(Path(tmp) / "val" / "metrics.csv")
+            ok = m[m.status == "ok"]
+            assert np.all(np.isfinite(ok[["eps_p", "eps_a", "eps_v"]].to_numpy(float)))
+
+
+BAGS = pytest.mark.skipif(bag_logs is None, reason="rosbags and mcap-ros2-support (the test "
+                                                    "extra) are not installed")
+
+
 # ------------------------------------------------------------------ the fast part
 @FAST
 @given(edits=VEHICLE_EDITS, damage=st.one_of(st.none(), st.integers(0, 10 ** 6)))
 def test_fuzz_vehicle_files(edits, damage):
     check_vehicle(edits, damage)
+
+
+@FAST
+@given(edits=SCALE_EDITS, damage=st.one_of(st.none(), st.integers(0, 10 ** 6)))
+def test_fuzz_scale_model_vehicle_files(edits, damage):
+    check_vehicle(edits, damage, base=BASE_SCALE)
+
+
+@FAST
+@given(make=st.sampled_from(["slalom", "docking"]), damage=MAPPED_DAMAGE,
+       accept=st.booleans(), byte_damage=st.one_of(st.none(), st.none(), st.none(),
+                                                   st.integers(0, 10 ** 6)))
+def test_fuzz_mapped_logs(make, damage, accept, byte_damage):
+    check_mapped(make, damage, accept, byte_damage)
 
 
 @FAST
@@ -382,6 +586,14 @@ def test_fuzz_cli_options(opts):
        byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)))
 def test_fuzz_damaged_logs(damage, fmt, byte_damage):
     check_log(damage, fmt, byte_damage)
+
+
+@BAGS
+@FAST
+@given(edits=BAG_EDITS, byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)),
+       truncate=st.one_of(st.none(), st.none(), st.integers(1, 10 ** 6)))
+def test_fuzz_bags_and_maps(edits, byte_damage, truncate):
+    check_bag(edits, byte_damage, truncate)
 
 
 # ------------------------------------------------------------------ the slow part
@@ -412,3 +624,28 @@ def test_fuzz_cli_options_many(opts):
        byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)))
 def test_fuzz_damaged_logs_many(damage, fmt, byte_damage):
     check_log(damage, fmt, byte_damage)
+
+
+@pytest.mark.slow
+@SLOW
+@given(edits=SCALE_EDITS, damage=st.one_of(st.none(), st.integers(0, 10 ** 6)))
+def test_fuzz_scale_model_vehicle_files_many(edits, damage):
+    check_vehicle(edits, damage, base=BASE_SCALE)
+
+
+@pytest.mark.slow
+@SLOW
+@given(make=st.sampled_from(["slalom", "docking"]), damage=MAPPED_DAMAGE,
+       accept=st.booleans(), byte_damage=st.one_of(st.none(), st.none(), st.none(),
+                                                   st.integers(0, 10 ** 6)))
+def test_fuzz_mapped_logs_many(make, damage, accept, byte_damage):
+    check_mapped(make, damage, accept, byte_damage)
+
+
+@pytest.mark.slow
+@BAGS
+@SLOW
+@given(edits=BAG_EDITS, byte_damage=st.one_of(st.none(), st.none(), st.integers(0, 10 ** 6)),
+       truncate=st.one_of(st.none(), st.none(), st.integers(1, 10 ** 6)))
+def test_fuzz_bags_and_maps_many(edits, byte_damage, truncate):
+    check_bag(edits, byte_damage, truncate)

@@ -260,4 +260,40 @@ def test_parquet_that_is_not_parquet(capsys, tmp_path):
                                                   tmp_path / "o")
     q = tmp_path / "strings.parquet"
     pq.write_table(pa.table({c: ["a", "b"] for c in COLUMNS}), q)
-    assert "NaN or infinite" in fails(capsys, "validate", q, "--out-dir", tmp_path / "o")
+    assert f"{q}: column t: holds" in fails(capsys, "validate", q, "--out-dir", tmp_path / "o")
+
+
+@pytest.mark.parametrize("column", ["t", "x_1"])
+def test_canonical_parquet_with_text_columns_is_refused_at_import(capsys, tmp_path, column):
+    # Numbers written as text: every value parses, but the column is not numbers. It was
+    # accepted by `logs import` and ended `validate` in a TypeError.
+    run = slalom()
+    run.frame[column] = run.frame[column].map(repr)
+    p = write_run(run, tmp_path / "text.parquet")
+    line = fails(capsys, "logs", "import", p, "--out-dir", tmp_path / "o")
+    assert f"{p}: column {column}: holds" in line and "not numbers" in line
+    assert not (tmp_path / "o" / "text.parquet").exists()
+    assert f"column {column}: holds" in fails(capsys, "validate", p, "--out-dir", tmp_path / "v")
+
+
+@pytest.mark.parametrize("column,change,words", [
+    ("x_1", lambda f: f.assign(x_1=f["x_1"] + 1e15, x_2=f["x_2"] + 1e15),
+     "column x_1: 1e+15 m is beyond 1e+07 m"),
+    ("y_2", lambda f: f.assign(y_2=f["y_2"] - 3e7), "column y_2: 3e+07 m is beyond"),
+    ("psi_1", lambda f: f.assign(psi_1=f["psi_1"] + 2e9 * np.pi, psi_2=f["psi_2"] + 2e9 * np.pi),
+     "column psi_1: 6.283e+09 rad at the start is beyond 1000 rad"),
+    ("psi_2", lambda f: f.assign(psi_2=f["psi_2"] * 1e3, psi_1=f["psi_1"] * 1e3,
+                                 gamma=0.0 * f["gamma"]), "column psi_1: turns"),
+    ("t", lambda f: f.assign(t=f["t"] + 1e15), "column t: 1e+15 s is beyond 1e+10 s"),
+])
+def test_canonical_parquet_of_absurd_size_is_refused_at_import(capsys, tmp_path, column,
+                                                               change, words):
+    # Positions 1e15 m off, headings of absurd size: validated without a word before.
+    from artic.mjcf.interface import wrap_angle
+
+    run = slalom()
+    f = change(run.frame)
+    f["gamma"] = wrap_angle(f["psi_1"].to_numpy() - f["psi_2"].to_numpy())
+    p = write_run(type(run)(f, run.meta), tmp_path / "absurd.parquet")
+    line = fails(capsys, "logs", "import", p, "--out-dir", tmp_path / "o")
+    assert str(p) in line and words in line, line

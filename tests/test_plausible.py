@@ -39,7 +39,7 @@ def tyre_with(old: str, new: str) -> str:
 def test_presets_and_shipped_tyre_are_plausible():
     with warnings.catch_warnings():
         warnings.simplefilter("error", PlausibilityWarning)
-        for name in ("gosar2022-unloaded", "gosar2022-loaded", "six-axle"):
+        for name in ("gosar2022-unloaded", "gosar2022-loaded", "six-axle", "scale-model-1to14"):
             load_vehicle(name)
         read_tir(TYRE)
 

@@ -6,13 +6,15 @@ Subcommands:
 - ``artic vehicle keys``: the parameter file format;
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
 - ``artic validate LOG.parquet ... --vehicle V --models kin,stm,mbd [--gain K]
-  [--gain-sweep] [--no-recordings] --out-dir DIR``: metrics, the Table 2/3
+  [--gain-sweep] [--no-recordings] [--steer-from log|yaw-rate] --out-dir DIR``:
+  metrics (a log split at gaps pooled over its segments), the Table 2/3
   summaries and one Rerun recording per log;
 - ``artic tune LOG.parquet ... --vehicle V --models kin,stm,mbd --out PARAMS.toml``;
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
 - ``artic logs import SRC... [--channels MAP.toml] [--vehicle V] --out-dir DIR``:
-  exports (or CSVs through a channel map) to canonical Parquet;
-- ``artic campaign [--out-dir DIR]``: the main job;
+  exports (or CSVs, ROS bags and MCAP files through a channel map) to canonical
+  Parquet;
+- ``artic campaign [--out-dir DIR] [--seeds N]``: the main job, on one truck or several;
 - ``artic dock [--scenario S] [--vehicle V] [--controller C] [--seeds N] --out-dir DIR``:
   the docking benchmark (:mod:`artic.validation.docking.command`).
 
@@ -43,10 +45,9 @@ from artic.mjcf.vehicle import load_vehicle
 from artic.validation import options
 from artic.validation.docking import command as dock_command
 from artic.validation.harness import DEFAULT_GAIN
-from artic.validation.logs.consistency import CHECKS, parse_accept
+from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import read_log
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
-from artic.validation.models import NAMES
 from artic.validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
 from artic.validation.steering import SteeringRangeError
 from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
@@ -86,12 +87,22 @@ def _vehicle_keys(args: argparse.Namespace) -> int:
     return 0
 
 
+def _load_vehicle(name: str):
+    """The vehicle file or preset ``name``, its ``[steering.NAME]`` tables checked.
+
+    Each must name a registered model (:func:`artic.validation.models.check_vehicle`).
+    """
+    from artic.validation.models import check_vehicle
+
+    return check_vehicle(load_vehicle(name))
+
+
 def _simulate(args: argparse.Namespace) -> int:
     from artic.validation.models import build
     from artic.validation.simulate import simulate
 
     out = check_output_file(args.out)
-    v = load_vehicle(args.vehicle)
+    v = _load_vehicle(args.vehicle)
     s = v.steering_for(args.model)
     reverse = args.manoeuvre.endswith("reverse")
     speed = args.speed_kph if args.speed_kph is not None else (3.0 if reverse else 5.0)
@@ -122,9 +133,21 @@ def _simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_tyre_data(vehicle, models: Sequence[str]) -> None:
+    """Refuse, before any work, models the vehicle has no fitting tyre data for."""
+    from artic.mjcf.plausible import check_tyre_data
+
+    for m in models:
+        check_tyre_data(vehicle, m)
+
+
 def _read_logs(args: argparse.Namespace, vehicle) -> list:
     accept = parse_accept(args.accept)
-    return [read_log(p, vehicle, accept) for p in args.logs]
+    logs = [read_log(p, vehicle, accept) for p in args.logs]
+    if getattr(args, "steer_from", "log") == "yaw-rate":
+        for log in logs:
+            log.meta["steer_from"] = "yaw-rate"
+    return logs
 
 
 def _validate(args: argparse.Namespace) -> int:
@@ -135,35 +158,46 @@ def _validate(args: argparse.Namespace) -> int:
         validate_runs,
         write_metrics,
     )
+    from artic.validation.criteria.fixedscale import SCALE_FILE, write_scale
+    from artic.validation.criteria.pooled import pool_segments, segment_of, whole_logs
     from artic.validation.models import parse_models
 
-    v = load_vehicle(args.vehicle)
+    v = _load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     out = check_output_dir(args.out_dir)
     logs = _read_logs(args, v)
     for log in logs:
         if log.meta.get("derived"):
             print(f"note: {log.name}: {log.meta['derived']['note']}")
+        if log.meta.get("steer_from") == "yaw-rate":
+            print(f"note: {log.name}: --steer-from yaw-rate: the models' tractors follow the "
+                  "measured yaw rate, so the comparison is about the semitrailer")
     with OutDirLock(out, "validate"):
         clean_stale(out)
         metrics = validate_runs(logs, v, models, gain=args.gain, out_dir=out,
                                 progress=stderr_progress, jobs=args.jobs)
+        if any(segment_of(log) for log in logs):
+            metrics = pool_segments(metrics, logs, out / "runs")
         path = write_metrics(metrics, out / "metrics.csv")
+        write_scale(metrics.attrs["scale"], out / SCALE_FILE)
         failed = metrics[metrics["status"].astype(str).str.startswith(FAILED)]
         print(f"wrote {path} ({len(metrics)} rows) and {len(metrics) - len(failed)} runs in "
               f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
                                    "status in metrics.csv" if len(failed) else ""))
+        print("\n" + per_run_lines(metrics))
         if args.recordings:
             _validate_recordings(out, logs, v, models, metrics)
         for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
                                        ("reverse", "table3_reverse", "Reverse (Table 3 columns)")):
-            table = summary(metrics, direction)
+            table = summary(whole_logs(metrics), direction)
             if len(table):
                 write_table(table, out / stem, title)
                 print(f"\n{title}\n\n{markdown(table)}")
         if args.gain_sweep:
             from artic.validation.campaign.gainsweep import (
                 DEFAULT_GAINS,
+                bounds_text,
                 gain_sweep,
                 plot_gain_sweep,
                 sweep_table,
@@ -178,9 +212,31 @@ def _validate(args: argparse.Namespace) -> int:
             atomic_write(out / "gain_sweep.csv",
                          lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
             plot_gain_sweep(sweep, out / "gain_sweep.png", args.gain)
-            print(f"\nGain sweep (stability bound K_min = {sweep.attrs['K_min']:.3g}; "
+            print(f"\nGain sweep (stability bound K_min: {bounds_text(sweep.attrs['K_min'])}; "
                   f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
     return 1 if len(failed) else 0
+
+
+def per_run_lines(metrics) -> str:
+    """One line per (log, model): the articulation error, eps_n and the status.
+
+    The articulation error comes first: many real logs have a hitch sensor
+    and little else, and ``eps_gamma`` needs nothing more.
+    """
+    lines = ["Per run: eps_gamma (articulation error, eq. 8) and eps_n"]
+    width = max((len(f"{r.log} / {r.model}") for r in metrics.itertuples()), default=0)
+    for r in metrics.itertuples():
+        what = f"{r.log} / {r.model}"
+        g, n = float(r.eps_gamma), float(r.eps_n)
+        if math.isnan(g):
+            shown = "eps_gamma -"
+        else:
+            shown = f"eps_gamma {math.degrees(g):6.2f} deg ({g:.4f} rad)"
+        shown += "; eps_n -" if math.isnan(n) else f"; eps_n {n:.3g} %"
+        if r.status != "ok":
+            shown += f"; {r.status}"
+        lines.append(f"  {what:<{width}}  {shown}")
+    return "\n".join(lines)
 
 
 def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
@@ -204,11 +260,18 @@ def _tune(args: argparse.Namespace) -> int:
     from artic.validation.campaign.tuning import tune
     from artic.validation.campaign.validate import stderr_progress
     from artic.validation.models import parse_models
+    from artic.validation.yawsteer import wants_yaw_rate
 
     out = check_output_file(args.out)
-    v = load_vehicle(args.vehicle)
+    v = _load_vehicle(args.vehicle)
     models = parse_models(args.models)
+    _check_tyre_data(v, models)
     logs = _read_logs(args, v)
+    unsteered = [log.name for log in logs if wants_yaw_rate(log.meta)]
+    if unsteered:
+        raise ValueError(f"{', '.join(unsteered)}: no steering channel (delta_h derived from the "
+                         "yaw rate); tuning fits the steering map and needs a measured steering "
+                         "wheel: leave it out")
     reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
     if reverse:
         raise ValueError(f"tuning uses forward manoeuvres; {', '.join(reverse)} reverse(s) "
@@ -222,8 +285,7 @@ def _tune(args: argparse.Namespace) -> int:
                   f"{row['fitted']:<12.6g} [{row['lo']:.4g}, {row['hi']:.4g}]{flag}")
         print(f"{fit.model:<6} eps_n before {fit.eps_n_before:.3f} %, after "
               f"{fit.eps_n_after:.3f} % ({fit.evaluations} evaluations, {fit.wall_s:.1f} s)")
-    accepted = sorted({line.split(":", 1)[0].removeprefix("accepted ")
-                       for log in logs for line in log.meta.get("accepted_checks", [])})
+    accepted = sorted({name for log in logs for name in accepted_in(log.meta)})
     source = f"Tuned by artic on {', '.join(log.name for log in logs)}" + (
         f" (checks accepted with --accept: {', '.join(accepted)})" if accepted else "")
     data = updated(args.vehicle, fitted_changes(v, {f.model: f.fitted for f in fits}),
@@ -325,7 +387,7 @@ def _campaign(args: argparse.Namespace) -> int:
     run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
                  sweep_models=sweep, only=only, recordings=args.recordings,
                  executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth,
-                 remeasure=args.remeasure)
+                 remeasure=args.remeasure, seeds=args.seeds)
     return 0
 
 
@@ -342,6 +404,20 @@ def _add_accept(p: argparse.ArgumentParser) -> None:
                    help="use the logs although this consistency check refuses them "
                         "(recorded in the run's metadata); repeat or comma-separate; "
                         f"checks: {', '.join(CHECKS)}")
+
+
+def _one_model(text: str) -> str:
+    """``--model``: one model of the registry (built-in or registered), by name."""
+    from artic.validation.models import parse_models
+
+    try:
+        models = parse_models(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"invalid choice: {exc}") from None
+    if len(models) != 1:
+        raise argparse.ArgumentTypeError(f"invalid choice: {text!r} names {len(models)} models; "
+                                         "give one (artic validate takes several)")
+    return models[0]
 
 
 def _add_vehicle(p: argparse.ArgumentParser) -> None:
@@ -370,7 +446,8 @@ def build_parser() -> argparse.ArgumentParser:
     keys.set_defaults(func=_vehicle_keys)
 
     sim = sub.add_parser("simulate", help="simulate a manoeuvre open loop")
-    sim.add_argument("--model", required=True, type=str.lower, choices=NAMES)
+    sim.add_argument("--model", required=True, type=_one_model,
+                     help="kin, stm, mbd, or a registered model (see artic.register_model)")
     _add_vehicle(sim)
     sim.add_argument("--manoeuvre", required=True, choices=KINDS)
     sim.add_argument("--amplitude-deg", type=options.AMPLITUDE_DEG, default=None,
@@ -385,7 +462,9 @@ def build_parser() -> argparse.ArgumentParser:
     val = sub.add_parser("validate", help="validate models against logs")
     val.add_argument("logs", nargs="+", type=Path, help="logs in the signal schema (.parquet)")
     _add_vehicle(val)
-    val.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
+    val.add_argument("--models", default="kin,stm",
+                     help="comma-separated: kin, stm, mbd and registered models "
+                          "(default: %(default)s)")
     val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     val.add_argument("--out-dir", required=True, type=Path)
@@ -396,6 +475,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default: on)")
     val.add_argument("--jobs", type=options.JOBS, default=JOBS,
                      help="threads (default: the number of cores, %(default)s)")
+    val.add_argument("--steer-from", choices=("log", "yaw-rate"), default="log",
+                     help="steer the models from the log's steering wheel (log; a log without "
+                          "one is steered from its yaw rate) or from the measured yaw rate "
+                          "(yaw-rate: the tractors follow it, and the comparison is about the "
+                          "semitrailer) (default: %(default)s)")
     _add_accept(val)
     val.set_defaults(func=_validate)
 
@@ -419,8 +503,9 @@ def build_parser() -> argparse.ArgumentParser:
     lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path,
-                     help="canonical .parquet/.csv, .mat, or a folder with tractor.csv, "
-                          "trailer.csv, can.csv")
+                     help="canonical .parquet/.csv, .mat, a folder with tractor.csv, "
+                          "trailer.csv, can.csv, or with --channels a CSV, a ROS 1 .bag, a ROS 2 "
+                          "bag folder or an .mcap file")
     imp.add_argument("--out-dir", required=True, type=Path)
     imp.add_argument("--vehicle", default=None,
                      help="preset name or TOML file for the steering and hitch checks, and "
@@ -428,8 +513,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "log (default: the steering check with the gosar2022-unloaded map, "
                           "the hitch fitted, and gosar2022-unloaded's geometry)")
     imp.add_argument("--channels", type=Path, default=None,
-                     help="a channel map (.toml) for a CSV with other column names and units; "
-                          "see docs/channels-example.toml")
+                     help="a channel map (.toml) for a CSV with other column names and units, "
+                          "or for a ROS bag or MCAP file (topics and fields); see "
+                          "docs/channels-example.toml and docs/channels-bag-example.toml")
     _add_accept(imp)
     imp.set_defaults(func=_logs_import)
     gen = lsub.add_parser("generate", help="the synthetic measured campaign")
@@ -461,9 +547,14 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
     camp.add_argument("--models", default="kin,stm,mbd",
-                      help="comma-separated, from kin, stm, mbd (default: %(default)s)")
+                      help="comma-separated: kin, stm, mbd and registered models "
+                           "(default: %(default)s)")
     camp.add_argument("--seed", type=options.SEED, default=0,
-                      help="seed of the synthetic campaign")
+                      help="seed of the synthetic campaign (with --seeds, the first)")
+    camp.add_argument("--seeds", type=options.SEEDS, default=1,
+                      help="trucks: one campaign per seed in OUT/seed-K and the pooled tables "
+                           "and report in OUT, about 90 s per seed on two cores "
+                           "(default: %(default)s, the single campaign in OUT)")
     camp.add_argument("--truth", choices=("structural", "legacy"), default="structural",
                       help="the synthetic campaign's truth: one that differs from the presets "
                            "in structure, or the first near-identical one, for regression "

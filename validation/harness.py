@@ -6,14 +6,20 @@ paper's eq. (5) intends, with the stabilising sign of its eqs. (6)-(7):
 
     delta = delta_center(delta_h) + K * (gamma_model - gamma_measured)
 
-only while the tractor reverses (``v_x_1 < 0``). The linearised articulation
+only while the tractor reverses. The linearised articulation
 dynamics then have the eigenvalue ``u1 (K (L2 - L1c) - L1) / (L1 L2)``, which is
 negative for ``u1 < 0`` once ``K > L1 / (L2 - L1c)``. Forward, the same feedback
-would destabilise the loop for such K, so it is off.
+would destabilise the loop for such K, so it is off. Whether the tractor
+reverses is decided once per log on the speed input ``u1`` below, with a dead
+band and a minimum duration (:mod:`artic.validation.reversing`), so that speed
+noise at standstill never switches the feedback on in a forward run.
 
 Inputs per sample ``k`` (held over the step to ``k + 1``):
 
-- ``delta_center`` from the log's ``delta_h`` through the model's eq. (3) map;
+- ``delta_center`` from the log's ``delta_h`` through the model's eq. (3) map,
+  or, for a log steered from its yaw rate (``--steer-from yaw-rate``, or a
+  ``delta_h`` derived at import), the road-wheel angle of
+  :mod:`artic.validation.yawsteer`;
 - the tractor speed ``u1 = v_x_1 + r_1 * y_s1``, exact for a rigid tractor
   whose sensor sits ``y_s1`` off its centre line, smoothed by a quadratic
   Savitzky-Golay filter over :data:`SPEED_WINDOW` and rising linearly to the
@@ -47,7 +53,14 @@ from artic.mjcf.vehicle import Vehicle
 from artic.validation.feedback import feedback_law
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import Model
+from artic.validation.reversing import reversing
 from artic.validation.steering import SteeringMap
+from artic.validation.yawsteer import (
+    equivalent_wheelbase,
+    road_wheel_from_yaw_rate,
+    steering_wheel,
+    wants_yaw_rate,
+)
 
 DEFAULT_GAIN = 3.0
 """The paper's feedback gain K [rad/rad]."""
@@ -100,11 +113,30 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
     steering : SteeringMap
         The model's eq. (3) map.
     """
-    return steered(unsteered_inputs(run, vehicle), steering, f"{run.name}: column delta_h")
+    inputs = unsteered_inputs(run, vehicle)
+    if wants_yaw_rate(run.meta):
+        return yaw_steered(inputs, run, vehicle, steering)
+    return steered(inputs, steering, f"{run.name}: column delta_h")
+
+
+def yaw_steered(inputs: LoopInputs, run: Run, vehicle: Vehicle,
+                steering: SteeringMap) -> LoopInputs:
+    """``inputs`` with ``delta_c`` from the measured yaw rate (:mod:`artic.validation.yawsteer`).
+
+    ``delta_h`` becomes the steering-wheel angle that gives ``delta_c`` through
+    the model's map, for the record.
+    """
+    r1 = smooth_speed(inputs.t, run.frame["r_1"].to_numpy(dtype=float))
+    delta_c = road_wheel_from_yaw_rate(inputs.u1, r1, equivalent_wheelbase(vehicle))
+    delta_h = steering_wheel(steering, delta_c, vehicle.steering.delta_max)
+    return _started(replace(inputs, delta_c=delta_c, delta_h=delta_h))
 
 
 def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     """:func:`loop_inputs` before the steering map: ``delta_c`` is NaN.
+
+    ``reversing`` comes from ``u1`` with hysteresis
+    (:func:`artic.validation.reversing.reversing`).
 
     Tuning derives these once per log and applies each trial's map with
     :func:`steered`.
@@ -116,15 +148,42 @@ def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     u1 = smooth_speed(t, df["v_x_1"].to_numpy(dtype=float) + r1 * vehicle.sensor1[1])
     u1_dot = np.zeros_like(u1)
     u1_dot[:-1] = np.diff(u1) / np.diff(t)
-    first = df.iloc[0]
-    initial = InitialState(
-        x_1=float(first["x_1"]), y_1=float(first["y_1"]), psi_1=float(first["psi_1"]),
-        gamma=float(first["gamma"]), v_y_1=float(first["v_y_1"]), r_1=float(first["r_1"]),
-        r_2=float(first["r_2"]), u1=float(u1[0]))
     return LoopInputs(
         t=t, delta_h=delta_h, delta_c=np.full_like(delta_h, np.nan), u1=u1,
         u1_dot=u1_dot, gamma_meas=df["gamma"].to_numpy(dtype=float),
-        reversing=df["v_x_1"].to_numpy(dtype=float) < 0.0, initial=initial)
+        reversing=reversing(t, u1, vehicle.speed_ratio),
+        initial=initial_state(df, 0, float(u1[0])))
+
+
+def initial_state(frame: pd.DataFrame, k: int, u1: float) -> InitialState:
+    """The state a model starts from at a log's sample ``k``: its pose and motion there.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        The log, in the signal schema.
+    k : int
+        The sample (0 for the harness's run).
+    u1 : float
+        The tractor's speed at ``k`` as the harness feeds it (smoothed) [m/s].
+    """
+    row = frame.iloc[k]
+    return InitialState(
+        x_1=float(row["x_1"]), y_1=float(row["y_1"]), psi_1=float(row["psi_1"]),
+        gamma=float(row["gamma"]), v_y_1=float(row["v_y_1"]), r_1=float(row["r_1"]),
+        r_2=float(row["r_2"]), u1=float(u1))
+
+
+def window(inputs: LoopInputs, frame: pd.DataFrame, start: int, stop: int) -> LoopInputs:
+    """The inputs of samples ``start`` to ``stop - 1``, starting from the log's state at ``start``.
+
+    What the open-loop predictions (:mod:`artic.validation.criteria.prediction`)
+    drive a model with from a point inside a log.
+    """
+    part = {f: getattr(inputs, f)[start:stop]
+            for f in ("t", "delta_h", "delta_c", "u1", "u1_dot", "gamma_meas", "reversing")}
+    return _started(LoopInputs(**part, initial=initial_state(frame, start,
+                                                             float(inputs.u1[start]))))
 
 
 def steered(inputs: LoopInputs, steering: SteeringMap, source: str) -> LoopInputs:
@@ -136,7 +195,19 @@ def steered(inputs: LoopInputs, steering: SteeringMap, source: str) -> LoopInput
         When the steering wheel passes the map's fold; ``source`` names the data.
     """
     steering.check_range(inputs.delta_h, source)
-    return replace(inputs, delta_c=np.asarray(steering.road_wheel(inputs.delta_h)))
+    return _started(replace(inputs, delta_c=np.asarray(steering.road_wheel(inputs.delta_h))))
+
+
+def _started(inputs: LoopInputs) -> LoopInputs:
+    """``inputs`` whose initial state carries the first road-wheel angle.
+
+    A log that starts in a turn (a segment after a gap) then starts with its
+    tyres at that angle's slip.
+    """
+    delta = float(inputs.delta_c[0]) if inputs.delta_c.size else 0.0
+    if not np.isfinite(delta):  # before the steering map: nothing to start from
+        return inputs
+    return replace(inputs, initial=replace(inputs.initial, delta=delta))
 
 
 def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) -> tuple:
@@ -253,6 +324,7 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
         "vehicle_path": vehicle.path, "status": status,
         "steering": {"i_s": steering.i_s, "q": steering.q,
                      "delta_h_offset": steering.delta_h_offset},
+        "steer_from": "yaw-rate" if wants_yaw_rate(run.meta) else "delta_h",
         **{k: run.meta[k] for k in ("manoeuvre", "direction", "load") if k in run.meta},
     }
     return Run(frame, meta)

@@ -4,7 +4,28 @@ Every model (KIN, STM and the multibody plant) offers the calls of
 :class:`Model`. The registry :data:`REGISTRY` is the one place that names
 them: the command line, tuning, validation, the efficiency study, the
 recordings, the plots and the report read their constructors, colours and
-tuned parameters from it.
+tuned parameters from it, at the time they run.
+
+Models from outside artic join the registry in one of two ways:
+
+- :func:`register_model` in the running process (a test file, a script);
+- an entry point in the group ``artic.models`` of an installed distribution,
+  naming a :class:`ModelSpec` or a function returning one::
+
+      [project.entry-points."artic.models"]
+      mykin = "mypackage.models:MYKIN_SPEC"
+
+  Entry points are loaded on the first look-up of a name, so that importing
+  artic loads no other distribution's code. One that fails to load gives one
+  warning naming its distribution and entry point; every other model works.
+  Entry points reach every process (a process pool, a Dask worker);
+  :func:`register_model` reaches only the process that calls it.
+
+A registered model then appears in ``--models`` of ``artic validate`` and
+``artic campaign``, in the harness, the tables, the recordings and the plots.
+It uses the vehicle file's ``[steering]`` map, with the overrides of a
+``[steering.NAME]`` table if the file has one; tuning fits only what it names
+in ``tuned`` (of its steering map: ``i_s``, ``q``, ``delta_h_offset``).
 
 The registry builds the plant lazily, so that importing this module does
 not import mujoco.
@@ -12,7 +33,14 @@ not import mujoco.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import functools
+import hashlib
+import inspect
+import os
+import re
+import threading
+import warnings
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -120,7 +148,7 @@ class ModelSpec:
         return "#{:02x}{:02x}{:02x}".format(*self.colour)
 
 
-REGISTRY: dict[str, ModelSpec] = {
+_BUILTIN: dict[str, ModelSpec] = {
     s.name: s for s in (
         ModelSpec("kin", "KIN", _kin, (66, 133, 244), ("i_s", "q", "delta_h_offset"), True),
         ModelSpec("stm", "STM", _stm, (52, 168, 83), ("f", "i_s", "q", "delta_h_offset"), True),
@@ -130,13 +158,256 @@ REGISTRY: dict[str, ModelSpec] = {
         ModelSpec("floor", "floor", _mbd, (150, 150, 150), (), False, reference=True),
     )
 }
-"""Every model artic validates, and the floor, by name, in the order tables list them."""
+_ADDED: dict[str, ModelSpec] = {}
+_lock = threading.RLock()
+_discovered = False
 
-NAMES: tuple[str, ...] = tuple(n for n, s in REGISTRY.items() if not s.reference)
-"""Names of the models under validation, in table order."""
+ENTRY_POINT_GROUP = "artic.models"
+"""The entry-point group that distributions list their models in."""
+
+NAMES: tuple[str, ...] = tuple(n for n, s in _BUILTIN.items() if not s.reference)
+"""The built-in models under validation, in table order; :func:`names` gives every model."""
 
 MEASURED_COLOUR = (230, 230, 230)
 """RGB of the measured combination in recordings and plots."""
+
+TUNABLE = ("i_s", "q", "delta_h_offset")
+"""What tuning may fit for a registered model: its own steering map (``[steering.NAME]``).
+The STM's ``f`` is the vehicle file's ``tyre.f``, shared, and stays the STM's."""
+
+_NAME = re.compile(r"[a-z][a-z0-9_]{0,31}")
+
+_PROTOCOL = ("name", "reset", "step", "observe", "compiled", "closed_loop", "close", "gamma")
+"""The members of :class:`Model`."""
+
+_PALETTE = ((219, 68, 55), (171, 71, 188), (0, 172, 193), (124, 179, 66), (255, 112, 67),
+            (92, 107, 192), (240, 98, 146), (0, 137, 123))
+"""Colours a registered model gets when it names none: apart from the built-ins' and grey."""
+
+
+class ModelEntryPointWarning(UserWarning):
+    """An entry point of the group ``artic.models`` that could not be loaded."""
+
+
+class _Registry(Mapping):
+    """The built-in models, then the registered ones, read at the time of each look-up."""
+
+    def _all(self) -> dict[str, ModelSpec]:
+        _discover()
+        with _lock:
+            return {**_BUILTIN, **_ADDED}
+
+    def __getitem__(self, name: str) -> ModelSpec:
+        return self._all()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._all())
+
+    def __len__(self) -> int:
+        return len(self._all())
+
+    def __repr__(self) -> str:
+        return f"REGISTRY({', '.join(self)})"
+
+
+REGISTRY: Mapping[str, ModelSpec] = _Registry()
+"""Every model artic validates, and the floor, by name, in the order tables list them:
+the built-in ones first, then the registered ones in the order they were registered."""
+
+
+def names() -> tuple[str, ...]:
+    """The names of the models under validation, built-ins first, registered ones after."""
+    return tuple(n for n, s in REGISTRY.items() if not s.reference)
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def _checked_build(name: str, build: Callable[[Vehicle], Model]) -> Callable[[Vehicle], Model]:
+    """``build``, checking that what it returns satisfies :class:`Model` and is named ``name``."""
+
+    @functools.wraps(build)
+    def checked(vehicle: Vehicle) -> Model:
+        model = build(vehicle)
+        missing = [m for m in _PROTOCOL if not _has(model, m)]
+        if missing:
+            raise TypeError(f"model {name!r}: its build returned a {type(model).__name__}, "
+                            f"which lacks {', '.join(missing)} of the model protocol "
+                            "(artic.validation.models.Model)")
+        if model.name != name:
+            raise TypeError(f"model {name!r}: its build returned a model named "
+                            f"{model.name!r}; set its name to {name!r}, under which the runs "
+                            "and tables list it")
+        return model
+
+    checked.__artic_checked__ = True
+    return checked
+
+
+def _has(model: object, member: str) -> bool:
+    """Whether ``model`` has ``member`` (a method callable), without calling a property."""
+    try:
+        inspect.getattr_static(model, member)
+    except AttributeError:
+        return False
+    if member in ("name", "gamma"):
+        return True
+    return callable(getattr(model, member, None))
+
+
+def _check_spec(s: ModelSpec) -> ModelSpec:
+    """``s`` with its build checked, or a ``ValueError``/``TypeError`` naming what is wrong."""
+    if not isinstance(s.name, str) or not _NAME.fullmatch(s.name):
+        raise ValueError(f"model name {s.name!r}: use 1-32 lower-case letters, digits or _, "
+                         "starting with a letter (it names files and --models entries)")
+    if s.name in _BUILTIN:
+        raise ValueError(f"model name {s.name!r} is artic's built-in "
+                         f"{_BUILTIN[s.name].label}; choose another name")
+    if not callable(s.build):
+        raise TypeError(f"model {s.name!r}: build must be a function of the vehicle returning "
+                        f"a model, got {type(s.build).__name__}")
+    if not isinstance(s.label, str) or not s.label.strip():
+        raise ValueError(f"model {s.name!r}: label must be a non-empty string")
+    if not (isinstance(s.colour, tuple) and len(s.colour) == 3
+            and all(isinstance(c, int) and 0 <= c <= 255 for c in s.colour)):
+        raise ValueError(f"model {s.name!r}: colour {s.colour!r}: expected three integers "
+                         "0-255 (red, green, blue)")
+    bad = [t for t in s.tuned if t not in TUNABLE]
+    if bad or len(set(s.tuned)) != len(s.tuned):
+        raise ValueError(f"model {s.name!r}: tuned {s.tuned!r}: a registered model tunes its "
+                         f"steering map only, without repeats: choose from {', '.join(TUNABLE)}")
+    if not isinstance(s.batched, bool) or s.reference:
+        raise ValueError(f"model {s.name!r}: batched must be True or False, and a registered "
+                         "model is not a reference row")
+    if getattr(s.build, "__artic_checked__", False):
+        return s
+    return ModelSpec(s.name, s.label, _checked_build(s.name, s.build), s.colour, s.tuned,
+                     s.batched)
+
+
+def _add(s: ModelSpec) -> ModelSpec:
+    s = _check_spec(s)
+    with _lock:
+        if s.name in _ADDED:
+            raise ValueError(f"model {s.name!r} is registered already (as "
+                             f"{_ADDED[s.name].label}); choose another name, or "
+                             "unregister_model it first")
+        _ADDED[s.name] = s
+    return s
+
+
+def model_spec(name: str, build: Callable[[Vehicle], Model], *, label: str | None = None,
+               colour: tuple[int, int, int] | None = None, tuned: tuple[str, ...] = (),
+               batched: bool = False) -> ModelSpec:
+    """A checked registry entry for a model from outside artic, not yet registered.
+
+    What an ``artic.models`` entry point names; :func:`register_model` takes
+    the same arguments. See :func:`register_model` for the parameters.
+
+    Raises
+    ------
+    ValueError
+        For a malformed name or a built-in's, or a bad label, colour or ``tuned``.
+    TypeError
+        For a ``build`` that is not callable.
+    """
+    if colour is None:
+        digest = hashlib.sha256(str(name).encode()).digest()
+        colour = _PALETTE[digest[0] % len(_PALETTE)]
+    label = str(name).upper() if label is None else label
+    return _check_spec(ModelSpec(name, label, build, tuple(colour), tuple(tuned), batched))
+
+
+def register_model(name: str, build: Callable[[Vehicle], Model], *, label: str | None = None,
+                   colour: tuple[int, int, int] | None = None, tuned: tuple[str, ...] = (),
+                   batched: bool = False) -> ModelSpec:
+    """Add a model to the registry of this process.
+
+    It then appears wherever artic lists models: ``--models`` of ``artic
+    validate`` and ``artic campaign``, the harness, the tables, the
+    recordings and the plots.
+
+    Parameters
+    ----------
+    name : str
+        Its name on the command line and in every result: 1-32 lower-case
+        letters, digits or ``_``; not a built-in's (kin, stm, mbd, floor).
+    build : callable
+        ``build(vehicle)`` returns a new model satisfying :class:`Model`,
+        whose ``name`` is ``name``; checked on every build.
+    label : str, optional
+        Its name in tables and plots; ``name`` in capitals by default.
+    colour : tuple of int, optional
+        RGB [0-255] in recordings and plots; one of a palette apart from the
+        built-ins' by default, chosen by the name.
+    tuned : tuple of str
+        What tuning fits, of :data:`TUNABLE` (its ``[steering.NAME]`` map).
+    batched : bool
+        Whether tuning should run its logs as one batch (a model with a
+        compiled form, :meth:`Model.compiled`).
+
+    Returns
+    -------
+    ModelSpec
+        The registry entry.
+
+    Raises
+    ------
+    ValueError
+        For a name taken (built-in or registered) or malformed, or a bad
+        label, colour or ``tuned``.
+    TypeError
+        For a ``build`` that is not callable.
+    """
+    return _add(model_spec(name, build, label=label, colour=colour, tuned=tuned,
+                           batched=batched))
+
+
+def unregister_model(name: str) -> None:
+    """Remove a registered model (a test's, say); built-in models stay.
+
+    Raises
+    ------
+    ValueError
+        For a built-in or unknown name.
+    """
+    with _lock:
+        if name not in _ADDED:
+            raise ValueError(f"model {name!r} is not a registered model; registered: "
+                             f"{', '.join(_ADDED) or 'none'}")
+        del _ADDED[name]
+
+
+def _discover() -> None:
+    """Register the models of the ``artic.models`` entry points, once per process."""
+    global _discovered
+    if _discovered:
+        return
+    with _lock:
+        if _discovered:
+            return
+        _discovered = True
+        from importlib.metadata import entry_points
+
+        for ep in entry_points(group=ENTRY_POINT_GROUP):
+            try:
+                obj = ep.load()
+                s = obj if isinstance(obj, ModelSpec) else obj() if callable(obj) else obj
+                if not isinstance(s, ModelSpec):
+                    raise TypeError(f"it gives a {type(s).__name__}, not a ModelSpec or a "
+                                    "function returning one")
+                if s.name != ep.name:
+                    raise ValueError(f"its ModelSpec is named {s.name!r}; name the entry "
+                                     "point after the model")
+                _add(s)
+            except Exception as exc:  # noqa: BLE001 - one broken distribution leaves the rest
+                dist = getattr(getattr(ep, "dist", None), "name", None) or "an unknown "\
+                    "distribution"
+                warnings.warn(f"model entry point {ep.name} = {ep.value} of {dist} "
+                              f"(group {ENTRY_POINT_GROUP}) was not loaded: "
+                              f"{type(exc).__name__}: {_one_line(exc)}; the other models "
+                              "are available", ModelEntryPointWarning, stacklevel=2)
 
 
 def spec(name: str) -> ModelSpec:
@@ -149,7 +420,7 @@ def spec(name: str) -> ModelSpec:
     """
     s = REGISTRY.get(name.strip().lower())
     if s is None:
-        raise ValueError(f"unknown model {name!r}; choose from {', '.join(NAMES)}")
+        raise ValueError(f"unknown model {name!r}; choose from {', '.join(names())}")
     return s
 
 
@@ -166,6 +437,58 @@ def colour(source: str) -> tuple[int, int, int]:
     return s.colour if s is not None else (200, 200, 200)
 
 
+def label(name: str) -> str:
+    """A model's name in tables and text (``KIN``), or ``name`` itself if none is registered."""
+    s = REGISTRY.get(name)
+    return s.label if s is not None else name
+
+
+def code_of(name: str) -> str:
+    """A fingerprint of a registered model's code, for the campaign's cache keys.
+
+    ``""`` for a built-in model, which artic's own code fingerprint covers
+    (:mod:`artic.validation.campaign.fingerprint`). For a registered model:
+    the hash of its entry and of the source file of its build's module, or,
+    when that file cannot be read, a value new in every process, so that its
+    cached results are never reused.
+    """
+    s = spec(name)
+    if s.name in _BUILTIN:
+        return ""
+    fn = inspect.unwrap(s.build)
+    h = hashlib.sha256(repr((s.name, s.tuned, s.batched)).encode())
+    try:
+        path = inspect.getsourcefile(fn)
+        with open(path, "rb") as f:
+            h.update(f.read())
+    except (TypeError, OSError):
+        return f"{_PROCESS_TOKEN}.{s.name}"
+    return h.hexdigest()[:16]
+
+
+_PROCESS_TOKEN = os.urandom(8).hex()
+"""New in every process: the fingerprint of a model whose source cannot be read."""
+
+
+def check_vehicle(vehicle: Vehicle) -> Vehicle:
+    """``vehicle``, if each of its ``[steering.NAME]`` tables names a model of the registry.
+
+    The vehicle file accepts such a table for any model name, the registry's
+    being unknown where files are read; this catches a misspelt one.
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the table of a model that is not registered.
+    """
+    for name in vehicle.steering_overrides:
+        if name not in REGISTRY:
+            raise ValueError(f"{vehicle.path}: key 'steering.{name}': no model {name!r} is "
+                             f"registered (models: {', '.join(names())}); correct the table's "
+                             "name, or register the model (artic.register_model)")
+    return vehicle
+
+
 def parse_models(text: str) -> list[str]:
     """Split ``"kin,STM"`` into registry names (lower case), checking each.
 
@@ -174,11 +497,11 @@ def parse_models(text: str) -> list[str]:
     ValueError
         For an empty list or an unknown name.
     """
-    names = [spec(m).name for m in text.split(",") if m.strip()]
-    refs = [n for n in names if REGISTRY[n].reference]
+    names_ = [spec(m).name for m in text.split(",") if m.strip()]
+    refs = [n for n in names_ if REGISTRY[n].reference]
     if refs:
         raise ValueError(f"{', '.join(refs)} is a reference row the campaign adds, not a "
-                         f"model to validate; choose from {', '.join(NAMES)}")
-    if not names:
+                         f"model to validate; choose from {', '.join(names())}")
+    if not names_:
         raise ValueError(f"no model given; use for example --models {','.join(NAMES)}")
-    return names
+    return names_

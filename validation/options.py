@@ -71,6 +71,9 @@ JOBS = number(1, 1024, integer=True)
 SEED = number(0, 2 ** 63 - 1, integer=True)
 """Random seed (numpy wants it non-negative)."""
 
+SEEDS = number(1, 1000, integer=True)
+"""Trucks of a campaign (``--seeds``): one campaign of about 90 s each."""
+
 TIMEOUT = number(0.0, 3600.0, unit="s", lo_open=True)
 """A network timeout."""
 

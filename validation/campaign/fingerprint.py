@@ -6,9 +6,9 @@ the hash of artic's own code and data files, of the MuJoCo and numpy
 versions, and of the inputs of that result. Editing any module, preset or
 tyre file that computes results therefore regenerates what depends on it
 instead of reusing it. The modules that only present results
-(:data:`PRESENTATION`: the report, tables, plots, recordings and the command
-line) are left out: the campaign redraws those on every run, so editing them
-reuses every cached simulation.
+(:data:`PRESENTATION`: the report, tables, plots, recordings, the command
+line and the pytest plugin) are left out: the campaign redraws those on
+every run, so editing them reuses every cached simulation.
 """
 
 from __future__ import annotations
@@ -28,7 +28,9 @@ PRESENTATION = frozenset({
     "validation/campaign/report.py", "validation/campaign/tables.py",
     "validation/campaign/plots.py", "validation/campaign/recording.py",
     "validation/cli.py", "validation/entry.py", "validation/campaign/plantshape.py",
-    "validation/progress.py",
+    "validation/progress.py", "validation/campaign/rankings.py",
+    "validation/campaign/seeds.py", "validation/campaign/seedreport.py",
+    "validation/testing.py",
 })
 """Files that turn results into text and pictures; no cached result depends on them."""
 

@@ -10,7 +10,9 @@ Stages, each timed and each resumable:
    forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`); ``OUT/tuning.json``,
    and one tuned vehicle file per load condition in ``OUT/params``;
 3. **validation**: every model through the closed-loop harness on every other
-   log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``;
+   log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``
+   (with the criteria of :mod:`artic.validation.criteria`; the fixed scale of
+   ``eps_n_fixed``, from the validated logs, in ``OUT/eps_n_fixed_scale.json``);
 4. **references**: the two references' own numbers. The *floor*: the truth's
    own plant (``truth-LOAD.toml``, with each manoeuvre's yard slope) through the
    same harness against the same logs, a ``floor`` row in ``metrics.csv``; no
@@ -34,6 +36,10 @@ when every stage has finished, and every file is written atomically, so no
 half-written result looks complete. Tuning is saved after every (load, model)
 fit, so a campaign killed while tuning keeps the fits it finished. A cached
 log that no longer reads is imported again from its export.
+
+Several trucks: ``seeds=N`` (``artic campaign --seeds N``) runs one such
+campaign per seed in ``OUT/seed-K`` and pools them in ``OUT``
+(:mod:`artic.validation.campaign.seeds`); one seed writes into ``OUT`` itself.
 
 One campaign at a time per output folder: a second one is refused, naming the
 first (:class:`artic.validation.outputs.OutDirLock`). The temporaries a killed
@@ -61,13 +67,19 @@ from artic.mjcf.writer import fitted_changes, updated, write_vehicle
 from artic.validation import warmup
 from artic.validation.campaign import fingerprint
 from artic.validation.campaign.executors import DaskOptions, cluster_executor
-from artic.validation.campaign.tables import summary, write_table
+from artic.validation.campaign.tables import (
+    paired_markdown,
+    paired_table,
+    summary,
+    write_table,
+)
 from artic.validation.campaign.validate import (
     is_failed,
     stderr_progress,
     validate_runs,
     write_metrics,
 )
+from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.harness import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
@@ -78,7 +90,7 @@ from artic.validation.logs.runfile import (
     read_run,
     write_run,
 )
-from artic.validation.models import NAMES
+from artic.validation.models import code_of, names
 from artic.validation.outputs import OutDirLock, clean_stale
 from artic.validation.progress import Counter
 from artic.validation.synthetic.generate import generate_campaign
@@ -300,20 +312,22 @@ def _tuned_vehicles(out_dir: Path, tuned: dict, seed: int) -> dict[str, Vehicle]
     return out
 
 
-def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
+def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int = 0,
                  jobs: int | None = None, only: list[str] | None = None,
                  gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
                  recordings: bool = True, executor: str = "local",
                  scheduler: str | None = None, dask: DaskOptions | None = None,
-                 truth: str = "structural", remeasure: bool = False) -> dict[str, Path]:
+                 truth: str = "structural", remeasure: bool = False, seeds: int = 1,
+                 closing: bool = True) -> dict[str, Path]:
     """Run the campaign; see the module docstring.
 
     Parameters
     ----------
     out_dir : Path
         Output folder.
-    models : tuple of str
-        Models to tune and validate.
+    models : tuple of str, optional
+        Models to tune and validate; every model of the registry by default
+        (:func:`artic.validation.models.names`, registered ones included).
     seed : int
         Seed of the synthetic campaign.
     jobs : int, optional
@@ -338,16 +352,33 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
     remeasure : bool
         Measure the efficiency again even when an earlier run with the same
         key measured it (a resumed run keeps the original figures otherwise).
+    seeds : int
+        Trucks: with more than one, a campaign per seed (``seed`` on) in
+        ``out_dir/seed-K`` and the pooled results in ``out_dir``
+        (:mod:`artic.validation.campaign.seeds`).
+    closing : bool
+        Print the closing tables and where the report is.
 
     Returns
     -------
     dict
         Result files by name.
     """
+    if seeds < 1:
+        raise ValueError(f"--seeds {seeds}: a campaign needs at least one truck")
+    jobs = jobs or os.cpu_count() or 1
+    if seeds > 1:
+        from artic.validation.campaign.seeds import run_seeds
+
+        return run_seeds(out_dir, seeds, seed, models=models, jobs=jobs, only=only, gain=gain,
+                         sweep_models=sweep_models, recordings=recordings, executor=executor,
+                         scheduler=scheduler, dask=dask, truth=truth, remeasure=remeasure)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    jobs = jobs or os.cpu_count() or 1
-    key = fingerprint.key(seed, list(models), gain, only, truth)
+    models = tuple(names() if models is None else models)
+    # A registered model's code is not artic's: its own fingerprint joins the key.
+    outside = {m: c for m in models if (c := code_of(m))}
+    key = fingerprint.key(seed, list(models), gain, only, truth, *([outside] if outside else []))
     state = _saved_timings(out_dir, key)
     if remeasure:
         state["efficiency"] = None
@@ -367,7 +398,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] = NAMES, seed: int = 0,
         stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
                         f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}")
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
-                           key, stage, truth, state)
+                           key, stage, truth, state, closing)
 
 
 def _saved_timings(out_dir: Path, key: str) -> dict:
@@ -384,7 +415,7 @@ def _saved_timings(out_dir: Path, key: str) -> dict:
 
 
 def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
-                stage, truth, state) -> dict[str, Path]:
+                stage, truth, state, closing=True) -> dict[str, Path]:
     from artic.validation.campaign import report as rep
     from artic.validation.campaign.efficiency import measure
     from artic.validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
@@ -412,6 +443,9 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         vehicles = _tuned_vehicles(out_dir, tuned, seed)
         tuning_logs = {n for part in tuned["loads"].values() for n in part["logs"]}
         paths["tuning"] = out_dir / "tuning.json"
+    validated = [log for log in logs if log.name not in tuning_logs]
+    scale = campaign_scale(validated)  # one scale for every row of eps_n_fixed
+    paths["eps_n_fixed_scale"] = write_scale(scale, out_dir / SCALE_FILE)
     with stage("validation"):
         parts = []
         for load in LOADS:
@@ -421,13 +455,13 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                            out_dir=out_dir, progress=stderr_progress,
                                            reuse_key=f"{key}.{load}", jobs=jobs,
-                                           executor=pool, label=f"validation, {load}"))
+                                           executor=pool, label=f"validation, {load}",
+                                           scale=scale))
         stage.reused(all(p.attrs.get("reused") == len(p) for p in parts))
         metrics = pd.concat(parts, ignore_index=True)
     load_of = {log.name: log.meta.get("load") for log in logs}
     with stage("references"):
-        validated = [log for log in logs if log.name not in tuning_logs]
-        floor = _floor(out_dir, validated, seed, truth, gain, key, jobs, pool)
+        floor = _floor(out_dir, validated, seed, truth, gain, key, jobs, pool, scale)
         all_reused = floor.attrs.get("reused") == len(floor)
         metrics = pd.concat([metrics, floor], ignore_index=True)
         metrics["load"] = metrics["log"].map(load_of)
@@ -435,7 +469,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         vs_plant = None
         if "mbd" in models:
             reduced = [m for m in models if m != "mbd"]
-            vs_plant = _versus_plant(out_dir, validated, vehicles, reduced, gain, key, jobs)
+            vs_plant = _versus_plant(out_dir, validated, vehicles, reduced, gain, key, jobs,
+                                     scale)
             if vs_plant is not None:
                 all_reused = all_reused and vs_plant.attrs.get("reused") == len(vs_plant)
                 vs_plant["load"] = vs_plant["log"].map(load_of)
@@ -458,6 +493,17 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
             paths["table3_vs_plant"], _ = write_table(
                 reverse_p, out_dir / "table3_vs_plant",
                 "Reverse driving against the plant as reference (Table 3 columns)")
+        paired = {"forward": paired_table(metrics, "forward"),
+                  "reverse": paired_table(metrics, "reverse")}
+        if vs_plant is not None:
+            paired["forward_vs_plant"] = paired_table(vs_plant, "forward")
+            paired["reverse_vs_plant"] = paired_table(vs_plant, "reverse")
+        for name, pairs in paired.items():
+            if len(pairs):
+                paths[f"paired_{name}"], _ = write_table(
+                    pairs.set_index("criterion"), out_dir / f"paired_{name}",
+                    f"Paired comparisons, {name.replace('_vs_plant', ', against the plant')}",
+                    paired_markdown(pairs))
         per_load = {}
         for load in LOADS:
             part = metrics[metrics["load"] == load]
@@ -510,7 +556,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         reverse=reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep, stages=stage.times,
         fingerprint=fingerprint.code(), version=_version(), per_load=per_load,
         files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
-        forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth)
+        forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth,
+        metrics_vs_plant=vs_plant, paired=paired)
     with stage("report"):
         stage.reused(stage.all_reused())
         draft = rep.render(results)  # the summary recording's copy, before the last timing
@@ -522,12 +569,13 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     text = rep.render(results)
     paths["report"] = atomic_write_text(out_dir / "report.md", text)
     failed = metrics[[is_failed(st) for st in metrics["status"]]]
-    print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed)))
+    if closing:
+        print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed)))
     return paths
 
 
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
-           jobs: int, pool) -> pd.DataFrame:
+           jobs: int, pool, scale: dict | None = None) -> pd.DataFrame:
     """The truth's own plant against the logs: the ``floor`` rows of the tables against logs."""
     from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
 
@@ -538,18 +586,19 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
 
     return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
-                         executor=pool, label="references, the truth's plant")
+                         executor=pool, label="references, the truth's plant", scale=scale)
 
 
 def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
                   models: Sequence[str], gain: float, key: str,
-                  jobs: int) -> pd.DataFrame | None:
+                  jobs: int, scale: dict | None = None) -> pd.DataFrame | None:
     """KIN and STM against the plant's runs of the same manoeuvres, the plant as reference.
 
     The plant's run of a log (``runs/LOG.mbd.parquet``) becomes the reference
     log: its signals, the log's steering wheel and speed, and the log's
     metadata. It ran forward open loop and in reverse under the harness; the
-    reduced models run through the same harness against it.
+    reduced models run through the same harness against it. ``eps_n_fixed``
+    uses ``scale``, the measured logs' (the same unit as against the logs).
     """
     from artic.validation.logs.schema import COLUMNS
 
@@ -567,7 +616,8 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
             parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                        out_dir=out_dir / "vs_plant", progress=stderr_progress,
                                        reuse_key=f"{key}.{load}.vs_plant", jobs=jobs,
-                                       label=f"references, {load}, against the plant"))
+                                       label=f"references, {load}, against the plant",
+                                       scale=scale))
     if not parts:
         return None
     out = pd.concat(parts, ignore_index=True)
@@ -600,7 +650,8 @@ def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFram
     """The gain sweep of an earlier run with the same key and models, if any."""
     path = out_dir / "gain_sweep.json"
     saved = _read_json(path)
-    if saved is None or saved.get("key") != key or saved.get("models") != list(models):
+    if saved is None or saved.get("key") != key or saved.get("models") != list(models) \
+            or not isinstance(saved.get("K_min"), dict):
         return None
     stderr_progress(f"gain sweep reused from {path}")
     sweep = pd.DataFrame(saved["rows"])

@@ -119,7 +119,10 @@ class _Geometry:
                              (o.trailer_front - o.trailer_rear) / 2, o.width / 2)
         self.s1 = np.array(v.sensor1[:2])
         self.s2 = np.array(v.sensor2[:2])
-        self.R0 = read_tir(v.tyre_file).number("UNLOADED_RADIUS")
+        # Drawn wheels: the tyre file's radius; a truck wheel's half metre at the vehicle's
+        # scale for a scale model without tyre data (a drawing only, no model uses it).
+        self.R0 = (read_tir(v.tyre_file).number("UNLOADED_RADIUS") if v.tyre_file
+                   else 0.5 * v.length_ratio)
 
         def wheels(axles):
             c = [[a.x, side * a.track / 2, self.R0] for a in axles for side in (1, -1)]

@@ -17,12 +17,34 @@ from datetime import UTC, datetime
 import numpy as np
 import pandas as pd
 
-from artic.validation.campaign.tables import PAPER_FORWARD, PAPER_REVERSE, markdown, versus_paper
+from artic.validation.campaign.rankings import (
+    excess_text,
+    label,
+    lowest,
+    ranking_text,
+)
+from artic.validation.campaign.tables import (
+    EXTRA_COLUMNS,
+    PAPER_FORWARD,
+    PAPER_REVERSE,
+    excess,
+    markdown,
+    paired_markdown,
+    paired_table,
+    versus_paper,
+)
+from artic.validation.criteria.statistics import Interval, format_ci
 
 
 @dataclass
 class CampaignResults:
-    """What the report is made from."""
+    """What the report is made from.
+
+    ``paired`` holds the paired comparisons by ``forward``, ``reverse``,
+    ``forward_vs_plant`` and ``reverse_vs_plant``, and ``excess`` the excess
+    over the floor by direction; what is missing is computed from
+    ``metrics`` and ``metrics_vs_plant``.
+    """
 
     seed: int
     models: tuple[str, ...]
@@ -41,43 +63,86 @@ class CampaignResults:
     forward_vs_plant: pd.DataFrame | None = None
     reverse_vs_plant: pd.DataFrame | None = None
     truth: str = "structural"
+    metrics_vs_plant: pd.DataFrame | None = None
+    paired: dict[str, pd.DataFrame] = field(default_factory=dict)
+    excess: dict[str, pd.DataFrame] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for d in ("forward", "reverse"):
+            if d not in self.paired and len(self.metrics):
+                self.paired[d] = paired_table(self.metrics, d)
+            if d not in self.excess and len(self.metrics):
+                self.excess[d] = excess(self.metrics, d)
+            key = f"{d}_vs_plant"
+            if key not in self.paired and self.metrics_vs_plant is not None:
+                self.paired[key] = paired_table(self.metrics_vs_plant, d)
 
 
-FLOOR = "floor"
-"""The reference row of the truth's own plant (see :mod:`artic.validation.campaign.main`)."""
+KEY_CRITERIA = {"forward": ("eps_n", "eps_p"), "reverse": ("eps_n", "J_steer")}
+"""The paper's criteria the discussion ranks by, per direction."""
+
+STATISTICS = (
+    "**Statistics.** One seed of the synthetic campaign is one truck, and its "
+    "manoeuvres are repeated measurements of it. Every mean carries its 95 % confidence "
+    "interval over manoeuvres: a seeded BCa bootstrap at Hesterberg's expanded level "
+    "(Student's t below 8 values; see `validation/criteria/statistics.py`), printed as "
+    "value ± half-width, or [lo, hi] where the interval is skewed, with only the digits "
+    "the interval supports. Two models are compared paired per manoeuvre: the mean of "
+    "their differences on the same logs, with its interval; a ranking is stated only "
+    "where that interval excludes zero, and \"not resolved\" otherwise. The `_lo` and "
+    "`_hi` columns of the CSV tables hold the exact bounds; `paired_*.csv` every pair "
+    "and criterion.")
 
 
-def _rank(table: pd.DataFrame, col: str) -> list[tuple[str, float]]:
-    s = table.drop(index=FLOOR, errors="ignore")[col].dropna().sort_values()
-    return list(zip(s.index, s.to_numpy(), strict=True))
+def _extras(pairs: pd.DataFrame | None) -> list[str]:
+    """The criteria beyond the paper's that a paired table has."""
+    if pairs is None or pairs.empty:
+        return []
+    return [c for c in EXTRA_COLUMNS if c in set(pairs["criterion"])]
 
 
-def _gaps(table: pd.DataFrame, col: str = "eps_n") -> str:
-    """Each model's ``col`` above the floor row, as text."""
-    if FLOOR not in table.index:
-        return ""
-    floor = float(table.loc[FLOOR, col])
-    return ", ".join(f"{m.upper()} {float(table.loc[m, col]) - floor:+.3g}"
-                     for m, _ in _rank(table, col))
+def _value(table: pd.DataFrame, model: str, col: str) -> str:
+    """One table entry with its interval, as text."""
+    row = table.loc[model]
+    n = int(row[f"{col}_n"]) if f"{col}_n" in row and pd.notna(row[f"{col}_n"]) \
+        else int(row["n"])
+    return format_ci(Interval(float(row[col]), float(row[f"{col}_lo"]), float(row[f"{col}_hi"]),
+                              n, ""))
 
 
-def _ranking_text(table: pd.DataFrame, col: str, unit: str) -> str:
-    return ", then ".join(f"{m.upper()} ({v:.3g} {unit})" for m, v in _rank(table, col))
+def headline(r: CampaignResults) -> list[str]:
+    """The excess over the floor, paired per manoeuvre: the model-form error."""
+    out = []
+    for name in ("forward", "reverse"):
+        ex = r.excess.get(name)
+        if ex is None or ex.empty:
+            continue
+        crit = KEY_CRITERIA[name]
+        text = "; ".join(f"{c} {excess_text(ex, c)}" for c in crit if c in ex)
+        out += [f"**{name.capitalize()}**, above the floor: {text}.", "", markdown(ex), ""]
+    if not out:
+        return []
+    return [
+        "## Model-form error: the excess over the floor", "",
+        "The floor is the truth's own plant, built from its vehicle files, through the same "
+        "harness against the same logs: what sensor noise, the harness and whatever the "
+        "floor leaves out of the truth cost however good a model is. Each model's criteria "
+        "minus the floor's on the same manoeuvre, averaged over the manoeuvres, with the "
+        "95 % interval of that mean: the headline figure of model-form error.", "", *out]
 
 
 def discussion(r: CampaignResults) -> list[str]:
     """The paragraphs that compare models and set the results against the paper's."""
     out = []
     fwd, rev = r.forward, r.reverse
-    if len(fwd):
-        best = _rank(fwd, "eps_n")[0][0]
-        text = (f"**Forward.** By eps_n the ranking is {_ranking_text(fwd, 'eps_n', '%')}; by "
-                f"eps_p it is {_ranking_text(fwd, 'eps_p', 'm')}. {best.upper()} is the most "
-                "accurate forward model here; the paper found MBD best (4.83 %), then STM "
-                "(5.9 %) and KIN (9.26 %).")
+    pf, pr = r.paired.get("forward"), r.paired.get("reverse")
+    if len(fwd) and pf is not None:
+        text = (f"**Forward.** By eps_n: {ranking_text(pf, 'eps_n')}. By eps_p: "
+                f"{ranking_text(pf, 'eps_p')}. The paper found MBD best (4.83 %), then STM "
+                "(5.9 %) and KIN (9.26 %), as means without intervals.")
         f_fit = [p["fitted"]["stm"]["f"] for p in r.tuned.values() if "stm" in p["fitted"]]
         truth = next((p["truth"] for p in r.tuned.values() if p["truth"]), None)
-        if "mbd" in fwd.index and best != "mbd" and f_fit and truth:
+        if "mbd" in fwd.index and lowest(pf, "eps_n") != "mbd" and f_fit and truth:
             text += (" The multibody model's tyres are not tuned (the paper, too, tuned its "
                      "MBD only a little), while the truth's lateral stiffness is "
                      f"{truth['LKY']:.2f} times the tyre file's; the STM's fitted f ("
@@ -85,58 +150,49 @@ def discussion(r: CampaignResults) -> list[str]:
                      "presets' 6) absorbs such a difference, the plant's steering ratio only "
                      "partly.")
         out.append(text)
-    if len(rev):
-        best = _rank(rev, "eps_n")[0][0]
-        steer = _rank(rev, "J_steer")
+    if len(rev) and pr is not None:
         out.append(
-            f"**Reverse.** By eps_n the ranking is {_ranking_text(rev, 'eps_n', '%')}, so "
-            f"{best.upper()} is the most accurate reversing model here (the paper: STM, "
-            f"27.7 %). The steering-effort ranking J_steer is "
-            f"{_ranking_text(rev, 'J_steer', '%')}: {steer[0][0].upper()} needs the least "
-            "correction from the harness to follow the measured articulation (the paper: STM "
-            "21.15 %, MBD 26.14 %, KIN 26.96 %). A model whose articulation dynamics match "
-            "the truck's needs little feedback, so J_steer ranks the models' reversing "
-            "dynamics directly, independent of the gain's size as long as the loop is stable.")
+            f"**Reverse.** By eps_n: {ranking_text(pr, 'eps_n')} (the paper: STM lowest, "
+            f"27.7 %). By the steering effort J_steer: {ranking_text(pr, 'J_steer')} (the "
+            "paper: STM 21.15 %, MBD 26.14 %, KIN 26.96 %). A model whose articulation "
+            "dynamics match the truck's needs little feedback, so J_steer ranks the models' "
+            "reversing dynamics directly, independent of the gain's size as long as the loop "
+            "is stable.")
+    for name, pairs in (("forward", pf), ("reverse", pr)):
+        extras = _extras(pairs)
+        if extras:
+            out.append(f"**Beyond the paper's criteria, {name}.** "
+                       + " ".join(f"By {c}: {ranking_text(pairs, c)}." for c in extras))
     if len(fwd) and set(fwd.index) & set(PAPER_FORWARD.index):
-        vs = versus_paper(fwd, PAPER_FORWARD)
-        ratio = vs[[c for c in vs.columns if c.endswith("ratio")]]
         out.append(
-            "**Against the paper's Table 2.** Our forward errors are "
-            f"{np.nanmin(ratio.to_numpy()):.2g} to {np.nanmax(ratio.to_numpy()):.2g} times the "
-            "paper's. The measurement here is synthetic: artic's multibody plant in a "
-            f"{r.truth} truth configuration (see `validation/synthetic/truth.py`) with "
-            "modelled sensors. What real logs add and these lack: a real tyre's temperature "
-            "dependence, frame compliance, grip variation and GNSS multipath. The "
-            "position error eps_p of open-loop forward runs grows with the drift of heading, "
-            "which those effects dominate on a real truck; it is therefore the criterion "
-            "furthest from the paper's.")
-    for name, table in (("forward", fwd), ("reverse", rev)):
-        if len(table) and FLOOR in table.index:
-            out.append(
-                f"**Above the floor, {name}.** The floor row is the truth's own plant, built "
-                "from its vehicle files, through the same harness against the same logs: "
-                f"eps_n {float(table.loc[FLOOR, 'eps_n']):.3g} %. It is what sensor noise, "
-                "the steering column's play and drift, the clock skew and the harness leave "
-                "however good a model is. Each model's eps_n above it, its model-form error "
-                f"in percentage points: {_gaps(table)}.")
+            "**Against the paper's Table 2.** Our forward means over the paper's, "
+            f"{_ratio_range(versus_paper(fwd, PAPER_FORWARD))}. The measurement here is "
+            f"synthetic: artic's multibody plant in a {r.truth} truth configuration (see "
+            "`validation/synthetic/truth.py`) with modelled sensors. What real logs add and "
+            "these lack: a real tyre's temperature dependence, frame compliance, grip "
+            "variation and GNSS multipath. The position error eps_p of open-loop forward "
+            "runs grows with the drift of heading, which those effects dominate on a real "
+            "truck; it is therefore the criterion furthest from the paper's.")
     for name, table, paper in (("forward", r.forward_vs_plant, "Table 2"),
                                ("reverse", r.reverse_vs_plant, "Table 3")):
-        if table is not None and len(table):
+        pairs = r.paired.get(f"{name}_vs_plant")
+        if table is not None and len(table) and pairs is not None:
+            second = "J_steer" if name == "reverse" else "eps_p"
             out.append(
                 f"**Against the plant as reference, {name}.** With the plant's runs of the "
                 "same manoeuvres as the reference (its " + paper + " columns in "
-                f"`{'table2' if name == 'forward' else 'table3'}_vs_plant`), the ranking by "
-                f"eps_n is {_ranking_text(table, 'eps_n', '%')}" + (
-                    f" and by J_steer {_ranking_text(table, 'J_steer', '%')}"
-                    if name == "reverse" else "") + ". This reference has no sensor noise "
-                "and shares the reduced models' tuned steering map's inputs, so it isolates "
-                "the difference of the model equations from the plant's.")
+                f"`{'table2' if name == 'forward' else 'table3'}_vs_plant`), by eps_n: "
+                f"{ranking_text(pairs, 'eps_n')}; by {second}: {ranking_text(pairs, second)}. "
+                "This reference has no sensor noise and shares the reduced models' tuned "
+                "steering map's inputs, so it isolates the difference of the model equations "
+                "from the plant's.")
     if len(rev) and set(rev.index) & set(PAPER_REVERSE.index):
         vs = versus_paper(rev, PAPER_REVERSE)
         out.append(
             "**Against the paper's Table 3.** Reverse eps_n here is "
-            + ", ".join(f"{m.upper()} {vs.loc[m, 'eps_n']:.3g} % (paper "
-                        f"{vs.loc[m, 'eps_n (paper)']:.3g} %)" for m in vs.index)
+            + ", ".join(f"{label(m)} {_value(rev, m, 'eps_n')} % " + (
+                f"(paper {vs.loc[m, 'eps_n (paper)']:.4g} %)" if m in PAPER_REVERSE.index
+                else "(not in the paper)") for m in vs.index)
             + ". The synthetic docking and parking runs come from a driver model that steers "
             "smoothly and stops at the dock; the paper's experienced driver shuffled and "
             "corrected more, and its reverse runs reached 40 to 45 deg of articulation on "
@@ -144,7 +200,7 @@ def discussion(r: CampaignResults) -> list[str]:
             "in both.")
     if r.efficiency is not None and "ratio_to_mbd" in r.efficiency:
         e = r.efficiency
-        parts = [f"{m.upper()}/MBD = {e.loc[m, 'ratio_to_mbd']:.3g} "
+        parts = [f"{label(m)}/MBD = {e.loc[m, 'ratio_to_mbd']:.2g} "
                  f"(paper {e.loc[m, 'paper_ratio']:.2g})" for m in e.index if m != "mbd"]
         out.append(
             "**Efficiency.** Wall time per simulated second, as ratios to the multibody "
@@ -152,7 +208,46 @@ def discussion(r: CampaignResults) -> list[str]:
             "plant steps MuJoCo with a compiled tyre callback, so the ratios compare "
             "implementations as much as models; the paper's figures (KIN 90 % and STM 60 % "
             "faster) compare its own implementations.")
+    out.append(STATISTICS)
     return out
+
+
+def _ratio_range(vs: pd.DataFrame) -> str:
+    """The smallest and largest of our-over-paper ratios, each with its interval and source."""
+    found = []
+    for m in vs.index:
+        for c in [c for c in vs.columns if c.endswith(" ratio")]:
+            v = float(vs.loc[m, c])
+            if np.isfinite(v):
+                iv = Interval(v, float(vs.loc[m, f"{c}_lo"]), float(vs.loc[m, f"{c}_hi"]),
+                              int(vs.loc[m, "n"]) if "n" in vs else 0, "")
+                found.append((v, f"{format_ci(iv)} ({label(m)} {c.removesuffix(' ratio')})"))
+    if not found:
+        return "not available"
+    found.sort()
+    return f"from {found[0][1]} to {found[-1][1]}"
+
+
+def paired_sections(r: CampaignResults) -> list[str]:
+    """The paired comparison tables of the key criteria, per reference and direction."""
+    lines = ["## Paired comparisons", "",
+             "Every two models on the same manoeuvres: the mean of a - b with its 95 % "
+             "interval, and whether the interval excludes zero (resolved). The key criteria "
+             "here; every criterion in `paired_forward.csv`, `paired_reverse.csv` and their "
+             "`_vs_plant` counterparts.", ""]
+    any_table = False
+    for key, title in (("forward", "Forward, against the logs"),
+                       ("reverse", "Reverse, against the logs"),
+                       ("forward_vs_plant", "Forward, against the plant"),
+                       ("reverse_vs_plant", "Reverse, against the plant")):
+        pairs = r.paired.get(key)
+        if pairs is None or pairs.empty:
+            continue
+        crit = [*KEY_CRITERIA[key.split("_")[0]], *_extras(pairs)]
+        part = pairs[pairs["criterion"].isin(crit)]
+        lines += [f"{title}:", "", paired_markdown(part), ""]
+        any_table = True
+    return lines if any_table else []
 
 
 def _tuning_text(r: CampaignResults) -> list[str]:
@@ -172,7 +267,7 @@ def _tuning_text(r: CampaignResults) -> list[str]:
         for m, fit in part["fitted"].items():
             if "i_s" in fit and "delta_h_offset" in fit:
                 recovered.append(
-                    f"{m.upper()} i_s {fit['i_s']:.4g} ({100 * (fit['i_s'] / i_s_true - 1):+.2f} "
+                    f"{label(m)} i_s {fit['i_s']:.4g} ({100 * (fit['i_s'] / i_s_true - 1):+.2f} "
                     f"%), offset {math.degrees(fit['delta_h_offset']):.3g} deg "
                     f"({math.degrees(fit['delta_h_offset'] - off_true):+.2f} deg)")
         lines += [
@@ -207,6 +302,7 @@ def render(r: CampaignResults) -> str:
         f"{platform.python_version()}; artic {r.version} (code {r.fingerprint}); seed "
         f"{r.seed}; models {', '.join(r.models)}; reversing feedback K = {r.gain:g}; "
         f"wall time {total:.0f} s.", "",
+        *headline(r),
         "## Discussion", "", *[p + "\n" for p in discussion(r)],
         "## Forward driving (the paper's Table 2)", "",
         "Mean over the forward manoeuvres not used for tuning. Forward, the harness's "
@@ -225,6 +321,9 @@ def render(r: CampaignResults) -> str:
                   "Forward (Table 2 columns):", "", markdown(r.forward_vs_plant), ""]
     if r.reverse_vs_plant is not None:
         lines += ["Reverse (Table 3 columns):", "", markdown(r.reverse_vs_plant), ""]
+    lines += paired_sections(r)
+    if r.per_load:
+        lines += ["## Per load condition, against the logs", ""]
     for load, table in r.per_load.items():
         lines += [f"### {load}", "", markdown(table), ""]
     lines += ["## Tuning", "",
@@ -237,12 +336,15 @@ def render(r: CampaignResults) -> str:
                   "construction apart); the fastest of repeated passes.", "",
                   markdown(r.efficiency), ""]
     if r.sweep is not None and len(r.sweep):
-        from artic.validation.campaign.gainsweep import sweep_table
+        from artic.validation.campaign.gainsweep import bounds_text, sweep_table
 
         lines += ["## Feedback gain sweep", "",
-                  f"Reverse manoeuvres at each K; the loop is stable only above "
-                  f"K_min = L1 / (L2 - L1c) = {r.sweep.attrs['K_min']:.3g} (the row marked "
-                  "'bound'). See `plots/gain_sweep.png`.", "",
+                  "Reverse manoeuvres at each K, means over them with their 95 % intervals. "
+                  "A model's loop is stable only above K_min = L1 / (L2 - L1c) from the "
+                  f"lengths it runs on: {bounds_text(r.sweep.attrs['K_min'])} (the rows "
+                  "marked 'bound'; KIN's equivalent wheelbases, and the STM's low-speed "
+                  "limit, see `validation/campaign/gainsweep.py`). See "
+                  "`plots/gain_sweep.png`.", "",
                   markdown(sweep_table(r.sweep)), ""]
     lines += ["## Wall time by stage", "",
               "| stage | wall [s] |", "|---|---|",

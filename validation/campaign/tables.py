@@ -1,22 +1,52 @@
-"""The summary tables: the paper's Table 2 (forward) and Table 3 (reverse).
+"""The summary tables: the paper's Table 2 (forward) and Table 3 (reverse), with intervals.
 
 Each table is the mean of the criteria per model over the manoeuvres of one
-direction, as the paper reports them. The paper's own values are kept here for
-comparison; they come from its Tables 2 and 3 (a Scania tractor with a
-tri-axle semitrailer on a test track, 17 forward and 33 reverse manoeuvres).
+direction, as the paper reports them, and beside each mean its 95 %
+confidence interval over manoeuvres
+(:func:`artic.validation.criteria.statistics.mean_ci`): in CSV the columns
+``col``, ``col_lo`` and ``col_hi``; in Markdown ``value ± half-width`` with
+only the digits the interval supports. The criteria beyond the paper's
+(:data:`EXTRA_COLUMNS`) join the tables whenever ``metrics.csv`` has them; a
+criterion defined only on some runs (the dock errors, on docking and parking)
+carries its own count ``col_n``.
+
+The paired tables compare every two models on the same manoeuvres: the mean
+per-manoeuvre difference with its interval, and whether it resolves the
+ranking (the interval excludes zero). With several trucks (``artic campaign
+--seeds N``) the pooled tables give the mean over seeds and manoeuvres with
+its interval over trucks, and the spread between trucks beside the spread
+between manoeuvres.
+
+The paper's own values are kept here for comparison; they come from its
+Tables 2 and 3 (a Scania tractor with a tri-axle semitrailer on a test track,
+17 forward and 33 reverse manoeuvres).
 """
 
 from __future__ import annotations
 
+import itertools
+import math
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
+from artic.validation.criteria import columns as extra
+from artic.validation.criteria.statistics import (
+    Interval,
+    format_ci,
+    mean_ci,
+    paired,
+)
 from artic.validation.logs.runfile import atomic_write, atomic_write_text
 
 FORWARD_COLUMNS = ("eps_a", "eps_v", "eps_p", "eps_n")
 REVERSE_COLUMNS = ("eps_a", "eps_v", "J_steer", "eps_n")
-UNITS = {"eps_a": "rad/s", "eps_v": "m/s", "eps_p": "m", "eps_n": "%", "J_steer": "%"}
+EXTRA_COLUMNS = extra.COLUMNS
+"""Criteria beyond the paper's, in the tables whenever a metrics table has values of them."""
+
+UNITS = {"eps_a": "rad/s", "eps_v": "m/s", "eps_p": "m", "eps_n": "%", "J_steer": "%",
+         **extra.UNITS}
 
 PAPER_FORWARD = pd.DataFrame(
     {"eps_a": [0.0064, 0.0049, 0.0037], "eps_v": [0.0431, 0.0211, 0.0159],
@@ -30,59 +60,359 @@ PAPER_REVERSE = pd.DataFrame(
     index=pd.Index(["kin", "stm", "mbd"], name="model"))
 """The paper's Table 3 (reverse driving)."""
 
+SPREADS = ("sd_trucks", "sd_manoeuvres")
+"""Suffixes of the pooled table's spread columns."""
+
+
+def _ok(metrics: pd.DataFrame) -> pd.DataFrame:
+    """The rows with results (status not ``failed: ...`` or ``refused: ...``)."""
+    if "status" not in metrics:
+        return metrics
+    return metrics[~metrics["status"].astype(str).str.startswith(("failed", "refused"))]
+
+
+def columns(metrics: pd.DataFrame, direction: str) -> list[str]:
+    """The criteria of one direction's table: the paper's, then the extras with values."""
+    cols = list(FORWARD_COLUMNS if direction == "forward" else REVERSE_COLUMNS)
+    part = metrics[metrics["direction"] == direction] if "direction" in metrics else metrics
+    for c in EXTRA_COLUMNS:
+        if c in part and pd.to_numeric(part[c], errors="coerce").notna().any():
+            cols.append(c)
+    return cols
+
+
+def _interval_columns(out: dict, c: str, iv: Interval, n: int) -> None:
+    out[c], out[f"{c}_lo"], out[f"{c}_hi"] = iv.mean, iv.lo, iv.hi
+    if iv.n != n:
+        out[f"{c}_n"] = iv.n
+
 
 def summary(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
-    """Mean criteria per model over one direction's manoeuvres, with their count ``n``.
+    """Mean criteria per model over one direction's manoeuvres, with intervals and count ``n``.
 
     Pairs without a result (status ``failed: ...`` or ``refused: ...``) are left out
     of the means and of ``n``; ``metrics.csv`` lists them.
+
+    Returns
+    -------
+    DataFrame
+        Indexed by model: per criterion ``col``, ``col_lo``, ``col_hi`` (95 %
+        interval over manoeuvres) and, where fewer runs have it than ``n``,
+        ``col_n``; then ``n``.
     """
-    cols = list(FORWARD_COLUMNS if direction == "forward" else REVERSE_COLUMNS)
-    ok = ~metrics["status"].astype(str).str.startswith(("failed", "refused")) \
-        if "status" in metrics else True
-    part = metrics[(metrics["direction"] == direction) & ok]
-    out = part.groupby("model", sort=False)[cols].mean()
-    out["n"] = part.groupby("model", sort=False).size()
+    cols = columns(metrics, direction)
+    part = _ok(metrics)
+    part = part[part["direction"] == direction]
+    rows = {}
+    for model, g in part.groupby("model", sort=False):
+        row: dict = {}
+        for c in cols:
+            _interval_columns(row, c, mean_ci(pd.to_numeric(g[c], errors="coerce")), len(g))
+        row["n"] = len(g)
+        rows[model] = row
+    out = pd.DataFrame.from_dict(rows, orient="index")
+    out = out[_ordered(out.columns, cols)] if len(out) else out
     out.index.name = "model"
     return out
 
 
+def _ordered(present, cols: list[str], tail: tuple[str, ...] = ("n",)) -> list[str]:
+    """``present`` columns grouped per criterion in ``cols`` order, then ``tail``."""
+    out = []
+    for c in cols:
+        out += [k for k in (c, f"{c}_lo", f"{c}_hi", f"{c}_n",
+                            *(f"{c}_{s}" for s in SPREADS)) if k in present]
+    return out + [k for k in present if k not in out and k in tail] + \
+        [k for k in present if k not in out and k not in tail]
+
+
+def _criterion_of(df: pd.DataFrame) -> dict[str, str]:
+    """Columns that are a criterion's bounds, counts or spreads, by the criterion they belong to."""
+    out = {}
+    for c in df.columns:
+        for suffix in ("_lo", "_hi", "_n", *(f"_{s}" for s in SPREADS)):
+            base = str(c).removesuffix(suffix)
+            if base != str(c) and base in df.columns:
+                out[c] = base
+    return out
+
+
+def cell(v: object, digits: int = 4) -> str:
+    """One value as table text: ``-`` for a missing number, never ``nan``."""
+    if isinstance(v, float | np.floating):
+        return "-" if not math.isfinite(v) else f"{v:.{digits}g}"
+    if isinstance(v, bool | np.bool_):
+        return "yes" if v else "no"
+    return str(v)
+
+
 def markdown(df: pd.DataFrame, digits: int = 4) -> str:
-    """A small frame as a Markdown table; units from :data:`UNITS` in the header."""
+    """A small frame as a Markdown table; units from :data:`UNITS` in the header.
+
+    A column ``c`` with ``c_lo`` and ``c_hi`` beside it prints as ``value ±
+    half-width`` (:func:`artic.validation.criteria.statistics.format_ci`), with
+    ``(n = k)`` where fewer runs than the row's ``n`` have it; its bound and
+    count columns are not printed. Other numbers print with ``digits``
+    significant digits; nothing prints as ``nan``.
+    """
+    hidden = _criterion_of(df)
+    shown = [c for c in df.columns if c not in hidden]
     head = [df.index.name or ""] + [f"{c} [{UNITS[c]}]" if c in UNITS else str(c)
-                                    for c in df.columns]
+                                    for c in shown]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    def cell(v) -> str:
-        if isinstance(v, float):
-            return "-" if pd.isna(v) else f"{v:.{digits}g}"
-        return str(v)
+
+    def text(row: pd.Series, c) -> str:
+        if f"{c}_lo" in hidden and f"{c}_hi" in hidden:
+            n_row = int(row["n"]) if "n" in row and pd.notna(row["n"]) else None
+            n = int(row[f"{c}_n"]) if f"{c}_n" in row and pd.notna(row[f"{c}_n"]) else n_row
+            s = format_ci(float(row[c]), float(row[f"{c}_lo"]), float(row[f"{c}_hi"]), n or 0)
+            return s + (f" (n = {n})" if n is not None and n != n_row and "(n" not in s
+                        and s != "-" else "")
+        return cell(row[c], digits)
 
     for idx, row in df.iterrows():
-        lines.append("| " + " | ".join([cell(idx), *map(cell, row)]) + " |")
+        lines.append("| " + " | ".join([cell(idx), *(text(row, c) for c in shown)]) + " |")
     return "\n".join(lines)
 
 
 def versus_paper(ours: pd.DataFrame, paper: pd.DataFrame) -> pd.DataFrame:
-    """Side by side: our value, the paper's, and their ratio, per model and criterion."""
+    """Side by side: our value with its interval, the paper's, and their ratio.
+
+    The paper's values carry no interval; the ratio's interval is ours over
+    the paper's value. Models the paper did not have (the floor) get no
+    paper columns (``-`` in Markdown, never ``nan``).
+    """
     rows = {}
     for model in ours.index:
         row = {}
         for c in paper.columns:
+            if c not in ours:
+                continue
             a = float(ours.loc[model, c])
-            b = float(paper.loc[model, c]) if model in paper.index else float("nan")
-            row[f"{c}"] = a
+            lo = float(ours.loc[model, f"{c}_lo"]) if f"{c}_lo" in ours else math.nan
+            hi = float(ours.loc[model, f"{c}_hi"]) if f"{c}_hi" in ours else math.nan
+            b = float(paper.loc[model, c]) if model in paper.index else math.nan
+            row[c], row[f"{c}_lo"], row[f"{c}_hi"] = a, lo, hi
             row[f"{c} (paper)"] = b
-            row[f"{c} ratio"] = a / b if b else float("nan")
+            ratio = f"{c} ratio"
+            row[ratio] = a / b if b else math.nan
+            row[f"{ratio}_lo"] = lo / b if b else math.nan
+            row[f"{ratio}_hi"] = hi / b if b else math.nan
+        if "n" in ours:
+            row["n"] = ours.loc[model, "n"]
         rows[model] = row
     out = pd.DataFrame.from_dict(rows, orient="index")
     out.index.name = "model"
     return out
 
 
-def write_table(df: pd.DataFrame, path_stem: Path, title: str) -> tuple[Path, Path]:
-    """Write ``STEM.csv`` and ``STEM.md`` atomically."""
+def _pivot(metrics: pd.DataFrame, direction: str, criterion: str,
+           by: tuple[str, ...] = ("log",)) -> pd.DataFrame:
+    """One criterion per manoeuvre (rows) and model (columns), results only."""
+    part = _ok(metrics)
+    part = part[part["direction"] == direction]
+    values = pd.to_numeric(part[criterion], errors="coerce")
+    return part.assign(_v=values).pivot_table(index=list(by), columns="model", values="_v",
+                                              aggfunc="first", sort=False, dropna=False)
+
+
+def _models(metrics: pd.DataFrame) -> list[str]:
+    return list(dict.fromkeys(metrics["model"]))
+
+
+def paired_table(metrics: pd.DataFrame, direction: str,
+                 criteria: list[str] | None = None) -> pd.DataFrame:
+    """Every pair of models compared on the same manoeuvres, per criterion.
+
+    Returns
+    -------
+    DataFrame
+        One row per (criterion, pair ``a``, ``b``): ``n`` (manoeuvres both
+        have), ``diff`` (mean of ``a - b``), ``diff_lo``, ``diff_hi`` (95 %
+        interval), ``resolved`` (the interval excludes zero) and ``lower``:
+        the model with the smaller error where resolved, ``not resolved``
+        otherwise. Smaller is better for every criterion.
+    """
+    criteria = criteria or columns(metrics, direction)
+    models = _models(metrics)
+    rows = []
+    for c in criteria:
+        if c not in metrics:
+            continue
+        table = _pivot(metrics, direction, c)
+        for a, b in itertools.combinations([m for m in models if m in table], 2):
+            p = paired(table[a].to_numpy(), table[b].to_numpy(), (a, b))
+            if p.diff.n == 0:
+                continue
+            rows.append({"criterion": c, "a": a, "b": b, "n": p.diff.n, "diff": p.diff.mean,
+                         "diff_lo": p.diff.lo, "diff_hi": p.diff.hi, "resolved": p.resolved,
+                         "lower": p.lower or "not resolved"})
+    return pd.DataFrame(rows, columns=["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi",
+                                       "resolved", "lower"])
+
+
+def paired_markdown(table: pd.DataFrame) -> str:
+    """A paired table in Markdown: ``a - b`` as ``value ± half-width`` in the criterion's unit."""
+    lines = ["| criterion | a | b | a - b | n | resolved | lower |",
+             "|---|---|---|---|---|---|---|"]
+    for r in table.itertuples(index=False):
+        unit = f" [{UNITS[r.criterion]}]" if r.criterion in UNITS else ""
+        diff = format_ci(r.diff, r.diff_lo, r.diff_hi, int(r.n))
+        extra = f" ({r.seeds_resolved} of {r.seeds} seeds alone)" \
+            if hasattr(r, "seeds_resolved") else ""
+        lines.append(f"| {r.criterion}{unit} | {r.a} | {r.b} | {diff} | {int(r.n)} | "
+                     f"{'yes' if r.resolved else 'no'}{extra} | {r.lower} |")
+    return "\n".join(lines)
+
+
+def differences(metrics: pd.DataFrame, direction: str, of: str = "floor") -> pd.DataFrame:
+    """Each model's criteria minus ``of``'s on the same manoeuvre (and seed), as metrics rows.
+
+    The rows keep ``log``, ``model``, ``direction`` and ``seed`` (if any), so
+    :func:`summary` and :func:`pooled` average them like criteria. Empty when
+    ``of`` has no rows.
+    """
+    part = _ok(metrics)
+    part = part[part["direction"] == direction]
+    keys = ["seed", "log"] if "seed" in part else ["log"]
+    crit = columns(metrics, direction)
+    ref = part[part["model"] == of].set_index(keys)[crit].apply(pd.to_numeric, errors="coerce")
+    if ref.empty:
+        return pd.DataFrame(columns=["log", "model", "direction", *crit])
+    rows = []
+    for model, g in part[part["model"] != of].groupby("model", sort=False):
+        vals = g.set_index(keys)[crit].apply(pd.to_numeric, errors="coerce")
+        common = vals.index.intersection(ref.index)
+        d = (vals.loc[common] - ref.loc[common]).reset_index()
+        d["model"], d["direction"] = model, direction
+        rows.append(d)
+    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame()
+
+
+def excess(metrics: pd.DataFrame, direction: str, floor: str = "floor") -> pd.DataFrame:
+    """Each model's criteria above the floor row's, paired per manoeuvre, with intervals.
+
+    Returns
+    -------
+    DataFrame
+        As :func:`summary`, of the per-manoeuvre differences model minus
+        floor (the floor left out). Empty without a floor row.
+    """
+    d = differences(metrics, direction, floor)
+    return summary(d, direction) if len(d) else pd.DataFrame()
+
+
+def by_seed(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
+    """:func:`summary` per seed (``metrics`` with a ``seed`` column), one row per (seed, model)."""
+    parts = []
+    for seed, g in metrics.groupby("seed", sort=True):
+        t = summary(g, direction)
+        t.insert(0, "seed", int(seed))
+        parts.append(t)
+    return pd.concat(parts) if parts else pd.DataFrame()
+
+
+def pooled(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
+    """The mean over seeds and manoeuvres, its interval over trucks, and both spreads.
+
+    ``metrics`` has a ``seed`` column (one truck per seed). Rows of one truck
+    share that truck, so they are not independent draws: the interval of the
+    pooled mean is taken over the trucks' own means (Student's t for fewer than
+    eight trucks, see :mod:`artic.validation.criteria.statistics`), which holds
+    for another truck drawn alike, and is wide with few trucks.
+
+    Returns
+    -------
+    DataFrame
+        Indexed by model: per criterion ``col`` (mean over every seed and
+        manoeuvre), ``col_lo``, ``col_hi`` (interval over trucks),
+        ``col_sd_trucks`` (standard deviation of the per-seed means) and
+        ``col_sd_manoeuvres`` (the pooled standard deviation of the manoeuvres
+        within a seed); ``n`` (runs) and ``seeds``.
+    """
+    cols = columns(metrics, direction)
+    part = _ok(metrics)
+    part = part[part["direction"] == direction]
+    rows = {}
+    for model, g in part.groupby("model", sort=False):
+        row: dict = {}
+        for c in cols:
+            v = pd.to_numeric(g[c], errors="coerce")
+            per_seed = v.groupby(g["seed"]).agg(["mean", "var", "count"])
+            per_seed = per_seed[per_seed["count"] > 0]
+            iv = mean_ci(per_seed["mean"].to_numpy())
+            row[c], row[f"{c}_lo"], row[f"{c}_hi"] = float(v.mean()), iv.lo, iv.hi
+            row[f"{c}_sd_trucks"] = float(per_seed["mean"].std(ddof=1)) \
+                if len(per_seed) > 1 else math.nan
+            dof = (per_seed["count"] - 1).clip(lower=0)
+            within = float((per_seed["var"].fillna(0) * dof).sum() / dof.sum()) \
+                if dof.sum() > 0 else math.nan
+            row[f"{c}_sd_manoeuvres"] = math.sqrt(within) if math.isfinite(within) else math.nan
+            if int(v.notna().sum()) != len(g):
+                row[f"{c}_n"] = int(v.notna().sum())
+        row["n"], row["seeds"] = len(g), int(g["seed"].nunique())
+        rows[model] = row
+    out = pd.DataFrame.from_dict(rows, orient="index")
+    out = out[_ordered(out.columns, cols, ("n", "seeds"))] if len(out) else out
+    out.index.name = "model"
+    return out
+
+
+def spread_markdown(table: pd.DataFrame) -> str:
+    """The pooled table's spreads: between trucks and between manoeuvres, per criterion."""
+    crits = [c for c in table.columns if f"{c}_sd_trucks" in table]
+    head = ["model"] + [f"{c} [{UNITS.get(c, '')}] trucks / manoeuvres" for c in crits]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for m, row in table.iterrows():
+        cells = [f"{cell(float(row[f'{c}_sd_trucks']), 2)} / "
+                 f"{cell(float(row[f'{c}_sd_manoeuvres']), 2)}" for c in crits]
+        lines.append("| " + " | ".join([str(m), *cells]) + " |")
+    return "\n".join(lines)
+
+
+def pooled_paired(metrics: pd.DataFrame, direction: str,
+                  criteria: list[str] | None = None) -> pd.DataFrame:
+    """:func:`paired_table` over several trucks: the per-seed mean differences, pooled.
+
+    The difference ``a - b`` is averaged per seed over the manoeuvres both
+    have; the interval is over those per-seed means (as in :func:`pooled`), and
+    decides ``resolved``. ``seeds_resolved`` counts the seeds whose own paired
+    comparison resolves it with the pooled sign.
+    """
+    criteria = criteria or columns(metrics, direction)
+    models = _models(metrics)
+    rows = []
+    for c in criteria:
+        if c not in metrics:
+            continue
+        table = _pivot(metrics, direction, c, by=("seed", "log"))
+        for a, b in itertools.combinations([m for m in models if m in table], 2):
+            d = (table[a] - table[b]).dropna()
+            if d.empty:
+                continue
+            per_seed = d.groupby(level="seed").mean()
+            iv = mean_ci(per_seed.to_numpy())
+            resolved = iv.excludes(0.0)
+            sign = np.sign(d.mean())
+            alone = sum(mean_ci(g.to_numpy()).excludes(0.0) and np.sign(g.mean()) == sign
+                        for _, g in d.groupby(level="seed"))
+            rows.append({"criterion": c, "a": a, "b": b, "n": len(d), "diff": float(d.mean()),
+                         "diff_lo": iv.lo, "diff_hi": iv.hi, "resolved": resolved,
+                         "lower": (a if sign < 0 else b) if resolved else "not resolved",
+                         "seeds_resolved": int(alone), "seeds": len(per_seed)})
+    return pd.DataFrame(rows, columns=["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi",
+                                       "resolved", "lower", "seeds_resolved", "seeds"])
+
+
+def write_table(df: pd.DataFrame, path_stem: Path, title: str,
+                text: str | None = None) -> tuple[Path, Path]:
+    """Write ``STEM.csv`` and ``STEM.md`` atomically.
+
+    ``text`` is the Markdown body if not :func:`markdown` of ``df``.
+    """
     path_stem = Path(path_stem)
     csv = atomic_write(path_stem.with_suffix(".csv"),
                        lambda p: df.to_csv(p, float_format="%.6g"))
-    md = atomic_write_text(path_stem.with_suffix(".md"), f"# {title}\n\n{markdown(df)}\n")
+    body = markdown(df) if text is None else text
+    md = atomic_write_text(path_stem.with_suffix(".md"), f"# {title}\n\n{body}\n")
     return csv, md

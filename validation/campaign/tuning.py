@@ -418,6 +418,10 @@ def tune_model(model: str, vehicle: Vehicle, logs: Sequence[Run], jobs: int = 1,
     obj.on_evaluation = report
     r0 = fun(z0)
     before = float(np.sum(r0 ** 2))
+    if not obj.bounds:  # a registered model that tunes nothing: its error as it is
+        return Fit(model=model, bounds=[], fitted={}, cost_before=before, cost_after=before,
+                   eps_n_before=obj.eps_n_of(r0), eps_n_after=obj.eps_n_of(r0),
+                   evaluations=obj.evaluations, wall_s=time.perf_counter() - t0)
     # KIN and STM: least_squares's own differences, each a compiled batch. The
     # plant: the same differences once, all columns' runs on the thread pool,
     # then Broyden's updates (ParallelJacobian).

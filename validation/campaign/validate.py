@@ -1,8 +1,12 @@
 """Validate models against logs: harness, criteria, tables.
 
 For each (log, model) pair the model runs through the closed-loop harness
-and the criteria of eqs. (8)-(10) compare it with the log. The results are
-one metrics row per pair and one run file per pair.
+and the criteria of eqs. (8)-(10) compare it with the log, with the criteria
+beyond the paper's (:mod:`artic.validation.criteria`): the articulation error,
+the noise-robust ``eps_n_fixed``, the open-loop prediction errors of reverse
+logs (the same model, reset at points along the log) and the dock errors of
+docking and parking runs. The results are one metrics row per pair and one
+run file per pair.
 
 A pair that fails (the plant diverges, the vehicle or tyre file is refused
 for that model, the steering map folds inside the log's range) does not stop
@@ -24,6 +28,12 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.criteria import columns as extra
+from artic.validation.criteria.articulation import eps_gamma
+from artic.validation.criteria.direction import direction_of
+from artic.validation.criteria.dock import dock_errors
+from artic.validation.criteria.fixedscale import Scale, campaign_scale, eps_n_fixed
+from artic.validation.criteria.prediction import prediction_errors
 from artic.validation.harness import DEFAULT_GAIN, run_closed_loop
 from artic.validation.logs.runfile import (
     META_KEY,
@@ -52,7 +62,8 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                   gain: float = DEFAULT_GAIN, out_dir: Path | None = None,
                   progress: Callable[[str], None] | None = None,
                   reuse_key: str | None = None, jobs: int = 1,
-                  executor: Executor | None = None, label: str = "validation") -> pd.DataFrame:
+                  executor: Executor | None = None, label: str = "validation",
+                  scale: Scale | None = None) -> pd.DataFrame:
     """Run every model on every log and compute the criteria.
 
     Parameters
@@ -84,13 +95,19 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         written here.
     label : str
         What the progress lines call this batch (a load condition, say).
+    scale : dict, optional
+        The fixed scale of ``eps_n_fixed``
+        (:func:`artic.validation.criteria.fixedscale.campaign_scale`); from
+        ``logs`` when not given. A campaign gives the one of all its logs.
 
     Returns
     -------
     DataFrame
-        One row per (log, model): ``log, model``, the criteria, ``s_max``,
-        ``status``, ``wall_s`` (the harness run, model construction excluded)
-        and ``duration_s`` (simulated time).
+        One row per (log, model): ``log, model``, the criteria and the
+        :data:`artic.validation.criteria.columns.COLUMNS`, ``s_max``,
+        ``status``, ``wall_s`` (the harness run, model construction and the
+        open-loop predictions excluded) and ``duration_s`` (simulated time).
+        ``attrs["scale"]`` holds the scale used.
     """
     names = [log.name for log in logs]
     dupes = sorted({n for n in names if names.count(n) > 1})
@@ -98,6 +115,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         raise ValueError(f"logs share the name(s) {', '.join(dupes)}; their results would "
                          "overwrite each other: rename the files")
     tasks = [(log, name) for log in logs for name in models]
+    if scale is None:
+        scale = campaign_scale(logs)
+
     def probe(task):
         return _reusable(*_where(out_dir, task[0], task[1], reuse_key, gain))
 
@@ -127,13 +147,15 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                 meta["accepted_checks"] = log.meta["accepted_checks"]
             if key is not None:
                 meta["key"] = key
-            meta["criteria"] = _criteria(log, run)
+            meta["criteria"] = _criteria(log, run, _resolve(vehicle, log))
             meta["rows"] = len(run.frame)
             if target is not None:
                 write_run(Run(_thin_extras(run.frame), meta), target)
         wall = float(meta["wall_s"])
         criteria = dict(meta["criteria"])
         duration = criteria.pop("duration_s")
+        criteria["eps_n_fixed"] = eps_n_fixed(criteria["eps_a"], criteria["eps_v"],
+                                              scale.get(direction_of(log)))
         row = {"log": log.name, "model": name, **criteria,
                "status": meta["status"], "wall_s": wall, "duration_s": duration,
                "direction": log.meta.get("direction", ""),
@@ -142,7 +164,11 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             notes = [meta["status"]] if meta["status"] != "ok" else []
             if meta.get("limited"):
                 notes.append("limited: " + meta["limited"])
-            counter.step(f"{log.name} / {name}: eps_n = {row['eps_n']:.1f} % ({wall:.1f} s)"
+            why = meta.get("prediction", {}).get("note", "")
+            if why and why != "not a reverse log":
+                notes.append("open-loop prediction: " + why)
+            counter.step(f"{log.name} / {name}: eps_n = {row['eps_n']:.1f} %, eps_gamma = "
+                         f"{np.degrees(row['eps_gamma']):.2f} deg ({wall:.1f} s)"
                          + "".join(f"; {n}" for n in notes), always=bool(notes))
         return row
 
@@ -155,7 +181,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         for log, name in longest_first:
             if (log.name, name) in reused:
                 continue
-            v = vehicle if isinstance(vehicle, Vehicle) else vehicle(log)  # pickles
+            v = _resolve(vehicle, log)  # pickles
             todo[(log.name, name)] = executor.submit(_simulate, name, log, v, gain)
         remote.update({k: f.result() for k, f in todo.items()})
         rows = [one(t) for t in tasks]
@@ -165,11 +191,17 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         rows = [done[i] for i in range(len(tasks))]
     else:
         rows = [one(t) for t in tasks]
-    cols = ["log", "model", "direction", "manoeuvre", *CRITERIA, "s_max", "status", "wall_s",
-            "duration_s"]
+    cols = ["log", "model", "direction", "manoeuvre", *CRITERIA, *extra.COLUMNS, "s_max",
+            "status", "wall_s", "duration_s"]
     out = pd.DataFrame(rows, columns=cols)
     out.attrs["reused"] = len(reused)
+    out.attrs["scale"] = scale
     return out
+
+
+def _resolve(vehicle: Vehicle | Callable[[Run], Vehicle], log: Run) -> Vehicle:
+    """The vehicle of ``log``'s models: ``vehicle`` itself, or its value for the log."""
+    return vehicle if isinstance(vehicle, Vehicle) else vehicle(log)
 
 
 def _duration(log: Run) -> float:
@@ -186,12 +218,23 @@ def _where(out_dir, log: Run, name: str, reuse_key: str | None,
     return target, key
 
 
-def _criteria(log: Run, run: Run) -> dict[str, float]:
-    """The criteria of a model run against its log, and the simulated time ``duration_s``."""
+def _criteria(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
+    """The criteria of a model run against its log, and the simulated time ``duration_s``.
+
+    The paper's, the articulation error, the dock errors and the open-loop
+    prediction errors the run brought in ``meta["prediction"]`` (see
+    :func:`_simulate`); ``eps_n_fixed`` needs the whole set's scale and is
+    added per row.
+    """
     t = log.frame["t"]
+    nan = {c: float("nan") for c in (*CRITERIA, *extra.COLUMNS) if c != "eps_n_fixed"}
     if is_failed(run.meta["status"]) or len(run.frame) < 2:
-        return {c: float("nan") for c in CRITERIA} | {"s_max": 0.0, "duration_s": 0.0}
+        return nan | {"s_max": 0.0, "duration_s": 0.0}
     out = {k: float(v) for k, v in run_metrics(log.frame, run.frame).items()}
+    out["eps_gamma"] = eps_gamma(log.frame, run.frame)
+    out |= dock_errors(log.frame, run.frame, vehicle, str(log.meta.get("manoeuvre", "")))
+    pred = run.meta.get("prediction", {})
+    out |= {c: float(pred.get(c, float("nan"))) for c in extra.COLUMNS if c.startswith("pred_")}
     return out | {"duration_s": float(t.iloc[len(run.frame) - 1] - t.iloc[0])}
 
 
@@ -227,6 +270,9 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     returned as a run without samples whose status says what failed (see the
     module docstring); nothing is raised for it. What the model had to limit
     (the plant's warnings) is in ``meta["limited"]`` as one line, not printed.
+    The same model then makes the open-loop predictions of a reverse log
+    (:func:`artic.validation.criteria.prediction.prediction_errors`), into
+    ``meta["prediction"]``; their wall time is there, not in the one returned.
     """
     from artic.validation.plantnotes import collect, summary
 
@@ -240,6 +286,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
                 t0 = time.perf_counter()
                 run = run_closed_loop(model, log, vehicle, gain)
                 wall = time.perf_counter() - t0
+                run.meta["prediction"] = _predict(model, log, vehicle)
             finally:
                 model.close()
     except (MemoryError, RecursionError):
@@ -254,6 +301,17 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     if notes:
         run.meta["limited"] = summary(notes)
     return run, wall
+
+
+def _predict(model, log: Run, vehicle: Vehicle) -> dict:
+    """:func:`prediction_errors`, or NaN with the reason when the model fails in one."""
+    try:
+        return prediction_errors(model, log, vehicle)
+    except (MemoryError, RecursionError):
+        raise
+    except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point
+        return {c: float("nan") for c in extra.COLUMNS if c.startswith("pred_")} | {
+            "note": f"failed: {_one_line(exc)}"}
 
 
 def _one_line(exc: BaseException) -> str:

@@ -7,5 +7,10 @@
   reported or refused with the file, the channel and the time;
 - :mod:`~artic.validation.logs.oxts`: OXTS-style unit CSVs, CAN CSVs and ``.mat``;
 - :mod:`~artic.validation.logs.importers`: ``artic logs import``, any source to a
-  canonical run.
+  canonical run;
+- :mod:`~artic.validation.logs.channels`, :mod:`~artic.validation.logs.channelmap`,
+  :mod:`~artic.validation.logs.bags`, :mod:`~artic.validation.logs.assemble`: CSVs,
+  ROS bags and MCAP files through channel maps, split at gaps, onto 100 Hz;
+- :mod:`~artic.validation.logs.differentiate`, :mod:`~artic.validation.logs.derive`:
+  what such a log lacks (rates from poses, one unit from the other).
 """

@@ -1,8 +1,11 @@
-"""Channel maps: logs with their own column names, units and time stamps.
+"""Mapped logs: a CSV, a ROS bag or an MCAP file through a channel map.
 
-``artic logs import LOG.csv --channels MAP.toml`` reads a CSV whose columns
-are not the accepted NCOM-style names. The map (TOML) names, for each
-canonical channel, the column that holds it and its unit:
+``artic logs import LOG --channels MAP.toml`` reads a log whose layout is not
+artic's own: a CSV with its own column names, units and time stamps, or a
+ROS 1 bag, a ROS 2 bag (sqlite3 or MCAP storage) or an MCAP file
+(:mod:`artic.validation.logs.bags`). The map (:mod:`artic.validation.logs.channelmap`)
+names, for each canonical channel, its column or its topic and field, and its
+unit:
 
 .. code-block:: toml
 
@@ -15,237 +18,124 @@ canonical channel, the column that holds it and its unit:
     x_1 = { column = "X", unit = "m" }
     gamma = { column = "hitch", unit = "deg", scale = -1.0 }
 
-Canonical channels: ``delta_h``; the tractor's ``x_1, y_1, psi_1, v_x_1,
-v_y_1, r_1`` (all required, in the schema's ISO axes at the tractor sensor
-of the vehicle file); and either the semitrailer's ``x_2 ... r_2`` or the
-articulation ``gamma`` (with ``gamma_rate`` if the log has it), from which
-:mod:`artic.validation.logs.derive` derives the semitrailer's. A channel's value is
-``unit * (scale * column + offset)``, with ``scale`` (default 1) and
-``offset`` (default 0, in the column's unit) for other signs and zeros.
-Units: ``s, ms``; ``m, cm, mm``; ``m/s, km/h, mph``; ``rad, deg``;
-``rad/s, deg/s``. Columns the map does not name (image paths, say) are left
-out, and the report says which.
-
-The time stamps may be irregular. The import runs the same checks and
-repairs as for exports (:mod:`artic.validation.logs.checks`): exact duplicates
-dropped, short NaN runs interpolated, time going back, gaps (longer than
-``max_gap`` in ``[time]``, by default 2.5 times the median interval) and GNSS
-jumps refused; then every channel is interpolated linearly onto the 100 Hz
-base, and the report says so. The importer then runs the consistency checks
-(:mod:`artic.validation.logs.consistency`: units, signs, the hitch) on the result.
+The channels then become canonical runs as
+:mod:`artic.validation.logs.assemble` describes: stamps checked, the log split
+at gaps into gap-free segments, every channel interpolated onto the 100 Hz
+base, and what the map does not name derived (a unit's rates from its pose,
+one unit from the other and ``gamma``, the steering from the yaw rate), each
+step a line of the report. The importer then runs the consistency checks
+(:mod:`artic.validation.logs.consistency`: units, signs, the hitch, jumps) on
+each segment.
 """
 
 from __future__ import annotations
 
-import math
-import tomllib
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
-from artic.mjcf.interface import wrap_angle
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.logs.checks import (
-    Report,
-    check_jumps,
-    clean_time,
-    fill_nan_runs,
-)
-from artic.validation.logs.derive import TRAILER, derive_trailer
-from artic.validation.logs.runfile import LogError, Run, check_frame
-from artic.validation.logs.schema import COLUMNS
+from artic.validation.logs import consistency
+from artic.validation.logs.assemble import RATE, Stream, assemble
+from artic.validation.logs.bags import is_bag, read_bag
+from artic.validation.logs.channelmap import DIMENSION, ChannelMap, read_map
+from artic.validation.logs.checks import Report
+from artic.validation.logs.derive import TRACTOR
+from artic.validation.logs.runfile import LogError, Run
+from artic.validation.logs.scale import FULL_SIZE, LogScale
 
-RATE = 100.0
-"""Sample rate of the canonical log [Hz]."""
-
-UNITS: dict[str, tuple[str, float]] = {
-    "s": ("time", 1.0), "ms": ("time", 1e-3),
-    "m": ("length", 1.0), "cm": ("length", 0.01), "mm": ("length", 1e-3),
-    "m/s": ("speed", 1.0), "km/h": ("speed", 1 / 3.6), "mph": ("speed", 0.44704),
-    "rad": ("angle", 1.0), "deg": ("angle", math.pi / 180),
-    "rad/s": ("rate", 1.0), "deg/s": ("rate", math.pi / 180),
-}
-"""Unit name to (dimension, factor to SI)."""
-
-TRACTOR = ("x_1", "y_1", "psi_1", "v_x_1", "v_y_1", "r_1")
-
-DIMENSION: dict[str, str] = {
-    "delta_h": "angle", "gamma": "angle", "gamma_rate": "rate",
-    **{f"{c}_{i}": d for i in (1, 2) for c, d in (("x", "length"), ("y", "length"),
-                                                  ("psi", "angle"), ("v_x", "speed"),
-                                                  ("v_y", "speed"), ("r", "rate"))},
-}
-"""Every channel a map may name, with its dimension."""
-
-ANGLES = ("delta_h", "psi_1", "psi_2", "gamma")
-"""Channels unwrapped before interpolation."""
+__all__ = ["RATE", "import_mapped", "map_context", "read_map", "tractor_only_map"]
 
 
-def _units_of(dim: str) -> str:
-    return ", ".join(u for u, (d, _) in UNITS.items() if d == dim)
-
-
-def read_map(path: Path | dict) -> dict:
-    """Read and check a channel map (a TOML file, or its data); see the module docstring.
-
-    Returns
-    -------
-    dict
-        ``time``: (column, factor); ``max_gap`` [s] or None; ``channels``:
-        channel to (column, factor, scale, offset).
-
-    Raises
-    ------
-    LogError
-        Naming the map file, the key and the fix.
-    """
-    if isinstance(path, dict):  # a map made here (see tractor_only_map)
-        data, path = path, "the canonical columns"
-    else:
-        path = Path(path)
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except FileNotFoundError as exc:
-            raise LogError(f"{path}: no such channel map") from exc
-        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-            raise LogError(f"{path}: cannot read as TOML ({exc})") from exc
-    unknown = sorted(set(data) - {"time", "channels"})
-    if unknown:
-        raise LogError(f"{path}: unknown section(s) {', '.join(unknown)}; a channel map has "
-                       "[time] and [channels]")
-
-    def entry(key: str, spec, dim: str) -> tuple[str, float, float, float]:
-        if not isinstance(spec, dict) or "column" not in spec or "unit" not in spec:
-            example = _units_of(dim).split(",")[0]
-            raise LogError(f"{path}: {key}: give a table with column and unit, for example "
-                           f'{key.split(".")[-1]} = {{ column = "NAME", unit = "{example}" }}')
-        allowed = {"column", "unit", "scale", "offset"} | ({"max_gap"} if key == "time" else set())
-        extra = sorted(set(spec) - allowed)
-        if extra:
-            raise LogError(f"{path}: {key}: unknown key(s) {', '.join(extra)}; use column, unit, "
-                           "scale, offset")
-        unit = str(spec["unit"])
-        if unit not in UNITS or UNITS[unit][0] != dim:
-            raise LogError(f"{path}: {key}: unit {unit!r} is not a unit of {dim}; use one of "
-                           f"{_units_of(dim)}")
-        try:
-            scale, offset = float(spec.get("scale", 1.0)), float(spec.get("offset", 0.0))
-        except (TypeError, ValueError) as exc:
-            raise LogError(f"{path}: {key}: scale and offset must be numbers") from exc
-        return str(spec["column"]), UNITS[unit][1], scale, offset
-
-    if "time" not in data:
-        raise LogError(f'{path}: missing [time]; add column = "..." and unit = "s"')
-    t_col, t_factor, _, _ = entry("time", data["time"], "time")
-    max_gap = data["time"].get("max_gap")
-    channels = data.get("channels", {})
-    bad = sorted(set(channels) - set(DIMENSION))
-    if bad:
-        raise LogError(f"{path}: channels.{bad[0]}: not a channel; the map can name "
-                       f"{', '.join(DIMENSION)}")
-    parsed = {c: entry(f"channels.{c}", spec, DIMENSION[c]) for c, spec in channels.items()}
-    missing = [c for c in ("delta_h", *TRACTOR) if c not in channels]
-    if missing:
-        raise LogError(f"{path}: [channels] is missing {', '.join(missing)}; a log needs the "
-                       "steering-wheel angle and the tractor's six channels")
-    has_trailer = all(c in channels for c in TRAILER)
-    if not has_trailer and "gamma" not in channels:
-        raise LogError(f"{path}: [channels] has neither the semitrailer's "
-                       f"{', '.join(TRAILER)} nor gamma (the articulation angle) to derive them")
-    return {"time": (t_col, t_factor), "max_gap": None if max_gap is None else float(max_gap),
-            "channels": parsed}
-
-
-def import_mapped(csv: Path, map_path: Path | dict,
-                  vehicle: Vehicle) -> tuple[Run, list[str]]:
-    """Import a CSV through a channel map onto the 100 Hz base.
+def import_mapped(path: Path, map_path: Path | dict, vehicle: Vehicle,
+                  accept: tuple[str, ...] = (),
+                  scale: LogScale = FULL_SIZE) -> tuple[list[Run], list[str]]:
+    """Import a CSV or a bag through a channel map onto the 100 Hz base.
 
     Parameters
     ----------
-    csv : Path
-        The log.
+    path : Path
+        The log: a CSV, a ``.bag``, a ROS 2 bag folder, an ``.mcap`` file.
     map_path : Path or dict
-        Its channel map (see the module docstring), or the map's data.
+        Its channel map, or the map's data.
     vehicle : Vehicle
-        Geometry for deriving the semitrailer's channels, when the log has
-        only the tractor's and the articulation angle.
+        Geometry for the derived unit, steering map for a derived ``delta_h``.
+    accept : tuple of str
+        Consistency checks accepted knowingly: ``gap`` interpolates across gaps
+        instead of splitting the log there; ``jump`` and ``velocity`` skip the
+        import's jump and velocity-unit checks (the canonical log's checks
+        still record them).
+    scale : LogScale
+        The vehicle's scale, for the jump distance and the limits of speeds
+        and yaw rates (:mod:`artic.validation.logs.scale`).
 
     Returns
     -------
-    run : Run
-        Canonical, 100 Hz, time from zero; ``meta["derived"]`` says which
-        channels were derived and how.
+    runs : list of Run
+        Canonical, 100 Hz, time from zero: one per gap-free segment
+        (``meta["segment"]`` when there are several); ``meta["derived"]``
+        says which channels were derived and how.
     report : list of str
-        Every repair, trim, resampling and derivation.
+        Every repair, trim, split, resampling and derivation.
     """
-    csv = Path(csv)
-    spec = read_map(map_path)
-    if isinstance(map_path, dict):
-        map_path = "the canonical columns"
+    path = Path(path)
+    chmap = read_map(map_path)
+    report = Report(str(path))
+    checks = {"accept": tuple(accept), "scale": scale, "ctx": map_context(path, chmap)}
+    bag = is_bag(path)
+    if bag != chmap.bag:
+        what = ("names CSV columns (column = ...) but the log is a ROS bag or MCAP file: give "
+                "topic and field" if bag else "names bag topics (topic, field) but the log is "
+                "not a ROS bag or MCAP file (.bag, .mcap, .db3, or a folder with metadata.yaml)")
+        raise LogError(f"{chmap.path}: the map {what}")
+    if bag:
+        streams, lines = read_bag(path, chmap)
+        for line in lines:
+            report.add(line)
+        runs = assemble(streams, chmap, vehicle, str(path), report, **checks)
+    else:
+        runs = assemble([_csv_stream(path, chmap, report)], chmap, vehicle, str(path), report,
+                        chmap.time_factor, **checks)
+    return runs, report.lines
+
+
+def map_context(path: Path | str, chmap: ChannelMap | Path | dict) -> consistency.Context:
+    """Names and declared units of a mapped log's channels, for the consistency messages.
+
+    Parameters
+    ----------
+    path : Path or str
+        The log.
+    chmap : ChannelMap, Path or dict
+        Its map, read or to read.
+    """
+    if not isinstance(chmap, ChannelMap):
+        chmap = read_map(chmap)
+    names = {c: f"{path}: {e.label}" for c, e in chmap.entries.items()}
+    units = {c: e.unit for c, e in chmap.entries.items() if e.unit != "quaternion"}
+    return consistency.Context(names, units, dict(consistency.CANONICAL.signs))
+
+
+def _csv_stream(csv: Path, chmap: ChannelMap, report: Report) -> Stream:
     try:
         raw = pd.read_csv(csv)
     except FileNotFoundError as exc:
         raise LogError(f"{csv}: no such file") from exc
     except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise LogError(f"{csv}: cannot read as CSV ({exc})") from exc
-    t_col, t_factor = spec["time"]
-    named = {t_col, *(c for c, _, _, _ in spec["channels"].values())}
+    named = {chmap.time_column, *(e.source for e in chmap.entries.values())}
     absent = [c for c in named if c not in raw.columns]
     if absent:
-        raise LogError(f"{csv}: column {absent[0]} (named in {map_path}) is not in the file; it "
-                       f"has {', '.join(map(str, raw.columns))}")
-    report = Report(str(csv))
+        raise LogError(f"{csv}: column {absent[0]} (named in {chmap.path}) is not in the file; "
+                       f"it has {', '.join(map(str, raw.columns))}")
     unused = [str(c) for c in raw.columns if c not in named]
     if unused:
         report.add(f"column(s) {', '.join(unused)} not in the channel map, left out")
-    raw = raw[[c for c in raw.columns if c in named]]
-    t_raw = pd.to_numeric(raw[t_col], errors="coerce").to_numpy(dtype=float)
-    finite = np.diff(t_raw[np.isfinite(t_raw)])
-    median_dt = float(np.median(finite[finite > 0])) if (finite > 0).any() else 0.0
-    max_gap = spec["max_gap"] if spec["max_gap"] is not None else 2.5 * median_dt * t_factor
-    raw = clean_time(raw, t_col, report, max_gap=max_gap / t_factor)
-    cols = [c for c, _, _, _ in spec["channels"].values()]
-    raw = fill_nan_runs(raw, list(dict.fromkeys(cols)), t_col, report)
-    t = raw[t_col].to_numpy(dtype=float) * t_factor
-    si = {name: factor * (scale * raw[col].to_numpy(dtype=float) + offset)
-          for name, (col, factor, scale, offset) in spec["channels"].items()}
-    for name in ANGLES:
-        if name in si:
-            si[name] = np.unwrap(si[name])
-    for i in (1, 2):
-        if f"psi_{i}" not in si:
-            continue
-        psi = si[f"psi_{i}"]
-        ve, vn = _world(psi, si[f"v_x_{i}"], si[f"v_y_{i}"])
-        check_jumps(t, si[f"x_{i}"], si[f"y_{i}"], ve, vn, report)
-    if len(t) < 2:
-        raise LogError(f"{csv}: fewer than two samples; the file may be truncated")
-    grid = t[0] + np.arange(int(math.floor((t[-1] - t[0]) * RATE + 1e-9)) + 1) / RATE
-    dt = np.diff(t)
-    report.add(f"{len(t)} samples at intervals of {dt.min():.3f} to {dt.max():.3f} s (median "
-               f"{float(np.median(dt)):.3f} s) interpolated linearly onto {RATE:g} Hz "
-               f"({len(grid)} samples)")
-    frame = {"t": grid - grid[0]}
-    frame.update({name: np.interp(grid, t, v) for name, v in si.items()})
-    meta: dict = {"source": "measured", "import": {"file": str(csv), "channels": str(map_path)}}
-    df = pd.DataFrame(frame)
-    if all(c in df for c in TRAILER):
-        df["gamma"] = wrap_angle(df["psi_1"].to_numpy() - df["psi_2"].to_numpy())
-    else:
-        if "gamma" not in df:  # pragma: no cover - read_map refuses it
-            raise LogError(f"{map_path}: no gamma")
-        rate = df["gamma_rate"].to_numpy() if "gamma_rate" in df else None
-        df, note = derive_trailer(df, vehicle, rate)
-        report.add(note)
-        meta["derived"] = {"channels": list(TRAILER), "vehicle": vehicle.name,
-                           "vehicle_path": str(vehicle.path), "note": note,
-                           "rate": "gamma_rate" if rate is not None else "d gamma / dt"}
-    df["gamma"] = wrap_angle(df["gamma"].to_numpy())
-    df = df[list(COLUMNS)]
-    check_frame(df, f"{csv} (imported through {map_path})")
-    meta["import"]["report"] = report.lines
-    return Run(df, meta), report.lines
+    sources = list(dict.fromkeys(e.source for e in chmap.entries.values()))
+    return Stream(name=f"column {chmap.time_column}",
+                  t=pd.to_numeric(raw[chmap.time_column], errors="coerce").to_numpy(float),
+                  raw={s: raw[s].to_numpy() for s in sources},
+                  entries=list(chmap.entries.values()))
 
 
 def tractor_only_map(csv: Path) -> dict:
@@ -259,8 +149,3 @@ def tractor_only_map(csv: Path) -> dict:
     si = {"time": "s", "length": "m", "angle": "rad", "speed": "m/s", "rate": "rad/s"}
     return {"time": {"column": "t", "unit": "s"},
             "channels": {c: {"column": c, "unit": si[DIMENSION[c]]} for c in names}}
-
-
-def _world(psi: np.ndarray, vx: np.ndarray, vy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    c, s = np.cos(psi), np.sin(psi)
-    return c * vx - s * vy, s * vx + c * vy

@@ -156,7 +156,7 @@ def fill_nan_runs(df: pd.DataFrame, columns: list[str], time: str,
 
 
 def check_jumps(t: np.ndarray, x: np.ndarray, y: np.ndarray, vx: np.ndarray, vy: np.ndarray,
-                report: Report) -> None:
+                report: Report, max_jump: float = MAX_JUMP) -> None:
     """Refuse position steps the velocity cannot explain (GNSS jumps).
 
     Parameters
@@ -165,12 +165,15 @@ def check_jumps(t: np.ndarray, x: np.ndarray, y: np.ndarray, vx: np.ndarray, vy:
         Position in the local plane [m].
     vx, vy : ndarray
         Velocity in the same plane [m/s].
+    max_jump : float
+        Largest step accepted [m]: :data:`MAX_JUMP`, scaled with the vehicle
+        (:mod:`artic.validation.logs.scale`).
     """
     dt = np.diff(t)
     step = np.hypot(np.diff(x) - 0.5 * (vx[1:] + vx[:-1]) * dt,
                     np.diff(y) - 0.5 * (vy[1:] + vy[:-1]) * dt)
-    if step.size and step.max() > MAX_JUMP:
+    if step.size and step.max() > max_jump:
         i = int(np.argmax(step))
         raise LogError(f"{report.source}: position jumps {step[i]:.2f} m at t = {t[i + 1]:g} s "
-                       f"more than the velocity explains (limit {MAX_JUMP} m): a GNSS jump; "
-                       "cut the run there or correct the position")
+                       f"more than the velocity explains (limit {max_jump:.3g} m): a GNSS jump; "
+                       "cut the run there or correct the position, or pass --accept jump")

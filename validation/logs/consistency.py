@@ -40,6 +40,13 @@ the likely cause when they disagree:
     sensors must put the hitch at one point. Fitted freely (the hitch's
     position in each unit is estimated) and, with a vehicle, with the
     vehicle file's sensor positions and ``L1c``.
+``articulation``
+    On a log whose semitrailer is derived from the tractor and ``gamma``
+    (where the hitch check cannot fail), the sign of ``gamma``: over
+    :data:`YAW_WINDOW` windows its change must follow the kinematic trailer
+    equation ``gamma' = r_1 (1 - L1c cos(gamma) / L2) - u_1 sin(gamma) / L2``,
+    driven by the tractor's measured speed and yaw rate, and not its mirror,
+    the same equation for ``-gamma``, in which the yaw-rate term changes sign.
 
 Each check returns nothing or one :class:`Finding`. :func:`check_log` raises a
 :class:`~artic.validation.logs.runfile.LogError` for the first finding that the
@@ -47,6 +54,10 @@ caller did not accept (``--accept CHECK``), and returns the accepted ones as
 lines for the run's metadata. A check with too little motion to judge (a
 log standing still, a straight run for the yaw rate) passes: its noise floor
 is stated with each window size below.
+
+The distances and speeds below are the full-size ones; with a vehicle of the
+``scale-model`` class they scale with its size and speed range
+(:mod:`artic.validation.logs.scale`).
 """
 
 from __future__ import annotations
@@ -60,6 +71,7 @@ import pandas as pd
 
 from artic.validation.logs.checks import MAX_GAP, MAX_JUMP
 from artic.validation.logs.runfile import LogError
+from artic.validation.logs.scale import FULL_SIZE, LogScale
 
 CHECKS: dict[str, str] = {
     "gap": "no time step longer than the longest gap accepted",
@@ -69,6 +81,8 @@ CHECKS: dict[str, str] = {
     "jump": "position steps the velocity does not explain",
     "steering": "steering wheel against the steering map's reach and the observed curvature",
     "hitch": "semitrailer against tractor through one hitch point",
+    "articulation": "articulation change against the kinematic trailer equation, driven by the "
+                    "tractor's speed and yaw rate (logs whose semitrailer is derived)",
 }
 """Every check by the name ``--accept`` takes, in the order they run."""
 
@@ -136,6 +150,17 @@ HITCH_RMS = 0.25
 HITCH_RMS_VEHICLE = 0.5
 """The same with the vehicle file's sensor positions and ``L1c`` [m]."""
 
+ARTICULATION_FLOOR = 0.02
+"""Least RMS over the windows of the yaw-rate term's articulation change that is judged
+[rad]: what a hitch-angle sensor with 0.8 deg of noise (camera-based ones reach 0.6-0.8 deg
+RMS) shows between two samples. A log that turns less cannot tell the sign."""
+
+ARTICULATION_MIRROR = 0.5
+"""The mirror must fit at least twice as well (RMS misfit) for a refusal. A flipped sign
+puts twice the yaw-rate term into the logged fit's misfit; noise ``sigma`` per window then
+gives ``sqrt(sigma^2 + 4 a^2)`` against ``sigma``, past the ratio once the term's RMS ``a``
+exceeds ``0.9 sigma``. With the right sign the mirror's misfit is the larger one."""
+
 # Factors that mark a unit mistake, with their names.
 _DEG = math.degrees(1.0)
 _KPH = 3.6
@@ -202,7 +227,7 @@ CANONICAL = Context(
     signs={"r_1": "counter-clockwise positive", "r_2": "counter-clockwise positive",
            "psi_1": "counter-clockwise from x", "psi_2": "counter-clockwise from x",
            "delta_h": "left positive", "v_x_1": "forward positive",
-           "v_x_2": "forward positive"})
+           "v_x_2": "forward positive", "gamma": "tractor yaw minus semitrailer yaw"})
 """A log in the signal schema (SI, ISO 8855)."""
 
 
@@ -267,6 +292,8 @@ def explain(factor: float, col: str, ctx: Context, known_only: bool = False) -> 
         wrong = "km/h where m/s is expected"
     elif near(mag, 1.0 / _KPH) and unit == "m/s":
         wrong = "3.6 times too small (m/s divided by 3.6?)"
+    elif near(mag, 1.0 / _KPH) and unit == "km/h":
+        wrong = "m/s where km/h is expected"
     elif not near(mag, 1.0):
         wrong = f"{mag:.3g} times what the other channels imply"
     if known_only and wrong and not wrong.endswith("expected"):
@@ -325,7 +352,7 @@ def _fit(a: np.ndarray, b: np.ndarray) -> _Fit:
 
 
 def _course_change(t: np.ndarray, x: np.ndarray, y: np.ndarray, i0: np.ndarray,
-                   i1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                   i1: np.ndarray, scale: LogScale = FULL_SIZE) -> tuple[np.ndarray, np.ndarray]:
     """Course change of the track over each window, and which windows have one.
 
     The course at a sample is the direction of the chord from ``CHORD`` seconds
@@ -340,7 +367,7 @@ def _course_change(t: np.ndarray, x: np.ndarray, y: np.ndarray, i0: np.ndarray,
     lo = np.clip(np.arange(n) - h, 0, n - 1)
     hi = np.clip(np.arange(n) + h, 0, n - 1)
     cx, cy = x[hi] - x[lo], y[hi] - y[lo]
-    long_enough = np.hypot(cx, cy) >= CHORD_MIN
+    long_enough = np.hypot(cx, cy) >= scale.distance(CHORD_MIN)
     course = np.arctan2(cy, cx)
     step = np.concatenate([[0.0], np.angle(np.exp(1j * np.diff(course)))])
     cum = np.cumsum(step)
@@ -361,8 +388,9 @@ def check_gap(t: np.ndarray, max_gap: float = MAX_GAP) -> Finding | None:
                    "the log has a hole: cut the run there")
 
 
-def _turns(t: np.ndarray, df: pd.DataFrame, i: int, i0: np.ndarray,
-           i1: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _turns(t: np.ndarray, df: pd.DataFrame, i: int, i0: np.ndarray, i1: np.ndarray,
+           scale: LogScale = FULL_SIZE
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Per window: heading change, yaw-rate integral, track course change, which have a course.
 
     The course changes as the heading does plus the change of the sensor's
@@ -372,17 +400,18 @@ def _turns(t: np.ndarray, df: pd.DataFrame, i: int, i0: np.ndarray,
     psi = df[f"psi_{i}"].to_numpy(dtype=float)
     beta = np.unwrap(np.arctan2(df[f"v_y_{i}"].to_numpy(float), df[f"v_x_{i}"].to_numpy(float)))
     course, ok = _course_change(t, df[f"x_{i}"].to_numpy(float), df[f"y_{i}"].to_numpy(float),
-                                i0, i1)
+                                i0, i1, scale)
     slip = beta[i1] - beta[i0]
     return psi[i1] - psi[i0], integ[i1] - integ[i0], course - slip, ok
 
 
-def check_yaw(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> Finding | None:
+def check_yaw(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context,
+              scale: LogScale = FULL_SIZE) -> Finding | None:
     """Integrated yaw rate against heading change; the track's course decides which is wrong."""
     i0, i1 = _windows(t, YAW_WINDOW)
     if not i0.size:
         return None
-    head_w, rate_w, course, ok = _turns(t, df, i, i0, i1)
+    head_w, rate_w, course, ok = _turns(t, df, i, i0, i1, scale)
     floor = max(YAW_FLOOR, 4.0 * YAW_NOISE * math.sqrt(i0.size))
     fit = _fit(head_w, rate_w)  # factor: yaw-rate integral over heading change
     if max(fit.rms_a, fit.rms_b) < floor or fit.agrees():
@@ -428,12 +457,13 @@ def _ratio(f: float) -> str:
     return f"{f:.3g}"
 
 
-def check_curvature(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> Finding | None:
+def check_curvature(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context,
+                    scale: LogScale = FULL_SIZE) -> Finding | None:
     """Course change of the position track against the integrated yaw rate (see :func:`_turns`)."""
     i0, i1 = _windows(t, YAW_WINDOW)
     if not i0.size:
         return None
-    _, rate_w, course, ok = _turns(t, df, i, i0, i1)
+    _, rate_w, course, ok = _turns(t, df, i, i0, i1, scale)
     if ok.sum() < 3:
         return None
     fit = _fit(rate_w[ok], course[ok])  # factor: the track's turning over the yaw rate's
@@ -461,7 +491,8 @@ class _Velocity:
     direction: bool
 
 
-def check_velocity(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> _Velocity | None:
+def check_velocity(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context,
+                   scale: LogScale = FULL_SIZE) -> _Velocity | None:
     """Integrated velocity, turned by the heading, against the track's displacement."""
     i0, i1 = _windows(t, VELOCITY_WINDOW)
     if not i0.size:
@@ -474,7 +505,7 @@ def check_velocity(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> _Ve
     dv = np.column_stack([ve[i1] - ve[i0], vn[i1] - vn[i0]])
     dm = np.column_stack([x[i1] - x[i0], y[i1] - y[i0]])
     lv, lm = np.hypot(dv[:, 0], dv[:, 1]), np.hypot(dm[:, 0], dm[:, 1])
-    use = np.maximum(lv, lm) >= VELOCITY_MIN_STEP
+    use = np.maximum(lv, lm) >= scale.distance(VELOCITY_MIN_STEP)
     if use.sum() < 3:
         return None
     dv, dm, lv, lm = dv[use], dm[use], lv[use], lm[use]
@@ -513,8 +544,9 @@ def check_velocity(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> _Ve
         "(x and y) are swapped"), direction=True)
 
 
-def check_jump(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> Finding | None:
-    """No position step more than :data:`MAX_JUMP` beyond what the velocity explains."""
+def check_jump(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context,
+               scale: LogScale = FULL_SIZE) -> Finding | None:
+    """No position step more than :data:`MAX_JUMP` (scaled) beyond what the velocity explains."""
     psi = df[f"psi_{i}"].to_numpy(float)
     vx, vy = df[f"v_x_{i}"].to_numpy(float), df[f"v_y_{i}"].to_numpy(float)
     ve, vn = np.cos(psi) * vx - np.sin(psi) * vy, np.sin(psi) * vx + np.cos(psi) * vy
@@ -522,16 +554,18 @@ def check_jump(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context) -> Finding
     dt = np.diff(t)
     step = np.hypot(np.diff(x) - 0.5 * (ve[1:] + ve[:-1]) * dt,
                     np.diff(y) - 0.5 * (vn[1:] + vn[:-1]) * dt)
-    if not step.size or float(step.max()) <= MAX_JUMP:
+    limit = scale.distance(MAX_JUMP)
+    if not step.size or float(step.max()) <= limit:
         return None
     k = int(np.argmax(step))
     return Finding("jump", ctx.name(f"x_{i}") if f"x_{i}" in ctx.names else f"x_{i}, y_{i}",
                    float(t[k]), float(t[k + 1]),
                    f"the position jumps {step[k]:.3g} m more than the velocity explains "
-                   f"(limit {MAX_JUMP} m)", "a GNSS jump: cut the run there or correct it")
+                   f"(limit {limit:.3g} m)", "a GNSS jump: cut the run there or correct it")
 
 
-def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Finding | None:
+def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
+                   scale: LogScale = FULL_SIZE) -> Finding | None:
     """Steering wheel through eq. (3): within reach, and turning the tractor as it does."""
     from artic.validation.steering import SteeringMap
 
@@ -562,7 +596,7 @@ def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Fi
     psi = df["psi_1"].to_numpy(float)
     mid = 0.5 * (psi[i0] + psi[i1])
     u_w = ((x[i1] - x[i0]) * np.cos(mid) + (y[i1] - y[i0]) * np.sin(mid)) / span
-    moving = np.abs(u_w) >= STEER_MIN_SPEED
+    moving = np.abs(u_w) >= scale.speed_of(STEER_MIN_SPEED)
     if moving.sum() < 3:
         return None
     tan_w = (_cumtrapz(t, np.tan(np.clip(delta, -1.5, 1.5))))
@@ -573,7 +607,7 @@ def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Fi
     uw = u_w[moving]
     b = uw * tan_w[moving]
     a_perp, b_perp = a - uw * (uw @ a) / (uw @ uw), b - uw * (uw @ b) / (uw @ uw)
-    floor = max(STEER_FLOOR, STEER_NOISE * math.sqrt(a.size))
+    floor = scale.speed_of(max(STEER_FLOOR, STEER_NOISE * math.sqrt(a.size)))
     fit = _fit(b_perp, a_perp)  # factor: observed turning over the map's
     if max(fit.rms_a, fit.rms_b) < floor or fit.agrees(STEER_SLOPE[0], STEER_SLOPE[1], 0.5):
         return None
@@ -587,7 +621,8 @@ def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Fi
                    explain(1.0 / fit.factor if fit.factor else 0.0, "delta_h", ctx))
 
 
-def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Finding | None:
+def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
+                scale: LogScale = FULL_SIZE) -> Finding | None:
     """Both units' sensors must put the hitch at one point.
 
     The hitch sits at ``a`` in the tractor sensor's frame and ``b`` in the
@@ -610,12 +645,12 @@ def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Findi
     if not np.all(np.isfinite(A)) or not np.all(np.isfinite(rhs)):
         return None
     sol, *_ = np.linalg.lstsq(A, rhs, rcond=1e-9)
-    candidates = [("fitted", sol, HITCH_RMS)]
+    candidates = [("fitted", sol, scale.distance(HITCH_RMS))]
     if vehicle is not None:
         xs1, ys1, _ = vehicle.sensor1
         xs2, ys2, _ = vehicle.sensor2
         candidates.append(("vehicle", np.array([vehicle.L1c - xs1, -ys1, -xs2, -ys2]),
-                           HITCH_RMS_VEHICLE))
+                           scale.distance(HITCH_RMS_VEHICLE)))
     for kind, geom, limit in candidates:
         res = (A @ geom - rhs).reshape(-1, 2)
         dist = np.hypot(res[:, 0], res[:, 1])
@@ -637,9 +672,46 @@ def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context) -> Findi
     return None
 
 
+def check_articulation(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
+                       scale: LogScale = FULL_SIZE) -> Finding | None:
+    """``gamma``'s change against the kinematic trailer equation and its mirror (module doc).
+
+    The tractor's speed ``u_1`` is ``v_x_1``; ``L1c`` and ``L2`` are the vehicle's
+    (``gosar2022-unloaded``'s without one). The sign is told by the yaw-rate term,
+    so a log that barely turns passes.
+    """
+    if vehicle is None:
+        from artic.mjcf.vehicle import load_vehicle
+
+        vehicle = load_vehicle("gosar2022-unloaded")
+    i0, i1 = _windows(t, YAW_WINDOW)
+    if i0.size < 3:
+        return None
+    g = np.unwrap(df["gamma"].to_numpy(float))
+    r1, u1 = df["r_1"].to_numpy(float), df["v_x_1"].to_numpy(float)
+    turn = _cumtrapz(t, r1 * (1.0 - vehicle.L1c * np.cos(g) / vehicle.L2))
+    trail = _cumtrapz(t, -u1 * np.sin(g) / vehicle.L2)
+    a, b, dg = turn[i1] - turn[i0], trail[i1] - trail[i0], g[i1] - g[i0]
+    if math.sqrt(float(np.mean(a * a))) < ARTICULATION_FLOOR:
+        return None
+    logged = float(np.sqrt(np.mean((dg - a - b) ** 2)))
+    mirror = float(np.sqrt(np.mean((dg + a - b) ** 2)))
+    if mirror >= ARTICULATION_MIRROR * logged:
+        return None
+    name = ctx.name("gamma")
+    return Finding("articulation", name, float(t[i0[0]]), float(t[i1[-1]]),
+                   f"its change over {YAW_WINDOW:g} s windows follows the kinematic trailer "
+                   "equation driven by the tractor's speed and yaw rate with the opposite sign "
+                   f"(RMS misfit {logged:.3g} rad as logged, {mirror:.3g} rad mirrored, with "
+                   f"L1c = {vehicle.L1c:g} m and L2 = {vehicle.L2:g} m of {vehicle.name})",
+                   f"{name} (the articulation angle gamma) likely has its sign flipped: gamma "
+                   "is tractor yaw minus semitrailer yaw, psi_1 - psi_2; flip it (scale = -1 "
+                   "in a channel map)")
+
+
 # ------------------------------------------------------------------ entry points
 def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
-             only: Collection[str] | None = None) -> Iterator[Finding]:
+             only: Collection[str] | None = None, derived: bool = False) -> Iterator[Finding]:
     """Every check's finding on a frame that passed ``check_frame``, lazily, in check order.
 
     Per unit, the velocity's sign and scale are judged before the track's
@@ -659,23 +731,27 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
         Names and units of the source, for the messages.
     only : collection of str, optional
         Run only these checks.
+    derived : bool
+        Whether the semitrailer's channels were derived from the tractor's and
+        ``gamma``: the ``articulation`` check runs on such logs.
     """
     t = frame["t"].to_numpy(dtype=float)
     run = set(CHECKS) if only is None else set(only)
+    sc = LogScale.of(vehicle)
     if "gap" in run and (f := check_gap(t)) is not None:
         yield f
     for i in (1, 2):
-        if "yaw-rate" in run and (f := check_yaw(t, frame, i, ctx)) is not None:
+        if "yaw-rate" in run and (f := check_yaw(t, frame, i, ctx, sc)) is not None:
             yield f
-        vel = check_velocity(t, frame, i, ctx) if "velocity" in run else None
+        vel = check_velocity(t, frame, i, ctx, sc) if "velocity" in run else None
         if vel is not None and not vel.direction:
             yield vel.finding
-        curv = check_curvature(t, frame, i, ctx) if "curvature" in run else None
+        curv = check_curvature(t, frame, i, ctx, sc) if "curvature" in run else None
         if curv is not None:
             yield curv
         if vel is not None and vel.direction and curv is None:
             yield vel.finding
-        if "jump" in run and (f := check_jump(t, frame, i, ctx)) is not None:
+        if "jump" in run and (f := check_jump(t, frame, i, ctx, sc)) is not None:
             yield f
     if "steering" in run:
         steer_vehicle = vehicle
@@ -683,9 +759,12 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
             from artic.mjcf.vehicle import load_vehicle
 
             steer_vehicle = load_vehicle("gosar2022-unloaded")
-        if (f := check_steering(t, frame, steer_vehicle, ctx)) is not None:
+        if (f := check_steering(t, frame, steer_vehicle, ctx, sc)) is not None:
             yield f
-    if "hitch" in run and (f := check_hitch(t, frame, vehicle, ctx)) is not None:
+    if "hitch" in run and (f := check_hitch(t, frame, vehicle, ctx, sc)) is not None:
+        yield f
+    if derived and "articulation" in run and (
+            f := check_articulation(t, frame, vehicle, ctx, sc)) is not None:
         yield f
 
 
@@ -708,7 +787,7 @@ def parse_accept(values: Collection[str] | None) -> tuple[str, ...]:
 
 
 def check_log(frame: pd.DataFrame, source: str, vehicle=None, accept: Collection[str] = (),
-              ctx: Context = CANONICAL) -> list[str]:
+              ctx: Context = CANONICAL, derived: bool = False) -> list[str]:
     """Run every check; refuse the first finding not accepted.
 
     Parameters
@@ -723,6 +802,8 @@ def check_log(frame: pd.DataFrame, source: str, vehicle=None, accept: Collection
         Checks whose findings are accepted knowingly (``--accept``).
     ctx : Context
         Names and units of the source.
+    derived : bool
+        See :func:`findings`.
 
     Returns
     -------
@@ -736,8 +817,22 @@ def check_log(frame: pd.DataFrame, source: str, vehicle=None, accept: Collection
         The first finding whose check is not in ``accept``.
     """
     accepted = []
-    for f in findings(frame, vehicle, ctx):
+    for f in findings(frame, vehicle, ctx, derived=derived):
         if f.check not in accept:
             raise LogError(f.message(source))
         accepted.append(f"accepted {f.check}: {f.message(source)}")
     return accepted
+
+
+def accepted_in(meta: Mapping) -> tuple[str, ...]:
+    """The checks a run's metadata records as accepted (``--accept`` at import).
+
+    From ``meta["accepted"]``, and from the ``"accepted CHECK: ..."`` lines of
+    ``meta["accepted_checks"]`` that runs imported before it was written carry.
+    """
+    names = [str(n) for n in meta.get("accepted", []) if str(n) in CHECKS]
+    for line in meta.get("accepted_checks", []):
+        head = str(line).split(":", 1)[0].removeprefix("accepted ").strip()
+        if head in CHECKS:
+            names.append(head)
+    return tuple(dict.fromkeys(names))

@@ -7,11 +7,14 @@ Accepted sources:
   and ``can.csv`` (see :mod:`artic.validation.logs.oxts`), and optionally ``meta.json``
   with the run's metadata (manoeuvre, load, ...);
 - a MATLAB ``.mat`` (v5) file with structs ``tractor``, ``trailer``, ``can``;
-- a CSV with its own column names, units and time stamps, through a channel
-  map (:mod:`artic.validation.logs.channels`); with the tractor's channels and the
-  articulation angle only, the semitrailer's are derived
-  (:mod:`artic.validation.logs.derive`). A canonical CSV without the semitrailer's
-  channels but with ``gamma`` is such a log too.
+- a CSV with its own column names, units and time stamps, or a ROS 1 bag, a
+  ROS 2 bag (sqlite3 or MCAP storage) or an MCAP file, through a channel map
+  (:mod:`artic.validation.logs.channels`); what the log lacks is derived (one
+  unit from the other and the articulation angle, rates from poses, the
+  steering from the yaw rate) and marked as derived. A canonical CSV without
+  the semitrailer's channels but with ``gamma`` is such a log too. A mapped
+  log with gaps becomes one run per gap-free segment, ``NAME.seg1``,
+  ``NAME.seg2``, ...
 
 Every source, canonical ones included, passes the structural checks of
 :func:`artic.validation.logs.runfile.check_frame` and the consistency checks of
@@ -29,6 +32,7 @@ import pandas as pd
 
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.logs import consistency
+from artic.validation.logs.bags import is_bag
 from artic.validation.logs.oxts import import_mat, import_oxts, read_csv
 from artic.validation.logs.runfile import (
     LogError,
@@ -38,13 +42,24 @@ from artic.validation.logs.runfile import (
     read_run,
     write_run,
 )
+from artic.validation.logs.scale import LogScale
 
 
-def _checked(run: Run, source: str, vehicle, accept: Collection[str]) -> Run:
-    """The run, after the consistency checks; accepted findings recorded in its metadata."""
-    accepted = consistency.check_log(run.frame, source, vehicle, tuple(accept))
+def _checked(run: Run, source: str, vehicle, accept: Collection[str],
+             ctx: consistency.Context = consistency.CANONICAL) -> Run:
+    """The run, after the consistency checks; accepted findings recorded in its metadata.
+
+    The checks accepted when the run was imported (``meta["accepted"]``) stay
+    accepted: ``validate`` and ``tune`` remember an ``--accept`` given to ``logs import``.
+    """
+    accept = tuple(dict.fromkeys([*accept, *consistency.accepted_in(run.meta)]))
+    accepted = consistency.check_log(run.frame, source, vehicle, accept, ctx,
+                                     derived=bool(run.meta.get("derived")))
+    if accept:
+        run.meta["accepted"] = list(accept)
     if accepted:
-        run.meta["accepted_checks"] = [*run.meta.get("accepted_checks", []), *accepted]
+        lines = [*run.meta.get("accepted_checks", []), *accepted]
+        run.meta["accepted_checks"] = list(dict.fromkeys(lines))
     return run
 
 
@@ -66,7 +81,9 @@ def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Ru
     LogError
         For an unreadable file or the first finding not accepted.
     """
-    return _checked(read_run(path), str(path), vehicle, accept)
+    run = read_run(path, check=False)
+    check_frame(run.frame, str(path), LogScale.of(vehicle))
+    return _checked(run, str(path), vehicle, accept)
 
 
 def _meta_json(path: Path) -> dict:
@@ -83,9 +100,9 @@ def source_name(path: Path) -> str:
     return path.name if path.is_dir() else path.stem
 
 
-def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
-                  channels: Path | None = None) -> tuple[Run, list[str]]:
-    """Import one source into a canonical run.
+def import_runs(path: Path, accept: Collection[str] = (), vehicle=None,
+                channels: Path | None = None) -> tuple[list[Run], list[str]]:
+    """Import one source into canonical runs: one, or one per gap-free segment.
 
     Parameters
     ----------
@@ -97,15 +114,17 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
         For the steering and hitch checks.
     channels : Path, optional
         A channel map for a CSV with its own column names, units and time
-        stamps (:mod:`artic.validation.logs.channels`). With it, or for a canonical
-        CSV without the semitrailer's channels, the semitrailer's are derived
-        from the tractor's and the articulation angle with ``vehicle``'s
-        geometry (gosar2022-unloaded's without one).
+        stamps, or for a bag (:mod:`artic.validation.logs.channels`). With it,
+        or for a canonical CSV without the semitrailer's channels, what the
+        log lacks is derived with ``vehicle``'s geometry (gosar2022-unloaded's
+        without one).
 
     Returns
     -------
-    run : Run
-        Named after the source (file stem or folder name).
+    runs : list of Run
+        Named after the source (file stem or folder name), with ``.segK``
+        appended when a mapped log was split at its gaps (``meta["segment"]``
+        then says which part of which log).
     report : list of str
         Repairs and trims made.
 
@@ -116,14 +135,49 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
     """
     path = Path(path)
     accept = tuple(accept)
+    if channels is None and is_bag(path):
+        raise LogError(f"{path}: a ROS bag or MCAP file is read through a channel map that "
+                       "names a topic and field per channel: pass --channels MAP.toml (see "
+                       "docs/channels-bag-example.toml)")
     if channels is not None or _tractor_only(path):
-        from artic.validation.logs.channels import import_mapped, tractor_only_map
+        from artic.validation.logs.channels import import_mapped, map_context, tractor_only_map
 
         geometry = vehicle if vehicle is not None else load_vehicle("gosar2022-unloaded")
-        run, report = import_mapped(path, channels or tractor_only_map(path), geometry)
-        run = _checked(run, str(path), vehicle, accept)
-        run.meta["name"] = source_name(path)
-        return run, report
+        spec = channels or tractor_only_map(path)
+        runs, report = import_mapped(path, spec, geometry, accept, LogScale.of(vehicle))
+        ctx = map_context(path, spec)
+        name = source_name(path)
+        for run in runs:
+            seg = run.meta.get("segment")
+            where = str(path) if seg is None else f"{path} (segment {seg['index']} of {seg['of']})"
+            _checked(run, where, vehicle, accept, ctx)
+            run.meta["name"] = name if seg is None else f"{name}.seg{seg['index']}"
+            if seg is not None:
+                seg["log"] = name
+        return runs, report
+    run, report = _import_export(path, accept, vehicle)
+    run.meta["name"] = source_name(path)
+    return [run], report
+
+
+def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
+                  channels: Path | None = None) -> tuple[Run, list[str]]:
+    """Import one source that is one run (see :func:`import_runs`).
+
+    Raises
+    ------
+    LogError
+        Also when a mapped log was split at gaps into several runs.
+    """
+    runs, report = import_runs(path, accept, vehicle, channels)
+    if len(runs) > 1:
+        raise LogError(f"{path}: split at its gaps into {len(runs)} segments; import it with "
+                       "import_runs (artic logs import writes one file per segment)")
+    return runs[0], report
+
+
+def _import_export(path: Path, accept: tuple[str, ...], vehicle) -> tuple[Run, list[str]]:
+    """An export in artic's own layouts: a canonical log, an OXTS folder, a ``.mat``."""
     if path.is_dir():
         files = [path / f"{n}.csv" for n in ("tractor", "trailer", "can")]
         missing = [f.name for f in files if not f.is_file()]
@@ -142,13 +196,13 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
         if not path.is_file():
             raise LogError(f"{path}: no such file")
         frame = read_csv(path)
-        check_frame(frame, str(path))
+        check_frame(frame, str(path), LogScale.of(vehicle))
         run, report = _checked(Run(frame, {"source": "measured"}), str(path), vehicle,
                                accept), []
     else:
         raise LogError(f"{path}: not a log: give a .parquet or .csv canonical log, a .mat file, "
-                       "or a folder with tractor.csv, trailer.csv and can.csv")
-    run.meta["name"] = source_name(path)
+                       "a folder with tractor.csv, trailer.csv and can.csv, or a ROS bag or "
+                       "MCAP file with --channels")
     return run, report
 
 
@@ -168,7 +222,10 @@ def import_sources(paths: list[Path], out_dir: Path, accept: Collection[str] = (
     """Import every source and write it as ``out_dir/NAME.parquet``, atomically.
 
     Two sources that would get the same name are refused before anything is
-    written: the second would silently replace the first.
+    written: the second would silently replace the first. A log split at its
+    gaps is written as ``NAME.seg1.parquet``, ... and the files of an earlier
+    import of the same source under the other layout (``NAME.parquet`` or
+    other segments) are removed, so that ``validate`` never counts it twice.
     """
     targets: dict[str, Path] = {}
     for p in paths:
@@ -179,11 +236,37 @@ def import_sources(paths: list[Path], out_dir: Path, accept: Collection[str] = (
                            "import them into different folders")
         targets[name] = Path(p)
     out = []
+    written: dict[str, Path] = {}
     for p in paths:
-        run, report = import_source(p, accept, vehicle, channels)
+        runs, report = import_runs(p, accept, vehicle, channels)
         for line in report:
             print(f"repaired: {line}")
-        for line in run.meta.get("accepted_checks", []):
-            print(line)
-        out.append(write_run(run, Path(out_dir) / f"{run.name}.parquet"))
+        names = {run.name for run in runs}
+        for run in runs:
+            for line in run.meta.get("accepted_checks", []):
+                print(line)
+            if run.name in written:
+                raise LogError(f"{p}: its run {run.name} would replace the one written from "
+                               f"{written[run.name]}; rename one of the sources")
+            written[run.name] = Path(p)
+            out.append(write_run(run, Path(out_dir) / f"{run.name}.parquet"))
+        for stale in _stale(Path(out_dir), source_name(p), names, Path(p)):
+            stale.unlink()
+            print(f"removed {stale}: an earlier import of {p} in another layout")
     return out
+
+
+def _stale(out_dir: Path, name: str, keep: set[str], source: Path) -> list[Path]:
+    """Runs in ``out_dir`` written from ``source`` earlier under other names than ``keep``."""
+    candidates = [out_dir / f"{name}.parquet", *out_dir.glob(f"{name}.seg*.parquet")]
+    stale = []
+    for f in candidates:
+        if f.stem in keep or not f.is_file():
+            continue
+        try:
+            meta = read_run(f, check=False, columns=["t"]).meta
+        except LogError:
+            continue
+        if str(meta.get("import", {}).get("file")) == str(source):
+            stale.append(f)
+    return stale

@@ -43,6 +43,7 @@ from artic.validation.logs import consistency
 from artic.validation.logs.checks import (
     MAX_GAP,
     MAX_GAP_CAN,
+    MAX_JUMP,
     Report,
     check_jumps,
     clean_time,
@@ -50,6 +51,7 @@ from artic.validation.logs.checks import (
     require,
 )
 from artic.validation.logs.runfile import LogError, Run, atomic_write, check_frame
+from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS
 
 RATE = 100.0
@@ -102,8 +104,8 @@ def _enough_rows(df: pd.DataFrame, source: str) -> None:
 
 
 def _unit(df: pd.DataFrame, origin: tuple[float, float] | None, source: str,
-          report: Report, accept: tuple[str, ...] = ()) -> tuple[pd.DataFrame,
-                                                              tuple[float, float] | None]:
+          report: Report, accept: tuple[str, ...] = (),
+          scale: LogScale = FULL_SIZE) -> tuple[pd.DataFrame, tuple[float, float] | None]:
     """One inertial unit's channels in ISO conventions, time cleaned."""
     cols = require(df, UNIT, source)
     uses_latlon = all(any(n in df.columns for n in names) for names in LATLON.values())
@@ -131,7 +133,7 @@ def _unit(df: pd.DataFrame, origin: tuple[float, float] | None, source: str,
     if "jump" not in accept:
         ve = np.cos(psi) * vx - np.sin(psi) * vy
         vn = np.sin(psi) * vx + np.cos(psi) * vy
-        check_jumps(t, east, north, ve, vn, report)
+        check_jumps(t, east, north, ve, vn, report, scale.distance(MAX_JUMP))
     out = pd.DataFrame({"t": t, "x": east, "y": north, "psi": psi, "v_x": vx, "v_y": vy, "r": r})
     out.attrs["columns"] = {**cols, "pos": "/".join(pos.values())}
     return out, origin
@@ -181,10 +183,11 @@ def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFram
         channel and the fix.
     """
     s1, s2, s3 = sources
+    scale = LogScale.of(vehicle)
     report = Report(s1)
-    u1, origin = _unit(tractor, None, s1, report, accept)
+    u1, origin = _unit(tractor, None, s1, report, accept, scale)
     r2 = Report(s2)
-    u2, _ = _unit(trailer, origin, s2, r2, accept)
+    u2, _ = _unit(trailer, origin, s2, r2, accept, scale)
     r3 = Report(s3)
     cdf = can
     ccols = require(cdf, CAN, s3)
@@ -215,7 +218,7 @@ def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFram
             frame[f"{c}_{i}"] = np.interp(t, u.t.to_numpy(), u[c].to_numpy())
     frame["gamma"] = wrap_angle(frame["psi_1"] - frame["psi_2"])
     df = pd.DataFrame(frame)[list(COLUMNS)]
-    check_frame(df, f"{s1} (imported)")
+    check_frame(df, f"{s1} (imported)", scale)
     cols = {**u1.attrs["columns"], "swa": ccols["swa"]}
     ctx = consistency.export_context(s1, s2, s3, cols)
     accepted = consistency.check_log(df, f"{s1} (imported)", vehicle, accept, ctx)

@@ -22,10 +22,24 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from artic.mjcf.interface import wrap_angle
-from artic.validation.logs.schema import COLUMNS, PLAUSIBLE, UNIT_HINT
+from artic.validation.logs.scale import FULL_SIZE, LogScale
+from artic.validation.logs.schema import COLUMNS, UNIT_HINT
 from artic.validation.outputs import TEMP_SUFFIX, public_mode
 
 META_KEY = b"artic"
+
+MAX_POSITION = 1e7
+"""Largest position coordinate [m]: a quarter meridian. No point on the earth lies further
+from the origin of a local plane or a UTM grid; beyond it the column is in another unit
+or offset by mistake (float64 then also loses the millimetres)."""
+
+MAX_HEADING_START = 1e3
+"""Largest yaw angle at a run's first sample [rad]: 160 turns. An unwrapped heading carried
+over from before the run stays far below; beyond it the column is in another unit."""
+
+MAX_TIME = 1e10
+"""Largest time stamp [s], 300 years: Unix time fits; beyond it float64 cannot resolve the
+100 Hz samples."""
 
 
 class LogError(ValueError):
@@ -168,12 +182,16 @@ def parse_meta(raw: bytes | str, source: str) -> dict[str, Any]:
     return meta
 
 
-def check_frame(df: pd.DataFrame, source: str = "log") -> None:
+def check_frame(df: pd.DataFrame, source: str = "log", scale: LogScale = FULL_SIZE) -> None:
     """Check a frame against the signal schema; raise on anything unusable.
 
     Checks, in order: the columns are there; the run has at least two
-    samples; nothing is NaN or infinite; time strictly increases; magnitudes
-    are plausible for their units; ``gamma`` agrees with ``psi_1 - psi_2``.
+    samples; every column holds numbers (not text); nothing is NaN or
+    infinite; time strictly increases; magnitudes are plausible for their
+    units (speeds and yaw rates for the vehicle's scale, positions within
+    :data:`MAX_POSITION`, headings within :data:`MAX_HEADING_START` at the
+    start and turning no faster than the yaw-rate limit allows, time within
+    :data:`MAX_TIME`); ``gamma`` agrees with ``psi_1 - psi_2``.
 
     Parameters
     ----------
@@ -181,6 +199,9 @@ def check_frame(df: pd.DataFrame, source: str = "log") -> None:
         The frame.
     source : str
         File or name, for the message.
+    scale : LogScale
+        The vehicle's scale, for the limits of speeds and yaw rates
+        (:mod:`artic.validation.logs.scale`); full-size by default.
 
     Raises
     ------
@@ -195,25 +216,57 @@ def check_frame(df: pd.DataFrame, source: str = "log") -> None:
         raise LogError(f"{source}: {len(df)} sample(s); a run needs at least two: "
                        "the file may be truncated")
     for c in COLUMNS:
-        col = pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+        if not pd.api.types.is_numeric_dtype(df[c]):
+            as_number = pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+            text = ~np.isfinite(as_number) & df[c].notna().to_numpy()
+            i = int(np.argmax(text)) if text.any() else 0
+            raise LogError(f"{source}: column {c}: holds {df[c].dtype} values, not numbers "
+                           f"(row {i}: {str(df[c].iloc[i])[:20]!r}); store it as a number "
+                           "column in SI units")
+        col = df[c].to_numpy(dtype=float)
         bad = ~np.isfinite(col)
         if bad.any():
             i = int(np.argmax(bad))
             raise LogError(f"{source}: column {c}: {int(bad.sum())} NaN or infinite value(s), "
                            f"first at row {i}; repair or cut the run before validating")
     t = df["t"].to_numpy(dtype=float)
+    if float(np.max(np.abs(t))) > MAX_TIME:
+        raise LogError(f"{source}: column t: {float(np.max(np.abs(t))):.4g} s is beyond "
+                       f"{MAX_TIME:g} s; time is seconds since the start of the run")
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0)) + 1
         raise LogError(f"{source}: column t: time does not increase at row {i} "
-                       f"(t = {t[i - 1]!r} then {t[i]!r}); sort the run and drop duplicate "
-                       "samples before validating")
-    for c, limit in PLAUSIBLE.items():
+                       f"(t = {float(t[i - 1])!r} then {float(t[i])!r}); sort the run and drop "
+                       "duplicate samples before validating")
+    for c in ("x_1", "y_1", "x_2", "y_2"):
+        peak = float(np.max(np.abs(df[c].to_numpy(dtype=float))))
+        if peak > MAX_POSITION:
+            raise LogError(f"{source}: column {c}: {peak:.4g} m is beyond {MAX_POSITION:g} m, "
+                           "further than any point on the earth from a local plane's origin; "
+                           "subtract the offset or convert the unit at import")
+    limits = scale.plausible
+    for c, limit in limits.items():
         peak = float(np.max(np.abs(df[c].to_numpy(dtype=float))))
         if peak > limit:
-            raise LogError(f"{source}: column {c}: peak {peak:.4g} is beyond {limit} "
-                           f"(SI) for a yard manoeuvre; this looks like {UNIT_HINT[c]}. "
+            where = "" if scale.length == 1.0 else f" at the vehicle's scale ({scale.length:.3g})"
+            raise LogError(f"{source}: column {c}: peak {peak:.4g} is beyond {limit:.4g} "
+                           f"(SI) for a yard manoeuvre{where}; this looks like {UNIT_HINT[c]}. "
                            "Convert units at import.")
+    duration = float(t[-1] - t[0])
+    for c, r in (("psi_1", "r_1"), ("psi_2", "r_2")):
+        psi = df[c].to_numpy(dtype=float)
+        if abs(psi[0]) > MAX_HEADING_START:
+            raise LogError(f"{source}: column {c}: {psi[0]:.4g} rad at the start is beyond "
+                           f"{MAX_HEADING_START:g} rad; a yaw angle is in radians, "
+                           "counter-clockwise from x: convert the unit at import")
+        turn = float(np.ptp(psi))
+        most = limits[r] * duration + 2.0 * np.pi
+        if turn > most:
+            raise LogError(f"{source}: column {c}: turns {turn:.4g} rad in {duration:.4g} s, "
+                           f"more than the {limits[r]:.3g} rad/s yaw-rate limit allows "
+                           f"({most:.4g} rad); this looks like degrees or another unit read "
+                           "as radians. Convert units at import.")
     g = df["gamma"].to_numpy(dtype=float)
     g2 = wrap_angle(df["psi_1"].to_numpy(dtype=float) - df["psi_2"].to_numpy(dtype=float))
     err = np.abs(wrap_angle(g - g2))

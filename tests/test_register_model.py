@@ -1,0 +1,307 @@
+"""Models from outside artic: registered in the process, or by an entry point.
+
+A registered model must reach every place a built-in one does (``--models``,
+the harness, the metrics, the tables, the recordings, tuning) with no change
+to artic, and every way of registering one wrongly must say what is wrong.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import artic
+from artic.mjcf.vehicle import load_vehicle
+from artic.mjcf.writer import updated, write_vehicle
+from artic.reduced import KinematicModel
+from artic.validation.cli import main
+from artic.validation.metrics import CRITERIA
+from artic.validation.models import (
+    NAMES,
+    REGISTRY,
+    ModelSpec,
+    build,
+    names,
+    register_model,
+    spec,
+    unregister_model,
+)
+from test_cli import constant_steer_logs
+
+
+class KinBlue(KinematicModel):
+    """KIN itself under another name and colour: its results must be KIN's, digit for digit."""
+
+    name = "kin_blue"
+
+
+class PythonKin:
+    """A model of the user's own: KIN's equations without a compiled form.
+
+    The harness then drives it through its Python loop, step by step, where
+    the built-in KIN runs the compiled loop: the same law, the same steps.
+    """
+
+    name = "kin_py"
+
+    def __init__(self, vehicle):
+        self._kin = KinematicModel(vehicle)
+
+    def reset(self, initial):
+        self._kin.reset(initial)
+
+    def step(self, dt, delta, u1, u1_dot):
+        self._kin.step(dt, delta, u1, u1_dot)
+
+    def observe(self, delta=None):
+        return self._kin.observe(delta)
+
+    def compiled(self):
+        return None
+
+    def closed_loop(self):
+        return None
+
+    def close(self):
+        pass
+
+    @property
+    def gamma(self):
+        return self._kin.gamma
+
+
+@pytest.fixture
+def registered():
+    specs = [register_model("kin_blue", KinBlue, colour=(0, 0, 255), batched=True,
+                            tuned=("i_s", "delta_h_offset")),
+             register_model("kin_py", PythonKin, label="KIN-py")]
+    yield specs
+    for s in specs:
+        unregister_model(s.name)
+
+
+@pytest.fixture(scope="module")
+def logs(tmp_path_factory):
+    return constant_steer_logs(tmp_path_factory.mktemp("logs"))
+
+
+def kin_map_for(tmp_path, *models) -> Path:
+    """The unloaded preset with KIN's steering map ([steering.kin]) for each of ``models``."""
+    kin = load_vehicle("gosar2022-unloaded").steering_overrides["kin"]
+    data = updated("gosar2022-unloaded", {f"steering.{m}": kin for m in models},
+                   "test: KIN's steering map for the registered models")
+    path = tmp_path / "kin-map.toml"
+    write_vehicle(data, path)
+    return path
+
+
+def test_the_registry_lists_built_ins_first_then_registered(registered):
+    assert names() == (*NAMES, "kin_blue", "kin_py") == artic.model_names()
+    assert list(REGISTRY)[:4] == ["kin", "stm", "mbd", "floor"]
+    assert artic.register_model is register_model
+    assert spec("KIN_BLUE").label == "KIN_BLUE" and spec("kin_py").label == "KIN-py"
+    assert spec("kin_py").colour not in {s.colour for s in REGISTRY.values() if s is not
+                                         spec("kin_py")}
+    unregister_model("kin_py")
+    assert "kin_py" not in names() and "kin_py" not in REGISTRY
+    register_model("kin_py", PythonKin, label="KIN-py")  # for the fixture to remove
+
+
+def test_a_registered_model_is_validated_through_the_command_line(tmp_path, logs, registered,
+                                                                  capsys):
+    from artic.validation.campaign.recording import read_column
+
+    out = tmp_path / "val"
+    vehicle = kin_map_for(tmp_path, "kin_blue", "kin_py")
+    assert main(["validate", *logs, "--vehicle", str(vehicle), "--models", "kin,kin_blue,KIN_PY",
+                 "--out-dir", str(out)]) == 0
+    printed = capsys.readouterr().out
+    m = pd.read_csv(out / "metrics.csv")
+    assert sorted(set(m.model)) == ["kin", "kin_blue", "kin_py"] and (m.status == "ok").all()
+    per = {name: g.sort_values("log")[list(CRITERIA)].to_numpy() for name, g in m.groupby("model")}
+    # The same class with the same steering map: KIN's numbers, digit for digit.
+    np.testing.assert_array_equal(per["kin_blue"], per["kin"])
+    # The Python loop against the compiled one: the same law and steps; the
+    # CSV keeps 6 digits, and the two loops' rounding differs far below that.
+    np.testing.assert_allclose(per["kin_py"], per["kin"], rtol=1e-5, equal_nan=True)
+    table = pd.read_csv(out / "table2_forward.csv", index_col="model")
+    assert list(table.index) == ["kin", "kin_blue", "kin_py"] and (table.n == 2).all()
+    assert "| kin_blue |" in printed and "| kin_py |" in printed
+    run = pd.read_parquet(out / "runs" / "left.kin_py.parquet")
+    assert len(run) == 2001
+    # The recording draws each model in its registry colour (RGBA packed in 32 bits).
+    rec = out / "recordings" / "left.rrd"
+    sources = read_column(rec, "/signals/articulation", "SeriesLines:names")[0]
+    colours = read_column(rec, "/signals/articulation", "SeriesLines:colors")[0]
+    assert sources == ["measured", "kin", "kin_blue", "kin_py"]
+    assert colours[2] == 0x0000FFFF
+    r, g, b = spec("kin_py").colour
+    assert colours[3] == (r << 24) | (g << 16) | (b << 8) | 0xFF
+    assert read_column(rec, "/yard/kin_blue/tractor", "Transform3D:translation")
+
+
+def test_a_registered_model_is_tuned_into_its_own_steering_table(tmp_path, logs, registered,
+                                                                 capsys):
+    tuned = tmp_path / "tuned.toml"
+    vehicle = kin_map_for(tmp_path, "kin_blue")
+    assert main(["tune", *logs, "--vehicle", str(vehicle), "--models", "kin_blue,kin_py",
+                 "--out", str(tuned)]) == 0
+    printed = capsys.readouterr().out
+    after = {m: float(a) for m, a in re.findall(r"^(\w+) +eps_n before [\d.]+ %, after ([\d.]+)",
+                                                printed, re.M)}
+    # kin_py tunes nothing: one evaluation, its error as it was.
+    assert re.search(r"^kin_py +eps_n before ([\d.]+) %, after \1 % \(1 evaluations", printed,
+                     re.M), printed
+    v = load_vehicle(tuned)
+    fitted = v.steering_overrides["kin_blue"]
+    assert set(fitted) == {"i_s", "delta_h_offset"} and "kin_py" not in v.steering_overrides
+    assert fitted["i_s"] != pytest.approx(20.5, rel=1e-3)  # it moved: the logs are the STM's
+    # The file validates, and validation with it finds the fit's own error
+    # (tuning minimises the same normalised terms that eps_n adds up).
+    out = tmp_path / "val"
+    assert main(["validate", *logs, "--vehicle", str(tuned), "--models", "kin_blue",
+                 "--no-recordings", "--out-dir", str(out)]) == 0
+    m = pd.read_csv(out / "metrics.csv")
+    assert m.eps_n.mean() == pytest.approx(after["kin_blue"], abs=1e-3)
+
+
+def test_registering_wrongly_says_what_is_wrong(registered):
+    with pytest.raises(ValueError, match="'kin' is artic's built-in KIN; choose another"):
+        register_model("kin", KinBlue)
+    with pytest.raises(ValueError, match="'kin_blue' is registered already"):
+        register_model("kin_blue", KinBlue)
+    for bad in ("Kin Blue", "", "9kin", "a" * 33, "kin-blue"):
+        with pytest.raises(ValueError, match="lower-case letters"):
+            register_model(bad, KinBlue)
+    with pytest.raises(ValueError, match="tunes its steering map only"):
+        register_model("kin_f", KinBlue, tuned=("f",))
+    with pytest.raises(ValueError, match="three integers 0-255"):
+        register_model("kin_red", KinBlue, colour=(300, 0, 0))
+    with pytest.raises(TypeError, match="build must be a function"):
+        register_model("kin_none", "KinBlue")
+    with pytest.raises(ValueError, match="'kin_none' is not a registered model"):
+        unregister_model("kin_none")
+    with pytest.raises(ValueError, match="not a registered model"):
+        unregister_model("kin")
+    assert "kin_f" not in names() and "kin_red" not in names()
+    with pytest.raises(ValueError, match="choose from kin, stm, mbd, kin_blue, kin_py"):
+        spec("kin_green")
+
+
+def test_a_build_that_breaks_the_protocol_is_a_failed_row(tmp_path, logs, capsys):
+    v = load_vehicle("gosar2022-unloaded")
+    register_model("not_a_model", lambda vehicle: object())
+    register_model("kin_misnamed", KinematicModel)
+    try:
+        with pytest.raises(TypeError, match=r"lacks name, reset, step, observe, compiled, "
+                                            r"closed_loop, close, gamma of the model protocol"):
+            build("not_a_model", v)
+        with pytest.raises(TypeError, match="a model named 'kin'; set its name to "
+                                            "'kin_misnamed'"):
+            build("kin_misnamed", v)
+        out = tmp_path / "val"
+        # The pairs without a result are rows that say why; the command says so by exit 1.
+        assert main(["validate", logs[0], "--models", "kin,not_a_model", "--no-recordings",
+                     "--out-dir", str(out)]) == 1
+        m = pd.read_csv(out / "metrics.csv").set_index("model")
+        assert m.loc["kin", "status"] == "ok"
+        assert m.loc["not_a_model", "status"].startswith(
+            "failed: TypeError: model 'not_a_model': its build returned a object")
+    finally:
+        unregister_model("not_a_model")
+        unregister_model("kin_misnamed")
+
+
+def test_a_misspelt_steering_table_is_refused_by_name(tmp_path, logs, capsys):
+    data = updated("gosar2022-unloaded", {"steering.kni": {"i_s": 20.0}}, "test: a typo")
+    path = tmp_path / "typo.toml"
+    write_vehicle(data, path)  # the file format accepts a table for any model name
+    assert main(["validate", logs[0], "--vehicle", str(path), "--out-dir",
+                 str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}: key 'steering.kni': no model 'kni' is registered" in err
+    assert err.count("\n") == 1
+
+
+ENTRY_MODULE = '''
+from artic.reduced import KinematicModel
+from artic.validation.models import model_spec
+
+
+class KinEp(KinematicModel):
+    name = "kin_ep"
+
+
+SPEC = model_spec("kin_ep", KinEp, label="KIN-EP", colour=(200, 0, 200), batched=True)
+
+
+def broken():
+    raise RuntimeError("no licence for this model")
+'''
+
+
+def test_an_entry_point_registers_a_model_and_a_broken_one_is_one_line(tmp_path, logs):
+    # A distribution installed the way pip leaves one: a module and its
+    # .dist-info folder with entry_points.txt, on the path.
+    site = tmp_path / "site"
+    info = site / "demo_models-0.1.dist-info"
+    info.mkdir(parents=True)
+    (site / "demo_models.py").write_text(textwrap.dedent(ENTRY_MODULE))
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: demo-models\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text(
+        "[artic.models]\nkin_ep = demo_models:SPEC\nkin_broken = demo_models:broken\n")
+    out = tmp_path / "val"
+    env = {**os.environ, "PYTHONPATH": str(site)}
+    artic_cmd = Path(sys.executable).parent / "artic"
+    done = subprocess.run([str(artic_cmd), "validate", logs[0], "--models", "kin,kin_ep",
+                           "--no-recordings", "--out-dir", str(out)],
+                          capture_output=True, text=True, env=env, timeout=300)
+    assert done.returncode == 0, done.stderr[-3000:]
+    warned = [line for line in done.stderr.splitlines() if "warning" in line]
+    assert warned == ["artic: warning: model entry point kin_broken = demo_models:broken of "
+                      "demo-models (group artic.models) was not loaded: RuntimeError: no "
+                      "licence for this model; the other models are available"]
+    m = pd.read_csv(out / "metrics.csv")
+    assert list(m.model) == ["kin", "kin_ep"] and (m.status == "ok").all()
+    assert "| kin_ep |" in done.stdout
+    # Not registered in this process: entry points reach the processes that look them up.
+    assert "kin_ep" not in names()
+
+
+def test_model_spec_is_a_checked_entry():
+    s = artic.model_spec("kin_x", KinBlue)
+    assert isinstance(s, ModelSpec) and s.label == "KIN_X" and s.tuned == () and not s.batched
+    assert "kin_x" not in names()  # made, not registered
+
+
+def test_the_report_names_a_registered_model_by_its_label(registered):
+    from artic.validation.campaign.report import CampaignResults, discussion
+    from artic.validation.campaign.tables import summary
+
+    # Ten reverse manoeuvres on which the registered model is 10 points below
+    # KIN on each one: the paired comparison resolves it, and the text names
+    # it by its registry label.
+    rng = np.random.default_rng(0)
+    base = 85.0 + rng.normal(0.0, 5.0, 10)
+    rows = [{"log": f"{i:02d}-docking", "manoeuvre": "docking", "model": m, "direction": "reverse",
+             "status": "ok", "eps_a": 0.006, "eps_v": 0.03, "J_steer": 100.0 - d,
+             "eps_n": b - d, "eps_p": 1.0}
+            for i, b in enumerate(base) for m, d in (("kin", 0.0), ("kin_py", 10.0))]
+    metrics = pd.DataFrame(rows)
+    reverse = summary(metrics, "reverse")
+    r = CampaignResults(seed=0, models=("kin", "kin_py"), gain=3.0, metrics=metrics,
+                        forward=reverse.iloc[:0], reverse=reverse, tuned={}, efficiency=None,
+                        sweep=None, stages={}, fingerprint="", version="")
+    text = "\n".join(discussion(r))
+    assert "KIN-py" in text and "kin_py" not in text
+    # Beside the paper's Table 3: the registered model is not in the paper.
+    assert "KIN-py" in text.split("Table 3.**", 1)[1] and "(not in the paper)" in text
+    assert "nan" not in text

@@ -1,0 +1,213 @@
+"""The tables with intervals, paired comparisons, pooling over trucks, and the report's words.
+
+Small hand-made metrics frames, so that every number has a known answer.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+
+from artic.validation.campaign import tables as T
+from artic.validation.campaign.rankings import lowest, ranking_text
+from artic.validation.campaign.report import CampaignResults, render
+
+N = 20
+
+
+@pytest.fixture(autouse=True)
+def fewer_resamples(monkeypatch):
+    """1999 bootstrap resamples instead of 9999: the intervals' ends move by a few per cent
+    of their width, far inside what these tests tell apart, and the tests run 5 times faster."""
+    from artic.validation.criteria import statistics
+
+    monkeypatch.setattr(statistics, "RESAMPLES", 1999)
+
+
+def frame(values: dict[str, np.ndarray], direction: str = "reverse", seed: int | None = None,
+          **extra: dict[str, np.ndarray]) -> pd.DataFrame:
+    """Metrics rows: ``values[model]`` as eps_n per manoeuvre, the other criteria derived."""
+    rows = []
+    for model, v in values.items():
+        for i, x in enumerate(v):
+            row = {"log": f"m{i:02d}", "model": model, "direction": direction,
+                   "eps_a": 1e-4 * x, "eps_v": 1e-3 * x, "eps_p": 0.1 * x, "J_steer": 0.5 * x,
+                   "eps_n": x, "status": "ok"}
+            for name, by_model in extra.items():
+                row[name] = by_model[model][i]
+            rows.append(row)
+    df = pd.DataFrame(rows)
+    return df if seed is None else df.assign(seed=seed)
+
+
+@pytest.fixture()
+def manoeuvres():
+    """Per-manoeuvre eps_n: a spread of 10 between manoeuvres; KIN and STM alike, MBD 3 higher."""
+    rng = np.random.default_rng(42)
+    base = rng.normal(40.0, 10.0, N)
+    return {"kin": base + rng.normal(0, 0.5, N), "stm": base + rng.normal(0, 0.5, N),
+            "mbd": base + 3.0 + rng.normal(0, 0.5, N), "floor": base - 10.0}
+
+
+def test_summary_carries_an_interval_per_mean(manoeuvres):
+    m = frame(manoeuvres)
+    m.loc[(m.model == "kin") & (m.log == "m00"), "status"] = "failed: diverged"
+    t = T.summary(m, "reverse")
+    assert list(t.columns[:3]) == ["eps_a", "eps_a_lo", "eps_a_hi"] and t.columns[-1] == "n"
+    assert t.loc["kin", "n"] == N - 1 and t.loc["stm", "n"] == N  # the failed pair left out
+    assert t.loc["stm", "eps_n"] == pytest.approx(manoeuvres["stm"].mean())
+    for model in t.index:
+        assert t.loc[model, "eps_n_lo"] < t.loc[model, "eps_n"] < t.loc[model, "eps_n_hi"]
+    # About the t interval's width for 20 values of SD 10 (the bootstrap follows the data).
+    half = stats.t.ppf(0.975, N - 1) * np.std(manoeuvres["stm"], ddof=1) / math.sqrt(N)
+    width = t.loc["stm", "eps_n_hi"] - t.loc["stm", "eps_n_lo"]
+    assert 0.7 * 2 * half < width < 1.3 * 2 * half
+    assert "J_steer" in t and "eps_p" not in t  # the reverse table's columns
+
+
+def test_extra_criteria_join_when_present_and_only_then(manoeuvres):
+    dock = {m: np.where(np.arange(N) < 6, 0.2, np.nan) for m in manoeuvres}
+    gamma = {m: np.full(N, 0.01) for m in manoeuvres}
+    m = frame(manoeuvres, eps_gamma=gamma, dock_lat=dock,
+              pred_p_5m={k: np.full(N, np.nan) for k in manoeuvres})
+    t = T.summary(m, "reverse")
+    assert {"eps_gamma", "eps_gamma_lo", "dock_lat", "dock_lat_n"} <= set(t)
+    assert "pred_p_5m" not in t and "dock_psi" not in t  # no values: not fabricated
+    assert (t["dock_lat_n"] == 6).all() and "eps_gamma_n" not in t
+    text = T.markdown(t)
+    assert "dock_lat [m]" in text and "eps_gamma [rad]" in text and "(n = 6)" in text
+    assert "0.01 ± 0" in text  # every value equal: the interval is the value
+
+
+def test_markdown_prints_digits_the_interval_supports_and_never_nan(tmp_path, manoeuvres):
+    m = frame(manoeuvres)
+    m.loc[m.model == "floor", "eps_a"] = np.nan
+    t = T.summary(m, "reverse")
+    text = T.markdown(t)
+    assert "nan" not in text.lower() and "| - |" in text.replace("| - | -", "| - |")
+    assert re.search(r"\| \d+ ± \d+ \|", text)  # eps_n of about 40 ± 5: no decimals
+    csv, md = T.write_table(t, tmp_path / "table3_reverse", "Reverse")
+    back = pd.read_csv(csv, index_col=0)
+    assert {"eps_n", "eps_n_lo", "eps_n_hi", "n"} <= set(back)
+    assert "±" in md.read_text()
+    vs = T.versus_paper(t, T.PAPER_REVERSE)
+    assert math.isnan(vs.loc["floor", "eps_n (paper)"])
+    assert "nan" not in T.markdown(vs).lower()
+
+
+def test_paired_table_resolves_a_real_difference_only(manoeuvres):
+    pairs = T.paired_table(frame(manoeuvres), "reverse", ["eps_n"])
+    assert len(pairs) == 6  # every pair of kin, stm, mbd, floor
+    row = pairs.set_index(["a", "b"])
+    assert not row.loc[("kin", "stm"), "resolved"]
+    assert row.loc[("kin", "stm"), "lower"] == "not resolved"
+    assert row.loc[("stm", "mbd"), "resolved"] and row.loc[("stm", "mbd"), "lower"] == "stm"
+    assert row.loc[("stm", "mbd"), "diff_lo"] < -3.0 < row.loc[("stm", "mbd"), "diff_hi"]
+    assert lowest(pairs, "eps_n") is None
+    text = ranking_text(pairs, "eps_n")
+    assert "KIN and STM not resolved" in text and "no model is resolved lowest" in text
+    assert "STM below MBD" in text and "KIN below STM" not in text and "STM below KIN" not in text
+    assert "not resolved" in T.paired_markdown(pairs)
+
+
+def test_excess_over_the_floor_is_paired(manoeuvres):
+    m = frame(manoeuvres)
+    ex = T.excess(m, "reverse")
+    assert list(ex.index) == ["kin", "stm", "mbd"]
+    d = manoeuvres["mbd"] - manoeuvres["floor"]
+    assert ex.loc["mbd", "eps_n"] == pytest.approx(d.mean())
+    # Paired, the interval is that of the differences (SD 0.5), not of the manoeuvres (SD 10).
+    assert ex.loc["mbd", "eps_n_hi"] - ex.loc["mbd", "eps_n_lo"] < 1.0
+    assert T.excess(m[m.model != "floor"], "reverse").empty
+
+
+def test_pooled_over_trucks(manoeuvres):
+    # Three trucks: the same manoeuvres, each truck's models shifted by its own offset,
+    # and each run with its own noise.
+    offsets = {0: 0.0, 1: 4.0, 2: -2.0}
+    rng = np.random.default_rng(5)
+    per_truck = {s: {k: v + off + rng.normal(0, 0.5, N) for k, v in manoeuvres.items()}
+                 for s, off in offsets.items()}
+    m = pd.concat([frame(v, seed=s) for s, v in per_truck.items()], ignore_index=True)
+    p = T.pooled(m, "reverse")
+    per_seed = np.array([v["kin"].mean() for v in per_truck.values()])
+    assert p.loc["kin", "eps_n"] == pytest.approx(per_seed.mean())
+    assert p.loc["kin", "eps_n_sd_trucks"] == pytest.approx(np.std(per_seed, ddof=1))
+    within = np.mean([np.var(v["kin"], ddof=1) for v in per_truck.values()])
+    assert p.loc["kin", "eps_n_sd_manoeuvres"] == pytest.approx(math.sqrt(within))
+    lo, hi = stats.t.interval(0.95, 2, per_seed.mean(), stats.sem(per_seed))
+    assert (p.loc["kin", "eps_n_lo"], p.loc["kin", "eps_n_hi"]) == pytest.approx((lo, hi))
+    assert p.loc["kin", "n"] == 3 * N and p.loc["kin", "seeds"] == 3
+    seeds = T.by_seed(m, "reverse")
+    assert len(seeds) == 3 * 4 and set(seeds["seed"]) == {0, 1, 2}
+    # The offset is the truck's, shared by its models: the paired differences pool tightly.
+    pairs = T.pooled_paired(m, "reverse", ["eps_n"]).set_index(["a", "b"])
+    assert pairs.loc[("stm", "mbd"), "resolved"]
+    assert pairs.loc[("stm", "mbd"), "seeds_resolved"] == 3
+    assert not pairs.loc[("kin", "stm"), "resolved"]
+    assert "trucks / manoeuvres" in T.spread_markdown(p)
+
+
+def report_of(metrics: pd.DataFrame) -> str:
+    forward, reverse = T.summary(metrics, "forward"), T.summary(metrics, "reverse")
+    sweep = pd.DataFrame({"model": ["kin", "kin"], "K": [0.504, 3.0], "J_steer": [9.0, 20.0],
+                          "J_steer_lo": [8.0, 18.0], "J_steer_hi": [10.0, 22.0],
+                          "eps_n": [40.0, 30.0], "eps_n_lo": [35.0, 27.0],
+                          "eps_n_hi": [45.0, 33.0], "stopped": [0, 0], "n": [20, 20]})
+    sweep.attrs["K_min"] = {"kin": 0.504}
+    r = CampaignResults(seed=0, models=("kin", "stm", "mbd"), gain=3.0, metrics=metrics,
+                        forward=forward, reverse=reverse, tuned={}, efficiency=None,
+                        sweep=sweep, stages={"validation": 1.0}, fingerprint="0", version="0")
+    return render(r)
+
+
+def test_report_states_no_unresolved_ranking_and_no_nan(manoeuvres):
+    # KIN and STM cannot be told apart; MBD is resolved above both; the floor is not in
+    # the paper.
+    fwd = {k: v / 8 for k, v in manoeuvres.items()}
+    metrics = pd.concat([frame(manoeuvres), frame(fwd, "forward")], ignore_index=True)
+    text = report_of(metrics)
+    assert not re.search(r"(?i)\bnan\b", text)
+    assert "KIN and STM not resolved" in text
+    for claim in ("KIN below STM", "STM below KIN", "KIN is the lowest", "STM is the lowest",
+                  "most accurate"):
+        assert claim not in text
+    assert "STM below MBD" in text and "KIN below MBD" in text
+    assert "floor" in text and "(not in the paper)" in text
+    assert "## Model-form error: the excess over the floor" in text
+    assert "## Paired comparisons" in text and "KIN 0.504" in text
+    # No mean printed with more digits than its interval carries: eps_n means of about
+    # 40 with intervals of a few points print as whole numbers.
+    assert not re.search(r"\b4\d\.\d\d ", text)
+
+
+def test_pooled_files_and_report_over_three_trucks(tmp_path, manoeuvres, capsys):
+    # The files --seeds N writes on top of the per-seed campaigns, from hand-made trucks:
+    # KIN and STM alike on every truck, MBD 3 points above them.
+    from artic.validation.campaign.seeds import write_pooled
+
+    rng = np.random.default_rng(9)
+    trucks, plant = [], []
+    for s in range(3):
+        per = {k: v + 2.0 * s + rng.normal(0, 0.5, N) for k, v in manoeuvres.items()}
+        trucks.append(pd.concat([frame(per, seed=s), frame(per, "forward", seed=s)]))
+        plant.append(frame({k: per[k] for k in ("kin", "stm")}, seed=s))
+    paths = write_pooled(tmp_path, trucks, plant, {0: 90.0, 1: 91.0, 2: 92.0},
+                         {s: tmp_path / f"seed-{s}" / "report.md" for s in range(3)},
+                         {"gain": 3.0, "only": ["45-"]})
+    for stem in ("table2_forward", "table3_reverse", "table3_vs_plant", "paired_reverse",
+                 "paired_reverse_vs_plant", "table3_reverse_by_seed"):
+        assert (tmp_path / f"{stem}.csv").is_file() and (tmp_path / f"{stem}.md").is_file()
+    assert set(pd.read_csv(paths["metrics"]).seed) == {0, 1, 2}
+    text = (tmp_path / "report.md").read_text()
+    assert not re.search(r"(?i)\bnan\b", text)
+    assert "over 3 trucks" in text and "--only 45-" in text
+    assert "KIN and STM not resolved" in text and "STM below MBD" in text
+    assert "KIN below STM" not in text and "STM below KIN" not in text
+    assert "trucks / manoeuvres" in text and "seed-1/report.md" in text
+    assert "pooled over 3 trucks" in capsys.readouterr().out

@@ -1,0 +1,114 @@
+"""Rankings in words, stated only where a paired comparison resolves them.
+
+The report's sentences about which model is closer come from here. A pair
+of models is ranked only when the interval of their paired difference
+excludes zero (:func:`artic.validation.campaign.tables.paired_table`);
+otherwise the text says "not resolved", with the difference and its
+interval, so that no sentence ranks what the data do not separate.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from artic.validation.campaign.tables import UNITS
+from artic.validation.criteria.statistics import Interval, format_ci
+
+FLOOR = "floor"
+"""The reference row of the truth's own plant."""
+
+
+def label(model: str) -> str:
+    """A model's name in prose: its registry label (KIN, STM, MBD, floor, or a registered one's)."""
+    from artic.validation import models
+
+    return models.label(model)
+
+
+def _unit(criterion: str) -> str:
+    unit = UNITS.get(criterion, "")
+    return {"%": " points", "": ""}.get(unit, f" {unit}")
+
+
+def _rows(pairs: pd.DataFrame, criterion: str, exclude: tuple[str, ...]) -> pd.DataFrame:
+    if pairs is None or pairs.empty:
+        return pd.DataFrame()
+    keep = (pairs["criterion"] == criterion) & ~pairs["a"].isin(exclude) \
+        & ~pairs["b"].isin(exclude)
+    return pairs[keep]
+
+
+def verdicts(pairs: pd.DataFrame, criterion: str,
+             exclude: tuple[str, ...] = (FLOOR,)) -> list[str]:
+    """One phrase per pair of models: who is lower and by how much, or "not resolved"."""
+    out = []
+    unit = _unit(criterion)
+    for r in _rows(pairs, criterion, exclude).itertuples(index=False):
+        if r.resolved:
+            # The difference as higher minus lower, a positive interval.
+            low, high = (r.a, r.b) if r.diff < 0 else (r.b, r.a)
+            s = -1.0 if r.diff < 0 else 1.0
+            lo, hi = sorted((s * r.diff_lo, s * r.diff_hi))
+            gap = format_ci(Interval(abs(r.diff), lo, hi, int(r.n), ""))
+            out.append(f"{label(low)} below {label(high)} by {gap}{unit}")
+        else:
+            gap = format_ci(Interval(r.diff, r.diff_lo, r.diff_hi, int(r.n), ""))
+            out.append(f"{label(r.a)} and {label(r.b)} not resolved ({label(r.a)} - "
+                       f"{label(r.b)} = {gap}{unit})")
+    return out
+
+
+def lowest(pairs: pd.DataFrame, criterion: str,
+           exclude: tuple[str, ...] = (FLOOR,)) -> str | None:
+    """The model resolved lower than every other one, if there is one."""
+    rows = _rows(pairs, criterion, exclude)
+    if rows.empty:
+        return None
+    models = list(dict.fromkeys([*rows["a"], *rows["b"]]))
+    for m in models:
+        mine = rows[(rows["a"] == m) | (rows["b"] == m)]
+        if len(mine) == len(models) - 1 and (mine["lower"] == m).all():
+            return m
+    return None
+
+
+def ranking_text(pairs: pd.DataFrame, criterion: str,
+                 exclude: tuple[str, ...] = (FLOOR,)) -> str:
+    """The paired verdicts on ``criterion`` as one clause, with the lowest model if resolved."""
+    parts = verdicts(pairs, criterion, exclude)
+    if not parts:
+        return f"no pair of models has {criterion} on the same manoeuvres"
+    best = lowest(pairs, criterion, exclude)
+    n_models = len(set(_rows(pairs, criterion, exclude)[["a", "b"]].to_numpy().ravel()))
+    if best is not None:
+        tail = (f"; {label(best)} is the lowest, resolved against every other model"
+                if n_models > 2 else "")
+    elif n_models > 2:
+        tail = "; no model is resolved lowest against every other"
+    else:
+        tail = ""
+    return "; ".join(parts) + tail
+
+
+def excess_text(excess: pd.DataFrame, criterion: str) -> str:
+    """Each model's paired excess over the floor on ``criterion``, and whether it is above zero."""
+    if excess is None or excess.empty or criterion not in excess:
+        return ""
+    unit = _unit(criterion)
+    parts: list[str] = []
+    groups: dict[str, list[str]] = {"above": [], "unresolved": [], "below": []}
+    for m, row in excess.iterrows():
+        iv = Interval(float(row[criterion]), float(row[f"{criterion}_lo"]),
+                      float(row[f"{criterion}_hi"]), int(row["n"]), "")
+        parts.append(f"{label(m)} {format_ci(iv)}{unit}")
+        side = "unresolved" if not iv.excludes(0.0) else "above" if iv.mean > 0 else "below"
+        groups[side].append(label(m))
+    if len(groups["above"]) == len(parts):
+        verdict = "each resolved above the floor"
+    elif len(groups["unresolved"]) == len(parts):
+        verdict = "none resolved from the floor"
+    else:
+        words = {"above": "resolved above the floor", "unresolved": "not resolved from it",
+                 "below": "resolved below it"}
+        verdict = "; ".join(f"{' and '.join(g)} {words[k]}" for k, g in groups.items() if g)
+    return f"{', '.join(parts)} ({verdict})"

@@ -1,0 +1,153 @@
+"""``report.md`` of a campaign over several trucks (``artic campaign --seeds N``).
+
+The pooled means over trucks and manoeuvres carry their interval over trucks;
+the spread between trucks stands beside the spread between manoeuvres; the
+model comparisons are paired per manoeuvre and pooled over trucks, and a
+ranking is stated only where they resolve it. Each truck's own report, with
+its tuning, efficiency and gain sweep, is in its ``seed-K/report.md``.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+
+import pandas as pd
+
+from artic.validation.campaign.rankings import excess_text, ranking_text
+from artic.validation.campaign.tables import (
+    EXTRA_COLUMNS,
+    markdown,
+    paired_markdown,
+    spread_markdown,
+)
+from artic.validation.harness import DEFAULT_GAIN
+
+KEY_CRITERIA = {"forward": ("eps_n", "eps_p"), "reverse": ("eps_n", "J_steer")}
+"""The paper's criteria the report ranks by, per direction."""
+
+STATISTICS = (
+    "**Statistics over trucks.** Each seed is one truck; its manoeuvres are repeated "
+    "measurements of it, so rows of one truck are not independent draws. The pooled mean "
+    "is over every seed and manoeuvre; its 95 % interval is over the trucks' own means "
+    "(Student's t below 8 trucks, a BCa bootstrap above; see "
+    "`validation/criteria/statistics.py`), which holds for another truck drawn alike and "
+    "is wide with few trucks. Beside it, the spread between trucks (the standard "
+    "deviation of the per-seed means) and between manoeuvres (the pooled standard "
+    "deviation within a seed). A paired comparison averages the per-manoeuvre difference "
+    "of two models per truck, and its interval is over those per-truck means; it ranks "
+    "the pair only where the interval excludes zero (\"not resolved\" otherwise), and "
+    "says how many trucks resolve it alone.")
+
+
+@dataclass
+class SeedResults:
+    """What the pooled report is made from, filled per (reference, direction)."""
+
+    walls: dict[int, float]
+    reports: dict[int, Path]
+    campaign: dict
+    tables: dict[tuple[str, str], pd.DataFrame] = field(default_factory=dict)
+    by_seed: dict[tuple[str, str], pd.DataFrame] = field(default_factory=dict)
+    paired: dict[tuple[str, str], pd.DataFrame] = field(default_factory=dict)
+    excess: dict[str, pd.DataFrame] = field(default_factory=dict)
+
+    def add(self, ref: str, direction: str, table: pd.DataFrame, seeds: pd.DataFrame,
+            pairs: pd.DataFrame, excess: pd.DataFrame | None) -> None:
+        """Record one (reference, direction): pooled table, per-seed table, pairs, excess."""
+        self.tables[ref, direction] = table
+        self.by_seed[ref, direction] = seeds
+        self.paired[ref, direction] = pairs
+        if excess is not None and len(excess):
+            self.excess[direction] = excess
+
+
+def _criteria(pairs: pd.DataFrame, direction: str) -> list[str]:
+    have = set(pairs["criterion"]) if len(pairs) else set()
+    return [c for c in (*KEY_CRITERIA[direction], *EXTRA_COLUMNS) if c in have]
+
+
+def render(r: SeedResults, metrics: pd.DataFrame) -> str:
+    """The whole pooled report as Markdown."""
+    stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
+    seeds = sorted(r.walls)
+    models = [m for m in dict.fromkeys(metrics["model"]) if m != "floor"]
+    total = sum(r.walls.values())
+    gain = r.campaign.get("gain", DEFAULT_GAIN)
+    lines = [
+        f"# artic validation campaign over {len(seeds)} trucks", "",
+        f"{stamp}; {platform.machine()}, {os.cpu_count()} cores, Python "
+        f"{platform.python_version()}; `{_command(r, seeds)}`"
+        f": seeds {', '.join(map(str, seeds))}, models {', '.join(models)}, reversing "
+        f"feedback K = {gain:g}, truth {r.campaign.get('truth', 'structural')}; wall time "
+        f"{total:.0f} s (" + ", ".join(f"seed {s} {w:.0f} s" for s, w in r.walls.items())
+        + ").", ""]
+    if r.excess:
+        lines += ["## Model-form error: the excess over the floor, pooled over trucks", "",
+                  "Each model's criteria minus the floor's (the truth's own plant through the "
+                  "same harness) on the same manoeuvre of the same truck, averaged over trucks "
+                  "and manoeuvres; the interval is over trucks.", ""]
+        for direction, ex in r.excess.items():
+            text = "; ".join(f"{c} {excess_text(ex, c)}" for c in KEY_CRITERIA[direction]
+                             if c in ex)
+            lines += [f"**{direction.capitalize()}**: {text}.", "", markdown(ex), "",
+                      "Spread of the excess between trucks / between manoeuvres:", "",
+                      spread_markdown(ex), ""]
+    lines += ["## Rankings", ""]
+    for (ref, direction), pairs in r.paired.items():
+        if len(pairs):
+            clauses = " ".join(f"By {c}: {ranking_text(pairs, c)}."
+                               for c in _criteria(pairs, direction))
+            lines += [f"**{direction.capitalize()}, against the {ref}.** {clauses}", ""]
+    lines += [STATISTICS, ""]
+    for (ref, direction), table in r.tables.items():
+        lines += [f"## {direction.capitalize()}, against the {ref}, pooled over trucks", "",
+                  markdown(table), "",
+                  "Spread between trucks / between manoeuvres (standard deviations):", "",
+                  spread_markdown(table), ""]
+    lines += ["## Paired comparisons, pooled over trucks", "",
+              "The key criteria; every criterion in `paired_*.csv`.", ""]
+    for (ref, direction), pairs in r.paired.items():
+        part = pairs[pairs["criterion"].isin(_criteria(pairs, direction))] if len(pairs) \
+            else pairs
+        if len(part):
+            lines += [f"{direction.capitalize()}, against the {ref}:", "",
+                      paired_markdown(part), ""]
+    lines += ["## Per truck", "",
+              "Each truck's means with their intervals over its own manoeuvres.", ""]
+    for (ref, direction), table in r.by_seed.items():
+        lines += [f"{direction.capitalize()}, against the {ref}:", "", markdown(table), ""]
+    lines += ["## Each truck's own report", "",
+              *[f"- seed {s}: `{p}`" for s, p in r.reports.items()], ""]
+    return "\n".join(lines)
+
+
+def _command(r: SeedResults, seeds: list[int]) -> str:
+    """The ``artic campaign`` options that chose these results (not the output folder)."""
+    c = r.campaign
+    parts = ["artic campaign", f"--seeds {len(seeds)}", f"--seed {seeds[0]}"]
+    if c.get("models"):
+        parts.append(f"--models {','.join(c['models'])}")
+    if c.get("only"):
+        parts.append(f"--only {','.join(c['only'])}")
+    if c.get("gain") is not None and c["gain"] != DEFAULT_GAIN:
+        parts.append(f"--gain {c['gain']:g}")
+    if c.get("truth", "structural") != "structural":
+        parts.append(f"--truth {c['truth']}")
+    return " ".join(parts)
+
+
+def closing(r: SeedResults, report: Path) -> str:
+    """What the run prints at the end: the pooled tables against the logs and the report."""
+    lines = []
+    for direction in ("forward", "reverse"):
+        table = r.tables.get(("logs", direction))
+        if table is not None and len(table):
+            lines += [f"{direction.capitalize()}, pooled over {len(r.walls)} trucks (interval "
+                      "over trucks)", "", markdown(table), ""]
+    lines.append(f"Wall time: {sum(r.walls.values()):.0f} s over {len(r.walls)} trucks.")
+    lines.append(f"The whole report: {report}")
+    return "\n".join(lines)

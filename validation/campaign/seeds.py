@@ -1,0 +1,175 @@
+"""Several trucks: ``artic campaign --seeds N``.
+
+One seed of the synthetic campaign is one truck (its truth draw); its
+manoeuvres are repeated measurements of that truck. ``--seeds N`` runs N truth
+draws, seeds ``S`` to ``S + N - 1`` (``--seed S``, 0 by default), each a whole
+campaign of its own in ``OUT/seed-K/`` with its own report, resumable as any
+campaign (a rerun reuses what each seed folder holds). Then, in ``OUT/``:
+
+- ``metrics.csv``, ``metrics_vs_plant.csv``: every seed's rows, with a ``seed`` column;
+- ``table2_forward``, ``table3_reverse``, ``table2_vs_plant``, ``table3_vs_plant``
+  (``.csv``, ``.md``): the pooled tables, the mean over seeds and manoeuvres
+  with its interval over trucks, and the spread between trucks (SD of the
+  per-seed means) beside the spread between manoeuvres (within a seed);
+- the same with ``_by_seed``: one row per (seed, model), each with its
+  interval over that seed's manoeuvres;
+- ``paired_forward``, ``paired_reverse`` and their ``_vs_plant``
+  counterparts: the paired comparisons pooled over trucks;
+- ``report.md``: the pooled results (:mod:`artic.validation.campaign.seedreport`).
+
+``--seeds 1`` (the default) is the single campaign, written into ``OUT/``
+itself as before. One seed takes about 90 s on two cores, so three seeds
+take about five minutes.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pandas as pd
+
+from artic.validation.campaign.tables import (
+    by_seed,
+    differences,
+    markdown,
+    paired_markdown,
+    pooled,
+    pooled_paired,
+    spread_markdown,
+    write_table,
+)
+from artic.validation.criteria.statistics import format_ci, mean_ci
+from artic.validation.logs.runfile import atomic_write_text
+from artic.validation.outputs import OutDirLock, clean_stale
+from artic.validation.progress import Counter, stderr
+
+TABLES = {("logs", "forward"): "table2_forward", ("logs", "reverse"): "table3_reverse",
+          ("plant", "forward"): "table2_vs_plant", ("plant", "reverse"): "table3_vs_plant"}
+"""File stem of each (reference, direction) table, as a single campaign names them."""
+
+TITLES = {"forward": "Forward driving (the paper's Table 2 columns)",
+          "reverse": "Reverse driving (the paper's Table 3 columns)"}
+
+
+def seed_dir(out_dir: Path, seed: int) -> Path:
+    """The folder of one truck's campaign."""
+    return Path(out_dir) / f"seed-{seed}"
+
+
+def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
+              progress: Callable[[str], None] = stderr, **campaign) -> dict[str, Path]:
+    """Run ``seeds`` campaigns (seeds ``seed`` on) and write the pooled results.
+
+    Parameters
+    ----------
+    out_dir : Path
+        Output folder; each truck's campaign goes to ``out_dir/seed-K``.
+    seeds : int
+        Number of trucks.
+    seed : int
+        The first seed.
+    progress : callable
+        Receives one line per finished truck, with its reverse eps_n and the time left.
+    **campaign
+        The other arguments of :func:`artic.validation.campaign.main.run_campaign`.
+
+    Returns
+    -------
+    dict
+        Result files by name.
+    """
+    from artic.validation.campaign.main import run_campaign
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with OutDirLock(out_dir, "campaign"):
+        stale = clean_stale(out_dir)
+        if stale:
+            progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
+        (out_dir / "report.md").unlink(missing_ok=True)
+        counter = Counter(seeds, "trucks", progress, every=0.0)
+        metrics, vs_plant, walls, reports = [], [], {}, {}
+        for k in range(seeds):
+            s = seed + k
+            where = seed_dir(out_dir, s)
+            progress(f"=== truck {k + 1} of {seeds}: seed {s}, {where}")
+            t0 = time.perf_counter()
+            paths = run_campaign(where, seed=s, closing=False, **campaign)
+            m = pd.read_csv(paths["metrics"]).assign(seed=s)
+            metrics.append(m)
+            if "metrics_vs_plant" in paths:
+                vs_plant.append(pd.read_csv(paths["metrics_vs_plant"]).assign(seed=s))
+            walls[s] = _wall(where, time.perf_counter() - t0)
+            reports[s] = paths["report"].relative_to(out_dir)
+            counter.step(f"seed {s} in {walls[s]:.0f} s; reverse eps_n {_eps_n_line(m)}",
+                         always=True)
+        return write_pooled(out_dir, metrics, vs_plant, walls, reports, campaign)
+
+
+def _wall(where: Path, measured: float) -> float:
+    """A truck's campaign wall time [s]: its stages as first computed (``timings.json``)."""
+    try:
+        saved = json.loads((where / "timings.json").read_text())
+        return float(sum(saved["stages"].values()))
+    except (OSError, ValueError, KeyError, TypeError):
+        return measured
+
+
+def _eps_n_line(m: pd.DataFrame) -> str:
+    """``KIN 47 ± 8, ... %``: a truck's reverse eps_n per model, for its progress line."""
+    part = m[(m["direction"] == "reverse") & (m["status"] == "ok")]
+    return ", ".join(f"{model} {format_ci(mean_ci(g['eps_n']))}"
+                     for model, g in part.groupby("model", sort=False)) + " %"
+
+
+def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.DataFrame],
+                 walls: dict[int, float], reports: dict[int, Path],
+                 campaign: dict) -> dict[str, Path]:
+    """The pooled files and ``report.md`` from every truck's metrics (see the module docstring)."""
+    from artic.validation.campaign import seedreport
+    from artic.validation.campaign.validate import write_metrics
+
+    paths: dict[str, Path] = {}
+    logs = _first_columns(pd.concat(metrics, ignore_index=True))
+    paths["metrics"] = write_metrics(logs, out_dir / "metrics.csv")
+    plant = None
+    if vs_plant:
+        plant = _first_columns(pd.concat(vs_plant, ignore_index=True))
+        paths["metrics_vs_plant"] = write_metrics(plant, out_dir / "metrics_vs_plant.csv")
+    results = seedreport.SeedResults(walls=walls, reports=reports, campaign=campaign)
+    for ref, frame in (("logs", logs), ("plant", plant)):
+        if frame is None:
+            continue
+        suffix = "" if ref == "logs" else "_vs_plant"
+        for direction in ("forward", "reverse"):
+            if not (frame["direction"] == direction).any():
+                continue
+            stem, title, where = TABLES[ref, direction], TITLES[direction], f", against the {ref}"
+            table, seeds = pooled(frame, direction), by_seed(frame, direction)
+            pairs = pooled_paired(frame, direction)
+            text = (f"{markdown(table)}\n\nSpread between trucks / between manoeuvres (standard "
+                    f"deviations):\n\n{spread_markdown(table)}")
+            paths[stem], _ = write_table(table, out_dir / stem, f"{title}{where}, pooled over "
+                                         f"{len(walls)} trucks", text)
+            paths[f"{stem}_by_seed"], _ = write_table(seeds, out_dir / f"{stem}_by_seed",
+                                                      f"{title}{where}, per truck")
+            name = f"paired_{direction}{suffix}"
+            if len(pairs):
+                paths[name], _ = write_table(pairs.set_index("criterion"), out_dir / name,
+                                             f"Paired comparisons, {direction}{where}, pooled "
+                                             "over trucks", paired_markdown(pairs))
+            excess = pooled(differences(frame, direction), direction) if ref == "logs" \
+                else None
+            results.add(ref, direction, table, seeds, pairs, excess)
+    text = seedreport.render(results, logs)
+    paths["report"] = atomic_write_text(out_dir / "report.md", text)
+    print(seedreport.closing(results, paths["report"]))
+    return paths
+
+
+def _first_columns(df: pd.DataFrame) -> pd.DataFrame:
+    """``seed`` as the first column."""
+    return df[["seed", *[c for c in df.columns if c != "seed"]]]

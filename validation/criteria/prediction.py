@@ -1,0 +1,193 @@
+"""Open-loop prediction errors for reversing: the reversing model itself, not the loop.
+
+Under the harness's feedback (K = 3) the loop pulls a model's articulation
+onto the measured one within about 1.5 m of travel, so the paper's reverse
+criteria measure steering effort more than the model. Here the model runs
+without feedback for a short travelled distance from measured states:
+
+1. **Start points.** Along a reverse log, the first sample at or after every
+   :data:`SPACING` metres of the tractor sensor's travelled distance (the
+   ``s`` of eq. (8), :func:`artic.validation.metrics.travelled`) at which the
+   harness sees the tractor reversing.
+2. **Start.** The model is reset to the log's state at that sample, as the
+   harness starts a run from the first sample
+   (:func:`artic.validation.harness.initial_state`), and driven by the log's
+   steering (through the model's eq. (3) map) and smoothed speed, exactly
+   the harness's inputs (:func:`artic.validation.harness.window`), with
+   K = 0: the model's own ``reset``/``step``/``observe`` in the harness's
+   loop, no feedback.
+3. **Score.** At the first sample at or after ``H`` metres of travel from
+   the start, for each horizon ``H`` of :data:`HORIZONS`: the distance
+   between the model's and the measured semitrailer axle-group centre
+   (``-L2`` behind the kingpin, from each one's semitrailer sensor,
+   :mod:`artic.validation.criteria.points`) moved since the start, model
+   against measurement [m], and the magnitude of the wrapped articulation
+   difference [rad].
+
+The position error compares displacements, ``|(p(H) - p(0))_model -
+(p(H) - p(0))_measured|``, not positions: the model's semitrailer is placed at
+the start from the tractor's pose and the articulation, as the harness
+places it, and its sensor's lever arm and mounting yaw differ from the
+measuring rig's by centimetres and a fraction of a degree. That offset is
+there before the model has predicted anything (5-7 cm for every model on the
+synthetic campaign's noise-free logs, against the preset's geometry) and
+would lie under every horizon alike. The articulation starts equal to the
+measured one by construction.
+
+``pred_p_<H>m`` and ``pred_gamma_<H>m`` are the means over the start points.
+One run to the longest horizon serves all three. A start point with less
+than ``H`` metres of log after it does not count for ``H``; when no start
+point has (a log shorter than the horizon) the column is NaN, and the run's
+``meta["prediction"]["note"]`` says so. A model that passes the jackknife
+limit before a horizon scores its error where it stopped, a lower bound.
+Forward logs have no prediction errors (NaN).
+
+**Spacing.** Every start point drives the model up to the longest horizon,
+so a spacing ``S`` costs about ``10 m / S`` open-loop runs of the log. Every
+10 m, the windows tile the log: a 35-50 m log gives 3-5 start points, the
+campaign's 33 reverse logs 163, and the plant simulates 1580 s for them,
+0.76 of the logs' own 2090 s: about 12 s of the campaign's wall time for
+``mbd`` and ``floor`` on two cores. Every 5 m would cost 23 s and every 2 m
+56 s, for start points whose windows overlap and whose errors are
+therefore correlated.
+KIN and the STM cost next to nothing at any spacing (one compiled call per
+start point), but they use the same start points as the plant, so that the
+models are compared on the same measured states.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from artic.mjcf.interface import wrap_angle
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.criteria.direction import direction_of
+from artic.validation.criteria.points import axle_x, trailer_point
+from artic.validation.harness import loop_inputs, run_inputs, window
+from artic.validation.logs.runfile import Run
+from artic.validation.metrics import travelled
+from artic.validation.models import Model
+from artic.validation.steering import SteeringMap
+
+HORIZONS = (2.0, 5.0, 10.0)
+"""Travelled distances of the predictions [m]."""
+
+SPACING = 10.0
+"""Travelled distance between start points [m] (see the module docstring)."""
+
+
+def columns(horizons: tuple[float, ...] = HORIZONS) -> tuple[str, ...]:
+    """Column names: ``pred_p_<H>m`` for every horizon, then ``pred_gamma_<H>m``."""
+    return (*(f"pred_p_{h:g}m" for h in horizons), *(f"pred_gamma_{h:g}m" for h in horizons))
+
+
+COLUMNS = columns()
+UNITS = {c: ("m" if c.startswith("pred_p") else "rad") for c in COLUMNS}
+
+
+def start_points(s: np.ndarray, reversing: np.ndarray, spacing: float = SPACING) -> np.ndarray:
+    """Sample indices of the start points (see the module docstring).
+
+    Parameters
+    ----------
+    s : ndarray
+        Travelled distance per sample, non-decreasing [m].
+    reversing : ndarray of bool
+        Whether the harness sees the tractor reversing, per sample.
+    spacing : float
+        Distance between start points [m].
+    """
+    if s.size == 0:
+        return np.zeros(0, dtype=int)
+    marks = np.arange(0.0, float(s[-1]) + 0.5 * spacing, spacing)
+    idx = np.unique(np.searchsorted(s, marks, side="left"))
+    idx = idx[idx < s.size]
+    return idx[np.asarray(reversing, dtype=bool)[idx]]
+
+
+def horizon_ends(s: np.ndarray, starts: np.ndarray, horizons=HORIZONS) -> np.ndarray:
+    """Per start point and horizon, the first sample ``H`` metres on, or -1 past the log's end."""
+    target = s[starts][:, None] + np.asarray(horizons, dtype=float)[None, :]
+    ends = np.searchsorted(s, target, side="left")
+    return np.where(ends < s.size, ends, -1)
+
+
+def prediction_errors(model: Model, log: Run, vehicle: Vehicle, spacing: float = SPACING,
+                      horizons: tuple[float, ...] = HORIZONS) -> dict:
+    """The open-loop prediction errors of a model on one log.
+
+    Parameters
+    ----------
+    model : Model
+        Built from ``vehicle``; it is reset for every start point.
+    log : Run
+        The measured log.
+    vehicle : Vehicle
+        The parameters the model was built from: its steering map for
+        ``model.name``, the semitrailer's ``L2`` and sensor lever arm.
+    spacing : float
+        Distance between start points [m].
+    horizons : tuple of float
+        Travelled distances [m].
+
+    Returns
+    -------
+    dict
+        The :func:`columns` [m, rad]; ``starts`` (start points used for the
+        shortest horizon), ``stopped`` (predictions that passed the
+        jackknife limit or stopped being finite), ``note`` (why a column is
+        NaN, or ``""``) and ``wall_s`` [s].
+    """
+    t0 = time.perf_counter()
+    names = columns(horizons)
+    out: dict = dict.fromkeys(names, float("nan")) | {"starts": 0, "stopped": 0, "note": ""}
+    if direction_of(log) != "reverse":
+        return out | {"note": "not a reverse log", "wall_s": time.perf_counter() - t0}
+    frame = log.frame
+    steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
+    inputs = loop_inputs(log, vehicle, steering)
+    s = travelled(frame)
+    starts = start_points(s, inputs.reversing, spacing)
+    ends = horizon_ends(s, starts, horizons)
+    xa = axle_x(vehicle)
+    ax, ay = trailer_point(vehicle, xa, frame["x_2"].to_numpy(dtype=float),
+                           frame["y_2"].to_numpy(dtype=float),
+                           frame["psi_2"].to_numpy(dtype=float))
+    err_p = np.full(ends.shape, np.nan)
+    err_g = np.full(ends.shape, np.nan)
+    stopped = 0
+    for i, k in enumerate(starts):
+        fits = ends[i] >= 0
+        if not fits.any():
+            continue
+        stop = int(ends[i][fits].max()) + 1
+        obs, _, _, _, n = run_inputs(model, window(inputs, frame, int(k), stop), vehicle,
+                                     gain=0.0)
+        stopped += int(n < stop - k)
+        for j in np.flatnonzero(fits):
+            m = min(int(ends[i, j]) - int(k), n - 1)  # where it stopped: a lower bound
+            if not np.all(np.isfinite(obs[m])):
+                continue
+            px, py = trailer_point(vehicle, xa, obs[[0, m], 6], obs[[0, m], 7],
+                                   obs[[0, m], 8])
+            err_p[i, j] = math.hypot(float(px[1] - px[0]) - (ax[k + m] - ax[k]),
+                                     float(py[1] - py[0]) - (ay[k + m] - ay[k]))
+            err_g[i, j] = abs(float(wrap_angle(float(obs[m, 12] - inputs.gamma_meas[k + m]))))
+    short = []
+    for j, h in enumerate(horizons):
+        ok = np.isfinite(err_p[:, j])
+        if ok.any():
+            out[names[j]] = float(np.mean(err_p[ok, j]))
+            out[names[len(horizons) + j]] = float(np.mean(err_g[ok, j]))
+        else:
+            short.append(f"{h:g} m")
+    if short:
+        out["note"] = (f"no start point has {' or '.join(short)} of reverse travel after it "
+                       f"(the log reverses {s[-1]:.1f} m)" if s.size else "an empty log")
+    out["starts"] = int(np.isfinite(err_p[:, 0]).sum()) if len(starts) else 0
+    out["stopped"] = stopped
+    out["wall_s"] = time.perf_counter() - t0
+    return out
