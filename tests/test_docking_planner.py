@@ -22,28 +22,27 @@ from conftest import PRESETS
 
 
 # ---------------------------------------------------------------- linearisation
-def test_the_jacobians_are_eq_1s_derivatives(unloaded):
-    """Against eq. (1) differentiated by hand at a turning point."""
-    P = Frames.of(unloaded).P
-    L1, L1c, L2 = P
-    u, psi, g, d = -1.3, 0.4, 0.3, 0.2
-    A, B = linearise(P, u, np.array([5.0, -2.0, psi, g]), d)
-    r1 = u * math.tan(d) / L1
-    assert A[0, 2] == pytest.approx(-u * math.sin(psi), rel=1e-7)
-    assert A[1, 2] == pytest.approx(u * math.cos(psi), rel=1e-7)
-    assert A[3, 3] == pytest.approx(-u * math.cos(g) / L2 + L1c * math.sin(g) / L2 * r1,
-                                    rel=1e-7)
-    assert B[2, 0] == pytest.approx(u / (L1 * math.cos(d) ** 2), rel=1e-7)
-    assert B[3, 0] == pytest.approx((1 - L1c * math.cos(g) / L2) * u / (L1 * math.cos(d) ** 2),
-                                    rel=1e-7)
-    assert np.all(A[:, :2] == 0.0)  # nothing depends on where the combination is
+@pytest.mark.parametrize("direction", [-1.0, 1.0])
+def test_the_jacobians_per_metre_are_eq_4(unloaded, direction):
+    """About the straight line, per metre of travel (``u1 = +-1``), by hand from eq. (1)."""
+    kin = Frames.of(unloaded).kin
+    L1, L1c, L2 = kin.P
+    u = direction
+    A, B = linearise(kin, direction)
+    expect_A = np.zeros((4, 4))
+    expect_A[0, 2] = 0.0  # -u sin(psi)
+    expect_A[1, 2] = u
+    expect_A[3, 3] = -u / L2
+    assert A == pytest.approx(expect_A, abs=1e-12)
+    assert B[:, 0] == pytest.approx([0.0, 0.0, u / L1, (1 - L1c / L2) * u / L1], abs=1e-12)
 
 
 @pytest.mark.parametrize("preset", PRESETS)
 def test_reversing_the_semitrailer_is_unstable_at_one_over_L2_per_metre(preset):
-    P = Frames.of(load_vehicle(preset)).P
-    rev = np.sort(np.linalg.eigvals(trailer_error_model(P, -1.0)[0]).real)
-    fwd = np.sort(np.linalg.eigvals(trailer_error_model(P, 1.0)[0]).real)
+    kin = Frames.of(load_vehicle(preset)).kin
+    P = kin.P
+    rev = np.sort(np.linalg.eigvals(trailer_error_model(kin, -1.0)[0]).real)
+    fwd = np.sort(np.linalg.eigvals(trailer_error_model(kin, 1.0)[0]).real)
     assert rev == pytest.approx([0.0, 0.0, 1.0 / P[2]], abs=1e-7)
     assert fwd == pytest.approx([-1.0 / P[2], 0.0, 0.0], abs=1e-7)
 
@@ -66,15 +65,15 @@ def test_the_semitrailer_axles_offset_is_the_linear_map_of_kins_state(unloaded):
 def test_the_gains_stabilise_the_sampled_loop_at_every_speed(unloaded, direction, speed):
     from artic.validation.docking.linear import tractor_error_model
 
-    P = Frames.of(unloaded).P
+    kin = Frames.of(unloaded).kin
     ds = speed * 0.1
     model = trailer_error_model if direction < 0 else tractor_error_model
-    A, B = with_steering_state(*model(P, float(direction)))
+    A, B = with_steering_state(*model(kin, float(direction)))
     Ad, Bd = discretise(A, B, ds)
-    K = gains(P, direction, ds)
+    K = gains(kin, direction, ds)
     assert np.max(np.abs(np.linalg.eigvals(Ad - Bd @ K[None, :]))) < 1.0
     # Scheduled: another speed, other gains.
-    assert not np.allclose(K, gains(P, direction, 2 * ds))
+    assert not np.allclose(K, gains(kin, direction, 2 * ds))
 
 
 # ---------------------------------------------------------------- planner

@@ -11,19 +11,12 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.mjcf.interface import OBS_INDEX
+from artic.validation.criteria.statistics import format_ci
 from artic.validation.docking.controllers import BUILTIN, Command, Controller, load
 from artic.validation.docking.planner import steady_delta
 from artic.validation.docking.run import DT, PLANT_DT, drive
 from artic.validation.docking.scenarios import SCENARIOS, scenario
-from artic.validation.docking.scores import (
-    COLUMNS,
-    fmt_ci,
-    markdown,
-    mean_ci,
-    paired,
-    rate_ci,
-    table,
-)
+from artic.validation.docking.scores import COLUMNS, markdown, paired, rate_ci, table
 from artic.validation.docking.sensing import SensorStream
 from artic.validation.synthetic.sensors import SensorModel
 
@@ -254,18 +247,13 @@ def test_each_scenario_docks_the_other_presets(name, vehicle):
 
 # ---------------------------------------------------------------- statistics
 def test_the_success_interval_is_wilsons():
-    r, lo, hi = rate_ci(9, 10)
-    assert r == 0.9
+    iv = rate_ci(9, 10)
+    assert iv.mean == 0.9 and iv.n == 10
     # Wilson's 95 % interval for 9 of 10: 0.596 to 0.982.
-    assert (lo, hi) == pytest.approx((0.596, 0.982), abs=1e-3)
-
-
-def test_a_mean_carries_only_the_digits_its_interval_supports():
-    m, lo, hi = mean_ci([1.0, 1.1, 0.9, 1.05, 0.95])
-    assert lo < m < hi
-    assert fmt_ci(1.23456, 1.2, 1.27) == "1.23 [1.20, 1.27]"
-    assert fmt_ci(12.3456, 10.0, 15.0) == "12 [10, 15]"
-    assert fmt_ci(float("nan"), 0, 1) == "-"
+    assert (iv.lo, iv.hi) == pytest.approx((0.596, 0.982), abs=1e-3)
+    # Ten of ten still has an interval below one.
+    assert rate_ci(10, 10).lo == pytest.approx(0.722, abs=1e-3)
+    assert format_ci(rate_ci(10, 10)) == "1.0 [0.7, 1.0]"
 
 
 def test_paired_differences_resolve_only_when_the_interval_excludes_zero():

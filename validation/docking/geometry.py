@@ -30,7 +30,8 @@ from numba import njit
 from artic.mjcf.interface import OBS_INDEX
 from artic.mjcf.outline import outline
 from artic.mjcf.vehicle import Vehicle
-from artic.reduced.kinematic import kin_parameters, wheelbases
+from artic.reduced.control import KIN
+from artic.reduced.kinematic import wheelbases
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,8 @@ class Frames:
 
     Attributes
     ----------
+    kin : KIN
+        The vehicle's KIN (:class:`artic.reduced.control.KIN`).
     P : ndarray
         KIN's ``[L1, L1c, L2]`` (equivalent wheelbases).
     x_ref : float
@@ -85,6 +88,7 @@ class Frames:
         Mounting yaw of each sensor [rad]; the reported heading includes it.
     """
 
+    kin: KIN
     P: np.ndarray
     x_ref: float
     L1c: float
@@ -99,7 +103,8 @@ class Frames:
     def of(cls, v: Vehicle) -> Frames:
         """The frames of vehicle ``v``."""
         o = outline(v)
-        return cls(P=kin_parameters(v), x_ref=wheelbases(v)[2], L1c=v.L1c,
+        kin = KIN(v)
+        return cls(kin=kin, P=kin.P, x_ref=wheelbases(v)[2], L1c=v.L1c,
                    rear=o.rear_behind_kingpin,
                    tractor_box=np.array([(o.tractor_front + o.tractor_rear) / 2,
                                          (o.tractor_front - o.tractor_rear) / 2, o.width / 2]),

@@ -1,11 +1,8 @@
 """KIN linearised about a straight path, and the LQR gains of the path followers.
 
-:func:`linearise` is the one place that linearises KIN; everything else takes
-its Jacobians. It differentiates :func:`artic.reduced.kinematic.kin_rhs`, the
-model's own equations, by central differences (step 1e-6, where the
-truncation error, of order ``h^2`` times the third derivative, and the
-rounding error, of order ``1e-16 / h``, are both below 1e-9), so no second
-copy of eq. (1) exists here.
+The linearisation is :meth:`artic.reduced.control.KIN.linearise`, KIN's
+analytic Jacobians (:mod:`artic.reduced.jacobians`); nothing here
+differentiates eq. (1) again.
 
 Path following works in **distance**: per metre of tractor travel, KIN is the
 same at every speed (``u1 = +-1``). Its errors about a straight path along x:
@@ -24,64 +21,45 @@ discrete LQR, so that the gains are scheduled with speed.
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 from scipy.linalg import expm, solve_discrete_are
 
-from artic.reduced.kinematic import kin_rhs
-
-H = 1e-6
-"""Central-difference step [rad, m]."""
+from artic.reduced.control import KIN
 
 
-def linearise(P: np.ndarray, u1: float, x0: np.ndarray | None = None,
-              delta0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """KIN's Jacobians ``A = df/dx`` (4x4) and ``B = df/ddelta`` (4x1) about ``(x0, u1, delta0)``.
+def linearise(kin: KIN, direction: float) -> tuple[np.ndarray, np.ndarray]:
+    """KIN's Jacobians ``A`` (4x4) and ``B`` (4x1, the road-wheel angle's) per metre of travel.
 
-    Parameters
-    ----------
-    P : ndarray
-        KIN's ``[L1, L1c, L2]`` [m].
-    u1 : float
-        Speed [m/s] (``+-1``: per metre of travel).
-    x0 : ndarray, optional
-        State ``[X, Y, psi_1, gamma]``; zero (straight along x) by default.
-    delta0 : float
-        Road-wheel angle [rad].
+    About the straight path along x, ``u1 = direction`` (``+1`` forward,
+    ``-1`` reverse): :meth:`artic.reduced.control.KIN.linearise` at
+    :meth:`~artic.reduced.control.KIN.straight`.
     """
-    x0 = np.zeros(4) if x0 is None else np.asarray(x0, dtype=float)
-    A = np.empty((4, 4))
-    for j in range(4):
-        e = np.zeros(4)
-        e[j] = H
-        A[:, j] = (kin_rhs(x0 + e, u1, 0.0, delta0, P) - kin_rhs(x0 - e, u1, 0.0, delta0, P)) \
-            / (2 * H)
-    B = ((kin_rhs(x0, u1, 0.0, delta0 + H, P) - kin_rhs(x0, u1, 0.0, delta0 - H, P))
-         / (2 * H)).reshape(4, 1)
-    return A, B
+    x0, u0 = kin.straight(float(direction))
+    A, B = kin.linearise(x0, u0)
+    return A, B[:, kin.find_input("delta")].reshape(4, 1)
 
 
-def trailer_error_model(P: np.ndarray, direction: float) -> tuple[np.ndarray, np.ndarray]:
+def trailer_error_model(kin: KIN, direction: float) -> tuple[np.ndarray, np.ndarray]:
     """Per-metre model of the semitrailer axle's errors ``(e_y2, e_psi2, e_gamma)``.
 
     Parameters
     ----------
-    P : ndarray
-        KIN's ``[L1, L1c, L2]`` [m].
+    kin : KIN
+        The vehicle's KIN.
     direction : float
         ``+1`` forward, ``-1`` reverse.
     """
-    A, B = linearise(P, float(direction))
+    A, B = linearise(kin, direction)
+    P = kin.P
     T = np.array([[1.0, P[1] - P[2], P[2]], [0.0, 1.0, -1.0], [0.0, 0.0, 1.0]])
     sub = [1, 2, 3]  # Y, psi_1, gamma: X enters nothing
     Ti = np.linalg.inv(T)
     return T @ A[np.ix_(sub, sub)] @ Ti, T @ B[sub]
 
 
-def tractor_error_model(P: np.ndarray, direction: float) -> tuple[np.ndarray, np.ndarray]:
+def tractor_error_model(kin: KIN, direction: float) -> tuple[np.ndarray, np.ndarray]:
     """Per-metre model of the tractor point's errors ``(e_y1, e_psi1)``."""
-    A, B = linearise(P, float(direction))
+    A, B = linearise(kin, direction)
     sub = [1, 2]
     return A[np.ix_(sub, sub)], B[sub]
 
@@ -138,21 +116,10 @@ FORWARD_WEIGHTS = (0.3, np.radians(5.0), np.radians(20.0), 0.05)
 steer rate [rad/m])."""
 
 
-@functools.lru_cache(maxsize=256)
-def _gains(P: tuple[float, float, float], direction: int, ds: float,
-           weights: tuple[float, ...]) -> np.ndarray:
-    Pa = np.array(P)
-    if direction < 0:
-        A, B = trailer_error_model(Pa, -1.0)
-    else:
-        A, B = tractor_error_model(Pa, 1.0)
-    A, B = with_steering_state(A, B)
-    Q = np.diag([1.0 / x ** 2 for x in weights[:-1]])
-    R = np.array([[1.0 / weights[-1] ** 2]])
-    return lqr(A, B, Q, R, ds)[0]
+_CACHE: dict[tuple, np.ndarray] = {}
 
 
-def gains(P: np.ndarray, direction: int, ds: float,
+def gains(kin: KIN, direction: int, ds: float,
           weights: tuple[float, ...] | None = None) -> np.ndarray:
     """LQR gains of the path follower for a distance step ``ds`` [m].
 
@@ -161,20 +128,27 @@ def gains(P: np.ndarray, direction: int, ds: float,
 
     Parameters
     ----------
-    P : ndarray
-        KIN's ``[L1, L1c, L2]`` [m].
+    kin : KIN
+        The vehicle's KIN.
     direction : int
         ``-1``: semitrailer-axle errors, reversing; ``+1``: tractor errors, forward.
     ds : float
         Travel per control step, ``|u| dt`` [m]; rounded to the millimetre, so
-        that the gains of nearby speeds are computed once.
+        that the gains of nearby speeds are computed once per process.
     weights : tuple of float, optional
         :data:`REVERSE_WEIGHTS` or :data:`FORWARD_WEIGHTS` by default.
     """
     d = int(np.sign(direction))
-    w = weights or (REVERSE_WEIGHTS if d < 0 else FORWARD_WEIGHTS)
+    w = tuple(float(x) for x in (weights or (REVERSE_WEIGHTS if d < 0 else FORWARD_WEIGHTS)))
     ds = max(round(float(ds), 3), 1e-3)
-    return _gains(tuple(float(p) for p in P), d, ds, tuple(float(x) for x in w)).copy()
+    key = (tuple(float(p) for p in kin.P), d, ds, w)
+    if key not in _CACHE:
+        model = trailer_error_model if d < 0 else tractor_error_model
+        A, B = with_steering_state(*model(kin, float(d)))
+        Q = np.diag([1.0 / x ** 2 for x in w[:-1]])
+        R = np.array([[1.0 / w[-1] ** 2]])
+        _CACHE[key] = lqr(A, B, Q, R, ds)[0]
+    return _CACHE[key].copy()
 
 
 SCHEDULE_SPEEDS = np.linspace(0.1, 2.0, 20)
@@ -186,8 +160,8 @@ class GainSchedule:
 
     Parameters
     ----------
-    P : ndarray
-        KIN's ``[L1, L1c, L2]`` [m].
+    kin : KIN
+        The vehicle's KIN.
     direction : int
         ``-1`` reversing, ``+1`` forward.
     dt : float
@@ -196,10 +170,10 @@ class GainSchedule:
         As :func:`gains`.
     """
 
-    def __init__(self, P: np.ndarray, direction: int, dt: float,
+    def __init__(self, kin: KIN, direction: int, dt: float,
                  weights: tuple[float, ...] | None = None) -> None:
         self.speeds = SCHEDULE_SPEEDS
-        self.table = np.array([gains(P, direction, v * dt, weights) for v in self.speeds])
+        self.table = np.array([gains(kin, direction, v * dt, weights) for v in self.speeds])
 
     def __call__(self, speed: float) -> np.ndarray:
         """The gains at ``|speed|`` [m/s], interpolated (held beyond the table's ends)."""

@@ -474,7 +474,7 @@ class HybridAStar:
         steps = round(PRIMITIVE_LENGTH / STEP)
         max_steps = round(MAX_APPROACH / STEP)
         fa = (yard.x_dock, yard.y_dock, fr.rear, STEP, max_steps, *args,
-              gains(P, -1, STEP, APPROACH_WEIGHTS), Y_SAT, np.array(LANDING))
+              gains(fr.kin, -1, STEP, APPROACH_WEIGHTS), Y_SAT, np.array(LANDING))
         order = 0
         heap = [(WEIGHT * h(x0), order, _Node(0.0, x0, 0, None, None))]
         closed: set[tuple] = set()

@@ -23,15 +23,14 @@ noisy ones never enter a score):
 
 The table (:func:`table`) groups by scenario, vehicle and controller: the
 success rate with its Wilson 95 % interval, and the means of the errors
-over the successes with seeded bootstrap 95 % intervals, printed to the
-digits the interval supports. :func:`paired` compares two controllers over
-the starts both docked.
+over the successes with the project's 95 % intervals, printed to the digits
+the interval supports (:mod:`artic.validation.criteria.statistics`).
+:func:`paired` compares two controllers over the starts both docked.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
@@ -39,6 +38,8 @@ from scipy import stats
 
 from artic.mjcf.interface import OBS_INDEX
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.criteria.statistics import CONFIDENCE, Interval, format_ci, mean_ci
+from artic.validation.criteria.statistics import paired as compare
 from artic.validation.docking.geometry import Frames, swept_cells
 
 DOCKED = (0.3, 0.3, math.radians(3.0))
@@ -154,40 +155,16 @@ def swept_area(tractor: np.ndarray, trailer: np.ndarray, frames: Frames,
 
 
 # ---------------------------------------------------------------- statistics
-BOOTSTRAP = 2000
-"""Bootstrap resamples of a mean's interval."""
+def rate_ci(k: int, n: int) -> Interval:
+    """Success rate ``k / n`` and its Wilson 95 % interval.
 
-
-def mean_ci(x: Sequence[float], seed: int = 0) -> tuple[float, float, float]:
-    """Mean and its 95 % interval (seeded percentile bootstrap); NaN bounds below 2 values."""
-    x = np.asarray([v for v in x if np.isfinite(v)], dtype=float)
-    if x.size == 0:
-        return math.nan, math.nan, math.nan
-    m = float(x.mean())
-    if x.size < 2 or np.all(x == x[0]):
-        return m, (m if x.size > 1 else math.nan), (m if x.size > 1 else math.nan)
-    res = stats.bootstrap((x,), np.mean, n_resamples=BOOTSTRAP, confidence_level=0.95,
-                          method="percentile", random_state=np.random.default_rng(seed))
-    return m, float(res.confidence_interval.low), float(res.confidence_interval.high)
-
-
-def rate_ci(k: int, n: int) -> tuple[float, float, float]:
-    """Success rate and its Wilson 95 % interval."""
+    Wilson's interval rather than the normal approximation: it stays inside
+    [0, 1] and keeps its coverage at 10 of 10, where the normal one has no width.
+    """
     if n == 0:
-        return math.nan, math.nan, math.nan
-    ci = stats.binomtest(int(k), int(n)).proportion_ci(0.95, method="wilson")
-    return k / n, float(ci.low), float(ci.high)
-
-
-def fmt_ci(m: float, lo: float, hi: float, scale: float = 1.0) -> str:
-    """``m [lo, hi]`` to the decimals the interval supports (its half-width's first digit)."""
-    if not np.isfinite(m):
-        return "-"
-    m, lo, hi = m * scale, lo * scale, hi * scale
-    if not (np.isfinite(lo) and np.isfinite(hi)) or hi <= lo:
-        return f"{m:.3g}"
-    d = max(0, -math.floor(math.log10((hi - lo) / 2)))
-    return f"{m:.{d}f} [{lo:.{d}f}, {hi:.{d}f}]"
+        return Interval(math.nan, math.nan, math.nan, 0, "none")
+    ci = stats.binomtest(int(k), int(n)).proportion_ci(CONFIDENCE, method="wilson")
+    return Interval(k / n, float(ci.low), float(ci.high), int(n), "Wilson")
 
 
 TABLE_METRICS = (("|lateral| [cm]", "lateral_error_m", 100.0, True),
@@ -206,12 +183,11 @@ def table(rows: pd.DataFrame) -> pd.DataFrame:
     out = []
     for (scen, veh, ctrl), g in rows.groupby(["scenario", "vehicle", "controller"], sort=False):
         ok = g[g["success"].astype(bool)]
-        r, lo, hi = rate_ci(len(ok), len(g))
         rec = {"scenario": scen, "vehicle": veh, "controller": ctrl, "runs": len(g),
-               "docked": len(ok), "success [95 % CI]": fmt_ci(r, lo, hi)}
+               "docked": len(ok), "success [95 % CI]": format_ci(rate_ci(len(ok), len(g)))}
         for label, col, scale, absolute in TABLE_METRICS:
-            x = ok[col].to_numpy(dtype=float)
-            rec[label] = fmt_ci(*mean_ci(np.abs(x) if absolute else x), scale=scale)
+            x = scale * ok[col].to_numpy(dtype=float)
+            rec[label] = format_ci(mean_ci(np.abs(x) if absolute else x))
         for label, col in (("max |lateral| [cm]", "lateral_error_m"),
                            ("max |heading| [deg]", "heading_error_deg")):
             x = np.abs(ok[col].to_numpy(dtype=float)) * (100.0 if "cm" in label else 1.0)
@@ -224,23 +200,25 @@ def table(rows: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def paired(rows: pd.DataFrame, a: str, b: str, column: str, absolute: bool = True,
-           seed: int = 0) -> dict:
+def paired(rows: pd.DataFrame, a: str, b: str, column: str, absolute: bool = True) -> dict:
     """Controller ``a`` minus ``b`` on ``column`` over the starts both docked, with its 95 % CI.
 
-    Pairs are (scenario, vehicle, seed). The difference is resolved when
-    its interval excludes zero.
+    Pairs are (scenario, vehicle, seed): the same start and the same sensor
+    noise. With ``absolute``, the difference of the magnitudes. The
+    difference is resolved when its interval excludes zero
+    (:func:`artic.validation.criteria.statistics.paired`).
     """
     key = ["scenario", "vehicle", "seed"]
     ra = rows[(rows["controller"] == a) & rows["success"].astype(bool)].set_index(key)[column]
     rb = rows[(rows["controller"] == b) & rows["success"].astype(bool)].set_index(key)[column]
     both = ra.index.intersection(rb.index)
-    d = (ra.loc[both].abs() - rb.loc[both].abs()) if absolute else (ra.loc[both] - rb.loc[both])
-    m, lo, hi = mean_ci(d.to_numpy(dtype=float), seed)
+    xa, xb = ra.loc[both].to_numpy(dtype=float), rb.loc[both].to_numpy(dtype=float)
+    if absolute:
+        xa, xb = np.abs(xa), np.abs(xb)
+    p = compare(xa, xb, (a, b))
     return {"a": a, "b": b, "metric": column, "pairs": len(both),
-            "difference [95 % CI]": fmt_ci(m, lo, hi),
-            "resolved": bool(np.isfinite(lo) and (lo > 0 or hi < 0)),
-            "mean_difference": m, "low": lo, "high": hi}
+            "difference [95 % CI]": format_ci(p.diff), "resolved": p.resolved,
+            "mean_difference": p.diff.mean, "low": p.diff.lo, "high": p.diff.hi}
 
 
 def markdown(t: pd.DataFrame) -> str:

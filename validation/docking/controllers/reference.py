@@ -74,8 +74,8 @@ class ReferenceController(Controller):
             s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))]
             self.refs.append((seg.direction, p, seg.states[:, 3], seg.delta, s))
         w = self.weights or (None, None)
-        self.schedule = {-1: GainSchedule(fr.P, -1, task.dt, w[0]),
-                         1: GainSchedule(fr.P, 1, task.dt, w[1])}
+        self.schedule = {-1: GainSchedule(fr.kin, -1, task.dt, w[0]),
+                         1: GainSchedule(fr.kin, 1, task.dt, w[1])}
         self.k = 0
         self.i = 0
         self.waiting = False
