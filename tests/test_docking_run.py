@@ -197,6 +197,26 @@ def test_a_user_controller_runs_through_the_command_line_and_is_scored(tmp_path,
     assert abs(rows.loc[0, "lateral_error_m"]) < 0.1
     assert (out / "dock_table.md").read_text().count("my_docking:Proportional") == 1
     assert "1 of 1 runs docked" in capsys.readouterr().out
+    assert (out / "dock_errors.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rrd = out / "recordings" / "straight-gosar2022-unloaded-my_docking_Proportional-0.rrd"
+    assert rrd.is_file()
+
+
+def test_a_docking_recording_holds_the_yard_the_plan_the_plant_and_the_scores(tmp_path):
+    from artic.validation.campaign.recording import read_rows, read_text, read_views
+
+    path = tmp_path / "run.rrd"
+    r = drive(scenario("bay"), VEHICLE, Spy, 0, record=path)
+    rows = read_rows(path)
+    # The plant from its bodies at every controller sample, the signals, the yard.
+    assert rows["/yard/mbd/tractor"] == len(r.trace.t_ctrl)
+    assert rows["/signals/articulation"] > 0
+    for static in ("/yard/dock", "/yard/neighbour-left-1", "/yard/neighbour-right-1",
+                   "/yard/plan", "/yard/doors"):
+        assert rows[static] == 0
+    text = read_text(path, "/description")
+    assert text.startswith("# bay, gosar2022-unloaded, ") and "failed: missed the door" in text
+    assert "/yard" in read_views(path)
 
 
 def test_dock_list_names_the_scenarios_and_controllers(capsys):

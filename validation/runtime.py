@@ -45,9 +45,10 @@ from pathlib import Path
 STALE_DAYS = 30
 """Cache folders unused for this long are removed [days]."""
 
-COMPILED_MODULES = ("feedback.py", "reducedloop.py", "pathdist.py")
+COMPILED_MODULES = ("feedback.py", "reducedloop.py", "pathdist.py", "docking/geometry.py",
+                    "docking/planner.py")
 """Modules of :mod:`validation` whose functions numba compiles (``feedback.py``'s
-plain-Python law is compiled by ``reducedloop.py``)."""
+plain-Python law is compiled by ``reducedloop.py`` and the docking planner)."""
 
 
 def compiled_sources() -> list[Path]:

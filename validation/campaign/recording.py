@@ -37,7 +37,7 @@ from __future__ import annotations
 import contextlib
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
@@ -591,6 +591,123 @@ def record_summary(path: Path, metrics: pd.DataFrame, text: str) -> Path:
         rec.log("/report", rr.TextDocument(text + "\n\n## Manoeuvre index\n\n" + names,
                                            media_type=rr.MediaType.MARKDOWN), static=True)
     return Path(path)
+
+
+DOCK_PLOTS = (("steering_wheel", "Steering wheel delta_h [deg]"),
+              ("speed", "Speed v_x_1 [km/h]"),
+              ("articulation", "Articulation gamma [deg]"))
+"""The docking recording's plots: entity under ``/signals`` and title."""
+
+
+def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
+                   obstacles: Sequence[tuple[str, float, float, float, float]],
+                   doors: Sequence[float], dock_face: tuple[float, float],
+                   plan: Sequence[np.ndarray], horizons: Sequence[tuple[float, np.ndarray]],
+                   text: str) -> Path:
+    """Write one docking run's recording.
+
+    Parameters
+    ----------
+    path : Path
+        The ``.rrd`` to write.
+    name : str
+        The run's name (``SCENARIO-VEHICLE-CONTROLLER-SEED``).
+    frame : DataFrame
+        The plant's run in the signal schema, with the pose columns of
+        :meth:`artic.plant.Plant.extras` (rows without them are skipped).
+    vehicle : Vehicle
+        The plant's parameters.
+    obstacles : sequence of (name, x_min, x_max, y_min, y_max)
+        The yard's obstacles [m]: the dock, its far edge, parked semitrailers.
+    doors : sequence of float
+        The doors' centre lines [m].
+    dock_face : tuple of float
+        The dock face's x and the target door's y [m].
+    plan : sequence of ndarray
+        The planner's path as polylines ``(n, 2)`` [m].
+    horizons : sequence of (float, ndarray)
+        The controller's predicted path ``(n, 2)`` [m] at each time [s] it gave one.
+    text : str
+        Markdown for the description: the scores.
+    """
+    f = frame
+    t = f["t"].to_numpy()
+    s = travelled(f)
+    geo = _Geometry(vehicle)
+    x_d, y_d = dock_face
+    with _recording(path, f"artic-dock-{name}", _dock_blueprint(name, dock_face), name) as rec:
+        xs = [b[1] for b in obstacles] + [b[2] for b in obstacles]
+        ys = [b[3] for b in obstacles] + [b[4] for b in obstacles]
+        rec.log("/yard/ground", rr.Boxes3D(centers=[[(min(xs) + max(xs)) / 2,
+                                                     (min(ys) + max(ys)) / 2, -0.05]],
+                                           half_sizes=[[(max(xs) - min(xs)) / 2,
+                                                        (max(ys) - min(ys)) / 2, 0.05]],
+                                           colors=[(90, 90, 85)], fill_mode="solid"),
+                static=True)
+        for ob, x0, x1, y0, y1 in obstacles:
+            parked = ob.startswith("neighbour")
+            h = 2.0 if parked else 2.5
+            rec.log(f"/yard/{ob}", rr.Boxes3D(
+                centers=[[(x0 + x1) / 2, (y0 + y1) / 2, h + (0.5 if parked else 0.0)]],
+                half_sizes=[[(x1 - x0) / 2, (y1 - y0) / 2, h]],
+                colors=[(70, 110, 170) if parked else (110, 110, 120)],
+                fill_mode="majorwireframe" if parked else "solid"), static=True)
+        rec.log("/yard/doors", rr.LineStrips3D(
+            [[[x_d + 0.02, y - 1.3, 0.05], [x_d + 0.02, y + 1.3, 0.05]] for y in doors],
+            colors=[(255, 210, 0)], radii=0.08), static=True)
+        rec.log("/yard/door_line", rr.LineStrips3D([[[x_d, y_d, 0.03], [x_d + 30.0, y_d, 0.03]]],
+                                                   colors=[(255, 210, 0)], radii=0.02),
+                static=True)
+        rec.log("/yard/plan", rr.LineStrips3D([np.column_stack([p, np.full(len(p), 0.08)])
+                                               for p in plan], colors=[(0, 200, 255)],
+                                              radii=0.06), static=True)
+        colour = model_colour("mbd")
+        every = _every(t, YARD_RATE)
+        _log_paths(rec, "/yard/mbd", f, geo, every, colour)
+        if has_pose(f.columns):
+            rows = np.flatnonzero(np.isfinite(f["pose.tractor.x"].to_numpy(dtype=float)))
+            if rows.size > 1:
+                _log_plant(rec, "/yard/mbd", f, vehicle, _timelines(t[rows], s[rows]), rows,
+                           colour)
+        if horizons:
+            ht = np.array([h[0] for h in horizons])
+            hs = np.interp(ht, t, s)
+            strips = [np.column_stack([h[1][:, :2], np.full(len(h[1]), 0.12)]) for h in horizons]
+            rec.send_columns("/yard/horizon", indexes=_timelines(ht, hs),
+                             columns=rr.LineStrips3D.columns(strips=strips).partition(
+                                 [1] * len(strips)))
+            rec.log("/yard/horizon", rr.LineStrips3D.from_fields(colors=[(255, 0, 200)],
+                                                                 radii=[0.05]), static=True)
+        pe = _every(t, PLOT_RATE)
+        ts = _timelines(t[::pe], s[::pe])
+        _series(rec, "/signals/steering_wheel", ts, np.degrees(f["delta_h"].to_numpy()[::pe]),
+                "delta_h", colour)
+        _series(rec, "/signals/speed", ts, 3.6 * f["v_x_1"].to_numpy()[::pe], "v_x_1", colour)
+        _series(rec, "/signals/articulation", ts, np.degrees(f["gamma"].to_numpy()[::pe]),
+                "gamma", colour)
+        rec.log("/description", rr.TextDocument(text, media_type=rr.MediaType.MARKDOWN),
+                static=True)
+    return Path(path)
+
+
+def _dock_blueprint(name: str, dock_face: tuple[float, float]) -> rrb.Blueprint:
+    """The docking layout: the yard seen from above the apron, the plots, the scores."""
+    x_d, y_d = dock_face
+    eye = rrb.EyeControls3D(position=[x_d + 55.0, y_d - 25.0, 45.0],
+                            look_target=[x_d + 15.0, y_d, 0.0], eye_up=[0.0, 0.0, 1.0])
+    whole = [rrb.VisibleTimeRange(tl, start=rrb.TimeRangeBoundary.infinite(),
+                                  end=rrb.TimeRangeBoundary.infinite())
+             for tl in ("time", "distance_cm")]
+    plots = [rrb.TimeSeriesView(origin=f"/signals/{g}", name=title, time_ranges=whole)
+             for g, title in DOCK_PLOTS]
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Vertical(rrb.Spatial3DView(origin="/yard", name=f"{name}: yard", eye_controls=eye),
+                         rrb.TextDocumentView(origin="/description", name=f"{name}: scores"),
+                         row_shares=[4, 1]),
+            rrb.Vertical(*plots), column_shares=[2, 1]),
+        rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
+        rrb.TimePanel(state="collapsed", timeline="time"))
 
 
 def read_rows(path: Path) -> dict[str, int]:

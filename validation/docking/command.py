@@ -5,9 +5,10 @@
   [--seeds N] [--jobs J] --out-dir D``: every scenario x vehicle x seed with
   each controller. Writes ``D/dock.csv`` (one row per run, the columns of
   :data:`artic.validation.docking.scores.COLUMNS`), ``D/dock_table.csv`` and
-  ``D/dock_table.md`` (success rates and errors with 95 % intervals); with
-  two controllers or more, the table's Markdown ends with their paired
-  comparisons over the starts both docked.
+  ``D/dock_table.md`` (success rates and errors with 95 % intervals; with
+  two controllers or more, the Markdown ends with their paired comparisons
+  over the starts both docked), ``D/dock_errors.png`` (the final errors) and,
+  unless ``--no-recordings``, ``D/recordings/SCENARIO-VEHICLE-CONTROLLER-SEED.rrd``.
 
 The parser is built without importing the benchmark (numba, the plant), so
 that every other command starts as fast as before.
@@ -44,6 +45,9 @@ def add_parser(sub) -> None:
     p.add_argument("--out-dir", type=Path, default=None, help="output folder")
     p.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
                    help="processes (default: the number of cores, %(default)s)")
+    p.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
+                   help="write one Rerun recording per run in OUT_DIR/recordings, about 1 MB "
+                        "a minute of driving (default: on)")
     p.set_defaults(func=run)
 
 
@@ -80,6 +84,7 @@ def run(args: argparse.Namespace) -> int:
 
     from artic.mjcf.vehicle import load_vehicle
     from artic.validation.docking.controllers import load
+    from artic.validation.docking.plots import plot_errors
     from artic.validation.docking.run import benchmark
     from artic.validation.docking.scenarios import SCENARIOS, scenario
     from artic.validation.docking.scores import COLUMNS, markdown, paired, table
@@ -101,7 +106,8 @@ def run(args: argparse.Namespace) -> int:
         clean_stale(out)
         for c in controllers:
             rows += benchmark(scenarios, vehicles, c, range(args.seeds), jobs=args.jobs,
-                              progress=stderr)
+                              progress=stderr,
+                              recordings=out / "recordings" if args.recordings else None)
         frame = pd.DataFrame(rows)[list(COLUMNS)]
         csv = atomic_write(out / "dock.csv",
                            lambda p: frame.to_csv(p, index=False, float_format="%.6g"))
@@ -115,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
                 pairs = pd.DataFrame([paired(frame, a, b, m) for m in PAIRED_METRICS])
                 md += markdown(pairs[["metric", "pairs", "difference [95 % CI]", "resolved"]])
         atomic_write_text(out / "dock_table.md", md)
+        plot_errors(frame, out / "dock_errors.png")
     docked = int(frame["success"].sum())
     print(md, end="")
     print(f"wrote {csv}: {docked} of {len(frame)} runs docked; {out / 'dock_table.md'}")

@@ -37,8 +37,10 @@ import traceback
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import load_vehicle
@@ -50,6 +52,7 @@ from artic.validation.docking.planner import HybridAStar, Plan, Planner, Plannin
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
 from artic.validation.docking.scores import score
 from artic.validation.docking.sensing import SensorStream
+from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build
 from artic.validation.progress import Counter
 from artic.validation.steering import SteeringMap
@@ -100,6 +103,10 @@ class Trace:
     commands: list[tuple[float, float]] = field(default_factory=list)
     solve_ms: list[float] = field(default_factory=list)
     horizons: list[np.ndarray | None] = field(default_factory=list)
+    extras: list[tuple[int, np.ndarray]] = field(default_factory=list)
+    """The plant's :meth:`~artic.plant.Plant.extras` at each controller sample, by plant step
+    (only when the run is recorded)."""
+    extra_columns: tuple[str, ...] = ()
     failure: str = ""
     done: bool = False
 
@@ -131,7 +138,8 @@ def _fail(trace: Trace, reason: str) -> None:
 
 def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           planner: Planner | None = None, sensors: SensorModel | None = None,
-          timeout: float | None = None, yard_model: str = "mbd") -> Result:
+          timeout: float | None = None, yard_model: str = "mbd",
+          record: Path | None = None) -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -155,6 +163,8 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         What the controller drives: ``"mbd"``, the plant (the benchmark), or
         ``"kin"`` or ``"stm"`` (from :mod:`artic.validation.models`), for a quick
         look while developing a controller.
+    record : Path, optional
+        Write the run's Rerun recording there (:func:`write_recording`).
 
     Returns
     -------
@@ -181,18 +191,21 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
-                         sensors or SensorModel(), timeout, yard_model)
+                         sensors or SensorModel(), timeout, yard_model, record is not None)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname, "seed": seed,
            **score(trace, yard, vehicle, frames, start),
            "plan_ms": plan_ms, "plan_expansions": plan.expansions if plan else 0,
            "plan_direction_changes": plan.direction_changes if plan else 0,
            "plan_length_m": plan.length if plan else math.nan}
-    return Result(row, trace, plan, yard, start)
+    result = Result(row, trace, plan, yard, start)
+    if record is not None:
+        write_recording(result, vehicle, Path(record))
+    return result
 
 
 def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames, cls: type,
                  plan: Plan, seed: int, number: int, sensors: SensorModel,
-                 timeout: float, yard_model: str) -> None:
+                 timeout: float, yard_model: str, extras: bool = False) -> None:
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
     stream = SensorStream(sensors, np.random.default_rng([seed, number, SENSOR_STREAM]),
@@ -241,6 +254,9 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 trace.commands.append(target[:2])
                 trace.horizons.append(None if cmd.horizon is None
                                       else np.asarray(cmd.horizon, dtype=float))
+                if extras and hasattr(plant, "extras"):
+                    trace.extras.append((len(trace.t) - 1, plant.extras()))
+                    trace.extra_columns = plant.extra_columns
                 if target[2]:
                     trace.done = True
                     settle_until = now + SETTLE
@@ -281,6 +297,61 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
             _fail(trace, f"timeout: not docked after {timeout:.0f} s")
 
 
+def write_recording(result: Result, vehicle, path: Path) -> Path:
+    """The run's Rerun recording (:func:`artic.validation.campaign.recording.record_docking`).
+
+    The yard and its obstacles, the plan, the plant drawn from its bodies at
+    every controller sample, its paths and swept envelope, the controller's
+    predicted horizons, the steering wheel, speed and articulation, and the
+    scores.
+    """
+    from artic.validation.campaign.recording import record_docking
+
+    tr = result.trace
+    a = tr.arrays()
+    frame = new_frame(a["t"], a["steering_wheel"], a["true"])
+    if tr.extras:
+        rows = np.array([i for i, _ in tr.extras])
+        values = np.full((len(frame), len(tr.extras[0][1])), np.nan)
+        values[rows] = np.array([v for _, v in tr.extras])
+        names = tr.extra_columns
+        frame = pd.concat([frame, pd.DataFrame(values, columns=list(names))], axis=1)
+    fr = Frames.of(vehicle)
+    plan = []
+    if result.plan is not None:
+        for seg in result.plan.segments:
+            plan.append(fr.trailer_axle(seg.states)[:, :2] if seg.direction < 0
+                        else seg.states[:, :2])
+    horizons = [(t, h) for t, h in zip(tr.t_ctrl, tr.horizons, strict=True) if h is not None]
+    row = result.row
+    name = run_name(row["scenario"], row["vehicle"], row["controller"], row["seed"])
+    obstacles = [(b.name, b.x_min, b.x_max, b.y_min, b.y_max) for b in result.yard.obstacles]
+    return record_docking(path, name, frame, vehicle, obstacles, result.yard.doors,
+                          (result.yard.x_dock, result.yard.y_dock), plan, horizons,
+                          scores_text(row))
+
+
+def scores_text(row: dict) -> str:
+    """A run's scores as Markdown, for its recording."""
+    head = "docked" if row["success"] else f"failed: {row['failure']}"
+    lines = [f"# {row['scenario']}, {row['vehicle']}, {row['controller']}, seed {row['seed']}",
+             "", head, "", "| score | value |", "|---|---|"]
+    for key, unit, scale in (("lateral_error_m", "cm", 100.0),
+                             ("longitudinal_error_m", "cm", 100.0),
+                             ("heading_error_deg", "deg", 1.0), ("max_gamma_deg", "deg", 1.0),
+                             ("direction_changes", "", 1.0), ("time_s", "s", 1.0),
+                             ("path_length_m", "m", 1.0), ("swept_width_m", "m", 1.0),
+                             ("solve_ms_p50", "ms", 1.0), ("solve_ms_p99", "ms", 1.0)):
+        v = row.get(key, math.nan)
+        lines.append(f"| {key} | {scale * float(v):.3g} {unit} |")
+    return "\n".join(lines)
+
+
+def _safe(text: str) -> str:
+    """``text`` as a file-name part: letters, digits, dot, dash and underscore."""
+    return "".join(c if c.isalnum() or c in "._-" else "_" for c in str(text))
+
+
 def _one_line(exc: BaseException) -> str:
     return " ".join(f"{type(exc).__name__}: {exc}".split())
 
@@ -293,16 +364,25 @@ def _where(exc: BaseException) -> str:
     return f"{f.filename.rsplit('/', 1)[-1]}:{f.lineno}"
 
 
+def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
+    """A run's name, fit for a file name: ``SCENARIO-VEHICLE-CONTROLLER-SEED``."""
+    return f"{scen}-{_safe(Path(vehicle).stem)}-{_safe(controller)}-{seed}"
+
+
 def _task(scen_name: str, vehicle: str, controller: str, seed: int,
-          sensors: SensorModel | None) -> dict:
+          sensors: SensorModel | None, recordings: Path | None) -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
-    return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors).row
+    record = (None if recordings is None
+              else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
+    return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors,
+                 record=record).row
 
 
 def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str,
               seeds: Sequence[int], jobs: int = 1,
               progress: Callable[[str], None] | None = None,
-              sensors: SensorModel | None = None) -> list[dict]:
+              sensors: SensorModel | None = None,
+              recordings: Path | None = None) -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
 
     Parameters
@@ -319,8 +399,10 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
         Receives progress lines.
     sensors : SensorModel, optional
         The measurement chain; the campaign's by default.
+    recordings : Path, optional
+        Folder for one Rerun recording per run (:func:`run_name`); none without it.
     """
-    tasks = [((s, v, seed), (s, v, controller, seed, sensors))
+    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings))
              for s in scenarios for v in vehicles for seed in seeds]
     counter = Counter(len(tasks), f"docking ({controller})", progress)
     rows: dict[tuple, dict] = {}

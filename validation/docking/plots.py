@@ -1,0 +1,64 @@
+"""The final errors of a docking benchmark as a picture, for documents without a viewer.
+
+One panel per scenario: each run's final lateral error [cm] against its
+heading error [deg], a marker per controller, the issue's bar (10 cm, 1 deg)
+as a dashed box; failed runs are listed under the panel rather than drawn at
+the place they stopped. matplotlib renders off-screen (Agg); the file is
+written atomically.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from artic.validation.logs.runfile import atomic_write
+
+BAR = (10.0, 1.0)
+"""The issue's bar on a docked run: |lateral| [cm] and |heading| [deg]."""
+
+MARKERS = ("o", "s", "^", "D", "v", "P", "X")
+
+
+def plot_errors(rows: pd.DataFrame, path: Path) -> Path:
+    """Write the final-error plot of ``rows`` (``dock.csv``'s) to the PNG ``path``."""
+    from matplotlib.figure import Figure
+
+    scenarios = list(dict.fromkeys(rows["scenario"]))
+    controllers = list(dict.fromkeys(rows["controller"]))
+    vehicles = list(dict.fromkeys(rows["vehicle"]))
+    fig = Figure(figsize=(4.0 * len(scenarios), 4.4))
+    axes = fig.subplots(1, len(scenarios), squeeze=False)[0]
+    colours = {v: f"C{i}" for i, v in enumerate(vehicles)}
+    for ax, scen in zip(axes, scenarios, strict=True):
+        g = rows[rows["scenario"] == scen]
+        ok = g[g["success"].astype(bool)]
+        for k, c in enumerate(controllers):
+            for v in vehicles:
+                sel = ok[(ok["controller"] == c) & (ok["vehicle"] == v)]
+                ax.scatter(100.0 * sel["lateral_error_m"], sel["heading_error_deg"], s=22,
+                           marker=MARKERS[k % len(MARKERS)], color=colours[v], alpha=0.8,
+                           label=f"{c}, {v}")
+        ax.plot([-BAR[0], BAR[0], BAR[0], -BAR[0], -BAR[0]],
+                [-BAR[1], -BAR[1], BAR[1], BAR[1], -BAR[1]], "k--", lw=0.8)
+        lim_x = max(BAR[0] * 1.3, float(np.nanmax(np.abs(100.0 * ok["lateral_error_m"]),
+                                                  initial=0.0)) * 1.1)
+        lim_y = max(BAR[1] * 1.3, float(np.nanmax(np.abs(ok["heading_error_deg"]),
+                                                  initial=0.0)) * 1.1)
+        ax.set_xlim(-lim_x, lim_x)
+        ax.set_ylim(-lim_y, lim_y)
+        ax.axhline(0.0, color="0.8", lw=0.6)
+        ax.axvline(0.0, color="0.8", lw=0.6)
+        ax.set_xlabel("final lateral error of the rear [cm]")
+        failed = len(g) - len(ok)
+        ax.set_title(f"{scen}: {len(ok)} of {len(g)} docked"
+                     + (f" ({failed} failed)" if failed else ""), fontsize=10)
+    axes[0].set_ylabel("final heading error [deg]")
+    handles, labels = axes[0].get_legend_handles_labels()
+    if handles:
+        fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=8,
+                   frameon=False)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    return atomic_write(path, lambda p: fig.savefig(p, format="png", dpi=110))
