@@ -84,7 +84,8 @@ def _check_path(plan, v, yard, margin=pl.MARGIN):
         assert seg.direction in (-1, 1)
         x = seg.states
         assert np.all(np.abs(x[:, 3]) <= pl.GAMMA_PLAN + 1e-9)
-        assert np.all(np.abs(seg.delta) <= pl.STEER_SHARE * v.steering.delta_max + 1e-9)
+        share = pl.STEER_SHARE if seg.direction > 0 else pl.REVERSE_STEER_SHARE
+        assert np.all(np.abs(seg.delta) <= share * v.steering.delta_max + 1e-9)
         step = np.hypot(*np.diff(x[:, :2], axis=0).T)
         rate = np.abs(np.diff(seg.delta)) / np.maximum(step, 1e-9)
         # The rate limit holds per step (a short last step turns less).

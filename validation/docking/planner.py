@@ -14,7 +14,8 @@ equations (:func:`artic.reduced.integrate.rk4_step` in the distance domain):
   would jackknife within a few metres; a primitive that steers the
   articulation is one a reversing controller can follow.
 
-Every primitive keeps ``|gamma| <= GAMMA_PLAN`` and ``|delta| <= STEER_SHARE delta_max``,
+Every primitive keeps ``|gamma| <= GAMMA_PLAN`` and ``|delta| <= STEER_SHARE delta_max``
+(:data:`REVERSE_STEER_SHARE` reversing),
 turns the steering at most :data:`STEER_RATE` per metre,
 and the outlines clear every obstacle by :data:`MARGIN` (the dock face
 excepted, which the rear must reach).
@@ -68,9 +69,16 @@ STEP = 0.25
 STEER_SHARE = 0.8
 """Paths steer up to this share of ``delta_max``: the rest is the path follower's."""
 
+REVERSE_STEER_SHARE = 0.6
+"""Reversing, paths steer up to this share of ``delta_max``. A follower on the
+plant needs more steering than KIN's to hold a sharp curve in reverse (the
+tyres scrub), and steering is all it has to keep the semitrailer from
+jackknifing: with 80 % of the lock for reversing too, three offset starts in
+thirty saturated the steering and two of them jackknifed."""
+
 STEER_RATE = 0.2
 """Largest rate of the road-wheel angle along a path [rad/m]: the steering
-actuator's 0.3 rad/s at 6 km/h is 0.18 rad/m, and the rest is the path
+actuator's 0.3 rad/s is 0.27 rad/m at 4 km/h, and the rest is the path
 follower's."""
 
 GAMMA_PLAN = math.radians(40.0)
@@ -251,9 +259,12 @@ def rollout(x0, direction, mode, value, steps, ds, P, delta_max, gamma_max, x_re
     The road-wheel angle turns at most :data:`STEER_RATE` per metre.
     """
     out = np.empty((steps + 1, 5))
-    out[0] = x0
     x = x0[:4].copy()
-    delta = x0[4]
+    # Beyond this primitive's limit (a cusp after a sharper forward piece), the
+    # wheel is turned back at standstill.
+    delta = max(-delta_max, min(delta_max, x0[4]))
+    out[0, :4] = x
+    out[0, 4] = delta
     t = np.empty((1, 3))
     k = np.empty((1, 3))
     turn = STEER_RATE * ds
@@ -281,7 +292,7 @@ def expand(x0, prims, steps, ds, P, delta_max, gamma_max, x_ref, tractor_box, tr
            boxes):
     """Every motion primitive from ``x0``, in one compiled call.
 
-    :func:`rollout` of each row ``(direction, mode, value)`` of ``prims``.
+    :func:`rollout` of each row ``(direction, mode, value, steering limit)`` of ``prims``.
 
     Returns
     -------
@@ -293,8 +304,8 @@ def expand(x0, prims, steps, ds, P, delta_max, gamma_max, x_ref, tractor_box, tr
     ok = np.empty(n, dtype=np.bool_)
     for j in range(n):
         pieces[j], ok[j] = rollout(x0, prims[j, 0], int(prims[j, 1]), prims[j, 2], steps, ds,
-                                   P, delta_max, gamma_max, x_ref, tractor_box, trailer_box,
-                                   boxes)
+                                   P, min(delta_max, prims[j, 3]), gamma_max, x_ref,
+                                   tractor_box, trailer_box, boxes)
     return pieces, ok
 
 
@@ -326,7 +337,7 @@ def final_approach(x0, x_dock, y_dock, rear, ds, max_steps, P, delta_max, gamma_
     """
     out = np.empty((max_steps + 1, 5))
     x = x0[:4].copy()
-    delta = x0[4]
+    delta = max(-delta_max, min(delta_max, x0[4]))  # turned back at standstill
     t = np.empty((1, 3))
     k = np.empty((1, 3))
     for i in range(max_steps + 1):
@@ -471,11 +482,13 @@ class HybridAStar:
             return float(d) + HEADING_COST * abs(math.remainder(psi_2, 2.0 * math.pi))
 
         fractions = (-1.0, -0.5, 0.0, 0.5, 1.0)
-        prims = np.array([(1.0, 0, f * dmax) for f in fractions]
-                         + [(-1.0, 1, f * GAMMA_PLAN) for f in fractions])
+        d_rev = REVERSE_STEER_SHARE * vehicle.steering.delta_max
+        prims = np.array([(1.0, 0, f * dmax, dmax) for f in fractions]
+                         + [(-1.0, 1, f * GAMMA_PLAN, d_rev) for f in fractions])
         steps = round(PRIMITIVE_LENGTH / STEP)
         max_steps = round(MAX_APPROACH / STEP)
-        fa = (yard.x_dock, yard.y_dock, fr.rear, STEP, max_steps, *args,
+        fa = (yard.x_dock, yard.y_dock, fr.rear, STEP, max_steps, P,
+              REVERSE_STEER_SHARE * vehicle.steering.delta_max, *args[2:],
               gains(fr.kin, -1, STEP, APPROACH_WEIGHTS), Y_SAT, np.array(LANDING))
         order = 0
         heap = [(WEIGHT * h(x0), order, _Node(0.0, x0, 0, None, None))]

@@ -21,6 +21,10 @@ __all__ = ["BUILTIN", "Command", "Controller", "Observation", "Task", "load"]
 BUILTIN: dict[str, tuple[str, str]] = {
     "reference": ("artic.validation.docking.controllers.reference:ReferenceController",
                   "follows the plan: LQR on KIN about the path, gain-scheduled with speed"),
+    "mpc-kin": ("artic.validation.docking.controllers.mpc:MPCKin",
+                "MPC designed on KIN, the reference's cost (needs CasADi: artic[mpc])"),
+    "mpc-stm": ("artic.validation.docking.controllers.mpc:MPCStm",
+                "MPC designed on the STM, the reference's cost (needs CasADi: artic[mpc])"),
 }
 """Built-in controllers: name -> (``module:Class``, one line for ``--list``)."""
 

@@ -1,0 +1,247 @@
+"""Model-predictive docking controllers designed on KIN and on STM (CasADi, optional).
+
+Same plan, same segments, same speed and stops as the reference controller
+(:mod:`artic.validation.docking.controllers.reference`); only the reversing
+steering differs. Every sample it solves, over a horizon of
+:data:`HORIZON` steps of :data:`STEP` [s]:
+
+    min sum_k  q_y e_y2,k^2 + q_psi e_psi2,k^2 + q_gamma e_gamma,k^2
+               + q_delta (delta_k - delta_path,k)^2 + r (delta_k - delta_k-1)^2
+    s.t. |delta_k| <= delta_max,  |delta_k - delta_k-1| <= the actuator's rate x STEP
+
+with the reference controller's cost (the Bryson weights of
+:data:`artic.validation.docking.linear.REVERSE_WEIGHTS`, the rate's per metre
+turned into per step at the commanded speed), on the design model's
+prediction. It is a real-time iteration of sequential quadratic
+programming: the model is rolled out with the previous sample's solution
+(the warm start), and linearised along that rollout with its
+own discrete step's Jacobians (:meth:`artic.reduced.control.KIN.step_jacobians`,
+``STM.step_jacobians``: the harness's RK4, so the MPC predicts with exactly
+the model the validation judges, and no second copy of its equations). The
+condensed QP in the steering moves is solved by **qpOASES** through
+``casadi.conic``: an online active-set method, which CasADi hot-starts from
+the previous sample's active set (``SQProblem::hotstart``), so that a QP
+like the last costs a few working-set changes; an interior-point solver
+(IPOPT, OSQP's ADMM) cannot reuse an active set that way, and a fixed
+``max_nWSR`` bounds the work per sample.
+
+- ``mpc-kin`` predicts with KIN (4 states), its state from the tractor
+  sensor by :class:`artic.reduced.KinematicModel`'s ``reset``;
+- ``mpc-stm`` with the STM (7 body states and a lagged slip per axle), its
+  state from the sensors by :class:`artic.reduced.SingleTrackModel`'s
+  ``reset`` (lateral velocity and yaw rates measured, the slips at their
+  steady state).
+
+Forward segments, short and stable, are the reference controller's.
+CasADi is an optional extra: ``pip install "artic[mpc]"``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from artic.mjcf.interface import InitialState
+from artic.validation.docking.controllers.base import Command, Observation, Task
+from artic.validation.docking.controllers.reference import ReferenceController
+from artic.validation.docking.linear import REVERSE_WEIGHTS
+
+HORIZON = 25
+"""Prediction steps."""
+
+STEP = 0.3
+"""Prediction step [s]: 25 steps look 7.5 s ahead, about a semitrailer's
+length at 4 km/h."""
+
+STM_SUBSTEPS = 6
+"""Substeps of the STM's prediction step (50 ms each): its lightly damped
+tyre-and-inertia modes near 17 rad/s (2.8 Hz, at every yard speed) need
+``h |lambda| <= 2.8`` for RK4 to be stable, and a fraction of that to be
+accurate; KIN, first order and without such modes, takes one."""
+
+MAX_NWSR = 100
+"""Most working-set changes qpOASES may take per sample."""
+
+
+def _casadi():
+    try:
+        import casadi
+    except ImportError:  # pragma: no cover - depends on the install
+        raise ValueError("the MPC controllers need CasADi: pip install \"artic[mpc]\"") from None
+    return casadi
+
+
+class MPC(ReferenceController):
+    """Linear time-varying MPC by real-time iteration (see the module docstring)."""
+
+    name = "mpc"
+    design = "kin"
+
+    def reset(self, task: Task) -> None:
+        """Build the design model, the QP solver, and the warm start."""
+        super().reset(task)
+        ca = _casadi()
+        from artic.reduced import KinematicModel, SingleTrackModel
+        from artic.reduced.control import KIN, STM
+
+        v = task.vehicle
+        if self.design == "kin":
+            self.model, self.estimator = KIN(v), KinematicModel(v)
+            self.substeps = 1
+        else:
+            self.model, self.estimator = STM(v), SingleTrackModel(v)
+            self.substeps = STM_SUBSTEPS
+        self.i_delta = self.model.find_input("delta")
+        n = HORIZON
+        L = np.tril(np.ones((n, n)))
+        self.L = L
+        self.qp = ca.conic("docking_mpc", "qpoases",
+                           {"h": ca.Sparsity.dense(n, n), "a": ca.Sparsity.dense(n, n)},
+                           {"printLevel": "none", "nWSR": MAX_NWSR, "error_on_fail": False})
+        self.moves = np.zeros(n)
+        self.delta_traj: np.ndarray | None = None
+
+    def _state(self, obs: Observation) -> np.ndarray:
+        """The design model's state from the sensors (its own ``reset`` from measured signals)."""
+        s = obs.signals
+        self.estimator.reset(InitialState(obs["x_1"], obs["y_1"], obs["psi_1"], obs["gamma"],
+                                          v_y_1=obs["v_y_1"], r_1=obs["r_1"], r_2=obs["r_2"],
+                                          u1=float(s[3])))
+        return np.array(self.estimator.x, dtype=float)
+
+    def _inputs(self, delta: np.ndarray, u: float) -> np.ndarray:
+        U = np.zeros((delta.size, self.model.ninputs))
+        U[:, self.i_delta] = delta
+        U[:, self.model.find_input("u_1")] = u
+        return U
+
+    def predict(self, x: np.ndarray, delta_bar: np.ndarray,
+                u: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The design model's rollout and its sensitivity to the steering moves.
+
+        Parameters
+        ----------
+        x : ndarray
+            State now.
+        delta_bar : ndarray, shape (HORIZON,)
+            Road-wheel angle held over each prediction step [rad].
+        u : float
+            Speed [m/s].
+
+        Returns
+        -------
+        X : ndarray, shape (HORIZON + 1, n)
+            The states at the steps' ends, ``x`` first.
+        S : ndarray, shape (HORIZON, n, HORIZON)
+            ``d X[k + 1] / d moves``, where ``delta_k = delta_bar_k + sum_{j <= k} moves_j``.
+        U : ndarray, shape (HORIZON, m)
+            The inputs of each step.
+        """
+        n = HORIZON
+        m = self.substeps
+        h = STEP / m
+        U = self._inputs(delta_bar, u)
+        Us = np.repeat(U, m, axis=0)
+        Xs = np.empty((n * m + 1, x.size))
+        Xs[0] = x
+        for k in range(n * m):
+            Xs[k + 1] = self.model.step(Xs[k], Us[k], h)
+        # Each prediction step's Jacobians, composed from its substeps' (one batch call).
+        As, Bs = self.model.step_jacobians(Xs[:-1], Us, h)
+        Bs = Bs[:, :, self.i_delta]
+        S = np.zeros((n + 1, x.size, n))
+        for k in range(n):
+            Ak, Bk = np.eye(x.size), np.zeros(x.size)
+            for j in range(k * m, (k + 1) * m):
+                Ak, Bk = As[j] @ Ak, As[j] @ Bk + Bs[j]
+            S[k + 1] = Ak @ S[k]
+            S[k + 1, :, k] += Bk
+        # delta_j is the sum of the moves up to j.
+        return Xs[::m], S[1:] @ self.L, U
+
+    def command(self, obs: Observation) -> Command:
+        """The reference controller's, with the reversing steering from the QP."""
+        before = self.delta
+        cmd = super().command(obs)
+        d = self.refs[self.k][0]
+        if d > 0 or self.waiting or cmd.done or cmd.u1 == 0.0 or before is None:
+            self.delta_traj = None  # the next reversing stretch starts afresh
+            return cmd
+        self.delta = before  # the QP's steering instead of the LQR's
+        return self._mpc(obs, cmd)
+
+    def _mpc(self, obs: Observation, cmd: Command) -> Command:
+        n = HORIZON
+        _, p, g_ref, d_ref, s = self.refs[self.k]
+        u = float(cmd.u1)
+        ds = abs(u) * STEP
+        # The path ahead, by the semitrailer axle's travel, from where it is now.
+        me = self.frames.trailer_axle_of_signals(obs.signals)
+        i = self.i
+        c, sn = math.cos(p[i, 2]), math.sin(p[i, 2])
+        here = float(s[i]) + (c * (me[0] - p[i, 0]) + sn * (me[1] - p[i, 1]))
+        at = np.clip(here + ds * np.arange(1, n + 1), s[0], s[-1])
+        ref = np.column_stack([np.interp(at, s, p[:, j]) for j in range(3)])
+        gam = np.interp(at, s, g_ref)
+        dref = np.interp(at - ds, s, d_ref)
+        # The warm start: the last solution's steering, from the wheel now. A sample
+        # (0.1 s) is a third of a prediction step, so the steps stay where they were.
+        delta0 = float(self.delta)
+        delta_bar = self.delta_traj if self.delta_traj is not None else np.full(n, delta0)
+        moves = np.diff(np.r_[delta0, delta_bar])
+        x = self._state(obs)
+        X, S, U = self.predict(x, delta_bar, u)
+        # Errors of the semitrailer axle and their Jacobians along the rollout.
+        Y = self.model.output(X[1:])
+        Cy, _ = self.model.output_jacobians(X[1:], U)
+        ix, iy, ip = (self.model.output_labels.index(k) for k in ("X_2", "Y_2", "psi_2"))
+        cr, sr = np.cos(ref[:, 2]), np.sin(ref[:, 2])
+        e_y = -sr * (Y[:, ix] - ref[:, 0]) + cr * (Y[:, iy] - ref[:, 1])
+        e_p = np.remainder(Y[:, ip] - ref[:, 2] + math.pi, 2 * math.pi) - math.pi
+        J_y = (-sr[:, None] * Cy[:, ix] + cr[:, None] * Cy[:, iy])
+        J_p = Cy[:, ip]
+        ig = self.model.find_state("gamma")
+        e_g = X[1:, ig] - gam
+        w = REVERSE_WEIGHTS
+        q = [1.0 / w[0] ** 2, 1.0 / w[1] ** 2, 1.0 / w[2] ** 2, 1.0 / w[3] ** 2]
+        r = 1.0 / (w[4] * ds) ** 2  # the rate's weight per metre, per step of ds
+        H = r * np.eye(n) + q[3] * self.L.T @ self.L
+        g = r * moves + q[3] * self.L.T @ (delta_bar - dref)
+        for e, J, qq in ((e_y, J_y, q[0]), (e_p, J_p, q[1])):
+            G = np.einsum("kn,knm->km", J, S)  # d e_k / d moves
+            H += qq * G.T @ G
+            g += qq * G.T @ e
+        G = S[:, ig, :]
+        H += q[2] * G.T @ G
+        g += q[2] * G.T @ e_g
+        # Moves about the warm start: bounds on the rate and on the wheel.
+        step = self.delta_rate * STEP
+        dmax = self.vehicle.steering.delta_max
+        sol = self.qp(h=H, g=g, a=self.L, lbx=-step - moves, ubx=step - moves,
+                      lba=-dmax - delta_bar, uba=dmax - delta_bar)
+        dz = np.asarray(sol["x"]).ravel()
+        if not np.all(np.isfinite(dz)):
+            dz = np.zeros(n)
+        self.moves = moves + dz
+        self.delta_traj = delta0 + np.cumsum(self.moves)
+        # The first step's wheel, as far as the actuator turns it in one control period.
+        wheel = self._turn(delta0 + self.moves[0])
+        # The predicted path of the semitrailer axle, for the recording.
+        horizon = np.column_stack([Y[:, ix] + np.einsum("kn,knm->km", Cy[:, ix], S) @ dz,
+                                   Y[:, iy] + np.einsum("kn,knm->km", Cy[:, iy], S) @ dz])
+        return Command(wheel, cmd.u1, cmd.done, horizon)
+
+
+class MPCKin(MPC):
+    """MPC designed on KIN."""
+
+    name = "mpc-kin"
+    design = "kin"
+
+
+class MPCStm(MPC):
+    """MPC designed on the STM."""
+
+    name = "mpc-stm"
+    design = "stm"
