@@ -38,7 +38,10 @@ CasADi is an optional extra: ``pip install "artic[mpc]"``.
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import sys
 
 import numpy as np
 
@@ -62,6 +65,26 @@ accurate; KIN, first order and without such modes, takes one."""
 
 MAX_NWSR = 100
 """Most working-set changes qpOASES may take per sample."""
+
+
+@contextlib.contextmanager
+def _quiet_stdout():
+    """Hold the process's standard output (file descriptor 1) while qpOASES prints its banner."""
+    import ctypes
+
+    libc = ctypes.CDLL(None)
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 1)
+            try:
+                yield
+            finally:
+                libc.fflush(None)  # what C's stdio still holds goes to /dev/null too
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 def _casadi():
@@ -96,11 +119,18 @@ class MPC(ReferenceController):
         n = HORIZON
         L = np.tril(np.ones((n, n)))
         self.L = L
-        self.qp = ca.conic("docking_mpc", "qpoases",
-                           {"h": ca.Sparsity.dense(n, n), "a": ca.Sparsity.dense(n, n)},
-                           {"printLevel": "none", "nWSR": MAX_NWSR, "error_on_fail": False})
+        with _quiet_stdout():
+            self.qp = self._conic(ca, n)
         self.moves = np.zeros(n)
         self.delta_traj: np.ndarray | None = None
+        self.first = True
+
+    @staticmethod
+    def _conic(ca, n: int):
+        """The dense QP of ``n`` steering moves with ``n`` wheel-angle constraints."""
+        return ca.conic("docking_mpc", "qpoases",
+                        {"h": ca.Sparsity.dense(n, n), "a": ca.Sparsity.dense(n, n)},
+                        {"printLevel": "none", "nWSR": MAX_NWSR, "error_on_fail": False})
 
     def _state(self, obs: Observation) -> np.ndarray:
         """The design model's state from the sensors (its own ``reset`` from measured signals)."""
@@ -218,8 +248,14 @@ class MPC(ReferenceController):
         # Moves about the warm start: bounds on the rate and on the wheel.
         step = self.delta_rate * STEP
         dmax = self.vehicle.steering.delta_max
-        sol = self.qp(h=H, g=g, a=self.L, lbx=-step - moves, ubx=step - moves,
-                      lba=-dmax - delta_bar, uba=dmax - delta_bar)
+        bounds = {"h": H, "g": g, "a": self.L, "lbx": -step - moves, "ubx": step - moves,
+                  "lba": -dmax - delta_bar, "uba": dmax - delta_bar}
+        if self.first:  # qpOASES prints its licence on the first solve
+            with _quiet_stdout():
+                sol = self.qp(**bounds)
+            self.first = False
+        else:
+            sol = self.qp(**bounds)
         dz = np.asarray(sol["x"]).ravel()
         if not np.all(np.isfinite(dz)):
             dz = np.zeros(n)
