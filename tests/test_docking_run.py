@@ -299,3 +299,19 @@ def test_the_table_has_a_row_per_scenario_vehicle_and_controller():
     assert list(t["scenario"]) == ["straight", "alley"]
     assert list(t["docked"]) == [3, 3] and list(t["jackknifes"]) == [1, 1]
     assert "| straight | v | c | 4 | 3 |" in markdown(t)
+
+
+def test_with_truth_the_controller_drives_the_synthetic_truth():
+    from artic.validation.docking.run import truth_yard
+
+    nominal = load_vehicle(VEHICLE)
+    vt, actuation = truth_yard(nominal, 0, 1, 0)
+    # The truth is another vehicle: its steering map differs from the file's.
+    assert vt.steering_for("mbd") != nominal.steering_for("mbd")
+    r = drive(scenario("straight"), VEHICLE, Spy, 0, truth=0)
+    assert r.row["plant"] == "truth-0"
+    assert r.row["failure"].startswith("missed the door")  # Spy stops after 2 s
+    # It moved: the pedal driver followed the speed asked for.
+    assert np.abs(np.asarray(r.trace.true)[:, OBS_INDEX["v_x_1"]]).max() > 0.3
+    with pytest.raises(ValueError, match="gosar2022-unloaded and gosar2022-loaded only"):
+        truth_yard(load_vehicle("six-axle"), 0, 1, 0)

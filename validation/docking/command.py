@@ -2,7 +2,7 @@
 
 - ``artic dock --list``: the scenarios, the built-in controllers and the presets;
 - ``artic dock [--scenario NAME,...] [--vehicle V,...] [--controller NAME,...]
-  [--seeds N] [--jobs J] --out-dir D``: every scenario x vehicle x seed with
+  [--seeds N] [--truth] [--jobs J] --out-dir D``: every scenario x vehicle x seed with
   each controller. Writes ``D/dock.csv`` (one row per run, the columns of
   :data:`artic.validation.docking.scores.COLUMNS`), ``D/dock_table.csv`` and
   ``D/dock_table.md`` (success rates and errors with 95 % intervals; with
@@ -45,6 +45,9 @@ def add_parser(sub) -> None:
     p.add_argument("--out-dir", type=Path, default=None, help="output folder")
     p.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
                    help="processes (default: the number of cores, %(default)s)")
+    p.add_argument("--truth", action="store_true",
+                   help="drive the synthetic campaign's structural truth (seed 0) instead of the "
+                        "plant built from the vehicle file; gosar2022 presets only")
     p.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
                    help="write one Rerun recording per run in OUT_DIR/recordings, about 1 MB "
                         "a minute of driving (default: on)")
@@ -96,7 +99,11 @@ def run(args: argparse.Namespace) -> int:
                  else [scenario(n).name for n in _names(args.scenario, "--scenario")])
     vehicles = _names(args.vehicle, "--vehicle")
     for v in vehicles:
-        load_vehicle(v)  # a bad name or file is one line now, not in a worker
+        vehicle = load_vehicle(v)  # a bad name or file is one line now, not in a worker
+        if args.truth:
+            from artic.validation.docking.run import truth_yard
+
+            truth_yard(vehicle, 0, 0, 0)
     controllers = _names(args.controller, "--controller")
     for c in controllers:
         load(c)
@@ -107,7 +114,8 @@ def run(args: argparse.Namespace) -> int:
         for c in controllers:
             rows += benchmark(scenarios, vehicles, c, range(args.seeds), jobs=args.jobs,
                               progress=stderr,
-                              recordings=out / "recordings" if args.recordings else None)
+                              recordings=out / "recordings" if args.recordings else None,
+                              truth=0 if args.truth else None)
         frame = pd.DataFrame(rows)[list(COLUMNS)]
         csv = atomic_write(out / "dock.csv",
                            lambda p: frame.to_csv(p, index=False, float_format="%.6g"))

@@ -1,6 +1,7 @@
 """One docking run: a controller drives the MuJoCo plant onto the dock, and the benchmark.
 
-The loop (:func:`drive`):
+The loop (:func:`drive`), on the plant built from the vehicle file or, with
+``truth``, on the synthetic campaign's structural truth (:func:`truth_yard`):
 
 1. the start of the scenario's seeded distribution places the plant at rest;
 2. the planner makes a path (a failure to plan is a failed run);
@@ -139,7 +140,7 @@ def _fail(trace: Trace, reason: str) -> None:
 def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           planner: Planner | None = None, sensors: SensorModel | None = None,
           timeout: float | None = None, yard_model: str = "mbd",
-          record: Path | None = None) -> Result:
+          record: Path | None = None, truth: int | None = None) -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -165,6 +166,10 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         look while developing a controller.
     record : Path, optional
         Write the run's Rerun recording there (:func:`write_recording`).
+    truth : int, optional
+        Drive the synthetic campaign's structural truth of this seed instead
+        of the plant built from the vehicle file (:func:`truth_yard`): the
+        controller and the planner still know only the vehicle file.
 
     Returns
     -------
@@ -176,7 +181,10 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     cname = controller if isinstance(controller, str) else f"{cls.__module__}:{cls.__name__}"
     yard = scen.yard(vehicle)
     start = scen.start(seed)
-    frames = Frames.of(vehicle)
+    plant_vehicle, actuation = vehicle, None
+    if truth is not None:
+        plant_vehicle, actuation = truth_yard(vehicle, truth, scen.number, seed)
+    frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
     timeout = scen.timeout if timeout is None else float(timeout)
     trace = Trace()
@@ -191,26 +199,30 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
-                         sensors or SensorModel(), timeout, yard_model, record is not None)
-    row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname, "seed": seed,
-           **score(trace, yard, vehicle, frames, start),
+                         sensors or SensorModel(), timeout, yard_model, record is not None,
+                         plant_vehicle, actuation)
+    row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
+           "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
+           **score(trace, yard, plant_vehicle, frames, start),
            "plan_ms": plan_ms, "plan_expansions": plan.expansions if plan else 0,
            "plan_direction_changes": plan.direction_changes if plan else 0,
            "plan_length_m": plan.length if plan else math.nan}
     result = Result(row, trace, plan, yard, start)
     if record is not None:
-        write_recording(result, vehicle, Path(record))
+        write_recording(result, plant_vehicle, Path(record))
     return result
 
 
 def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames, cls: type,
                  plan: Plan, seed: int, number: int, sensors: SensorModel,
-                 timeout: float, yard_model: str, extras: bool = False) -> None:
+                 timeout: float, yard_model: str, extras: bool = False,
+                 plant_vehicle=None, actuation: Callable | None = None) -> None:
+    plant_vehicle = plant_vehicle or vehicle
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
     stream = SensorStream(sensors, np.random.default_rng([seed, number, SENSOR_STREAM]),
                           n_ctrl + 1, DT, PLANT_DT)
-    mbd = SteeringMap.from_steering(vehicle.steering_for(yard_model))
+    mbd = SteeringMap.from_steering(plant_vehicle.steering_for(yard_model))
     boxes = box_array(yard.obstacles)
     x0 = frames.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma)
     xs, ys = frames.tractor_sensor_of_kin(x0)
@@ -220,9 +232,16 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
     except Exception as exc:  # noqa: BLE001 - a user's controller: a failed run, said why
         _fail(trace, f"controller error: {_one_line(exc)}")
         return
-    plant = Plant(vehicle) if yard_model == "mbd" else build(yard_model, vehicle)
+    if actuation is not None:  # the truth behind its steering column and pedals
+        plant = Plant(plant_vehicle, speed="pedals")
+        yard_plant = actuation(plant)
+        mbd = yard_plant.steering
+    else:
+        plant = (Plant(plant_vehicle) if yard_model == "mbd"
+                 else build(yard_model, plant_vehicle))
+        yard_plant = None
     with contextlib.closing(plant):
-        plant.reset(InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0))
+        (yard_plant or plant).reset(InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0))
         wheel = float(mbd.steering_wheel(0.0))
         u = 0.0
         trace.t.append(0.0)
@@ -270,8 +289,11 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 wheel += min(max(wheel_target - wheel, -step), step)
                 u_next = u + min(max(u_target - u, -ACCEL_MAX * PLANT_DT), ACCEL_MAX * PLANT_DT)
                 try:
-                    plant.step(PLANT_DT, float(mbd.road_wheel(wheel)), u,
-                               (u_next - u) / PLANT_DT)
+                    if yard_plant is not None:
+                        yard_plant.step_steering_wheel(PLANT_DT, wheel, u, (u_next - u) / PLANT_DT)
+                    else:
+                        plant.step(PLANT_DT, float(mbd.road_wheel(wheel)), u,
+                                   (u_next - u) / PLANT_DT)
                 except PlantError as exc:
                     _fail(trace, f"plant diverged: {_one_line(exc)}")
                     return
@@ -280,9 +302,9 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 trace.true.append(plant.observe())
                 trace.steering_wheel.append(wheel)
                 trace.speed.append(u)
-                if abs(plant.gamma) > vehicle.gamma_max:
+                if abs(plant.gamma) > plant_vehicle.gamma_max:
                     _fail(trace, f"jackknife: |gamma| {math.degrees(abs(plant.gamma)):.1f} deg "
-                                 f"beyond {math.degrees(vehicle.gamma_max):.1f} deg at "
+                                 f"beyond {math.degrees(plant_vehicle.gamma_max):.1f} deg at "
                                  f"t = {trace.t[-1]:.2f} s")
                     return
             recent = np.asarray(trace.true[-n_sub:])
@@ -295,6 +317,48 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 return
         if settle_until is None:
             _fail(trace, f"timeout: not docked after {timeout:.0f} s")
+
+
+def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
+    """The synthetic campaign's structural truth for a run, and how to drive it.
+
+    The truth of ``truth_seed`` (:func:`artic.validation.synthetic.truth.truth_configuration`)
+    for the vehicle's load condition, on a yard sloped as one of the campaign's
+    manoeuvres is (drawn from ``(truth_seed, number * 1000 + seed)``), driven
+    as the campaign drives it: the steering wheel through the truth's column
+    (free play, drifting centre) and steering map, the speed by a driver on
+    the pedals (:mod:`artic.validation.synthetic.actuation`).
+
+    Returns
+    -------
+    vehicle : Vehicle
+        The truth's parameters.
+    actuation : callable
+        ``actuation(plant)`` wraps a ``Plant(truth, speed="pedals")``.
+
+    Raises
+    ------
+    ValueError
+        For a vehicle other than the gosar2022 presets, the only ones with a truth.
+    """
+    from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
+    from artic.validation.synthetic.truth import slope, truth_configuration, truth_vehicle
+
+    load = {"gosar2022-unloaded": "unloaded", "gosar2022-loaded": "loaded"}.get(vehicle.name)
+    if load is None:
+        raise ValueError(f"--truth: the synthetic truth exists for gosar2022-unloaded and "
+                         f"gosar2022-loaded only, not {vehicle.name}; leave --truth out for it")
+    truth = truth_configuration(truth_seed, "structural")
+    vt = truth_vehicle(load, truth, truth_seed, slope(truth_seed, number * 1000 + seed, truth))
+
+    def actuation(plant):
+        steering = SteeringMap.from_steering(vt.steering_for("mbd"))
+        column = SteeringColumn(truth.get("backlash", 0.0), truth.get("drift_rate", 0.0))
+        pedals = PedalDriver(vt.m1 + vt.m2, delay=truth["driver_delay"],
+                             gain=truth["driver_gain"])
+        return TruthActuation(plant, steering, column, pedals)
+
+    return vt, actuation
 
 
 def write_recording(result: Result, vehicle, path: Path) -> Path:
@@ -370,19 +434,19 @@ def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
 
 
 def _task(scen_name: str, vehicle: str, controller: str, seed: int,
-          sensors: SensorModel | None, recordings: Path | None) -> dict:
+          sensors: SensorModel | None, recordings: Path | None, truth: int | None) -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
     record = (None if recordings is None
               else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
     return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors,
-                 record=record).row
+                 record=record, truth=truth).row
 
 
 def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str,
               seeds: Sequence[int], jobs: int = 1,
               progress: Callable[[str], None] | None = None,
               sensors: SensorModel | None = None,
-              recordings: Path | None = None) -> list[dict]:
+              recordings: Path | None = None, truth: int | None = None) -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
 
     Parameters
@@ -401,8 +465,10 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
         The measurement chain; the campaign's by default.
     recordings : Path, optional
         Folder for one Rerun recording per run (:func:`run_name`); none without it.
+    truth : int, optional
+        Drive the synthetic truth of this seed instead of the plant (:func:`truth_yard`).
     """
-    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings))
+    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth))
              for s in scenarios for v in vehicles for seed in seeds]
     counter = Counter(len(tasks), f"docking ({controller})", progress)
     rows: dict[tuple, dict] = {}

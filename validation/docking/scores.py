@@ -52,7 +52,7 @@ REVERSING = 0.05
 SWEPT_CELL = 0.1
 """Grid of the swept area [m]."""
 
-COLUMNS = ("scenario", "vehicle", "controller", "seed", "success", "failure",
+COLUMNS = ("scenario", "vehicle", "controller", "plant", "seed", "success", "failure",
            "lateral_error_m", "longitudinal_error_m", "heading_error_deg", "max_gamma_deg",
            "gamma_margin_deg", "direction_changes", "time_s", "path_length_m", "swept_width_m",
            "swept_area_m2", "solve_ms_p50", "solve_ms_p99", "plan_ms", "plan_expansions",
