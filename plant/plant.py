@@ -209,15 +209,14 @@ class Plant:
         self._tyres = [scaled(TyreParams.from_tir(f), vehicle.tyre_scaling) for f in files]
         self._tyre_set = np.array([files.index(vehicle.tyre_file_for(a))
                                    for a in vehicle.axles for _ in nm.SIDES])
-        spec = build_model(vehicle)  # with vehicle.with_payload(), as _index uses
+        spec = self._model_spec(vehicle)  # with vehicle.with_payload(), as _index uses
         self.spec = spec
         """The model's spec, as compiled (:mod:`artic.plant.standalone` writes it out)."""
         n_wheels = 2 * len(vehicle.axles)
         if self.backend == "c":
             if spec.numerics:
                 raise ValueError("the plant's spec must not carry numerics of its own")
-            spec.add_numeric(name=ctyre.BLOCK, size=ctyre.block_size(n_wheels, len(files)))
-            spec.nuserdata = 3 * n_wheels + 1  # forces, then the out-of-range count
+            self._add_block(spec, n_wheels, len(files))
         self.model = callback.compile_spec(spec)
         if timestep is not None:
             self.model.opt.timestep = timestep
@@ -243,6 +242,26 @@ class Plant:
         if self._stepper is not None:  # the unwrapped headings [rad], shared with it
             self._psi = self._stepper.psi
 
+    # ------------------------------------------------------------ model kind
+    # A model of another kind (the synthetic truth's, in artic.validation) is a
+    # subclass that changes these three: its spec, its numeric block and how
+    # the block is written. The compiled callback hands a block of another name
+    # to the extension registered for it (artic.plant.ctyre.register_kind).
+    def _model_spec(self, vehicle: Vehicle) -> mujoco.MjSpec:
+        """The model's spec before its numeric block: :func:`artic.mjcf.builder.build_model`."""
+        return build_model(vehicle)
+
+    def _add_block(self, spec: mujoco.MjSpec, n_wheels: int, n_sets: int) -> None:
+        """Add the compiled callback's numeric 0 and the ``userdata`` it writes."""
+        spec.add_numeric(name=ctyre.BLOCK, size=ctyre.block_size(n_wheels, n_sets))
+        spec.nuserdata = 3 * n_wheels + 1  # forces, then the out-of-range count
+
+    def _write_block(self) -> None:
+        """Write the numeric block from :attr:`tyres` and check it against the model."""
+        self.model.numeric_data[:] = ctyre.block(self._tyres, self._wheel_table(),
+                                                 self.vehicle.plant.tyre_moments)
+        ctyre.check_block(self.model, self.data)
+
     def _wheel_table(self) -> np.ndarray:
         cols = {"hub_site": self._hub, "hub_body": self._hub_body, "root_body": self._root,
                 "wheel_body": self._wheel_body, "spin_dof": self._spin_dof,
@@ -263,9 +282,7 @@ class Plant:
         self._tyres = list(sets)
         self._per_wheel_tyre()
         if self.backend == "c":
-            self.model.numeric_data[:] = ctyre.block(self._tyres, self._wheel_table(),
-                                                     self.vehicle.plant.tyre_moments)
-            ctyre.check_block(self.model, self.data)
+            self._write_block()
 
     @property
     def wheel_tyres(self) -> list[TyreParams]:
@@ -308,7 +325,7 @@ class Plant:
     def last_forces(self) -> np.ndarray:
         """Contact force of every wheel end from the last callback, world frame [N]."""
         if self.backend == "c":
-            return self.data.userdata[:-1].reshape(-1, 3)
+            return self.data.userdata[:3 * self.n_wheels].reshape(-1, 3)
         return self._last_forces
 
     # ------------------------------------------------------------ indexing
@@ -597,7 +614,7 @@ class Plant:
                 if first:
                     self.warn_steer_limited(s.first_limit_time, s.first_limit_delta)
             if code == closedloop.TYRE_RANGE:
-                d.userdata[-1] = 0.0
+                d.userdata[3 * self.n_wheels] = 0.0
                 self.check_tyre_ranges()
             elif code == closedloop.DIVERGED:
                 good = np.array(s.good_forces[:3 * self.n_wheels]).reshape(-1, 3)
@@ -621,8 +638,8 @@ class Plant:
         self._check(good_time, good_forces, n * h)
         if self.backend == "numpy":
             self.check_tyre_ranges()
-        elif d.userdata[-1]:  # the C callback counted wheels outside the file's ranges
-            d.userdata[-1] = 0.0
+        elif d.userdata[3 * self.n_wheels]:  # the C callback counted wheels out of range
+            d.userdata[3 * self.n_wheels] = 0.0
             self.check_tyre_ranges()
 
     def warn_steer_limited(self, time: float, delta: float) -> None:
