@@ -533,15 +533,25 @@ class Plant:
 
     # ------------------------------------------------------------ interface
     def reset(self, initial: InitialState) -> None:
-        """Place the combination at ``initial``, at rest on its springs, rolling at ``u1``."""
+        """Place the combination at ``initial``, at rest on its springs, rolling at ``u1``.
+
+        ``initial`` is what the sensors report (a log's first sample): the
+        headings, the articulation and the lateral velocity of inertial units
+        mounted turned by their yaw (``sensor_yaw``), which :meth:`observe`
+        adds. The bodies are placed without it, so that ``observe`` reports
+        ``initial`` back.
+        """
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
-        psi = initial.psi_1
+        e1, e2 = self._sensor_yaw
+        psi = initial.psi_1 - e1
+        gamma = initial.gamma - (e1 - e2)
         dx, dy = rotate(psi, self._s1[0], self._s1[1])
         d.qpos[:3] = [initial.x_1 - dx, initial.y_1 - dy, 0.0]
         d.qpos[3:7] = [math.cos(psi / 2), 0.0, 0.0, math.sin(psi / 2)]
-        d.qpos[m.jnt_qposadr[self._hitch_yaw]] = -initial.gamma
-        v_origin = initial.v_y_1 - initial.r_1 * self._s1[0]
+        d.qpos[m.jnt_qposadr[self._hitch_yaw]] = -gamma
+        v_y = math.sin(e1) * initial.u1 + math.cos(e1) * initial.v_y_1  # in the tractor's axes
+        v_origin = v_y - initial.r_1 * self._s1[0]
         d.qvel[:3] = [*rotate(psi, initial.u1, v_origin), 0.0]
         d.qvel[5] = initial.r_1
         d.qvel[m.jnt_dofadr[self._hitch_yaw]] = initial.r_2 - initial.r_1
@@ -549,7 +559,7 @@ class Plant:
         self._integral = 0.0
         self.steer_limited = 0
         mujoco.mj_forward(m, d)
-        self._psi[:] = (psi, psi - initial.gamma)
+        self._psi[:] = (psi, psi - gamma)
 
     def _speed(self) -> float:
         """Tractor speed along its x-axis [m/s].
@@ -708,8 +718,14 @@ class Plant:
 
     @property
     def gamma(self) -> float:
-        """Articulation angle [rad]."""
-        return float(wrap_angle(-self.data.qpos[self.model.jnt_qposadr[self._hitch_yaw]]))
+        """Articulation angle as the inertial units report it, ``observe()[12]`` [rad].
+
+        The hitch angle plus the units' mounting yaws' difference (zero for units
+        mounted straight), so that the harness compares it with a log's like for like.
+        """
+        e1, e2 = self._sensor_yaw
+        return float(wrap_angle(-self.data.qpos[self.model.jnt_qposadr[self._hitch_yaw]]
+                                + e1 - e2))
 
     def wheel_loads(self) -> np.ndarray:
         """Vertical force of every wheel end from the last callback [N]."""
