@@ -28,10 +28,14 @@ from artic.validation.synthetic.truthplant import TruthPlant
 
 SEED = 0
 
-# What the replay must meet (the issue's criteria). Measured on seed 0: forward
-# eps_n 0.008-0.043 % and eps_p 1.6-9 mm, reverse J_steer 0.33-0.83 %. What is
-# left is the harness's: its speed is the log's, smoothed over 0.5 s, where the
-# truth's was the driver's on the pedals, and in reverse the feedback answers it.
+# What the replay must meet (the issue's criteria). Measured on seed 0, the
+# first manoeuvre of each kind: forward eps_n 0.008-0.043 % and eps_p 3-9 mm,
+# reverse J_steer 0.30-0.33 %; over all 58 logs (exported and imported) forward
+# eps_n at most 0.09 % and eps_p 9 mm, reverse J_steer 0.39 % on average and at
+# most 1.2 % (the laden 6 km/h ramp steers' hard stops, where the harness
+# follows the cab's pitching in the sensor's speed). What is left is the
+# harness's: its speed is the log's, smoothed over 0.5 s, where the truth's
+# came from the driver's pedals, and in reverse the feedback answers it.
 FORWARD_EPS_N = 0.5  # [%]
 FORWARD_EPS_P = 0.05  # [m]
 REVERSE_J_STEER = 1.0  # [%]
@@ -141,9 +145,10 @@ def excess(m, log, vt) -> dict:
 
 def test_the_plant_is_well_above_the_floor_on_noise_free_logs(constant_steer):
     gap = excess(*constant_steer)
-    # Forward, in eps_n points. Seed 0: the preset 12.5, the plant from the
-    # truth's own file 1.5 (the tyre formula, the column and the twins), against
-    # a floor of 0.01.
+    # Forward, in eps_n points. Seed 0, this log: the preset 12.5, the plant from
+    # the truth's own file 1.5 (the tyre formula, the column and the twins),
+    # against a floor of 0.008. Over the 25 forward logs: 9.7 [8.9, 10.4] and
+    # 1.5 [1.1, 1.8] (means and 95 % intervals), every log above the floor.
     assert gap["preset"]["eps_n"] > 5.0, gap
     assert gap["truth file"]["eps_n"] > 0.5, gap
 
@@ -153,7 +158,28 @@ def test_the_plant_is_well_above_the_floor_on_noise_free_logs(constant_steer):
 def test_the_plant_is_well_above_the_floor_in_reverse(kind):
     m = first_of(kind)
     gap = excess(m, *noise_free(m))
-    # Seed 0, in points of eps_n and J_steer: ramp steer 26 and 46 (preset),
-    # 2.6 and 3.1 (truth file); docking 23 and 7.5, 6.3 and 1.8.
+    # Seed 0, in points of eps_n and J_steer, over all 33 reverse logs: the
+    # preset 24 [19, 28] and 22 [15, 30] (means and 95 % intervals), the truth
+    # file 5.3 [4.4, 6.2] and 3.3 [2.6, 3.9], every log above the floor.
     assert gap["preset"]["eps_n"] > 10.0 and gap["preset"]["J_steer"] > 5.0, gap
     assert gap["truth file"]["eps_n"] > 1.0 and gap["truth file"]["J_steer"] > 1.0, gap
+
+
+def test_ideal_logs_come_back_through_the_export_as_they_were(constant_steer, tmp_path):
+    # The campaign's logs are exported and imported: with ideal sensors the CAN
+    # file must hold every sample unquantised, or the floor would replay a
+    # steering wheel held over 0.1 s in 0.1 deg steps instead of the truth's.
+    import numpy as np
+
+    from artic.validation.logs.importers import import_source
+    from artic.validation.synthetic.generate import write_export
+
+    _, log, _ = constant_steer
+    back, repairs = import_source(write_export(log, tmp_path))
+    assert repairs == []
+    a, b = log.frame, back.frame
+    assert len(a) == len(b)
+    # The files' digits: 1e-6 deg of steering wheel, 1e-10 deg of latitude (10 um).
+    assert np.max(np.abs(a["delta_h"] - b["delta_h"])) < np.radians(1e-6)
+    for c in ("x_1", "y_1", "x_2", "y_2"):
+        assert np.max(np.abs(a[c] - b[c])) < 1e-4

@@ -117,3 +117,25 @@ def test_twin_tyres_are_two_tyres_that_scrub_in_a_turn(vehicle):
     # Single tyres have no second set of states.
     assert sum(a.dual for a in vehicle.axles) == 1
     assert m.na == 3 * p.n_wheels + 1 + 3 * 2  # treads, the assist, the twins' second tyres
+
+
+def test_the_truths_brakes_hold_it_on_a_slope(vehicle):
+    # Dry friction: a truck braked to a stop on a 2 % grade stays where it is.
+    import dataclasses
+
+    sloped = dataclasses.replace(vehicle, plant=dataclasses.replace(vehicle.plant,
+                                                                    grade=math.atan(0.02)))
+    with TruthPlant(sloped, speed="pedals") as p:
+        p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=0.0))
+        p.pedals = (0.0, 0.3)
+        for _ in range(300):
+            p.step(0.01, 0.0, 0.0, 0.0)
+        x0 = p.observe()[0]
+        for _ in range(200):
+            p.step(0.01, 0.0, 0.0, 0.0)
+        assert abs(p.observe()[0] - x0) < 1e-3  # [m] in 2 s: held
+        assert p.parking_brake is False
+        p.pedals = (0.0, 0.0)  # released, it rolls down
+        for _ in range(200):
+            p.step(0.01, 0.0, 0.0, 0.0)
+        assert p.observe()[0] < x0 - 0.05

@@ -203,6 +203,11 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
         The folder's name; ``run.meta["name"]`` by default. The campaign passes
         the name of the manoeuvre it submitted, never one a worker returned.
 
+    The CAN file is written at the rate and resolution of the run's
+    measurement chain (``meta["sensors"]``): 10 Hz in 0.1 deg steps by
+    default, every sample unquantised for ideal sensors, whose logs must come
+    back as the truth was.
+
     The export is written into a uniquely named temporary folder and renamed
     into place. An existing export is first renamed aside under a unique
     name, so two writers of one export never delete a folder the other is
@@ -215,8 +220,11 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     out_dir = Path(out_dir)
     final = out_dir / name
     tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=TEMP_SUFFIX, dir=out_dir))
+    chain = run.meta.get("sensors") or {}
+    can = {"can_rate": float(chain["can_rate"]),
+           "can_step_deg": round(math.degrees(chain["can_step"]), 9)} if chain else {}
     try:
-        export_oxts(run, tmp)
+        export_oxts(run, tmp, **can)
         meta = {**run.meta, "name": name}
         (tmp / META_FILE).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n")
         public_mode(tmp)

@@ -25,6 +25,9 @@ right wheel         fitted quartic joint equality     compliant tie rod on the e
                                                       trapezoid
 caster              none: the kingpin through the     4 deg: the kingpin leads it
                     contact
+brakes               torque fading with the wheel's    dry friction: they hold a
+                    spin: a stopped truck creeps      stopped truck on the slope
+                    down the slope
 speed follower      pushes the drive axle             drives the driven wheels and
 (the floor's)                                         brakes all, as the truth's
                                                       driver does
@@ -46,8 +49,9 @@ import numpy as np
 
 from artic.mjcf import naming as nm
 from artic.mjcf.builder import build_model
-from artic.mjcf.vehicle import Vehicle
+from artic.mjcf.vehicle import G, Vehicle
 from artic.plant import Plant
+from artic.plant.plant import BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE
 from artic.validation.synthetic import tmeasy, truthc
 from artic.validation.synthetic.column import Column
 
@@ -92,7 +96,36 @@ class TruthPlant(Plant):
         files = list(dict.fromkeys(vehicle.tyre_file_for(a) for a in vehicle.axles))
         self.tmeasy = [tmeasy.fit(f, vehicle.tyre_scaling) for f in files]
         """The TMeasy tyre of each tyre file in use (the ``tyre_set`` of each wheel)."""
+        self._parked = False
         super().__init__(vehicle, timestep=timestep, backend="c", speed=speed)
+
+    # ------------------------------------------------------------ brakes
+    # The truth's brakes are dry friction on the wheels' spin joints, which
+    # MuJoCo's constraint solver holds at standstill: a driver who stops on the
+    # yard's slope stays stopped. (The plant's service brake fades with the
+    # wheel's spin, so a braked plant creeps; its parking brake is dry friction.)
+    def _control(self, u_cmd: float, u_dot: float, h: float) -> None:
+        super()._control(u_cmd, u_dot, h)
+        brake = 0.0
+        if self.speed_mode == "pedals":
+            brake = min(max(float(self.pedals[1]), 0.0), 1.0)
+            self.data.ctrl[self._brake] = 0.0
+        self._set_friction(brake)
+
+    def _set_friction(self, brake: float) -> None:
+        decel = max(brake * BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE if self._parked else 0.0)
+        self.model.dof_frictionloss[self._spin_dof] = (decel * self.mass * G * self.R0
+                                                       * self._brake_share)
+
+    @property
+    def parking_brake(self) -> bool:
+        """Whether the parking brake holds every wheel (see :class:`artic.plant.Plant`)."""
+        return self._parked
+
+    @parking_brake.setter
+    def parking_brake(self, on: bool) -> None:
+        self._parked = bool(on)
+        self._set_friction(0.0)
 
     # ------------------------------------------------------------ model kind
     def _model_spec(self, vehicle: Vehicle) -> mujoco.MjSpec:
