@@ -44,7 +44,7 @@ class CampaignResults:
 
 
 FLOOR = "floor"
-"""The reference row of the truth's own plant (see :mod:`artic.validation.campaign.main`)."""
+"""The reference row of the truth itself (see :mod:`artic.validation.campaign.main`)."""
 
 
 def _rank(table: pd.DataFrame, col: str) -> list[tuple[str, float]]:
