@@ -107,10 +107,10 @@ def test_a_refused_pair_is_a_row(tmp_path, unloaded):
 def test_a_model_that_cannot_be_built_is_a_row(tmp_path, unloaded, monkeypatch):
     real = val.build
 
-    def build(name, vehicle):
+    def build(name, vehicle, log=None):
         if name == "mbd":
             raise RuntimeError("no compiler and no numpy either")
-        return real(name, vehicle)
+        return real(name, vehicle, log)
 
     monkeypatch.setattr(val, "build", build)
     m = val.validate_runs([slalom()], unloaded, ["mbd", "kin"], out_dir=tmp_path)
