@@ -89,6 +89,7 @@ from artic.validation.logs.runfile import (
     Run,
     atomic_write,
     atomic_write_text,
+    check_frame,
     read_run,
     write_run,
 )
@@ -614,7 +615,15 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
         return None
     refs = []
     for log in logs:
-        run = read_run(out_dir / "runs" / f"{log.name}.mbd.parquet", columns=COLUMNS)
+        run = read_run(out_dir / "runs" / f"{log.name}.mbd.parquet", check=False,
+                       columns=COLUMNS)
+        if is_failed(str(run.meta.get("status", ""))) or len(run.frame) < 2:
+            # The plant has no run of this log (its row in metrics.csv says why),
+            # so there is nothing to compare KIN and STM with.
+            stderr_progress(f"references: {log.name} has no plant run "
+                            f"({run.meta.get('status', 'empty')}); left out against the plant")
+            continue
+        check_frame(run.frame, str(out_dir / "runs" / f"{log.name}.mbd.parquet"))
         meta = {**log.meta, "source": "model:mbd", "reference": "mbd"}
         refs.append(Run(run.frame[list(COLUMNS)].reset_index(drop=True), meta))
     parts = []
