@@ -122,11 +122,10 @@ def test_a_model_that_cannot_be_built_is_a_row(tmp_path, unloaded, monkeypatch):
 def test_a_log_without_a_plant_run_is_left_out_against_the_plant(tmp_path, unloaded, capsys):
     # The plant refused one log (its row says why); the comparison of KIN with
     # the plant skips that log instead of failing on the empty run file.
-    from conftest import as_log, straight_log
-
     from artic.validation.campaign.main import _versus_plant
     from artic.validation.campaign.validate import failed_run
     from artic.validation.logs.runfile import write_run
+    from conftest import as_log, straight_log
 
     log = as_log(straight_log(n=300), "refused-by-the-plant")
     log.meta.update(load="unloaded", direction="reverse", manoeuvre="docking")
