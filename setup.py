@@ -1,4 +1,4 @@
-"""Build hook for artic's compiled parts: the C tyre callback and the plant's closed loop.
+"""Build hook for artic's compiled parts: the plant's C tyre callback and closed loop, the truth's.
 
 Everything else is in pyproject.toml. The extension is compiled against the
 headers that the mujoco wheel ships. It is optional: without a C compiler the
@@ -32,6 +32,13 @@ setup(
         Extension(  # the harness's closed loop around the plant (plant/closedloop.py)
             "artic.plant._loop_c",
             sources=["plant/_loop_c.c"],
+            include_dirs=mujoco_include(),
+            extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
+            optional=True,
+        ),
+        Extension(  # the synthetic truth's own tyres and steering (validation/synthetic/)
+            "artic.validation.synthetic._truth_c",
+            sources=["validation/synthetic/_truth_c.c"],
             include_dirs=mujoco_include(),
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,

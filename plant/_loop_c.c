@@ -189,7 +189,8 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
   double h = m->opt.timestep;
   for (int k = s->k; k < n; k++) {
     /* 1. the feedback law (artic.validation.feedback.feedback_law) */
-    double gamma = wrap_angle(-d->qpos[s->hitch_qpos]);
+    /* as the inertial units report it: the hitch angle and their mounting yaws (Plant.gamma) */
+    double gamma = wrap_angle(-d->qpos[s->hitch_qpos] + s->sensor_yaw[0] - s->sensor_yaw[1]);
     double fb = reversing[k] ? s->gain * wrap(gamma - gamma_meas[k]) : 0.0;
     double dl = delta_c[k] + fb;
     unsigned char limited = 0;

@@ -14,6 +14,11 @@
  * so any number of models and threads can share the callback, including
  * mujoco.batch's copies of a model.
  *
+ * A model whose numeric 0 has another name that a compiled extension registered
+ * (artic_register_kind: a second callback kind, such as the synthetic truth's
+ * own tyres and steering) is handed to that extension's callback, with no
+ * Python in between; this file knows nothing of what it computes.
+ *
  * Per wheel end the callback writes the tread deflection rates to the tread
  * actuators' ctrl and the contact force [N] to d->userdata[3 i .. 3 i + 2].
  * It counts, in d->userdata[3 n_wheels], evaluations of a loaded wheel outside
@@ -339,7 +344,43 @@ static const double* valid_block(const mjModel* m, const mjData* d, int* nw_out)
   return blk;
 }
 
+/* ------------------------------------------------------------------ other kinds */
+
+/* Callbacks of other compiled extensions, by the name of the numeric 0 their
+ * models carry. Registered once per process before any of their models steps;
+ * an entry is never changed or removed, so reading the table needs no lock. */
+#define MAX_KINDS 8
+#define KIND_NAME 64
+typedef void (*artic_kind_fn)(const mjModel*, mjData*);
+static struct {
+  char name[KIND_NAME];
+  artic_kind_fn fn;
+} kinds[MAX_KINDS];
+static int n_kinds = 0;
+
+static artic_kind_fn kind_of(const mjModel* m) {
+  if (m->nnumeric < 1) return NULL;
+  const char* name = m->names + m->name_numericadr[0];
+  for (int i = 0; i < n_kinds; i++)
+    if (strcmp(name, kinds[i].name) == 0) return kinds[i].fn;
+  return NULL;
+}
+
 /* ------------------------------------------------------------------ exported */
+
+/* Serve models whose numeric 0 is named `name` with `fn`. Returns its index, the
+ * existing one for a name registered before (the first fn stays), or -1 when
+ * the name is the plant's own, too long, or the table is full. */
+int artic_register_kind(const char* name, artic_kind_fn fn) {
+  if (name == NULL || fn == NULL || strlen(name) >= KIND_NAME || strcmp(name, BLOCK_NAME) == 0)
+    return -1;
+  for (int i = 0; i < n_kinds; i++)
+    if (strcmp(name, kinds[i].name) == 0) return i;
+  if (n_kinds >= MAX_KINDS) return -1;
+  strcpy(kinds[n_kinds].name, name);
+  kinds[n_kinds].fn = fn;
+  return n_kinds++;
+}
 
 int artic_abi(void) { return ARTIC_ABI; }
 
@@ -384,7 +425,11 @@ void artic_tyre_eval(const double* p, int n, int moments, const double* Fz, cons
 void artic_passive(const mjModel* m, mjData* d) {
   int nw = 0;
   const mjtNum* blk = valid_block(m, d, &nw);
-  if (blk == NULL) return;
+  if (blk == NULL) {
+    artic_kind_fn other = kind_of(m);
+    if (other != NULL) other(m, d);
+    return;
+  }
   int moments = blk[6] != 0.0;
   const double* sets = blk + HEADER;
   const double* w = sets + (int)blk[5] * N_PARAMS;

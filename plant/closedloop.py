@@ -250,7 +250,7 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
             limited_before = s.steer_limited
             plant.warn_steer_limited(s.first_limit_time, s.first_limit_delta)
         if code == TYRE_RANGE:
-            d.userdata[-1] = 0.0
+            d.userdata[3 * plant.n_wheels] = 0.0
             plant.check_tyre_ranges()
             continue
         if code == DIVERGED:

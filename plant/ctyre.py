@@ -8,6 +8,11 @@ global state. A model carries what the callback needs in its numeric
 :data:`WHEEL_FIELDS`. The callback writes each wheel's contact force to
 ``d.userdata``.
 
+Models of another kind, whose numeric 0 has a name that another compiled
+extension registered (:func:`register_kind`), are handed to that extension's
+callback by the same C function, without Python in between: the synthetic
+truth of :mod:`artic.validation` has its own tyres and steering that way.
+
 The extension is built by ``pip install`` when a C compiler is present. When
 it is missing, or was built against another MuJoCo version, :func:`library`
 returns ``None`` and :func:`unavailable_reason` says why; the plant then uses
@@ -104,6 +109,8 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     lib.artic_checksum.argtypes = [_DOUBLE_P, ctypes.c_int]
     lib.artic_set_key.restype = None
     lib.artic_set_key.argtypes = [ctypes.c_uint32, ctypes.c_uint32]
+    lib.artic_register_kind.restype = ctypes.c_int
+    lib.artic_register_kind.argtypes = [ctypes.c_char_p, ctypes.c_void_p]
     lib.artic_set_key(*KEY)
     return lib, ""
 
@@ -292,6 +299,29 @@ def zero_clock():
     f.restype = ctypes.c_double
     f.argtypes = []
     return f
+
+
+def register_kind(name: str, function) -> None:
+    """Hand models whose numeric 0 is named ``name`` to ``function``, a compiled callback.
+
+    Parameters
+    ----------
+    name : str
+        The numeric's name; not :data:`BLOCK`, at most 63 bytes.
+    function : ctypes function pointer
+        A C function ``void f(const mjModel*, mjData*)`` of a loaded library,
+        which must check its models' blocks itself. The first one registered
+        for a name stays for the life of the process.
+
+    Raises
+    ------
+    ValueError
+        For :data:`BLOCK`, a name too long, or a full table (8 kinds).
+    """
+    address = ctypes.cast(function, ctypes.c_void_p).value
+    if _lib().artic_register_kind(name.encode(), address) < 0:
+        raise ValueError(f"cannot register the callback kind {name!r} (the plant's own name, "
+                         "too long, or 8 kinds already)")
 
 
 def passive_function():

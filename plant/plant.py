@@ -211,15 +211,14 @@ class Plant:
         self._tyres = [scaled(TyreParams.from_tir(f), vehicle.tyre_scaling) for f in files]
         self._tyre_set = np.array([files.index(vehicle.tyre_file_for(a))
                                    for a in vehicle.axles for _ in nm.SIDES])
-        spec = build_model(vehicle)  # with vehicle.with_payload(), as _index uses
+        spec = self._model_spec(vehicle)  # with vehicle.with_payload(), as _index uses
         self.spec = spec
         """The model's spec, as compiled (:mod:`artic.plant.standalone` writes it out)."""
         n_wheels = 2 * len(vehicle.axles)
         if self.backend == "c":
             if spec.numerics:
                 raise ValueError("the plant's spec must not carry numerics of its own")
-            spec.add_numeric(name=ctyre.BLOCK, size=ctyre.block_size(n_wheels, len(files)))
-            spec.nuserdata = 3 * n_wheels + 1  # forces, then the out-of-range count
+            self._add_block(spec, n_wheels, len(files))
         self.model = callback.compile_spec(spec)
         if timestep is not None:
             self.model.opt.timestep = timestep
@@ -245,6 +244,26 @@ class Plant:
         if self._stepper is not None:  # the unwrapped headings [rad], shared with it
             self._psi = self._stepper.psi
 
+    # ------------------------------------------------------------ model kind
+    # A model of another kind (the synthetic truth's, in artic.validation) is a
+    # subclass that changes these three: its spec, its numeric block and how
+    # the block is written. The compiled callback hands a block of another name
+    # to the extension registered for it (artic.plant.ctyre.register_kind).
+    def _model_spec(self, vehicle: Vehicle) -> mujoco.MjSpec:
+        """The model's spec before its numeric block: :func:`artic.mjcf.builder.build_model`."""
+        return build_model(vehicle)
+
+    def _add_block(self, spec: mujoco.MjSpec, n_wheels: int, n_sets: int) -> None:
+        """Add the compiled callback's numeric 0 and the ``userdata`` it writes."""
+        spec.add_numeric(name=ctyre.BLOCK, size=ctyre.block_size(n_wheels, n_sets))
+        spec.nuserdata = 3 * n_wheels + 1  # forces, then the out-of-range count
+
+    def _write_block(self) -> None:
+        """Write the numeric block from :attr:`tyres` and check it against the model."""
+        self.model.numeric_data[:] = ctyre.block(self._tyres, self._wheel_table(),
+                                                 self.vehicle.plant.tyre_moments)
+        ctyre.check_block(self.model, self.data)
+
     def _wheel_table(self) -> np.ndarray:
         cols = {"hub_site": self._hub, "hub_body": self._hub_body, "root_body": self._root,
                 "wheel_body": self._wheel_body, "spin_dof": self._spin_dof,
@@ -265,9 +284,7 @@ class Plant:
         self._tyres = list(sets)
         self._per_wheel_tyre()
         if self.backend == "c":
-            self.model.numeric_data[:] = ctyre.block(self._tyres, self._wheel_table(),
-                                                     self.vehicle.plant.tyre_moments)
-            ctyre.check_block(self.model, self.data)
+            self._write_block()
 
     @property
     def wheel_tyres(self) -> list[TyreParams]:
@@ -310,7 +327,7 @@ class Plant:
     def last_forces(self) -> np.ndarray:
         """Contact force of every wheel end from the last callback, world frame [N]."""
         if self.backend == "c":
-            return self.data.userdata[:-1].reshape(-1, 3)
+            return self.data.userdata[:3 * self.n_wheels].reshape(-1, 3)
         return self._last_forces
 
     # ------------------------------------------------------------ indexing
@@ -518,15 +535,25 @@ class Plant:
 
     # ------------------------------------------------------------ interface
     def reset(self, initial: InitialState) -> None:
-        """Place the combination at ``initial``, at rest on its springs, rolling at ``u1``."""
+        """Place the combination at ``initial``, at rest on its springs, rolling at ``u1``.
+
+        ``initial`` is what the sensors report (a log's first sample): the
+        headings, the articulation and the lateral velocity of inertial units
+        mounted turned by their yaw (``sensor_yaw``), which :meth:`observe`
+        adds. The bodies are placed without it, so that ``observe`` reports
+        ``initial`` back.
+        """
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
-        psi = initial.psi_1
+        e1, e2 = self._sensor_yaw
+        psi = initial.psi_1 - e1
+        gamma = initial.gamma - (e1 - e2)
         dx, dy = rotate(psi, self._s1[0], self._s1[1])
         d.qpos[:3] = [initial.x_1 - dx, initial.y_1 - dy, 0.0]
         d.qpos[3:7] = [math.cos(psi / 2), 0.0, 0.0, math.sin(psi / 2)]
-        d.qpos[m.jnt_qposadr[self._hitch_yaw]] = -initial.gamma
-        v_origin = initial.v_y_1 - initial.r_1 * self._s1[0]
+        d.qpos[m.jnt_qposadr[self._hitch_yaw]] = -gamma
+        v_y = math.sin(e1) * initial.u1 + math.cos(e1) * initial.v_y_1  # in the tractor's axes
+        v_origin = v_y - initial.r_1 * self._s1[0]
         d.qvel[:3] = [*rotate(psi, initial.u1, v_origin), 0.0]
         d.qvel[5] = initial.r_1
         d.qvel[m.jnt_dofadr[self._hitch_yaw]] = initial.r_2 - initial.r_1
@@ -534,7 +561,7 @@ class Plant:
         self._integral = 0.0
         self.steer_limited = 0
         mujoco.mj_forward(m, d)
-        self._psi[:] = (psi, psi - initial.gamma)
+        self._psi[:] = (psi, psi - gamma)
 
     def _speed(self) -> float:
         """Tractor speed along its x-axis [m/s].
@@ -599,7 +626,7 @@ class Plant:
                 if first:
                     self.warn_steer_limited(s.first_limit_time, s.first_limit_delta)
             if code == closedloop.TYRE_RANGE:
-                d.userdata[-1] = 0.0
+                d.userdata[3 * self.n_wheels] = 0.0
                 self.check_tyre_ranges()
             elif code == closedloop.DIVERGED:
                 good = np.array(s.good_forces[:3 * self.n_wheels]).reshape(-1, 3)
@@ -623,8 +650,8 @@ class Plant:
         self._check(good_time, good_forces, n * h)
         if self.backend == "numpy":
             self.check_tyre_ranges()
-        elif d.userdata[-1]:  # the C callback counted wheels outside the file's ranges
-            d.userdata[-1] = 0.0
+        elif d.userdata[3 * self.n_wheels]:  # the C callback counted wheels out of range
+            d.userdata[3 * self.n_wheels] = 0.0
             self.check_tyre_ranges()
 
     def warn_steer_limited(self, time: float, delta: float) -> None:
@@ -693,8 +720,14 @@ class Plant:
 
     @property
     def gamma(self) -> float:
-        """Articulation angle [rad]."""
-        return float(wrap_angle(-self.data.qpos[self.model.jnt_qposadr[self._hitch_yaw]]))
+        """Articulation angle as the inertial units report it, ``observe()[12]`` [rad].
+
+        The hitch angle plus the units' mounting yaws' difference (zero for units
+        mounted straight), so that the harness compares it with a log's like for like.
+        """
+        e1, e2 = self._sensor_yaw
+        return float(wrap_angle(-self.data.qpos[self.model.jnt_qposadr[self._hitch_yaw]]
+                                + e1 - e2))
 
     def wheel_loads(self) -> np.ndarray:
         """Vertical force of every wheel end from the last callback [N]."""

@@ -107,13 +107,32 @@ def test_a_refused_pair_is_a_row(tmp_path, unloaded):
 def test_a_model_that_cannot_be_built_is_a_row(tmp_path, unloaded, monkeypatch):
     real = val.build
 
-    def build(name, vehicle):
+    def build(name, vehicle, log=None):
         if name == "mbd":
             raise RuntimeError("no compiler and no numpy either")
-        return real(name, vehicle)
+        return real(name, vehicle, log)
 
     monkeypatch.setattr(val, "build", build)
     m = val.validate_runs([slalom()], unloaded, ["mbd", "kin"], out_dir=tmp_path)
     st = dict(zip(m.model, m.status, strict=True))
     assert st["mbd"] == "failed: RuntimeError: no compiler and no numpy either"
     assert st["kin"] == "ok"
+
+
+def test_a_log_without_a_plant_run_is_left_out_against_the_plant(tmp_path, unloaded, capsys):
+    # The plant refused one log (its row says why); the comparison of KIN with
+    # the plant skips that log instead of failing on the empty run file.
+    from artic.validation.campaign.main import _versus_plant
+    from artic.validation.campaign.validate import failed_run
+    from artic.validation.logs.runfile import write_run
+    from conftest import as_log, straight_log
+
+    log = as_log(straight_log(n=300), "refused-by-the-plant")
+    log.meta.update(load="unloaded", direction="reverse", manoeuvre="docking")
+    (tmp_path / "runs").mkdir()
+    write_run(failed_run(log, "mbd", unloaded, 3.0, "refused: eq. (3) folds back"),
+              tmp_path / "runs" / f"{log.name}.mbd.parquet")
+    out = _versus_plant(tmp_path, [log], {"unloaded": unloaded}, ("kin",), 3.0, "k", jobs=1)
+    assert out is None
+    assert "refused-by-the-plant has no plant run (refused: eq. (3) folds back)" in \
+        capsys.readouterr().err

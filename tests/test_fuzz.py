@@ -223,7 +223,10 @@ def vehicle_text(edits, damage: int | None, base: dict = BASE_VEHICLE) -> str:
         data["tyre"]["file"] = str(TYRE)
     for op, key, value in edits:
         if op == "scale":
-            old = _get(data, key)
+            try:
+                old = _get(data, key)
+            except (KeyError, IndexError, TypeError):  # an earlier edit deleted it
+                continue
             if isinstance(old, float):
                 _set(data, key, old * value)
             continue
@@ -286,6 +289,8 @@ def damaged_log(damage) -> pd.DataFrame:
     for kind, col, row, n, factor in damage:
         if col not in f.columns:
             continue
+        if kind != "text" and object in (f[col].dtype, f["t"].dtype if kind == "gap" else None):
+            continue  # an earlier damage made the column text: arithmetic on it is moot
         end = min(len(f), row + n)
         if kind == "nan":
             f.loc[row:end, col] = np.nan

@@ -148,17 +148,39 @@ def test_sensor_mounting_yaw_turns_heading_and_velocity_axes(unloaded):
     v = dataclasses.replace(unloaded, sensor1_yaw=eps)
     u = 2.0
     with Plant(v) as p:
-        p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
+        # What the units read when the combination heads straight along x.
+        p.reset(InitialState(0.0, 0.0, eps, eps, v_y_1=-u * math.sin(eps), u1=u))
+        assert p.data.xmat[p._tractor][3] == pytest.approx(0.0, abs=1e-12)  # the body: along x
         for _ in range(200):
             p.step(0.01, 0.0, u, 0.0)
         o = p.observe()
+        gamma = p.gamma
     # Driving straight along x, a unit turned eps to the left reads heading
     # eps and sees the ground move to its right: v_y = -u sin(eps).
     assert o[2] == pytest.approx(eps, abs=1e-4)
     assert o[4] == pytest.approx(-u * math.sin(eps), rel=0.02)
     assert o[3] == pytest.approx(u * math.cos(eps), rel=0.01)
-    # The articulation column is the two headings' difference, as a log has it.
+    # The articulation column is the two headings' difference, as a log has it,
+    # and the articulation the harness feeds back is that one too.
     assert o[12] == pytest.approx(eps, abs=1e-3)
+    assert gamma == pytest.approx(o[12], abs=1e-9)
+
+
+def test_reset_places_the_bodies_so_the_units_read_the_initial_state(unloaded):
+    # A log's first sample is what the units read; reset and observe are inverse.
+    v = dataclasses.replace(unloaded, sensor1_yaw=math.radians(0.3),
+                            sensor2_yaw=math.radians(-0.2))
+    start = InitialState(3.0, -1.0, 0.4, 0.1, v_y_1=0.02, r_1=0.0, r_2=0.0, u1=1.5)
+    with Plant(v) as p:
+        p.reset(start)
+        o = p.observe()
+    assert o[0] == pytest.approx(start.x_1, abs=1e-9)
+    assert o[1] == pytest.approx(start.y_1, abs=1e-9)
+    assert o[2] == pytest.approx(start.psi_1, abs=1e-12)
+    assert o[12] == pytest.approx(start.gamma, abs=1e-12)
+    # The lateral velocity to within the rotation of u1 by the small yaw (u1 is
+    # taken along the tractor).
+    assert o[4] == pytest.approx(start.v_y_1, abs=2e-4)
 
 
 def test_tyre_scaling_from_the_vehicle_file(unloaded):

@@ -23,13 +23,23 @@ from artic.validation.synthetic.truth import (
 def test_the_truth_is_drawn_from_the_seed_and_legacy_is_a_part_of_it():
     a, b = truth_configuration(0), truth_configuration(0)
     assert a == b and truth_configuration(1) != a
+    assert a["kind"] == "independent"  # the default
     legacy = truth_configuration(0, "legacy")
-    # Both kinds share the first draws: the steering and the tractor tyres' scaling.
+    # Every kind shares the first draws: the steering and the tyres' scaling.
     assert {k: a[k] for k in legacy if k != "kind"} == {k: v for k, v in legacy.items()
                                                         if k != "kind"}
+    # The independent truth draws what the structural one does.
+    structural = truth_configuration(0, "structural")
+    assert {k: v for k, v in a.items() if k != "kind"} == {
+        k: v for k, v in structural.items() if k != "kind"}
     assert 1000.0 <= a["fifth_wheel_friction"] <= 4000.0
     assert math.radians(1.0) <= a["backlash"] <= math.radians(3.0)
-    with pytest.raises(ValueError, match="expected one of structural, legacy"):
+    # Without drift, only the drift changes.
+    still = truth_configuration(0, drift=False)
+    assert still["drift_rate"] == 0.0 != a["drift_rate"]
+    assert {k: v for k, v in still.items() if k != "drift_rate"} == {
+        k: v for k, v in a.items() if k != "drift_rate"}
+    with pytest.raises(ValueError, match="expected one of independent, structural, legacy"):
         truth_configuration(0, "made-up")
 
 

@@ -51,6 +51,7 @@ from artic.validation.logs.runfile import LogError, atomic_write, write_run
 from artic.validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
 from artic.validation.steering import SteeringRangeError
 from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
+from artic.validation.synthetic.truth import TRUTHS
 
 JOBS = os.cpu_count() or 1
 """Default of every ``--jobs``: the number of cores."""
@@ -334,7 +335,8 @@ def _logs_generate(args: argparse.Namespace) -> int:
 
     sensors = SensorModel.ideal() if args.sensors == "ideal" else SensorModel()
     paths = generate_campaign(args.out_dir, seed=args.seed, only=only, progress=stderr_progress,
-                              jobs=args.jobs, sensors=sensors, truth=args.truth)
+                              jobs=args.jobs, sensors=sensors, truth=args.truth,
+                              drift=args.drift)
     print(f"{len(paths)} manoeuvres in {args.out_dir}; the truth as vehicle files "
           f"{args.out_dir / 'truth-unloaded.toml'} and truth-loaded.toml")
     return 0
@@ -522,9 +524,14 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--seed", type=options.SEED, default=0)
     gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
     gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
-    gen.add_argument("--truth", choices=("structural", "legacy"), default="structural",
-                     help="the vehicle that made the logs: one that differs from the presets "
-                          "in structure, or the first near-identical one (default: %(default)s)")
+    gen.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
+                     help="the vehicle that made the logs: one with its own tyre and steering "
+                          "models, the plant differing from the presets in structure, or the "
+                          "first near-identical one (default: %(default)s)")
+    gen.add_argument("--drift", action=argparse.BooleanOptionalAction, default=True,
+                     help="let the steering column's zero drift, the vehicle's one random "
+                          "process; --no-drift with --sensors ideal gives the logs the floor "
+                          "replays (default: on)")
     gen.add_argument("--sensors", choices=("default", "ideal"), default="default",
                      help="the measurement chain: noisy RTK/INS/CAN models, or the truth "
                           "itself (default: %(default)s)")
@@ -555,10 +562,10 @@ def build_parser() -> argparse.ArgumentParser:
                       help="trucks: one campaign per seed in OUT/seed-K and the pooled tables "
                            "and report in OUT, about 90 s per seed on two cores "
                            "(default: %(default)s, the single campaign in OUT)")
-    camp.add_argument("--truth", choices=("structural", "legacy"), default="structural",
-                      help="the synthetic campaign's truth: one that differs from the presets "
-                           "in structure, or the first near-identical one, for regression "
-                           "(default: %(default)s)")
+    camp.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
+                      help="the synthetic campaign's truth: one with its own tyre and steering "
+                           "models; the plant differing from the presets in structure, or the "
+                           "first near-identical one, for regression (default: %(default)s)")
     camp.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                       help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     camp.add_argument("--sweep-models", default="kin,stm",

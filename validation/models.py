@@ -42,12 +42,15 @@ import threading
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
+
+if TYPE_CHECKING:
+    from artic.validation.logs.runfile import Run
 
 
 class Model(Protocol):
@@ -111,6 +114,25 @@ def _mbd(vehicle: Vehicle) -> Model:
     return Plant(vehicle)
 
 
+def _floor(vehicle: Vehicle, log: Run | None = None) -> Model:
+    """The truth of ``log`` (its metadata's ``truth``) without its random processes.
+
+    Every deterministic mechanism of the truth that made the log, through the
+    harness: for the independent truth its own model, tyres, column, play and
+    all (:func:`artic.validation.synthetic.truthplant.truth_model`); for the
+    structural and legacy truths the plant. ``vehicle`` is the truth's, with
+    the log's yard slope (the campaign's ``_floor`` makes it). Left out are
+    what no model can know: the sensors' noise, the trailer unit's clock skew
+    and the drift of the column's zero. Without a log, the plant.
+    """
+    truth = (log.meta.get("truth") if log is not None else None) or {}
+    if truth.get("kind") == "independent":
+        from artic.validation.synthetic.truthplant import truth_model
+
+        return truth_model(vehicle, truth, speed="follow")
+    return _mbd(vehicle)
+
+
 @dataclass(frozen=True)
 class ModelSpec:
     """One model of the registry.
@@ -131,7 +153,10 @@ class ModelSpec:
         Whether a batch of logs runs in one compiled call.
     reference : bool
         A reference row rather than a model under validation (the floor:
-        the truth's own plant); not tuned, not in ``--models``.
+        the truth itself); not tuned, not in ``--models``.
+    per_log : bool
+        ``build(vehicle, log)``: the model depends on the log it runs (the
+        floor is the truth that made it).
     """
 
     name: str
@@ -141,6 +166,7 @@ class ModelSpec:
     tuned: tuple[str, ...]
     batched: bool
     reference: bool = False
+    per_log: bool = False
 
     @property
     def hex_colour(self) -> str:
@@ -153,9 +179,10 @@ _BUILTIN: dict[str, ModelSpec] = {
         ModelSpec("kin", "KIN", _kin, (66, 133, 244), ("i_s", "q", "delta_h_offset"), True),
         ModelSpec("stm", "STM", _stm, (52, 168, 83), ("f", "i_s", "q", "delta_h_offset"), True),
         ModelSpec("mbd", "MBD", _mbd, (251, 140, 0), ("i_s", "q", "delta_h_offset"), False),
-        # The noise floor: the plant built from the truth's own vehicle file,
-        # through the same harness and sensors. No model can beat it.
-        ModelSpec("floor", "floor", _mbd, (150, 150, 150), (), False, reference=True),
+        # The floor: the truth that made each log, without its random
+        # processes, through the same harness. No model can beat it.
+        ModelSpec("floor", "floor", _floor, (150, 150, 150), (), False, reference=True,
+                  per_log=True),
     )
 }
 _ADDED: dict[str, ModelSpec] = {}
@@ -424,9 +451,10 @@ def spec(name: str) -> ModelSpec:
     return s
 
 
-def build(name: str, vehicle: Vehicle) -> Model:
-    """A new model ``name`` built from ``vehicle``."""
-    return spec(name).build(vehicle)
+def build(name: str, vehicle: Vehicle, log: Run | None = None) -> Model:
+    """A new model ``name`` built from ``vehicle`` (and the log it runs, for the floor)."""
+    s = spec(name)
+    return s.build(vehicle, log) if s.per_log else s.build(vehicle)
 
 
 def colour(source: str) -> tuple[int, int, int]:

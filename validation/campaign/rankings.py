@@ -15,7 +15,7 @@ from artic.validation.campaign.tables import UNITS
 from artic.validation.criteria.statistics import Interval, format_ci
 
 FLOOR = "floor"
-"""The reference row of the truth's own plant."""
+"""The reference row: the truth itself, without its random processes."""
 
 
 def label(model: str) -> str:

@@ -281,7 +281,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
         vehicle = vehicle(log)
     try:
         with collect() as notes:
-            model = build(name, vehicle)
+            model = build(name, vehicle, log)
             try:
                 t0 = time.perf_counter()
                 run = run_closed_loop(model, log, vehicle, gain)

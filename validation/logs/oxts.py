@@ -244,7 +244,7 @@ def export_oxts(run: Run, out_dir: Path, origin_deg: tuple[float, float] = (51.4
     can_rate : float
         CAN sample rate [Hz].
     can_step_deg : float
-        CAN quantisation of the steering-wheel angle [deg].
+        CAN quantisation of the steering-wheel angle [deg]; 0 for none.
     """
     df = run.frame
     lat0, lon0 = math.radians(origin_deg[0]), math.radians(origin_deg[1])
@@ -263,7 +263,9 @@ def export_oxts(run: Run, out_dir: Path, origin_deg: tuple[float, float] = (51.4
                                    lambda p, tb=table: tb.to_csv(p, index=False))
     step = max(1, int(round(RATE / can_rate)))
     can = df.iloc[::step]
-    swa = np.round(np.degrees(can["delta_h"].to_numpy()) / can_step_deg) * can_step_deg
+    swa = np.degrees(can["delta_h"].to_numpy())
+    if can_step_deg > 0:
+        swa = np.round(swa / can_step_deg) * can_step_deg
     table = pd.DataFrame({"Time": can["t"].round(4), "SteeringWheelAngle": np.round(swa, 6)})
     paths["can"] = atomic_write(Path(out_dir) / "can.csv", lambda p: table.to_csv(p, index=False))
     return paths

@@ -1,13 +1,15 @@
 """How the synthetic truth's driver reaches the road: steering column and pedals.
 
-The structural truth does not hand the plant a road-wheel angle and a speed.
-Its driver turns a steering wheel and works two pedals:
+The independent and structural truths do not hand their model a road-wheel
+angle and a speed. Their driver turns a steering wheel and works two pedals:
 
 - :class:`SteeringColumn`: between the steering wheel (what the CAN bus
   reports as ``delta_h``) and the steering box lie free play (backlash) and
   an offset that drifts during the run (the column's centre creeping as the
   tie rods and the box settle). The road wheels see
-  ``map(play(delta_h) - drift(t))``;
+  ``map(play(delta_h) - drift(t))``. The independent truth's play, with its
+  torsion bar and assist, is in its own compiled column
+  (:mod:`artic.validation.synthetic.column`); here only its drift;
 - :class:`PedalDriver`: a driver who keeps a target speed with throttle and
   brake, reacting after a delay, moving the pedals at a finite rate, and never
   pressing both;

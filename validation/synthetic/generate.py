@@ -6,18 +6,24 @@ through :mod:`artic.validation.synthetic.sensors` and writes it as an OXTS-style
 that it comes back in through the same importer as real logs.
 
 The truth configuration, drawn once per campaign from its random seed, is
-:mod:`artic.validation.synthetic.truth`'s: by default a vehicle that differs from the
-validated presets in structure (another trailer tyre, tyre moments,
-fifth-wheel friction, payload, sensor installation, steering play and drift,
-a driver on the pedals, a sloped yard), or with ``--truth legacy`` the first,
-near-identical truth. The truth of each load condition is written beside the
-exports as a vehicle file, ``truth-unloaded.toml`` and ``truth-loaded.toml``,
-which every command accepts.
+:mod:`artic.validation.synthetic.truth`'s: by default a vehicle with its own
+tyre and steering models (TMeasy tyres, a compliant steering column with play
+and assist, twin tyres as two; :mod:`artic.validation.synthetic.truthplant`),
+which also differs from the validated presets in structure (another trailer
+tyre, fifth-wheel friction, payload, sensor installation, a drifting column, a
+driver on the pedals, a sloped yard); with ``--truth structural`` the same
+draws on the plant itself, with ``--truth legacy`` the first, near-identical
+truth. The truth of each load condition is written beside the exports as a
+vehicle file, ``truth-unloaded.toml`` and ``truth-loaded.toml``, which every
+command accepts.
 
-The structural truth's driver turns the steering wheel and works the pedals
-(:mod:`artic.validation.synthetic.actuation`); the legacy truth drives its speed
-with the plant's PI controller (``Plant(speed="drive")``). The plant under
-validation follows the log's speed (see :mod:`artic.plant.plant`).
+The independent and structural truths' driver turns the steering wheel and
+works the pedals (:mod:`artic.validation.synthetic.actuation`); the legacy truth
+drives its speed with the plant's PI controller (``Plant(speed="drive")``).
+The plant under validation follows the log's speed (see :mod:`artic.plant.plant`).
+``drift=False`` (``--no-drift``) stills the column's drifting zero, the one
+random process of the vehicle: with ideal sensors, such logs are what the
+floor replays.
 
 Each manoeuvre draws its own random numbers from ``(seed, index)``, so a
 campaign is the same whichever manoeuvres are made, in whatever order. Each
@@ -46,7 +52,7 @@ import numpy as np
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
-from artic.plant import Plant, PlantWarning
+from artic.plant import PlantWarning
 from artic.validation.campaign import fingerprint
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
@@ -59,12 +65,14 @@ from artic.validation.synthetic.manoeuvres import make_profile
 from artic.validation.synthetic.sensors import SensorModel, measure
 from artic.validation.synthetic.testmatrix import MATRIX, Manoeuvre
 from artic.validation.synthetic.truth import (
+    DEFAULT,
     TRUTHS,
     slope,
     truth_configuration,
     truth_vehicle,
     write_truth_files,
 )
+from artic.validation.synthetic.truthplant import truth_model
 from artic.validation.workers import completed
 
 META_FILE = "meta.json"
@@ -141,13 +149,14 @@ def _drive_dock(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: Stee
 
 
 def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
-                       truth_kind: str = "structural") -> Run:
+                       truth_kind: str = DEFAULT, drift: bool = True) -> Run:
     """Drive and measure one manoeuvre; returns the measured run with its metadata.
 
     Pure computation, no files: it runs wherever an executor sends it.
+    ``drift=False`` stills the column's drift (see the module docstring).
     """
     sensors = sensors or SensorModel()
-    truth = truth_configuration(seed, truth_kind)
+    truth = truth_configuration(seed, truth_kind, drift)
     structural = truth_kind != "legacy"
     chain = sensors  # the measurement chain, with the truth's clock skew if it has one
     if structural and not sensors.is_ideal:
@@ -156,10 +165,12 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     vt = truth_vehicle(m.load, truth, seed, where)
     rng = np.random.default_rng([seed, m.index])
     steering = SteeringMap.from_steering(vt.steering_for("mbd"))
-    column = SteeringColumn(truth.get("backlash", 0.0), truth.get("drift_rate", 0.0))
+    # The independent truth's play is in its compiled column; only the drift is here.
+    play = 0.0 if truth_kind == "independent" else truth.get("backlash", 0.0)
+    column = SteeringColumn(play, truth.get("drift_rate", 0.0))
     pedals = PedalDriver(vt.m1 + vt.m2, delay=truth["driver_delay"],
                          gain=truth["driver_gain"]) if structural else None
-    with Plant(vt, speed="pedals" if structural else "drive") as p:
+    with truth_model(vt, truth, "pedals" if structural else "drive") as p:
         plant = TruthActuation(p, steering, column, pedals)
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
         # The driver may ask for more wheel angle than the linkage gives at
@@ -192,6 +203,11 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
         The folder's name; ``run.meta["name"]`` by default. The campaign passes
         the name of the manoeuvre it submitted, never one a worker returned.
 
+    The CAN file is written at the rate and resolution of the run's
+    measurement chain (``meta["sensors"]``): 10 Hz in 0.1 deg steps by
+    default, every sample unquantised for ideal sensors, whose logs must come
+    back as the truth was.
+
     The export is written into a uniquely named temporary folder and renamed
     into place. An existing export is first renamed aside under a unique
     name, so two writers of one export never delete a folder the other is
@@ -204,8 +220,11 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     out_dir = Path(out_dir)
     final = out_dir / name
     tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=TEMP_SUFFIX, dir=out_dir))
+    chain = run.meta.get("sensors") or {}
+    can = {"can_rate": float(chain["can_rate"]),
+           "can_step_deg": round(math.degrees(chain["can_step"]), 9)} if chain else {}
     try:
-        export_oxts(run, tmp)
+        export_oxts(run, tmp, **can)
         meta = {**run.meta, "name": name}
         (tmp / META_FILE).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n")
         public_mode(tmp)
@@ -241,13 +260,13 @@ def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
 
 
 def _simulate_timed(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
-                    truth: str = "structural") -> tuple[Run, float]:
+                    truth: str = DEFAULT, drift: bool = True) -> tuple[Run, float]:
     t0 = time.perf_counter()
-    run = simulate_manoeuvre(m, seed, sensors, truth)
+    run = simulate_manoeuvre(m, seed, sensors, truth, drift)
     return run, time.perf_counter() - t0
 
 
-def _same(meta_file: Path, seed: int, sensors: SensorModel, truth: str) -> bool:
+def _same(meta_file: Path, seed: int, sensors: SensorModel, truth: dict) -> bool:
     """Whether an export's metadata says this seed, chain, truth and code made it."""
     try:
         meta = json.loads(meta_file.read_text(encoding="utf-8"))
@@ -256,14 +275,14 @@ def _same(meta_file: Path, seed: int, sensors: SensorModel, truth: str) -> bool:
     return (isinstance(meta, dict) and meta.get("seed") == seed
             and meta.get("generator") == fingerprint.code()
             and meta.get("sensors") == dataclasses.asdict(sensors)
-            and isinstance(meta.get("truth"), dict) and meta["truth"].get("kind") == truth)
+            and meta.get("truth") == truth)
 
 
 def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = None,
                       progress: Callable[[str], None] | None = None,
                       jobs: int = 1, executor: Executor | None = None,
                       sensors: SensorModel | None = None,
-                      truth: str = "structural") -> list[Path]:
+                      truth: str = DEFAULT, drift: bool = True) -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -286,7 +305,9 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         The measurement chain; :class:`SensorModel` by default,
         ``SensorModel.ideal()`` for the truth itself.
     truth : str
-        ``"structural"`` or ``"legacy"``; see :mod:`artic.validation.synthetic.truth`.
+        One of :data:`artic.validation.synthetic.truth.TRUTHS`.
+    drift : bool
+        ``False``: the column's zero does not drift (see the module docstring).
 
     Returns
     -------
@@ -304,18 +325,19 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         raise ValueError(f"no manoeuvre matches {', '.join(unknown)}; names look like "
                          f"{MATRIX[0].name}")
     todo = [m for m in MATRIX if not only or any(m.name.startswith(o) for o in only)]
+    config = truth_configuration(seed, truth, drift)
     missing = []
     for m in todo:
         meta = out_dir / m.name / META_FILE
         # Reuse only what this seed and this code made (see artic.validation.campaign.fingerprint).
-        if not (meta.is_file() and _same(meta, seed, sensors, truth)):
+        if not (meta.is_file() and _same(meta, seed, sensors, config)):
             missing.append(m)
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
     # Each result is written under the name of the manoeuvre submitted for it.
     # The longest first, so that no worker is left with one long drive at the end.
     missing.sort(key=lambda m: LONGEST_FIRST.index(m.kind))
-    tasks = [(m, (m, seed, sensors, truth)) for m in missing]
+    tasks = [(m, (m, seed, sensors, truth, drift)) for m in missing]
     counter = Counter(len(missing), "generated", progress)
     with contextlib.closing(completed(_simulate_timed, tasks, jobs, executor)) as done:
         for m, (run, wall) in done:

@@ -1,16 +1,27 @@
 """The synthetic campaign's truth: what the measured vehicle really is.
 
-A campaign's truth is drawn once from its seed. Two kinds:
+A campaign's truth is drawn once from its seed. Three kinds:
 
-- ``"structural"`` (the default): a truth that differs from the validated
-  presets in structure, not only in scale. Each effect below is one that the
+- ``"independent"`` (the default): a vehicle that shares neither the tyre
+  formula nor the steering model of the plant under validation. It is its own
+  MuJoCo model (:class:`artic.validation.synthetic.truthplant.TruthPlant`, whose
+  docstring tabulates every difference): TMeasy tyres (another family than the
+  plant's PAC2002, :mod:`artic.validation.synthetic.tmeasy`) fitted to the same
+  shipped tyre files, twin tyres as two tyres, caster, and a compliant steering
+  column with free play and a lagged hydraulic assist, whose right wheel
+  follows the left through a compliant tie rod on the exact trapezoid
+  (:mod:`artic.validation.synthetic.column`). It takes every draw of the
+  structural truth below as well: the play is the column's, the drift of its
+  zero stays the random process it was.
+- ``"structural"``: the plant itself, differing from the validated presets
+  in structure, not only in scale. Each effect below is one that the
   presets leave out, drawn within a stated range:
 
   ====================================  ==========================================
   effect                                draw
   ====================================  ==========================================
   steering ratio, steering-wheel offset  i_s x N(1, 0.02); 5 deg + N(0, 0.5 deg)
-  tractor tyres' stiffness, friction     LKY x N(1, 0.05), LMUY x N(1, 0.03)
+  tyres' stiffness, friction            LKY x N(1, 0.05), LMUY x N(1, 0.03)
   semitrailer tyres                      artic-trailer-385-65R22.5 (another
                                          construction: wide-base, 5 /rad)
   tyre moments                           aligning moment and turn slip on
@@ -31,16 +42,23 @@ A campaign's truth is drawn once from its seed. Two kinds:
 
   Steering play of a few degrees and yard drainage slopes of 1-2 % are what
   roadworthiness checks and yard design guides allow; the rest are ordinary
-  spreads of a surveyed installation and a loaded trailer.
+  spreads of a surveyed installation and a loaded trailer. Kept for
+  regression, as the truth of the release before.
 - ``"legacy"``: the first truth artic had, the plant with four scalars changed
   (the steering ratio and offset, and the tractor tyres' LKY and LMUY), driven
   by the plant's own speed controller. Kept for regression: the plant set
   to it replays the logs (see ``tests/test_self_reproduction.py``).
 
+Random processes, which no model of the vehicle can know, are the sensors'
+noise, the trailer unit's clock skew and the drift of the column's zero. The
+``floor`` (:mod:`artic.validation.models`) is the truth without them.
+
 Each load condition's truth is written as a vehicle file, ``truth-LOAD.toml``,
-which every command accepts; the yard's slope changes per manoeuvre and is in
-each log's metadata (``slope``), and the measurement chain's clock skew in its
-``sensors``.
+which every command accepts (the independent truth's tyres and column are
+not in it: they are not the plant's; they follow from the file and the
+drawn numbers in every log's metadata, ``truth``); the yard's slope changes
+per manoeuvre and is in each log's metadata (``slope``), and the measurement
+chain's clock skew in its ``sensors``.
 """
 
 from __future__ import annotations
@@ -54,8 +72,10 @@ import numpy as np
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import updated, write_vehicle
 
-TRUTHS = ("structural", "legacy")
-"""The kinds of truth (see the module docstring)."""
+TRUTHS = ("independent", "structural", "legacy")
+"""The kinds of truth (see the module docstring); the first is the default."""
+
+DEFAULT = TRUTHS[0]
 
 LOADS = ("unloaded", "loaded")
 """The campaign's load conditions."""
@@ -64,11 +84,23 @@ TRAILER_TYRE = "artic-trailer-385-65R22.5.tir"
 """The structural truth's semitrailer tyre, shipped with artic."""
 
 
-def truth_configuration(seed: int, kind: str = "structural") -> dict:
+def truth_configuration(seed: int, kind: str = DEFAULT, drift: bool = True) -> dict:
     """The truth of a campaign: every drawn number, JSON-serialisable.
 
-    The first four draws are the legacy truth's, in its order, so both kinds
-    share the steering and the tractor tyres' scaling.
+    The first four draws are the legacy truth's, in its order, so every kind
+    shares the steering and the tyres' scaling; the independent truth's draws
+    are the structural one's.
+
+    Parameters
+    ----------
+    seed : int
+        The campaign's seed.
+    kind : str
+        One of :data:`TRUTHS`.
+    drift : bool
+        ``False`` stops the column's zero from drifting (``drift_rate`` 0):
+        the truth without its one random process of the vehicle, which the
+        floor replays (the sensors' noise and clock skew are the sensor model's).
     """
     if kind not in TRUTHS:
         raise ValueError(f"truth {kind!r}: expected one of {', '.join(TRUTHS)}")
@@ -100,6 +132,8 @@ def truth_configuration(seed: int, kind: str = "structural") -> dict:
         "driver_delay": float(rng.uniform(0.3, 0.6)),
         "driver_gain": float(rng.uniform(0.4, 0.8)),
     })
+    if not drift:
+        out["drift_rate"] = 0.0
     return out
 
 
@@ -159,7 +193,7 @@ def truth_vehicle(load: str, truth: dict, seed: int, slope_: dict | None = None)
     return v
 
 
-def write_truth_files(out_dir: Path, seed: int, kind: str = "structural") -> dict[str, Path]:
+def write_truth_files(out_dir: Path, seed: int, kind: str = DEFAULT) -> dict[str, Path]:
     """Write ``truth-LOAD.toml`` per load condition into ``out_dir``; returns them by load."""
     truth = truth_configuration(seed, kind)
     out = {}

@@ -1,0 +1,291 @@
+"""The independent truth's multibody model: its own tyres and steering in MuJoCo.
+
+:class:`TruthPlant` is the measured vehicle of the synthetic campaign's
+``independent`` truth. It keeps what a vehicle is and MuJoCo does (the bodies,
+masses, suspension, fifth wheel, payload, sensors and slopes of the truth's
+vehicle file, and the plant's drive, brakes and speed follower), and replaces
+what the plant under validation models:
+
+==================  ================================  ===============================
+                    the plant (:class:`.Plant`)       the truth (this)
+==================  ================================  ===============================
+tyre formula        PAC2002 Magic Formula             TMeasy (:mod:`.tmeasy`), fitted
+                                                      to the same ``.tir`` curves
+combined slip       PAC2002 weighting functions       TMeasy's generalised slip
+tyre transients     tread deflections over            spring and damper of each
+                    relaxation lengths                deflection (first order)
+aligning, bore      PAC2002 trail; artic's twist      TMeasy's trail law; its bore
+torque              model                             slip, with a twist state
+twin tyres          one tyre, forces doubled          two tyres 350 mm apart, each
+                                                      with its own load and slip
+steering            position servo on the left        torsion bar, free play, lagged
+                    wheel                             and saturating hydraulic assist
+                                                      (:mod:`.column`)
+right wheel         fitted quartic joint equality     compliant tie rod on the exact
+                                                      trapezoid
+caster              none: the kingpin through the     4 deg: the kingpin leads it
+                    contact
+brakes               torque fading with the wheel's    dry friction: they hold a
+                    spin: a stopped truck creeps      stopped truck on the slope
+                    down the slope
+speed follower      pushes the drive axle             drives the driven wheels and
+(the floor's)                                         brakes all, as the truth's
+                                                      driver does
+==================  ================================  ===============================
+
+Both are evaluated in C at every integrator stage: the plant's compiled
+callback hands this model (numeric 0 ``artic.truth``) to the truth's
+(``_truth_c.c``, see :mod:`.truthc`). The model's steering-servo actuator is
+kept as a slot with no gain: what :meth:`step` sets there, the left-wheel
+angle the steering wheel stands for, is the column's input.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import mujoco
+import numpy as np
+
+from artic.mjcf import naming as nm
+from artic.mjcf.builder import build_model
+from artic.mjcf.vehicle import G, Vehicle
+from artic.plant import Plant
+from artic.plant.plant import BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE
+from artic.validation.synthetic import tmeasy, truthc
+from artic.validation.synthetic.column import Column
+
+DUAL_SPACING = 0.35
+"""Centre distance of twin tyres [m]: 22.5-inch twin wheels on a drive axle."""
+
+ASSIST = "column.assist"
+"""The integrator actuator whose activation is the assist torque [N m]."""
+
+
+def second_tread(axle: str, side: str, direction: str) -> str:
+    """The tread actuators of a twin's second tyre."""
+    return f"tread2.{axle}.{side}.{direction}"
+
+
+class TruthPlant(Plant):
+    """The independent truth (see the module docstring), with the plant's interface.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The truth's vehicle (:func:`artic.validation.synthetic.truth.truth_vehicle`);
+        its tyre files and scaling give the TMeasy tyres (:func:`tmeasy.fit`).
+    column : Column, optional
+        The steering; :meth:`Column.of` the vehicle, without play, by default.
+    speed : str
+        As :class:`artic.plant.Plant`: ``"pedals"`` for the truth's driver,
+        ``"follow"`` for the harness (the floor).
+    timestep : float, optional
+        MuJoCo timestep [s].
+
+    Raises
+    ------
+    truthc.TruthUnavailable
+        Without the compiled truth.
+    """
+
+    def __init__(self, vehicle: Vehicle, column: Column | None = None, speed: str = "follow",
+                 timestep: float | None = None) -> None:
+        truthc.library()  # registered with the plant's callback before any step
+        self.column = column or Column.of(vehicle)
+        files = list(dict.fromkeys(vehicle.tyre_file_for(a) for a in vehicle.axles))
+        self.tmeasy = [tmeasy.fit(f, vehicle.tyre_scaling) for f in files]
+        """The TMeasy tyre of each tyre file in use (the ``tyre_set`` of each wheel)."""
+        self._parked = False
+        super().__init__(vehicle, timestep=timestep, backend="c", speed=speed)
+
+    # ------------------------------------------------------------ brakes
+    # The truth's brakes are dry friction on the wheels' spin joints, which
+    # MuJoCo's constraint solver holds at standstill: a driver who stops on the
+    # yard's slope stays stopped. (The plant's service brake fades with the
+    # wheel's spin, so a braked plant creeps; its parking brake is dry friction.)
+    def _control(self, u_cmd: float, u_dot: float, h: float) -> None:
+        super()._control(u_cmd, u_dot, h)
+        brake = 0.0
+        if self.speed_mode == "pedals":
+            brake = min(max(float(self.pedals[1]), 0.0), 1.0)
+            self.data.ctrl[self._brake] = 0.0
+        self._set_friction(brake)
+
+    def _set_friction(self, brake: float) -> None:
+        decel = max(brake * BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE if self._parked else 0.0)
+        self.model.dof_frictionloss[self._spin_dof] = (decel * self.mass * G * self.R0
+                                                       * self._brake_share)
+
+    @property
+    def parking_brake(self) -> bool:
+        """Whether the parking brake holds every wheel (see :class:`artic.plant.Plant`)."""
+        return self._parked
+
+    @parking_brake.setter
+    def parking_brake(self, on: bool) -> None:
+        self._parked = bool(on)
+        self._set_friction(0.0)
+
+    # ------------------------------------------------------------ model kind
+    def _model_spec(self, vehicle: Vehicle) -> mujoco.MjSpec:
+        spec = build_model(vehicle)
+        # The speed follower keeps its gain, which the plant's controller reads,
+        # and loses its transmission: the compiled truth applies its force
+        # through the drive and the brakes.
+        spec.actuator(nm.SPEED_SERVO).gear = np.zeros(6)
+        v = vehicle.with_payload()
+        for a in v.axles:
+            if a.steered:
+                slot = spec.actuator(nm.servo(a.name))
+                slot.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+                slot.gainprm = np.zeros(len(slot.gainprm))
+                slot.biastype = mujoco.mjtBias.mjBIAS_NONE
+                slot.biasprm = np.zeros(len(slot.biasprm))
+                spec.delete(spec.equality(nm.tie_rod(a.name)))
+                assist = spec.add_actuator(name=ASSIST, target=nm.steer(a.name, "L"),
+                                           trntype=mujoco.mjtTrn.mjTRN_JOINT)
+                _integrator(assist)
+            if a.dual:  # the twin's second tyre: its own deflection states
+                for side in nm.SIDES:
+                    for direction in ("u", "v", "w"):
+                        t = spec.add_actuator(name=second_tread(a.name, side, direction),
+                                              target=nm.spin(a.name, side),
+                                              trntype=mujoco.mjtTrn.mjTRN_JOINT)
+                        _integrator(t)
+        return spec
+
+    def _add_block(self, spec: mujoco.MjSpec, n_wheels: int, n_sets: int) -> None:
+        steered = sum(a.steered for a in self.vehicle.axles)
+        if steered > 1:
+            raise ValueError(f"{self.vehicle.name}: the independent truth steers one axle, "
+                             f"this vehicle has {steered}")
+        spec.add_numeric(name=truthc.BLOCK, size=truthc.block_size(n_wheels, n_sets, steered))
+        spec.nuserdata = 3 * n_wheels + 1 + truthc.diagnostics()
+
+    def _write_block(self) -> None:
+        m = self.model
+        driven = np.array([float(a.driven) for a in self.vehicle.with_payload().axles
+                           for _ in nm.SIDES])
+        ends = np.zeros((self.n_wheels, len(truthc.end_names())))
+        col = {n: i for i, n in enumerate(truthc.end_names())}
+        steered = {a.name for a in self.vehicle.axles if a.steered}
+        axle_of = [a.name for a in self.vehicle.with_payload().axles for _ in nm.SIDES]
+        sides = [s for _ in self.vehicle.axles for s in nm.SIDES]
+        for i in range(self.n_wheels):
+            row = {"hub_site": self._hub[i], "hub_body": self._hub_body[i],
+                   "root_body": self._root[i], "wheel_body": self._wheel_body[i],
+                   "spin_dof": self._spin_dof[i], "n_tyres": self._n_tyres[i],
+                   "tyre_set": self._tyre_set[i], "half_spacing": 0.5 * DUAL_SPACING,
+                   "trail": self.column.trail if axle_of[i] in steered else 0.0,
+                   "steer_dof": (m.jnt_dofadr[m.joint(nm.steer(axle_of[i], sides[i])).id]
+                                 if axle_of[i] in steered else 0),
+                   "drive_share": driven[i] / driven.sum(),
+                   "brake_share": self._brake_share[i],
+                   "act_x1": self._act_u[i], "act_y1": self._act_v[i],
+                   "act_p1": self._act_w[i], "ctrl_x1": self._tread_u[i],
+                   "ctrl_y1": self._tread_v[i], "ctrl_p1": self._tread_w[i]}
+            if self._n_tyres[i] == 2:
+                for d, key in (("u", "x2"), ("v", "y2"), ("w", "p2")):
+                    a = m.actuator(second_tread(axle_of[i], sides[i], d)).id
+                    row[f"act_{key}"] = m.actuator_actadr[a]
+                    row[f"ctrl_{key}"] = a
+            for k, x in row.items():
+                ends[i, col[k]] = x
+        column = None
+        if steered:
+            front = next(iter(steered))
+            assist = m.actuator(ASSIST).id
+            jl, jr = m.joint(nm.steer(front, "L")).id, m.joint(nm.steer(front, "R")).id
+            column = self.column.vector({
+                "slot": self._servo[0], "steer_l_qpos": m.jnt_qposadr[jl],
+                "steer_l_dof": m.jnt_dofadr[jl], "steer_r_qpos": m.jnt_qposadr[jr],
+                "steer_r_dof": m.jnt_dofadr[jr], "assist_act": m.actuator_actadr[assist],
+                "assist_ctrl": assist})
+        follower = (self.speed_mode == "follow", self._follower_kv, self._follower,
+                    m.actuator_trnid[self._follower, 0])
+        m.numeric_data[:] = truthc.seal(follower, [t.vector() for t in self.tmeasy], column,
+                                        ends)
+        if not truthc.block_ok(m):
+            raise ValueError(f"{self.vehicle.name}: the compiled truth refuses the block "
+                             "written for it (a coefficient out of range?)")
+
+    # ------------------------------------------------------------ outputs
+    @property
+    def column_torques(self) -> Mapping[str, float]:
+        """The steering's torques from the last callback [N m].
+
+        ``box``: the gear and the assist on the left knuckle; ``torsion_bar``:
+        at the steering wheel; ``tie_rod``: on the right knuckle.
+        """
+        d = self.data.userdata[3 * self.n_wheels + 1:]
+        return {"box": float(d[0]), "torsion_bar": float(d[1]), "tie_rod": float(d[2])}
+
+    def extras_gather(self) -> np.ndarray:
+        """As the plant's, with ``steer_torque`` the column's torque on the left knuckle."""
+        if self._gather is None:
+            g = super().extras_gather().copy()
+            src = {n: k for k, n in enumerate(_sources())}
+            g[-1] = (src["userdata"], 3 * self.n_wheels + 1)
+            self._gather = g
+        return self._gather
+
+    def extras_from_raw(self, raw: np.ndarray) -> np.ndarray:
+        """As the plant's, with the ``slip`` columns from the truth's tyres.
+
+        Each is the slip angle of the first tyre's lateral deflection,
+        ``atan(c_y y_e / dF0_y)``: the slip that would hold it steadily.
+        """
+        out = np.array(raw, dtype=float, copy=True)
+        nw = self.n_wheels
+        s0 = len(self.extra_columns) - 1 - nw
+        Fz = out[:, s0 - 3 * nw + 2:s0:3] / self._n_tyres
+        ye = out[:, s0:s0 + nw].copy()
+        for k, t in enumerate(self.tmeasy):
+            w = self._tyre_set == k
+            r = np.minimum(np.maximum(Fz[:, w], 0.0), t.fzmax) / t.fzn
+            slope = np.maximum(r * (t.dfy0_1 * (2.0 - r) + t.dfy0_2 * 0.5 * (r - 1.0)), 1.0)
+            out[:, s0:s0 + nw][:, w] = np.arctan(t.cy * ye[:, w] / slope)
+        return out
+
+    def check_tyre_ranges(self) -> list[str]:
+        """Nothing to check: TMeasy has no fitted range (its load law is capped)."""
+        return []
+
+
+def _sources() -> tuple[str, ...]:
+    from artic.plant.closedloop import SOURCES
+
+    return SOURCES
+
+
+def _integrator(a) -> None:
+    """An actuator that only holds a state: its activation integrates its ctrl, no force."""
+    a.dyntype = mujoco.mjtDyn.mjDYN_INTEGRATOR
+    a.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+    a.gainprm = np.zeros(len(a.gainprm))
+    a.biastype = mujoco.mjtBias.mjBIAS_NONE
+    a.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+    a.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE
+
+
+
+def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow") -> Plant:
+    """The vehicle of a truth configuration (see :mod:`artic.validation.synthetic.truth`).
+
+    The independent truth is a :class:`TruthPlant` with its column's play; the
+    structural and legacy truths are the plant itself.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The truth's vehicle (with the yard's slope).
+    truth : mapping
+        The configuration, as drawn or as a log's metadata holds it.
+    speed : str
+        ``"pedals"`` for the truth's driver, ``"drive"`` for the legacy
+        truth's, ``"follow"`` for the harness.
+    """
+    if truth.get("kind") == "independent":
+        return TruthPlant(vehicle, Column.of(vehicle, play=float(truth["backlash"])), speed)
+    return Plant(vehicle, speed=speed)
