@@ -305,7 +305,7 @@ def test_with_truth_the_controller_drives_the_synthetic_truth():
     from artic.validation.docking.run import truth_yard
 
     nominal = load_vehicle(VEHICLE)
-    vt, actuation = truth_yard(nominal, 0, 1, 0)
+    vt, _ = truth_yard(nominal, 0, 1, 0)
     # The truth is another vehicle: its steering map differs from the file's.
     assert vt.steering_for("mbd") != nominal.steering_for("mbd")
     r = drive(scenario("straight"), VEHICLE, Spy, 0, truth=0)

@@ -46,8 +46,8 @@ def add_parser(sub) -> None:
     p.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
                    help="processes (default: the number of cores, %(default)s)")
     p.add_argument("--truth", action="store_true",
-                   help="drive the synthetic campaign's structural truth (seed 0) instead of the "
-                        "plant built from the vehicle file; gosar2022 presets only")
+                   help="drive the synthetic campaign's truth (seed 0) instead of the plant built "
+                        "from the vehicle file; gosar2022 presets only")
     p.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
                    help="write one Rerun recording per run in OUT_DIR/recordings, about 1 MB "
                         "a minute of driving (default: on)")

@@ -1,7 +1,7 @@
 """One docking run: a controller drives the MuJoCo plant onto the dock, and the benchmark.
 
 The loop (:func:`drive`), on the plant built from the vehicle file or, with
-``truth``, on the synthetic campaign's structural truth (:func:`truth_yard`):
+``truth``, on the synthetic campaign's truth (:func:`truth_yard`):
 
 1. the start of the scenario's seeded distribution places the plant at rest;
 2. the planner makes a path (a failure to plan is a failed run);
@@ -167,8 +167,8 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     record : Path, optional
         Write the run's Rerun recording there (:func:`write_recording`).
     truth : int, optional
-        Drive the synthetic campaign's structural truth of this seed instead
-        of the plant built from the vehicle file (:func:`truth_yard`): the
+        Drive the synthetic campaign's truth of this seed instead of the
+        plant built from the vehicle file (:func:`truth_yard`): the
         controller and the planner still know only the vehicle file.
 
     Returns
@@ -233,8 +233,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
         _fail(trace, f"controller error: {_one_line(exc)}")
         return
     if actuation is not None:  # the truth behind its steering column and pedals
-        plant = Plant(plant_vehicle, speed="pedals")
-        yard_plant = actuation(plant)
+        plant, yard_plant = actuation()
         mbd = yard_plant.steering
     else:
         plant = (Plant(plant_vehicle) if yard_model == "mbd"
@@ -320,21 +319,24 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
 
 
 def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
-    """The synthetic campaign's structural truth for a run, and how to drive it.
+    """The synthetic campaign's truth for a run, and how to build and drive it.
 
-    The truth of ``truth_seed`` (:func:`artic.validation.synthetic.truth.truth_configuration`)
-    for the vehicle's load condition, on a yard sloped as one of the campaign's
-    manoeuvres is (drawn from ``(truth_seed, number * 1000 + seed)``), driven
-    as the campaign drives it: the steering wheel through the truth's column
-    (free play, drifting centre) and steering map, the speed by a driver on
-    the pedals (:mod:`artic.validation.synthetic.actuation`).
+    The default truth of ``truth_seed``
+    (:func:`artic.validation.synthetic.truth.truth_configuration`) for the
+    vehicle's load condition, on a yard sloped as one of the campaign's
+    manoeuvres is (drawn from ``(truth_seed, number * 1000 + seed)``), built
+    and driven as :func:`artic.validation.synthetic.generate.simulate_manoeuvre`
+    does: its own model (:func:`artic.validation.synthetic.truthplant.truth_model`),
+    the steering wheel through its column and steering map, the speed by a
+    driver on the pedals (:mod:`artic.validation.synthetic.actuation`).
 
     Returns
     -------
     vehicle : Vehicle
         The truth's parameters.
-    actuation : callable
-        ``actuation(plant)`` wraps a ``Plant(truth, speed="pedals")``.
+    build : callable
+        ``build()`` returns the truth's model (to close after the run) and the
+        actuation that drives it (``step_steering_wheel``, ``reset``).
 
     Raises
     ------
@@ -343,22 +345,26 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
     """
     from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
     from artic.validation.synthetic.truth import slope, truth_configuration, truth_vehicle
+    from artic.validation.synthetic.truthplant import truth_model
 
     load = {"gosar2022-unloaded": "unloaded", "gosar2022-loaded": "loaded"}.get(vehicle.name)
     if load is None:
         raise ValueError(f"--truth: the synthetic truth exists for gosar2022-unloaded and "
                          f"gosar2022-loaded only, not {vehicle.name}; leave --truth out for it")
-    truth = truth_configuration(truth_seed, "structural")
+    truth = truth_configuration(truth_seed)
     vt = truth_vehicle(load, truth, truth_seed, slope(truth_seed, number * 1000 + seed, truth))
 
-    def actuation(plant):
+    def build():
         steering = SteeringMap.from_steering(vt.steering_for("mbd"))
-        column = SteeringColumn(truth.get("backlash", 0.0), truth.get("drift_rate", 0.0))
+        # The independent truth's play is in its model's column; only the drift is here.
+        play = 0.0 if truth["kind"] == "independent" else truth.get("backlash", 0.0)
+        column = SteeringColumn(play, truth.get("drift_rate", 0.0))
         pedals = PedalDriver(vt.m1 + vt.m2, delay=truth["driver_delay"],
                              gain=truth["driver_gain"])
-        return TruthActuation(plant, steering, column, pedals)
+        model = truth_model(vt, truth, "pedals")
+        return model, TruthActuation(model, steering, column, pedals)
 
-    return vt, actuation
+    return vt, build
 
 
 def write_recording(result: Result, vehicle, path: Path) -> Path:
