@@ -288,7 +288,9 @@ static void column_law(const double* c, double ref, double dl, double dr, double
 
 /* ------------------------------------------------------------------ forces */
 
-/* qfrc += J' [F; T] of `point` on `body` (mj_applyFT's sum along the chain). */
+/* qfrc += J' [F; T] of `point` on `body` (mj_applyFT's sum along the chain). The
+ * plant's callback has the same sum; the truth keeps its own copy on purpose, as a
+ * reference shares no code with the plant it validates. */
 static void apply_ft(const mjModel* m, const mjData* d, const double F[3], const double T[3],
                      const double point[3], int body, mjtNum* qfrc) {
   while (body > 0 && m->body_dofnum[body] == 0) body = m->body_parentid[body];
