@@ -224,11 +224,24 @@ def test_two_trucks_pool_and_resume(tmp_path, capsys):
     # The CSV holds six significant digits.
     assert t3.loc["kin", "eps_n"] == pytest.approx(sum(rev) / 2, rel=1e-5)
     assert t3.loc["kin", "eps_n_sd_trucks"] == pytest.approx(pd.Series(rev).std(), rel=1e-5)
-    assert (t3["seeds"] == 2).all()
+    # A model counts the trucks on which it has a result: a model may refuse
+    # a log on one truck (the plant's tuned eq. (3) folding back before the
+    # log's largest steering-wheel angle, say), and that truck then leaves it.
+    def has_result(p: pd.DataFrame, model: str) -> bool:
+        rows = p[(p.model == model) & (p.direction == "reverse")]
+        return bool((~rows.status.astype(str).str.startswith(("failed", "refused"))).any())
+
+    trucks = {m: [s for s, p in zip((3, 4), per_seed, strict=True) if has_result(p, m)]
+              for m in ("kin", "mbd", "floor")}
+    assert trucks["kin"] == [3, 4] and trucks["floor"] == [3, 4]
+    for model, seeds in trucks.items():
+        assert t3.loc[model, "seeds"] == len(seeds)
     by_seed = pd.read_csv(out / "table3_reverse_by_seed.csv", index_col=0)
-    assert sorted(by_seed.seed) == [3, 3, 3, 4, 4, 4]
+    assert sorted(by_seed.seed) == sorted(s for seeds in trucks.values() for s in seeds)
     pairs = pd.read_csv(out / "paired_reverse.csv")
-    assert {"seeds_resolved", "seeds"} <= set(pairs) and (pairs.seeds == 2).all()
+    assert {"seeds_resolved", "seeds"} <= set(pairs)
+    kin_floor = pairs[(pairs.a == "kin") & (pairs.b == "floor")]
+    assert (kin_floor.seeds == 2).all() and (pairs.seeds <= 2).all()
     report = (out / "report.md").read_text()
     assert "over 2 trucks" in report and "nan" not in report.lower().split()
     assert "seed-3/report.md" in report
