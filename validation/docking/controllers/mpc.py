@@ -210,7 +210,7 @@ class MPC(ReferenceController):
         me = self.frames.trailer_axle_of_signals(obs.signals)
         i = self.i
         c, sn = math.cos(p[i, 2]), math.sin(p[i, 2])
-        here = float(s[i]) + (c * (me[0] - p[i, 0]) + sn * (me[1] - p[i, 1]))
+        here = float(s[i]) - (c * (me[0] - p[i, 0]) + sn * (me[1] - p[i, 1]))  # reversing
         at = np.clip(here + ds * np.arange(1, n + 1), s[0], s[-1])
         ref = np.column_stack([np.interp(at, s, p[:, j]) for j in range(3)])
         gam = np.interp(at, s, g_ref)

@@ -117,9 +117,10 @@ class ReferenceController(Controller):
         c, sn = math.cos(psi_ref), math.sin(psi_ref)
         dx, dy = me[0] - p[i, 0], me[1] - p[i, 1]
         e_y = -sn * dx + c * dy
-        # How far along the path the point is: the path runs against the
-        # heading in reverse.
-        here = float(s[i]) - d * (c * dx + sn * dy)
+        # How far along the path the point is: its offset from the nearest
+        # sample along the path's heading, which the travel follows forward
+        # and runs against in reverse.
+        here = float(s[i]) + d * (c * dx + sn * dy)
         e_psi = float(wrap_angle(float(me[2]) - psi_ref))
         ds = max(v_meas, MIN_SPEED) * self.task.dt
         K = self.schedule[d](max(v_meas, MIN_SPEED))
