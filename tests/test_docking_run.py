@@ -217,6 +217,139 @@ def test_a_docking_recording_holds_the_yard_the_plan_the_plant_and_the_scores(tm
     text = read_text(path, "/description")
     assert text.startswith("# bay, gosar2022-unloaded, ") and "failed: missed the door" in text
     assert "/yard" in read_views(path)
+    # Spy intends nothing: it still records, without a horizon or a tracked plan.
+    assert "/yard/horizon" not in rows and "/yard/plan/tracked" not in rows
+
+
+def test_a_docking_recording_holds_what_the_controller_intended_at_every_sample(tmp_path):
+    """The reference's horizon and the plan's points it tracks, one row per control step."""
+    from artic.validation.campaign.recording import read_column, read_rows, read_times
+
+    path = tmp_path / "run.rrd"
+    r = drive(scenario("straight"), VEHICLE, "reference", 0, record=path)
+    assert r.row["success"], r.row["failure"]
+    t_ctrl = np.asarray(r.trace.t_ctrl)
+    rows = read_rows(path)
+    for entity in ("/yard/horizon", "/yard/plan/tracked", "/yard/plan/point"):
+        assert rows[entity] == len(t_ctrl), entity
+        # On the controller's clock: the recording's rows are its samples.
+        assert read_times(path, entity) == pytest.approx(t_ctrl, abs=1e-6), entity
+    # Moving, it gave both; standing at the end (done), no horizon, and the row is empty.
+    strips = read_column(path, "/yard/horizon", "LineStrips3D:strips")
+    given = [h is not None for h in r.trace.horizons]
+    assert [len(x) > 0 for x in strips] == given
+    assert sum(given) > 0.9 * len(given) and not given[-1]
+    # The horizon starts at the tracked point (the semitrailer axle by its sensor)
+    # and the tracked point sits on the plan: within the noise and the path's spacing.
+    from artic.validation.docking.geometry import Frames
+
+    fr = Frames.of(load_vehicle(VEHICLE))
+    plan = np.concatenate([fr.trailer_axle(seg.states)[:, :2] for seg in r.plan.segments])
+    for k in np.flatnonzero(given)[::25]:
+        axle = fr.trailer_axle_of_signals(r.trace.measured[k])[:2]
+        h, ref = r.trace.horizons[k], r.trace.references[k]
+        assert h.shape == (ref.shape[0], 2) == (26, 2)
+        # The start lies off the path by the tracked offset, along the path's normal.
+        assert np.hypot(*(h[0] - axle)) < 0.02
+        assert np.min(np.hypot(*(plan - ref[0]).T)) < 0.13
+
+
+def test_the_reference_predicts_its_closed_loop_on_the_design_model():
+    """``Ad - Bd K`` of the schedule: stable, exact at the table's speeds, laid off the path."""
+    from artic.validation.docking.controllers import Task
+    from artic.validation.docking.controllers.reference import ReferenceController
+    from artic.validation.docking.linear import (
+        discretise,
+        trailer_error_model,
+        with_steering_state,
+    )
+    from artic.validation.docking.planner import HybridAStar
+
+    v = load_vehicle(VEHICLE)
+    s = scenario("straight")
+    yard = s.yard(v)
+    c = ReferenceController()
+    c.reset(Task(v, yard, HybridAStar().plan(yard, v, s.start(0)), DT, 1.1, 1.67, 0.5, 6.3))
+    sched = c.schedule[-1]
+    # At a table speed the interpolation is exact: the LQR's closed loop itself.
+    speed = float(sched.speeds[10])
+    Ad, Bd = discretise(*with_steering_state(*trailer_error_model(c.frames.kin, -1.0)),
+                        speed * DT)
+    assert sched.closed_loop(speed) == pytest.approx(Ad - Bd @ sched(speed)[None, :], abs=1e-12)
+    # The designed loop is stable reversing and forward at every yard speed, and as
+    # the design works in distance, its slowest mode decays by the same factor per
+    # metre at every speed. Without the feedback, reversing is unstable (the
+    # semitrailer jackknifes).
+    for d in (-1, 1):
+        per_metre = [np.log(max(abs(np.linalg.eigvals(c.schedule[d].closed_loop(u))))) / (u * DT)
+                     for u in (0.3, 0.7, 1.1, 1.6)]
+        assert max(per_metre) < 0.0
+        assert per_metre == pytest.approx([per_metre[0]] * 4, rel=0.02)
+    assert max(abs(np.linalg.eigvals(Ad))) > 1.0
+    # An offset to the left of the path, errors otherwise zero: the horizon starts
+    # that far to the left of the path's heading, and comes back towards it.
+    d, p, _, _, s_ = c.refs[-1]
+    here = float(s_[10])
+    h = c._prediction(d, p, s_, here, np.array([0.3, 0.0, 0.0, 0.0]), 1.1)
+    foot = np.array([np.interp(here, s_, p[:, 0]), np.interp(here, s_, p[:, 1])])
+    psi = float(np.interp(here, s_, p[:, 2]))
+    assert h[0] - foot == pytest.approx(0.3 * np.array([-np.sin(psi), np.cos(psi)]), abs=1e-9)
+    ref = c._preview(p, s_, here, 1.1)
+    off = np.hypot(*(h - ref).T)
+    # It decays at the slowest mode's rate, about 5 m of travel, without
+    # overshoot; reversing is non-minimum-phase, so it first moves the wrong way,
+    # by less than a millimetre.
+    assert off[0] == pytest.approx(0.3)
+    assert off.max() - off[0] < 1e-3 and off[-1] < 0.6 * off[0]
+    assert np.all(np.diff(off[np.argmax(off):]) <= 1e-9)
+    # Standing, it predicts nothing and tracks one point.
+    assert c._prediction(d, p, s_, here, np.zeros(4), 0.0) is None
+    assert c._preview(p, s_, here, 0.0).shape == (1, 2)
+
+
+def _projection(p: np.ndarray, s: np.ndarray, point: np.ndarray) -> float:
+    """Arc length ``s`` of ``point``'s foot on the polyline ``p`` (its nearest point)."""
+    a, b = p[:-1, :2], p[1:, :2]
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", point[:2] - a, ab) / np.einsum("ij,ij->i", ab, ab), 0, 1)
+    dist = np.hypot(*(a + t[:, None] * ab - point[:2]).T)
+    j = int(np.argmin(dist))
+    return float(s[j] + t[j] * (s[j + 1] - s[j]))
+
+
+def test_the_reference_knows_how_far_along_the_path_it_is():
+    """Its arc length along the segment is the foot of the tracked point, either direction."""
+    from artic.validation.docking.controllers.reference import ReferenceController
+
+    seen = []
+
+    class Probe(ReferenceController):
+        def _follow(self, obs):
+            cmd = super()._follow(obs)
+            if self.now is not None:
+                d, p, s, here, _ = self.now
+                seen.append((d, here, _projection(p, s, self._point(obs, d))))
+            return cmd
+
+    r = drive(scenario("alley"), VEHICLE, Probe, 0, sensors=SensorModel.ideal())
+    assert r.row["success"], r.row["failure"]
+    a = np.array(seen)
+    assert set(a[:, 0]) == {-1.0, 1.0}
+    # The path's samples are 0.25 m of tractor travel apart; the nearest one's
+    # offset along the heading is added with the travel's sign. The foot and the
+    # offset differ only by the path's curvature over half a sample: millimetres.
+    assert np.abs(a[:, 1] - a[:, 2]).max() < 0.01
+
+
+class BadHorizon(Controller):
+    def command(self, obs):
+        return Command(self.steering_wheel(0.0), -1.0, horizon=[[1.0, float("nan")]])
+
+
+def test_a_malformed_horizon_is_a_failed_run_naming_the_field():
+    r = drive(scenario("straight"), VEHICLE, BadHorizon, 0)
+    assert r.row["failure"].startswith("controller error: ValueError: Command.horizon must be "
+                                       "finite rows (x, y)")
 
 
 def test_dock_list_names_the_scenarios_and_controllers(capsys):

@@ -104,6 +104,7 @@ class Trace:
     commands: list[tuple[float, float]] = field(default_factory=list)
     solve_ms: list[float] = field(default_factory=list)
     horizons: list[np.ndarray | None] = field(default_factory=list)
+    references: list[np.ndarray | None] = field(default_factory=list)
     extras: list[tuple[int, np.ndarray]] = field(default_factory=list)
     """The plant's :meth:`~artic.plant.Plant.extras` at each controller sample, by plant step
     (only when the run is recorded)."""
@@ -257,12 +258,14 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 tc = time.perf_counter()
                 try:
                     cmd = ctrl.command(obs)
+                    solve_ms = 1e3 * (time.perf_counter() - tc)
                     target = (float(cmd.delta_h), float(cmd.u1), bool(cmd.done))
+                    intent = (_path(cmd, "horizon"), _path(cmd, "reference"))
                 except Exception as exc:  # noqa: BLE001 - the user's code: a failed run
                     _fail(trace, f"controller error: {_one_line(exc)} "
                                  f"({_where(exc)})")
                     return
-                trace.solve_ms.append(1e3 * (time.perf_counter() - tc))
+                trace.solve_ms.append(solve_ms)
                 if not (math.isfinite(target[0]) and math.isfinite(target[1])):
                     _fail(trace, f"controller error: non-finite command {target[:2]} at "
                                  f"t = {now:.1f} s")
@@ -270,8 +273,8 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 trace.t_ctrl.append(now)
                 trace.measured.append(signals)
                 trace.commands.append(target[:2])
-                trace.horizons.append(None if cmd.horizon is None
-                                      else np.asarray(cmd.horizon, dtype=float))
+                trace.horizons.append(intent[0])
+                trace.references.append(intent[1])
                 if extras and hasattr(plant, "extras"):
                     trace.extras.append((len(trace.t) - 1, plant.extras()))
                     trace.extra_columns = plant.extra_columns
@@ -316,6 +319,29 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 return
         if settle_until is None:
             _fail(trace, f"timeout: not docked after {timeout:.0f} s")
+
+
+def _path(cmd, name: str) -> np.ndarray | None:
+    """A command's ``horizon`` or ``reference`` as rows ``(x, y)``; ``None`` if it gave none.
+
+    A command class of the user's own may lack the field. A malformed one
+    raises :class:`ValueError` naming the field and what it must be (the run
+    fails with it, as for any controller error).
+    """
+    value = getattr(cmd, name, None)
+    if value is None:
+        return None
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        a = None
+    if a is None or a.ndim != 2 or a.shape[0] < 1 or a.shape[1] < 2 \
+            or not np.all(np.isfinite(a[:, :2])):
+        what = "not numbers" if a is None else f"shape {a.shape}" + (
+            "" if a.ndim != 2 or np.all(np.isfinite(a)) else " with non-finite values")
+        raise ValueError(f"Command.{name} must be finite rows (x, y) [m], shape (n, 2), or "
+                         f"None; got {type(value).__name__}, {what}")
+    return a[:, :2]
 
 
 def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
@@ -371,9 +397,10 @@ def write_recording(result: Result, vehicle, path: Path) -> Path:
     """The run's Rerun recording (:func:`artic.validation.campaign.recording.record_docking`).
 
     The yard and its obstacles, the plan, the plant drawn from its bodies at
-    every controller sample, its paths and swept envelope, the controller's
-    predicted horizons, the steering wheel, speed and articulation, and the
-    scores.
+    every controller sample, its paths and swept envelope, what the
+    controller intended at every sample (its predicted horizon and the
+    plan's points it tracked, ``Command.horizon`` and ``Command.reference``),
+    the steering wheel, speed and articulation, and the scores.
     """
     from artic.validation.campaign.recording import record_docking
 
@@ -392,13 +419,14 @@ def write_recording(result: Result, vehicle, path: Path) -> Path:
         for seg in result.plan.segments:
             plan.append(fr.trailer_axle(seg.states)[:, :2] if seg.direction < 0
                         else seg.states[:, :2])
-    horizons = [(t, h) for t, h in zip(tr.t_ctrl, tr.horizons, strict=True) if h is not None]
+    horizons = list(zip(tr.t_ctrl, tr.horizons, strict=True))
+    references = list(zip(tr.t_ctrl, tr.references, strict=True))
     row = result.row
     name = run_name(row["scenario"], row["vehicle"], row["controller"], row["seed"])
     obstacles = [(b.name, b.x_min, b.x_max, b.y_min, b.y_max) for b in result.yard.obstacles]
     return record_docking(path, name, frame, vehicle, obstacles, result.yard.doors,
                           (result.yard.x_dock, result.yard.y_dock), plan, horizons,
-                          scores_text(row))
+                          scores_text(row), references)
 
 
 def scores_text(row: dict) -> str:

@@ -193,11 +193,11 @@ class MPC(ReferenceController):
     def command(self, obs: Observation) -> Command:
         """The reference controller's, with the reversing steering from the QP."""
         before = self.delta
-        cmd = super().command(obs)
+        cmd = self._follow(obs)
         d = self.refs[self.k][0]
         if d > 0 or self.waiting or cmd.done or cmd.u1 == 0.0 or before is None:
             self.delta_traj = None  # the next reversing stretch starts afresh
-            return cmd
+            return self._intent(cmd)  # the reference's, and its closed-loop prediction
         self.delta = before  # the QP's steering instead of the LQR's
         return self._mpc(obs, cmd)
 
@@ -206,11 +206,10 @@ class MPC(ReferenceController):
         _, p, g_ref, d_ref, s = self.refs[self.k]
         u = float(cmd.u1)
         ds = abs(u) * STEP
-        # The path ahead, by the semitrailer axle's travel, from where it is now.
+        # The path ahead, by the semitrailer axle's travel, from where the
+        # reference's step found it now.
         me = self.frames.trailer_axle_of_signals(obs.signals)
-        i = self.i
-        c, sn = math.cos(p[i, 2]), math.sin(p[i, 2])
-        here = float(s[i]) - (c * (me[0] - p[i, 0]) + sn * (me[1] - p[i, 1]))  # reversing
+        here = self.now[3]
         at = np.clip(here + ds * np.arange(1, n + 1), s[0], s[-1])
         ref = np.column_stack([np.interp(at, s, p[:, j]) for j in range(3)])
         gam = np.interp(at, s, g_ref)
@@ -263,10 +262,13 @@ class MPC(ReferenceController):
         self.delta_traj = delta0 + np.cumsum(self.moves)
         # The first step's wheel, as far as the actuator turns it in one control period.
         wheel = self._turn(delta0 + self.moves[0])
-        # The predicted path of the semitrailer axle, for the recording.
-        horizon = np.column_stack([Y[:, ix] + np.einsum("kn,knm->km", Cy[:, ix], S) @ dz,
-                                   Y[:, iy] + np.einsum("kn,knm->km", Cy[:, iy], S) @ dz])
-        return Command(wheel, cmd.u1, cmd.done, horizon)
+        # The predicted path of the semitrailer axle from where it is, and the path's
+        # points it was compared with, for the recording.
+        horizon = np.vstack([me[:2], np.column_stack(
+            [Y[:, ix] + np.einsum("kn,knm->km", Cy[:, ix], S) @ dz,
+             Y[:, iy] + np.einsum("kn,knm->km", Cy[:, iy], S) @ dz])])
+        foot = [np.interp(here, s, p[:, 0]), np.interp(here, s, p[:, 1])]
+        return Command(wheel, cmd.u1, cmd.done, horizon, np.vstack([foot, ref[:, :2]]))
 
 
 class MPCKin(MPC):
