@@ -158,12 +158,74 @@ def test_ideal_sensors_report_the_plant():
 def test_the_sensor_stream_reports_the_wheel_50_ms_late_at_10_hz():
     stream = SensorStream(SensorModel(), np.random.default_rng(0), 10, DT, PLANT_DT)
     wheel = [math.radians(k) for k in range(31)]  # 1 deg per 10 ms
-    _, dh = stream.observe(3, np.zeros(13), wheel)
+    _, dh = stream.observe(3, [np.zeros(13)] * len(wheel), wheel)
     # Now is sample 30; the bus sampled at 30 the value of 50 ms before: 25 deg.
     assert math.degrees(dh) == pytest.approx(25.0)
     # Its noise is the campaign's: a Gauss-Markov position error of about 1 cm.
     big = SensorStream(SensorModel(), np.random.default_rng(1), 20000, DT, PLANT_DT)
     assert np.std(big.noise[:, 0]) == pytest.approx(0.01, rel=0.3)
+
+
+def _ramp(n: int) -> list[np.ndarray]:
+    """Plant signals at ``n`` steps whose every channel reads the time [s] (headings small)."""
+    return [np.full(13, i * PLANT_DT) for i in range(n)]
+
+
+@pytest.mark.parametrize("skew", [0.0118, 0.05, -0.03])
+def test_a_skewed_semitrailer_unit_lags_the_plant_by_its_skew(skew):
+    """Paired by their stamps: the semitrailer as it was ``skew`` ago (early stamps: both late)."""
+    import dataclasses
+
+    model = dataclasses.replace(SensorModel.ideal(), trailer_skew=skew)
+    stream = SensorStream(model, np.random.default_rng(0), 10, DT, PLANT_DT)
+    true = _ramp(301)  # now is 3.0 s
+    seen, _ = stream.observe(3, true, [0.0] * 301)
+    tractor = seen[[OBS_INDEX[c] for c in ("x_1", "y_1", "psi_1", "v_x_1", "v_y_1", "r_1")]]
+    trailer = seen[[OBS_INDEX[c] for c in ("x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2")]]
+    late = max(0.0, -skew)  # early stamps: the pair for now is whole only |skew| later
+    assert tractor == pytest.approx(3.0 - late, abs=1e-12)
+    assert trailer == pytest.approx(3.0 - late - skew, abs=1e-12)
+    # The articulation is the measured headings' difference: the skew times the yaw rate.
+    assert seen[OBS_INDEX["gamma"]] == pytest.approx(skew, abs=1e-12)
+
+
+def test_the_stream_skews_as_the_campaigns_logs_are_skewed():
+    """The sensor model's own resampling (``measure``) and the stream's agree."""
+    import dataclasses
+
+    from artic.validation.logs.runfile import new_frame
+    from artic.validation.synthetic.sensors import measure
+
+    model = dataclasses.replace(SensorModel.ideal(), trailer_skew=0.0237)
+    t = np.arange(400) * PLANT_DT
+    signals = np.column_stack([np.sin(0.7 * t + j) for j in range(13)])
+    logged = measure(new_frame(t, np.zeros(t.size), signals), np.random.default_rng(0), model)
+    stream = SensorStream(model, np.random.default_rng(0), 40, DT, PLANT_DT)
+    for k in (5, 17, 39):
+        i = round(k * DT / PLANT_DT)
+        seen, _ = stream.observe(k, list(signals[:i + 1]), [0.0] * (i + 1))
+        for c in ("x_2", "psi_2", "r_2", "x_1", "gamma"):
+            assert seen[OBS_INDEX[c]] == pytest.approx(logged[c].iloc[i], abs=1e-12), (k, c)
+
+
+def test_on_the_truth_the_controller_sees_its_semitrailer_units_clock_skew():
+    import dataclasses
+
+    from artic.validation.synthetic.truth import truth_configuration
+
+    skew = truth_configuration(0)["trailer_clock_skew"]
+    assert abs(skew) > 0.005  # the default truth's is 11.8 ms: worth checking
+    quiet = dataclasses.replace(SensorModel.ideal(), can_rate=10.0)  # noiseless, not ideal
+    r = drive(scenario("straight"), VEHICLE, Spy, 0, sensors=quiet, truth=0)
+    true = np.asarray(r.trace.true)
+    t_plant = np.asarray(r.trace.t)
+    seen = np.array([s[1] for s in Spy.seen])
+    t = np.array([s[0] for s in Spy.seen])
+    i_x2, i_x1 = OBS_INDEX["x_2"], OBS_INDEX["x_1"]
+    assert seen[:, i_x1] == pytest.approx(np.interp(t, t_plant, true[:, i_x1]), abs=1e-9)
+    assert seen[:, i_x2] == pytest.approx(np.interp(t - skew, t_plant, true[:, i_x2]), abs=1e-9)
+    # Moving at about a metre a second, the lag is a centimetre: not the plant's now.
+    assert np.abs(seen[:, i_x2] - true[np.round(t / PLANT_DT).astype(int), i_x2]).max() > 0.005
 
 
 # ---------------------------------------------------------------- controllers by name

@@ -6,8 +6,9 @@ The loop (:func:`drive`), on the plant built from the vehicle file or, with
 1. the start of the scenario's seeded distribution places the plant at rest;
 2. the planner makes a path (a failure to plan is a failed run);
 3. every :data:`DT` (10 Hz) the controller gets the sensors' signals, with
-   the synthetic campaign's noise (:mod:`artic.validation.docking.sensing`), and
-   returns a steering-wheel angle and a speed;
+   the synthetic campaign's noise and, on the truth, its semitrailer unit's
+   clock skew (:mod:`artic.validation.docking.sensing`), and returns a
+   steering-wheel angle and a speed;
 4. the plant steps every :data:`PLANT_DT`. Between the controller and the
    plant sit the actuators: the steering wheel turns at most
    :data:`STEER_RATE`; the speed is the yard's, at most :data:`SPEED_MAX`
@@ -158,7 +159,9 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     planner : Planner, optional
         :class:`~artic.validation.docking.planner.HybridAStar` by default.
     sensors : SensorModel, optional
-        The campaign's measurement chain by default.
+        The campaign's measurement chain by default; with ``truth``, as the
+        truth carries it (its semitrailer unit's clock skew,
+        :func:`artic.validation.synthetic.generate.measurement_chain`).
     timeout : float, optional
         Longest run [s]; the scenario's by default.
     yard_model : str
@@ -183,8 +186,13 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     yard = scen.yard(vehicle)
     start = scen.start(seed)
     plant_vehicle, actuation = vehicle, None
+    sensors = sensors or SensorModel()
     if truth is not None:
+        from artic.validation.synthetic.generate import measurement_chain
+        from artic.validation.synthetic.truth import truth_configuration
+
         plant_vehicle, actuation = truth_yard(vehicle, truth, scen.number, seed)
+        sensors = measurement_chain(sensors, truth_configuration(truth))
     frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
     timeout = scen.timeout if timeout is None else float(timeout)
@@ -200,7 +208,7 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
-                         sensors or SensorModel(), timeout, yard_model, record is not None,
+                         sensors, timeout, yard_model, record is not None,
                          plant_vehicle, actuation)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
@@ -253,7 +261,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
         for k in range(n_ctrl):
             now = k * DT
             if settle_until is None:
-                signals, dh = stream.observe(k, trace.true[-1], trace.steering_wheel)
+                signals, dh = stream.observe(k, trace.true, trace.steering_wheel)
                 obs = Observation(now, signals, dh)
                 tc = time.perf_counter()
                 try:

@@ -148,6 +148,17 @@ def _drive_dock(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: Stee
     return t, obs, np.asarray(held), info
 
 
+def measurement_chain(sensors: SensorModel, truth: dict) -> SensorModel:
+    """The sensors as the truth's vehicle carries them: with its semitrailer unit's clock skew.
+
+    Ideal sensors stay ideal, and the legacy truth has no skew. The docking
+    benchmark's ``--truth`` measures its runs with the same chain.
+    """
+    if truth["kind"] != "legacy" and not sensors.is_ideal:
+        return dataclasses.replace(sensors, trailer_skew=truth["trailer_clock_skew"])
+    return sensors
+
+
 def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
                        truth_kind: str = DEFAULT, drift: bool = True) -> Run:
     """Drive and measure one manoeuvre; returns the measured run with its metadata.
@@ -158,9 +169,7 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     sensors = sensors or SensorModel()
     truth = truth_configuration(seed, truth_kind, drift)
     structural = truth_kind != "legacy"
-    chain = sensors  # the measurement chain, with the truth's clock skew if it has one
-    if structural and not sensors.is_ideal:
-        chain = dataclasses.replace(sensors, trailer_skew=truth["trailer_clock_skew"])
+    chain = measurement_chain(sensors, truth)
     where = slope(seed, m.index, truth)
     vt = truth_vehicle(m.load, truth, seed, where)
     rng = np.random.default_rng([seed, m.index])
