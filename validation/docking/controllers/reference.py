@@ -157,7 +157,10 @@ class ReferenceController(Controller):
             return None
         v = max(speed, MIN_SPEED)
         samples = max(1, round(PREDICTION_STEP / self.task.dt))
-        M = np.linalg.matrix_power(self.schedule[d].closed_loop(v), samples)
+        step = self.schedule[d].closed_loop(v)
+        M = step
+        for _ in range(samples - 1):
+            M = M @ step
         e_y = np.empty(PREDICTION_STEPS + 1)
         zk = z
         e_y[0] = zk[0]
