@@ -257,7 +257,9 @@ def test_a_user_controller_runs_through_the_command_line_and_is_scored(tmp_path,
     assert rows.loc[0, "controller"] == "my_docking:Proportional"
     assert bool(rows.loc[0, "success"])
     assert abs(rows.loc[0, "lateral_error_m"]) < 0.1
-    assert (out / "dock_table.md").read_text().count("my_docking:Proportional") == 1
+    md = (out / "dock_table.md").read_text()
+    assert md.count("my_docking:Proportional") == 2  # the table and the compute times
+    assert "Compute time per command, every run's commands pooled, in 1 process on " in md
     assert "1 of 1 runs docked" in capsys.readouterr().out
     assert (out / "dock_errors.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rrd = out / "recordings" / "straight-gosar2022-unloaded-my_docking_Proportional-0.rrd"
@@ -469,6 +471,23 @@ def test_the_success_interval_is_wilsons():
     # Ten of ten still has an interval below one.
     assert rate_ci(10, 10).lo == pytest.approx(0.722, abs=1e-3)
     assert format_ci(rate_ci(10, 10)) == "1.0 [0.7, 1.0]"
+
+
+def test_compute_times_pool_every_runs_commands():
+    """The pooled 99th percentile is over all commands, not the worst run's own."""
+    from artic.validation.docking.scores import compute_times
+
+    rows = [{"controller": "a", "solve_ms": np.r_[np.ones(99), 50.0]},
+            {"controller": "a", "solve_ms": np.full(100, 2.0)},
+            {"controller": "b", "solve_ms": np.array([3.0])}]
+    t = compute_times(rows)
+    assert list(t["controller"]) == ["a", "b"] and list(t["commands"]) == [200, 1]
+    a = t.iloc[0]
+    # 200 commands: 99 of 1 ms, 100 of 2 ms and one of 50: the median and the 99th
+    # percentile are 2 ms (the one slow command in 200 lies beyond the 99th; in the
+    # first run's 100 alone it would pull its 99th percentile to 1.5 ms), the largest 50.
+    assert (a["p50 [ms]"], a["p99 [ms]"], a["max [ms]"]) == ("2", "2", "50")
+    assert np.percentile(rows[0]["solve_ms"], 99) == pytest.approx(1.49)
 
 
 def test_paired_differences_resolve_only_when_the_interval_excludes_zero():
