@@ -2,5 +2,5 @@
 
 Each module has one job: an articulation error, open-loop prediction errors,
 dock errors, noise-robust normalisation, confidence intervals and paired
-comparisons. The paper's criteria themselves are in :mod:`artic.validation.metrics`.
+comparisons. The paper's criteria themselves are in :mod:`artic.validation.criteria.metrics`.
 """

@@ -3,7 +3,7 @@
     eps_gamma = sqrt( (1 / s_max) * integral wrap(gamma_model - gamma_meas)**2 ds )
 
 with the distance weights of the paper's criteria
-(:func:`artic.validation.metrics.distance_weights`), over the samples the
+(:func:`artic.validation.criteria.metrics.distance_weights`), over the samples the
 model computed. The difference is wrapped to (-pi, pi], so that an
 articulation measured at +179 deg and modelled at -179 deg is 2 deg off, not
 358. Forward and reverse alike; it needs nothing but the hitch angle, which
@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf.interface import wrap_angle
-from artic.validation.metrics import distance_rms, distance_weights
+from artic.validation.criteria.metrics import distance_rms, distance_weights
 
 UNIT = "rad"
 

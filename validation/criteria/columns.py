@@ -1,7 +1,7 @@
 """The columns the criteria beyond the paper's add to ``metrics.csv``, and their units.
 
 In ``metrics.csv`` and ``metrics_vs_plant.csv`` they follow the paper's
-criteria (:data:`artic.validation.metrics.CRITERIA`):
+criteria (:data:`artic.validation.criteria.metrics.CRITERIA`):
 
 - ``eps_gamma`` [rad]: :mod:`artic.validation.criteria.articulation`;
 - ``eps_n_fixed`` [%]: :mod:`artic.validation.criteria.fixedscale`;

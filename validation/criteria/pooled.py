@@ -36,13 +36,13 @@ import pandas as pd
 
 from artic.validation.criteria import columns as extra
 from artic.validation.criteria.fixedscale import eps_n_fixed
-from artic.validation.logs.runfile import LogError, Run, read_run
-from artic.validation.metrics import (
+from artic.validation.criteria.metrics import (
     CRITERIA,
     NOISE_FLOOR,
     distance_mean_abs,
     distance_weights,
 )
+from artic.validation.logs.runfile import LogError, Run, read_run
 
 RMS = ("eps_y1", "eps_y2", "eps_r1", "eps_r2", "eps_vy1", "eps_vy2", "eps_gamma")
 """The criteria that are distance-RMS errors, eq. (8)."""
@@ -81,7 +81,7 @@ def pool(parts: Sequence[dict], scale: dict | None = None) -> dict[str, float]:
     Parameters
     ----------
     parts : sequence of dict
-        Per segment: the :data:`artic.validation.metrics.CRITERIA`, ``s_max`` [m],
+        Per segment: the :data:`artic.validation.criteria.metrics.CRITERIA`, ``s_max`` [m],
         and the distance-means ``r`` [rad/s], ``v_y`` [m/s] and ``delta_c`` [rad];
         in segment order.
     scale : dict, optional
@@ -132,7 +132,7 @@ def pool_segments(metrics: pd.DataFrame, logs: Sequence[Run],
     Parameters
     ----------
     metrics : DataFrame
-        From :func:`artic.validation.campaign.validate.validate_runs`.
+        From :func:`artic.validation.runs.validate.validate_runs`.
     logs : sequence of Run
         The logs validated.
     runs_dir : Path, optional
