@@ -8,7 +8,10 @@ it. These tests keep the root from regrowing and the docstrings from falling beh
 from __future__ import annotations
 
 import ast
+import json
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -61,3 +64,28 @@ def test_the_naming_rule_can_fail():
     assert _names("``harness/``: the closed loop", "harness/")
     assert not _names("the loop and its feedback", "loop")
     assert not _names(":mod:`~artic.validation.harness.loops`", "loop")
+
+
+def test_artic_validate_reaches_nothing_of_the_campaign(tmp_path):
+    # What artic validate does (runs, tables, recordings, the gain sweep) is general
+    # work, outside campaign/; the static contract (pyproject.toml) guards the rooms,
+    # this the command itself, whose module also holds artic campaign and artic tune.
+    log, out = tmp_path / "rev.parquet", tmp_path / "val"
+    code = (
+        "import json, sys\n"
+        "from artic.validation.cli.entry import main\n"
+        f"assert main(['simulate', '--model', 'kin', '--manoeuvre', 'ramp-steer-reverse', "
+        f"'--amplitude-deg', '30', '--duration', '10', '--out', {str(log)!r}]) == 0\n"
+        f"code = main(['validate', {str(log)!r}, '--models', 'kin', '--gain-sweep', "
+        f"'--out-dir', {str(out)!r}])\n"
+        "print(json.dumps([code, sorted(m for m in sys.modules if m.startswith('artic.'))]))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    code, loaded = json.loads(done.stdout.splitlines()[-1])
+    assert code == 0
+    # It did the work whose modules it must find outside the campaign:
+    assert {"artic.validation.runs.validate", "artic.validation.review.tables",
+            "artic.validation.review.recording", "artic.validation.runs.gainsweep"} <= set(loaded)
+    assert (out / "recordings" / "rev.rrd").is_file() and (out / "gain_sweep.csv").is_file()
+    assert not [m for m in loaded if m.startswith("artic.validation.campaign")], loaded
