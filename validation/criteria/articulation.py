@@ -12,11 +12,17 @@ many real rigs measure and little else.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import pandas as pd
 
 from artic.mjcf.interface import wrap_angle
 from artic.validation.criteria.metrics import distance_rms, distance_weights
+
+if TYPE_CHECKING:
+    from artic.mjcf.vehicle import Vehicle
+    from artic.validation.logs.runfile import Run
 
 UNIT = "rad"
 
@@ -38,3 +44,12 @@ def eps_gamma(measured: pd.DataFrame, model: pd.DataFrame) -> float:
                                   meas["v_y_1"].to_numpy(dtype=float)))
     e = wrap_angle(model["gamma"].to_numpy(dtype=float) - meas["gamma"].to_numpy(dtype=float))
     return distance_rms(np.atleast_1d(e), w)
+
+
+def of_run(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
+    """``eps_gamma`` of a model run against its log [rad], as the runs compute it.
+
+    The form every row of :data:`artic.validation.criteria.columns.TABLE` computed
+    from a log and a run has; ``vehicle`` is not needed here.
+    """
+    return {"eps_gamma": eps_gamma(log.frame, run.frame)}

@@ -30,9 +30,7 @@ import pyarrow.parquet as pq
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import Counter, stderr
 from artic.validation.criteria import columns as extra
-from artic.validation.criteria.articulation import eps_gamma
 from artic.validation.criteria.direction import direction_of
-from artic.validation.criteria.dock import dock_errors
 from artic.validation.criteria.fixedscale import Scale, campaign_scale, eps_n_fixed
 from artic.validation.criteria.metrics import CRITERIA, run_metrics
 from artic.validation.criteria.prediction import prediction_errors
@@ -221,9 +219,10 @@ def _where(out_dir, log: Run, name: str, reuse_key: str | None,
 def _criteria(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
     """The criteria of a model run against its log, and the simulated time ``duration_s``.
 
-    The paper's, the articulation error, the dock errors and the open-loop
-    prediction errors the run brought in ``meta["prediction"]`` (see
-    :func:`_simulate`); ``eps_n_fixed`` needs the whole set's scale and is
+    The paper's, every criterion of :data:`artic.validation.criteria.columns.TABLE`
+    computed from the log and the run (the articulation error, the dock errors),
+    and the open-loop prediction errors the run brought in ``meta["prediction"]``
+    (see :func:`_simulate`); ``eps_n_fixed`` needs the whole set's scale and is
     added per row.
     """
     t = log.frame["t"]
@@ -231,10 +230,10 @@ def _criteria(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
     if is_failed(run.meta["status"]) or len(run.frame) < 2:
         return nan | {"s_max": 0.0, "duration_s": 0.0}
     out = {k: float(v) for k, v in run_metrics(log.frame, run.frame).items()}
-    out["eps_gamma"] = eps_gamma(log.frame, run.frame)
-    out |= dock_errors(log.frame, run.frame, vehicle, str(log.meta.get("manoeuvre", "")))
+    out |= extra.of_run(log, run, vehicle)
     pred = run.meta.get("prediction", {})
-    out |= {c: float(pred.get(c, float("nan"))) for c in extra.COLUMNS if c.startswith("pred_")}
+    out |= {c: float(pred.get(c, float("nan"))) for c in extra.COLUMNS
+            if extra.COMPUTE[c] == "model"}
     return out | {"duration_s": float(t.iloc[len(run.frame) - 1] - t.iloc[0])}
 
 
@@ -310,7 +309,7 @@ def _predict(model, log: Run, vehicle: Vehicle) -> dict:
     except (MemoryError, RecursionError):
         raise
     except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point
-        return {c: float("nan") for c in extra.COLUMNS if c.startswith("pred_")} | {
+        return {c: float("nan") for c in extra.COLUMNS if extra.COMPUTE[c] == "model"} | {
             "note": f"failed: {_one_line(exc)}"}
 
 
