@@ -63,7 +63,7 @@ def test_the_naming_rule_can_fail():
     assert _names(":mod:`~artic.validation.harness.loop`: the loop", "loop")
     assert _names("``harness/``: the closed loop", "harness/")
     assert not _names("the loop and its feedback", "loop")
-    assert not _names(":mod:`~artic.validation.harness.loops`", "loop")
+    assert not _names(":mod:`~artic.validation.review.loops`", "loop")
 
 
 def test_artic_validate_reaches_nothing_of_the_campaign(tmp_path):
