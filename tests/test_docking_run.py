@@ -244,7 +244,7 @@ def test_controllers_load_by_name_or_module_and_class():
 
 def test_a_user_controller_runs_through_the_command_line_and_is_scored(tmp_path, monkeypatch,
                                                                         capsys):
-    from artic.validation.cli import main
+    from artic.validation.cli.commands import main
 
     (tmp_path / "my_docking.py").write_text(textwrap.dedent(USER_CONTROLLER))
     monkeypatch.syspath_prepend(str(tmp_path))
@@ -267,7 +267,7 @@ def test_a_user_controller_runs_through_the_command_line_and_is_scored(tmp_path,
 
 
 def test_a_docking_recording_holds_the_yard_the_plan_the_plant_and_the_scores(tmp_path):
-    from artic.validation.campaign.recording import read_rows, read_text, read_views
+    from artic.validation.review.recording import read_rows, read_text, read_views
 
     path = tmp_path / "run.rrd"
     r = drive(scenario("bay"), VEHICLE, Spy, 0, record=path)
@@ -417,7 +417,7 @@ def test_a_malformed_horizon_is_a_failed_run_naming_the_field():
 
 
 def test_dock_list_names_the_scenarios_and_controllers(capsys):
-    from artic.validation.cli import main
+    from artic.validation.cli.commands import main
 
     assert main(["dock", "--list"]) == 0
     text = capsys.readouterr().out

@@ -8,7 +8,7 @@ import pytest
 from artic.mjcf import load_vehicle
 from artic.reduced.kinematic import kin_rhs
 from artic.reduced.single_track import N_BODY, stm_parameters, stm_rhs
-from artic.validation.campaign.gainsweep import (
+from artic.validation.runs.gainsweep import (
     gain_sweep,
     model_lengths,
     plot_gain_sweep,

@@ -17,10 +17,10 @@ from collections.abc import Callable, Sequence
 import pandas as pd
 
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.harness import run_closed_loop
+from artic.validation.cli.progress import Counter
+from artic.validation.harness.loop import run_closed_loop
 from artic.validation.logs.runfile import Run
 from artic.validation.models import build as build_model
-from artic.validation.progress import Counter
 
 PAPER_RATIO = {"kin": 0.1, "stm": 0.4, "mbd": 1.0}
 """Wall-time ratio to the multibody model reported by the paper (90 % and 60 % faster)."""
@@ -49,7 +49,7 @@ def measure(logs: Sequence[tuple[Vehicle, Run]], models: Sequence[str],
         ``wall_s`` (stepping), ``wall_per_sim_s``, ``real_time_factor``, and
         ``ratio_to_mbd`` with the paper's ``paper_ratio`` beside it.
     """
-    from artic.validation.plantnotes import collect
+    from artic.validation.harness.plantnotes import collect
 
     rows = []
     counter = Counter(len(models) * repeat * len(logs), "efficiency", progress)

@@ -32,7 +32,7 @@ PAIRED_METRICS = ("lateral_error_m", "heading_error_deg", "time_s")
 
 def add_parser(sub) -> None:
     """Add ``dock`` to the ``artic`` subcommands ``sub``."""
-    from artic.validation import options
+    from artic.validation.cli import options
 
     p = sub.add_parser("dock", help="the docking benchmark: controllers dock the plant in a yard")
     p.add_argument("--list", action="store_true",
@@ -100,14 +100,14 @@ def run(args: argparse.Namespace) -> int:
     import pandas as pd
 
     from artic.mjcf.vehicle import load_vehicle
+    from artic.validation.cli.progress import stderr
     from artic.validation.docking.controllers import load
     from artic.validation.docking.plots import plot_errors
     from artic.validation.docking.run import benchmark
     from artic.validation.docking.scenarios import SCENARIOS, scenario
     from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
-    from artic.validation.outputs import OutDirLock, check_output_dir, clean_stale
-    from artic.validation.progress import stderr
+    from artic.validation.runs.outputs import OutDirLock, check_output_dir, clean_stale
 
     scenarios = (list(SCENARIOS) if args.scenario.strip() == "all"
                  else [scenario(n).name for n in _names(args.scenario, "--scenario")])

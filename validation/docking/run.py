@@ -48,18 +48,18 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
 from artic.plant.plant import PlantError
+from artic.validation.cli.progress import Counter
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
 from artic.validation.docking.scores import score
 from artic.validation.docking.sensing import SensorStream
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build
-from artic.validation.progress import Counter
-from artic.validation.steering import SteeringMap
+from artic.validation.runs.workers import completed
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.workers import completed
 
 DT = 0.1
 """The controllers' sample period [s]: 10 Hz."""
@@ -402,7 +402,7 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
 
 
 def write_recording(result: Result, vehicle, path: Path) -> Path:
-    """The run's Rerun recording (:func:`artic.validation.campaign.recording.record_docking`).
+    """The run's Rerun recording (:func:`artic.validation.review.recording.record_docking`).
 
     The yard and its obstacles, the plan, the plant drawn from its bodies at
     every controller sample, its paths and swept envelope, what the
@@ -410,7 +410,7 @@ def write_recording(result: Result, vehicle, path: Path) -> Path:
     plan's points it tracked, ``Command.horizon`` and ``Command.reference``),
     the steering wheel, speed and articulation, and the scores.
     """
-    from artic.validation.campaign.recording import record_docking
+    from artic.validation.review.recording import record_docking
 
     tr = result.trace
     a = tr.arrays()

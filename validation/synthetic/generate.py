@@ -53,12 +53,13 @@ import numpy as np
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import PlantWarning
-from artic.validation.campaign import fingerprint
+from artic.validation.cli.progress import Counter
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.outputs import TEMP_SUFFIX, public_mode
-from artic.validation.progress import Counter
-from artic.validation.steering import SteeringMap
+from artic.validation.runs import fingerprint
+from artic.validation.runs.outputs import TEMP_SUFFIX, public_mode
+from artic.validation.runs.workers import completed
 from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.manoeuvres import make_profile
@@ -73,7 +74,6 @@ from artic.validation.synthetic.truth import (
     write_truth_files,
 )
 from artic.validation.synthetic.truthplant import truth_model
-from artic.validation.workers import completed
 
 META_FILE = "meta.json"
 
@@ -338,7 +338,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     missing = []
     for m in todo:
         meta = out_dir / m.name / META_FILE
-        # Reuse only what this seed and this code made (see artic.validation.campaign.fingerprint).
+        # Reuse only what this seed and this code made (see artic.validation.runs.fingerprint).
         if not (meta.is_file() and _same(meta, seed, sensors, config)):
             missing.append(m)
     if progress and len(missing) < len(todo):

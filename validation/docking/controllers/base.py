@@ -36,7 +36,7 @@ from artic.mjcf.vehicle import Vehicle
 from artic.validation.docking.geometry import Frames
 from artic.validation.docking.planner import Plan
 from artic.validation.docking.scenarios import Yard
-from artic.validation.steering import SteeringMap
+from artic.validation.harness.steering import SteeringMap
 
 
 @dataclass(frozen=True)

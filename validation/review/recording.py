@@ -8,7 +8,7 @@ sensor's travelled distance [cm], the variable of the error criteria):
 
 - ``/yard``: the measured combination, KIN and STM as boxes for the bodies
   and the wheels, moving with their own poses; the plant drawn from its own
-  MuJoCo bodies and geoms (:mod:`artic.validation.campaign.plantshape`): chassis,
+  MuJoCo bodies and geoms (:mod:`artic.validation.review.plantshape`): chassis,
   semitrailer, axles on their suspension, wheels that steer and spin, and
   the fifth wheel, posed from the plant's state at every logged step; the
   plant's tyre forces in the ground plane as arrows at the contact points;
@@ -50,7 +50,11 @@ from rerun.chunk import RrdReader
 from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from artic.mjcf.tir import read_tir
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.campaign.plantshape import (
+from artic.validation.criteria.metrics import distance_weights, travelled
+from artic.validation.criteria.pathdist import distance_to_polyline
+from artic.validation.logs.runfile import Run
+from artic.validation.models import colour as model_colour
+from artic.validation.review.plantshape import (
     Geom,
     Part,
     has_pose,
@@ -60,10 +64,6 @@ from artic.validation.campaign.plantshape import (
     wheel_quat,
     xyzw,
 )
-from artic.validation.logs.runfile import Run
-from artic.validation.metrics import distance_weights, travelled
-from artic.validation.models import colour as model_colour
-from artic.validation.pathdist import distance_to_polyline
 
 YARD_RATE = 10.0
 """Samples per second of the 3-D yard [Hz]."""
