@@ -287,7 +287,7 @@ def test_a_docking_recording_holds_the_yard_the_plan_the_plant_and_the_scores(tm
 
 def test_a_docking_recording_holds_what_the_controller_intended_at_every_sample(tmp_path):
     """The reference's horizon and the plan's points it tracks, one row per control step."""
-    from artic.validation.campaign.recording import read_column, read_rows, read_times
+    from artic.validation.review.recording import read_column, read_rows, read_times
 
     path = tmp_path / "run.rrd"
     r = drive(scenario("straight"), VEHICLE, "reference", 0, record=path)
