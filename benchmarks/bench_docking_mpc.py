@@ -110,7 +110,7 @@ def main() -> dict[str, dict[str, list[float]]] | None:
 
 
 if __name__ == "__main__":
-    from artic.validation import runtime
+    from artic.validation.runs import runtime
 
     runtime.configure()
     main()
