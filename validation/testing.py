@@ -171,8 +171,8 @@ def _model(model: Any, vehicle: Vehicle) -> Iterator[Any]:
         built = build(model, vehicle)
     elif isinstance(model, ModelSpec):
         built = model.build(vehicle)
-    elif hasattr(model, "reset") and hasattr(model, "step"):
-        yield model
+    elif not isinstance(model, type) and hasattr(model, "reset") and hasattr(model, "step"):
+        yield model  # a model already: a class has reset and step too, but builds one
         return
     elif callable(model):
         built = model(vehicle)
@@ -303,7 +303,8 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
     Parameters
     ----------
     model : str, Model or callable
-        A registry name, a model, or ``build(vehicle)`` returning one.
+        A registry name, a model, or ``build(vehicle)`` returning one (a model
+        class, such as ``MyModel``, is one).
     log : Run, or a sequence or mapping of Run
         The measured log(s), such as ``artic_logs`` or one of its values.
     within : mapping of str to float
