@@ -1,36 +1,47 @@
 """artic: tractor-semitrailer dynamics at yard speeds, forward and in reverse.
 
-The names listed in ``__all__`` are artic's public, stable API; everything
-else (the sub-packages :mod:`artic.mjcf`, :mod:`artic.plant`,
-:mod:`artic.reduced`, :mod:`artic.validation` and their modules) is internal
-and may change between minor versions. The public names are loaded on first
-use, so ``import artic`` stays light.
+The names listed in ``__all__`` are artic's public, stable API, and so is
+the pytest plugin :mod:`artic.validation.testing` (its fixtures and
+assertions); everything else (the sub-packages :mod:`artic.mjcf`,
+:mod:`artic.plant`, :mod:`artic.reduced`, :mod:`artic.validation` and their
+modules) is internal and may change between minor versions. The public names
+are loaded on first use, so ``import artic`` stays light.
 
 Vehicles and logs
-    :func:`load_vehicle`, :func:`preset_names`, :class:`Vehicle`,
-    :func:`read_log` (any supported log file), :func:`read_run` (a canonical
-    run file), :class:`Run`.
+    :func:`load_vehicle`, :func:`preset_names`, :class:`Vehicle` (a bad
+    vehicle file raises :class:`VehicleFileError`); :func:`read_log` (a
+    canonical run file, ``.parquet``; ``artic logs import`` makes one from
+    other formats), :func:`read_run` and :func:`write_run` (run files as they
+    are, without checks), :class:`Run`; a bad log raises :class:`LogError`.
 Models
     :class:`KIN` and :class:`STM`, the reduced models for planners and
     controllers (named states and inputs, ``rhs``, a discrete ``step``,
     analytic Jacobians, ``linearise`` about a straight line or a steady turn,
     over batches); :class:`KinematicModel` and :class:`SingleTrackModel`, the
     same models as the harness drives them; :class:`Plant`, the MuJoCo
-    multibody reference; :func:`build_model` builds any of the harness's by
-    name. :func:`register_model` adds a model of your own (or
-    :func:`model_spec` for an ``artic.models`` entry point);
-    :func:`model_names` lists them all.
+    multibody reference (its errors raise :class:`PlantError`);
+    :func:`build_model` builds any of the harness's by name.
+    :func:`register_model` adds a model of your own (or :func:`model_spec`
+    for an ``artic.models`` entry point); :func:`model_names` lists them all.
 Simulating and validating
-    :func:`simulate` (open loop), :func:`run_closed_loop` (the harness with the
-    reversing feedback of eqs. (5)-(7)), :func:`run_metrics` (the criteria of
-    eqs. (8)-(10)), :func:`validate_runs` (many logs and models at once).
+    :func:`simulate` (open loop, through a :class:`Profile` of inputs, such
+    as :func:`make_profile` builds), :func:`run_closed_loop` (the harness
+    with the reversing feedback of eqs. (5)-(7)), :func:`run_metrics` (the
+    criteria of eqs. (8)-(10)), :func:`validate_runs` (many logs and models
+    at once).
 The campaign
     :func:`run_campaign`.
+Docking controllers
+    :class:`Controller`, the base of a controller of your own for
+    ``artic dock --controller module:Class``, and the :class:`Command` it
+    returns.
 """
 
 from __future__ import annotations
 
 import importlib
+import sys
+import types
 from typing import Any
 
 try:
@@ -66,21 +77,34 @@ _PUBLIC = {
     "run_metrics": ("artic.validation.criteria.metrics", "run_metrics"),
     "validate_runs": ("artic.validation.runs.validate", "validate_runs"),
     "run_campaign": ("artic.validation.campaign.main", "run_campaign"),
+    "Profile": ("artic.validation.synthetic.manoeuvres", "Profile"),
+    "make_profile": ("artic.validation.synthetic.manoeuvres", "make_profile"),
+    "Controller": ("artic.validation.docking.controllers.base", "Controller"),
+    "Command": ("artic.validation.docking.controllers.base", "Command"),
 }
 
 __all__ = sorted(_PUBLIC) + ["__version__"]
 
 
-def __getattr__(name: str) -> Any:
-    """Import a public name on first use (PEP 562)."""
-    try:
-        module, attr = _PUBLIC[name]
-    except KeyError:
-        raise AttributeError(f"module 'artic' has no attribute {name!r}") from None
-    value = getattr(importlib.import_module(module), attr)
-    globals()[name] = value  # later look-ups skip this function
-    return value
+class _Artic(types.ModuleType):
+    """The module ``artic``, with its public names imported on first use.
+
+    The loading lives on the module's class rather than as module-level
+    ``__getattr__`` and ``__dir__`` functions (PEP 562), so that ``help(artic)``
+    lists the public API and not the machinery.
+    """
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            module, attr = _PUBLIC[name]
+        except KeyError:
+            raise AttributeError(f"module 'artic' has no attribute {name!r}") from None
+        value = getattr(importlib.import_module(module), attr)
+        setattr(self, name, value)  # later look-ups skip this method
+        return value
+
+    def __dir__(self) -> list[str]:
+        return sorted(set(vars(self)) | set(__all__))
 
 
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+sys.modules[__name__].__class__ = _Artic

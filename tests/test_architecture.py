@@ -59,6 +59,25 @@ def test_the_front_door_is_light_and_lists_the_public_api():
         artic.nothing_here  # noqa: B018
 
 
+def test_help_lists_every_public_name_and_not_the_lazy_loading():
+    # help(artic): its summary names each public name, and the machinery that
+    # loads them on first use is not listed among its functions.
+    import pydoc
+    import re
+
+    import artic
+
+    summary = artic.__doc__.split("``__all__``", 1)[1]
+    unnamed = [n for n in artic.__all__ if n != "__version__"
+               and not re.search(rf":(func|class|mod):`{n}`", summary)]
+    assert not unnamed, unnamed
+    text = pydoc.render_doc(artic, renderer=pydoc.plaintext)
+    functions = text.split("FUNCTIONS", 1)[1].split("DATA", 1)[0]
+    assert "__getattr__" not in text and "__dir__" not in text, functions
+    assert "load_vehicle(" in functions and "Controller" in text
+    assert artic.__all__ == sorted(artic.__all__[:-1]) + ["__version__"]
+
+
 def test_only_one_module_imports_rerun():
     users = [p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")
              if any(line.strip().startswith(("import rerun", "from rerun"))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -22,23 +23,9 @@ from artic.validation.synthetic.sensors import SensorModel
 
 VEHICLE = "gosar2022-unloaded"
 
-USER_CONTROLLER = '''
-from artic.validation.docking.controllers import Command, Controller
-from artic.validation.docking.planner import steady_delta
-
-
-class Proportional(Controller):
-    """Reverse onto the door's line: offset -> semitrailer heading -> articulation -> steering."""
-
-    def command(self, obs):
-        dist, e_y, e_psi = self.dock_errors(obs)
-        if dist < 0.05:
-            return Command(self.steering_wheel(0.0), 0.0, done=True)
-        psi_ref = max(-0.4, min(0.4, 0.15 * e_y))                 # aim at the line
-        gamma_ref = max(-0.6, min(0.6, 1.5 * (e_psi - psi_ref)))  # swing the semitrailer
-        delta = steady_delta(gamma_ref, self.frames.P) + 3.0 * (obs["gamma"] - gamma_ref)
-        return Command(self.steering_wheel(delta), -min(1.1, 0.15 + 0.3 * dist))
-'''
+USER_CONTROLLER = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "docking.md"
+                   ).read_text().split("```python\n", 1)[1].split("```", 1)[0]
+"""The docking guide's controller of your own, run here as a user would run it."""
 
 
 class HoldStraight(Controller):

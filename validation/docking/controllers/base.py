@@ -34,7 +34,7 @@ import numpy as np
 from artic.mjcf.interface import OBS_INDEX, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.docking.geometry import Frames
-from artic.validation.docking.planner import Plan
+from artic.validation.docking.planner import Plan, steady_delta
 from artic.validation.docking.scenarios import Yard
 from artic.validation.harness.steering import SteeringMap
 
@@ -171,3 +171,11 @@ class Controller:
         """Road-wheel angle of a steering-wheel angle [rad] (the vehicle file's map)."""
         return float(self.steering.road_wheel(delta_h))
 
+
+    def steady_delta(self, gamma: float) -> float:
+        """KIN's road-wheel angle that holds articulation ``gamma`` [rad] steady [rad].
+
+        ``gamma_dot = 0`` in eq. (1), in either direction of travel
+        (:func:`artic.validation.docking.planner.steady_delta`).
+        """
+        return float(steady_delta(gamma, self.frames.P))
