@@ -168,6 +168,29 @@ def test_cli_imports_folder_and_mat(canonical, tmp_path, capsys):
     assert "not a log" in capsys.readouterr().err
 
 
+def test_an_export_given_where_a_canonical_log_is_read_says_import_it(canonical, tmp_path,
+                                                                       capsys):
+    # validate, tune and artic.read_log read canonical logs; an export folder or
+    # CSV is one line naming the import that makes one, for the library and the CLI.
+    import artic
+
+    export_oxts(canonical, tmp_path / "run1")
+    canonical.frame.to_csv(tmp_path / "rev.csv", index=False)
+    for src, name in ((tmp_path / "run1", "run1"), (tmp_path / "rev.csv", "rev")):
+        with pytest.raises(LogError) as err:
+            artic.read_log(src)
+        line = str(err.value)
+        assert "\n" not in line and line.startswith(f"{src}: not a canonical log (.parquet)")
+        assert f"artic logs import {src} --out-dir DIR" in line
+        assert f"DIR/{name}.parquet" in line
+        assert main(["validate", str(src), "--models", "kin", "--out-dir",
+                     str(tmp_path / "val")]) == 2
+        assert f"artic logs import {src} --out-dir DIR" in capsys.readouterr().err
+    # What the line says works: the import's file reads back.
+    assert main(["logs", "import", str(tmp_path / "run1"), "--out-dir", str(tmp_path)]) == 0
+    assert len(artic.read_log(tmp_path / "run1.parquet").frame) == len(canonical.frame)
+
+
 MUTATIONS = st.lists(st.tuples(
     st.sampled_from(["drop_col", "nan", "dup", "swap", "scale", "gap", "shift", "jump"]),
     st.integers(0, 2), st.integers(1, 2900), st.integers(1, 40),

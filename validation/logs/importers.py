@@ -69,7 +69,10 @@ def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Ru
     Parameters
     ----------
     path : Path or str
-        A ``.parquet`` log in the signal schema.
+        A ``.parquet`` log in the signal schema. An export (a folder, a CSV, a
+        ``.mat`` file, a bag) is refused with the ``artic logs import`` line
+        that makes one: the import repairs, derives and reports once, and
+        writes what every later reader reads.
     vehicle : Vehicle, optional
         For the steering and hitch checks (see :func:`artic.validation.logs.consistency.findings`).
     accept : collection of str
@@ -81,6 +84,10 @@ def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Ru
     LogError
         For an unreadable file or the first finding not accepted.
     """
+    path = Path(path)
+    if path.suffix != ".parquet":
+        raise LogError(f"{path}: not a canonical log (.parquet); import it first: artic logs "
+                       f"import {path} --out-dir DIR writes DIR/{source_name(path)}.parquet")
     run = read_run(path, check=False)
     check_frame(run.frame, str(path), LogScale.of(vehicle))
     return _checked(run, str(path), vehicle, accept)
