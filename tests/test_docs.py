@@ -1,18 +1,143 @@
-"""The documentation site: its API page lists exactly the public API."""
+"""The documentation: its API page lists exactly the public API, and its examples run.
+
+Every ```` ```python ```` block of the README and of the docs' pages runs here, in
+page order, in one namespace per page and a fresh working folder, so an example
+cannot rot. A block whose info string says ``python fragment`` is a fragment
+(it leans on text around it) and is only compiled. What a page tells its reader
+to have first (a log from the command line, their own ``MyModel``) is made by
+:data:`SETUP`, and each command it runs there must appear in the page's text.
+A block that defines ``test_*`` functions is a user's test file: each runs with
+the fixtures of artic's pytest plugin.
+"""
 
 from __future__ import annotations
 
+import inspect
 import re
+from collections.abc import Callable
 from pathlib import Path
+
+import pytest
 
 import artic
 
-DOCS = Path(__file__).resolve().parents[1] / "docs"
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+
+FENCE = re.compile(r"(?ms)^```python(?P<info>[^\n]*)\n(?P<code>.*?)^```[ \t]*$")
+"""A fenced Python block; ``info`` is the rest of its info string."""
+
+
+def python_blocks(text: str) -> list[tuple[int, bool, str]]:
+    """The Python blocks of a page: (line of the fence, whether it runs, its code)."""
+    return [(text.count("\n", 0, m.start()) + 1, "fragment" not in m.group("info").split(),
+             m.group("code")) for m in FENCE.finditer(text)]
+
+
+def _pages() -> list[Path]:
+    pages = [ROOT / "README.md", *sorted(DOCS.rglob("*.md"))]
+    return [p for p in pages if not {"_build", "generated"} & set(p.parts)
+            and python_blocks(p.read_text())]
+
+
+def _my_model():
+    """The reader's own model of the models guide and the README: KIN under its own name."""
+    from artic.reduced.models import KinematicModel
+
+    class MyModel(KinematicModel):
+        name = "mine"
+
+    return MyModel
+
+
+SETUP: dict[str, tuple[list[list[str]], Callable[[], dict]]] = {
+    # page: (the artic commands it runs first, the names it assumes)
+    "README.md": ([["simulate", "--model", "stm", "--manoeuvre", "ramp-steer-reverse",
+                    "--out", "run.parquet"]], lambda: {"MyModel": _my_model()}),
+    "docs/guide/cli.md": ([["mjcf", "--vehicle", "six-axle", "-o", "six-axle.xml"]], dict),
+    "docs/guide/models.md": ([], lambda: {"MyModel": _my_model()}),
+}
+
+
+def _check_readme(ns: dict) -> None:
+    # KIN driven by the STM's reversing run: its articulation stays on the log's
+    # through the feedback, so it runs to within the speed filter's last few
+    # samples of the log's end and its criteria are finite.
+    metrics = ns["artic"].run_metrics(ns["log"].frame, ns["run"].frame)
+    assert len(ns["run"].frame) >= 0.99 * len(ns["log"].frame)
+    assert 0 < metrics["eps_p"] < 5.0 and metrics["J_steer"] > 0
+
+
+def _check_models(ns: dict) -> None:
+    assert "mine" in artic.model_names()
+
+
+def _check_docking(ns: dict) -> None:
+    # Docking on the plant with it is tests/test_docking_run.py's, which reads the block.
+    from artic.validation.docking.controllers import Controller
+
+    assert issubclass(ns["Proportional"], Controller)
+
+
+CHECKS: dict[str, Callable[[dict], None]] = {
+    "README.md": _check_readme, "docs/guide/models.md": _check_models,
+    "docs/guide/docking.md": _check_docking,
+}
+"""What a page's examples must have done, beyond running."""
+
+
+@pytest.mark.parametrize("page", _pages(), ids=lambda p: str(p.relative_to(ROOT)))
+def test_the_pages_python_examples_run(page, tmp_path, monkeypatch, request):
+    from artic.validation.cli.commands import main
+    from artic.validation.models import names, unregister_model
+
+    key = str(page.relative_to(ROOT))
+    text = page.read_text()
+    commands, names_of = SETUP.get(key, ([], dict))
+    monkeypatch.chdir(tmp_path)
+    for argv in commands:
+        assert " ".join(["artic", *argv]) in " ".join(text.split()), (key, argv)
+        assert main(argv) == 0, argv
+    namespace = {"__name__": "docs_example", **names_of()}
+    before, ran = set(names()), []
+    try:
+        for line, runs, code in python_blocks(text):
+            compiled = compile("\n" * (line - 1) + code, str(page), "exec")
+            if not runs:
+                continue
+            exec(compiled, namespace)  # noqa: S102
+            for name, fn in list(namespace.items()):
+                if name.startswith("test_") and getattr(fn, "__module__", "") == "docs_example":
+                    args = inspect.signature(fn).parameters
+                    fn(**{a: request.getfixturevalue(a) for a in args})
+                    ran.append(name)
+                    del namespace[name]
+        CHECKS.get(key, lambda ns: None)(namespace)
+        assert len(ran) == len(re.findall(r"(?m)^def test_", text)), ran
+    finally:
+        for added in set(names()) - before:
+            unregister_model(added)
+
+
+def test_the_readme_stays_a_front_page():
+    # The README is the front page; the docs site holds the rest.
+    assert len((ROOT / "README.md").read_bytes()) < 9900
+
+
+def test_every_page_with_setup_or_checks_has_examples():
+    # A renamed page would otherwise leave its setup unused and its checks unrun.
+    keys = {str(p.relative_to(ROOT)) for p in _pages()}
+    assert set(SETUP) | set(CHECKS) <= keys, (set(SETUP) | set(CHECKS)) - keys
+
+
+def test_a_fragment_is_compiled_not_run():
+    text = "x\n```python\na = 1\n```\n\n```python fragment\nb = a\n```\n```sh\nc\n```\n"
+    assert python_blocks(text) == [(2, True, "a = 1\n"), (6, False, "b = a\n")]
 
 
 def test_the_api_page_lists_the_public_names():
     text = (DOCS / "api.md").read_text()
-    block = text.split(".. autosummary::", 1)[1]
+    block = text.split(".. currentmodule:: artic\n", 1)[1].split(".. currentmodule::", 1)[0]
     listed = set(re.findall(r"(?m)^   ([A-Za-z_]\w*)\s*$", block))
     assert listed == set(artic.__all__) - {"__version__"}
 
@@ -23,22 +148,3 @@ def test_every_page_is_in_a_table_of_contents():
              if p.name != "index.md" and "generated" not in p.parts and "_build" not in p.parts}
     listed = set(re.findall(r"(?m)^((?:guide|design)/[\w-]+|api|contributing)\s*$", index))
     assert pages == listed, pages ^ listed
-
-
-def test_the_readme_library_example_runs(tmp_path, monkeypatch):
-    # The README's Python example, on a log the command line makes.
-    from artic.validation.cli.commands import main
-
-    readme = (DOCS.parent / "README.md").read_text()
-    code = readme.split("```python\n", 1)[1].split("```", 1)[0]
-    monkeypatch.chdir(tmp_path)
-    assert main(["simulate", "--model", "stm", "--vehicle", "gosar2022-unloaded",
-                 "--manoeuvre", "ramp-steer-reverse", "--out", "run.parquet"]) == 0
-    namespace: dict = {}
-    exec(compile(code, "README.md", "exec"), namespace)  # noqa: S102
-    metrics = namespace["artic"].run_metrics(namespace["log"].frame, namespace["run"].frame)
-    # KIN driven by STM's reversing run: its articulation stays on the log's
-    # through the feedback, so it runs to within the speed filter's last few
-    # samples of the log's end and its criteria are finite.
-    assert len(namespace["run"].frame) >= 0.99 * len(namespace["log"].frame)
-    assert 0 < metrics["eps_p"] < 5.0 and metrics["J_steer"] > 0
