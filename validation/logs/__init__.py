@@ -7,12 +7,17 @@
   reported or refused with the file, the channel and the time;
   :mod:`~artic.validation.logs.consistency`: do the channels describe one motion;
   :mod:`~artic.validation.logs.scale`: the checks' thresholds for a vehicle's size;
-- :mod:`~artic.validation.logs.oxts`: OXTS-style unit CSVs, CAN CSVs and ``.mat``;
 - :mod:`~artic.validation.logs.importers`: ``artic logs import``, any source to a
-  canonical run;
+  canonical run (which source goes where), and the canonical CSV itself (the
+  schema's columns, one file): :func:`~artic.validation.logs.importers.read_log`
+  reads the canonical Parquet every later command takes;
+- :mod:`~artic.validation.logs.oxts`: an OXTS-style export, the three CSVs of one
+  folder (``tractor.csv``, ``trailer.csv``, ``can.csv``) in the logger's own
+  names and units, or the same in a ``.mat``;
 - :mod:`~artic.validation.logs.channels`, :mod:`~artic.validation.logs.channelmap`,
-  :mod:`~artic.validation.logs.bags`, :mod:`~artic.validation.logs.assemble`: CSVs,
-  ROS bags and MCAP files through channel maps, split at gaps, onto 100 Hz;
+  :mod:`~artic.validation.logs.bags`, :mod:`~artic.validation.logs.assemble`: any
+  other CSV (its own names, units and clock), ROS bags and MCAP files, through a
+  channel map, split at gaps, onto 100 Hz;
 - :mod:`~artic.validation.logs.differentiate`, :mod:`~artic.validation.logs.derive`:
   what such a log lacks (rates from poses, one unit from the other).
 """
