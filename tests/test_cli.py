@@ -95,6 +95,11 @@ def test_user_errors_exit_2_with_message(tmp_path, capsys):
     assert "no such file" in capsys.readouterr().err
     assert main(["validate", str(bad), "--models", "kin,abc", "--out-dir", str(tmp_path)]) == 2
     assert "unknown model" in capsys.readouterr().err
+    # The option is named, and a near miss gets its likely meaning.
+    assert main(["campaign", "--models", "kin,STN", "--out-dir", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err
+    assert "--models: unknown model 'STN'; choose from kin, stm, mbd" in err
+    assert "did you mean stm?" in err and len(err.strip().splitlines()) == 1
 
 
 def test_validate_refuses_duplicate_log_names(tmp_path, capsys):

@@ -414,6 +414,18 @@ def test_dock_list_names_the_scenarios_and_controllers(capsys):
     assert "no such scenario" in capsys.readouterr().err
 
 
+def test_dock_list_aligns_a_long_controller_name(monkeypatch):
+    from artic.validation.docking import command
+
+    monkeypatch.setitem(BUILTIN, "proportional-long", ("m:C", "a controller with a long name"))
+    lines = command.list_all().splitlines()
+    i = lines.index("controllers (or package.module:Class):")
+    rows = lines[i + 1:lines.index("vehicles (or a vehicle file):")]
+    starts = {len(r) - len(r.split(None, 1)[1].lstrip()) for r in rows}
+    assert len(rows) == len(BUILTIN) and len(starts) == 1, rows  # one column of descriptions
+    assert all(r.split(None, 1)[1].startswith(("follows", "MPC", "a controller")) for r in rows)
+
+
 # ---------------------------------------------------------------- the reference controller
 def test_the_reference_controller_docks_a_straight_start():
     r = drive(scenario("straight"), VEHICLE, "reference", 0)

@@ -33,6 +33,7 @@ not import mujoco.
 
 from __future__ import annotations
 
+import difflib
 import functools
 import hashlib
 import inspect
@@ -447,7 +448,9 @@ def spec(name: str) -> ModelSpec:
     """
     s = REGISTRY.get(name.strip().lower())
     if s is None:
-        raise ValueError(f"unknown model {name!r}; choose from {', '.join(names())}")
+        near = difflib.get_close_matches(name.strip().lower(), names(), n=1)
+        hint = f" (did you mean {near[0]}?)" if near else ""
+        raise ValueError(f"unknown model {name!r}; choose from {', '.join(names())}{hint}")
     return s
 
 
@@ -517,19 +520,27 @@ def check_vehicle(vehicle: Vehicle) -> Vehicle:
     return vehicle
 
 
-def parse_models(text: str) -> list[str]:
+def parse_models(text: str, option: str = "--models") -> list[str]:
     """Split ``"kin,STM"`` into registry names (lower case), checking each.
+
+    ``option`` is the command-line option the text came from, which the errors
+    name first (none when empty).
 
     Raises
     ------
     ValueError
         For an empty list or an unknown name.
     """
-    names_ = [spec(m).name for m in text.split(",") if m.strip()]
+    where = f"{option}: " if option else ""
+    try:
+        names_ = [spec(m).name for m in text.split(",") if m.strip()]
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
     refs = [n for n in names_ if REGISTRY[n].reference]
     if refs:
-        raise ValueError(f"{', '.join(refs)} is a reference row the campaign adds, not a "
-                         f"model to validate; choose from {', '.join(names())}")
+        raise ValueError(f"{where}{', '.join(refs)} is a reference row the campaign adds, not "
+                         f"a model to validate; choose from {', '.join(names())}")
     if not names_:
-        raise ValueError(f"no model given; use for example --models {','.join(NAMES)}")
+        raise ValueError(f"{where}no model given; use for example {option or '--models'} "
+                         f"{','.join(NAMES)}")
     return names_

@@ -41,7 +41,7 @@ criteria table: manoeuvre, criterion, value, limit and pass or FAIL, with
 the status of any run that stopped early. A model is given as a registry
 name (``"kin"``, or one of :func:`artic.validation.models.register_model`),
 a model object (:class:`artic.validation.models.Model`), or a function
-building one from a vehicle.
+building one from a vehicle (a model class is one).
 
 A user's test::
 

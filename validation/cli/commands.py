@@ -47,7 +47,7 @@ from artic.validation.docking import command as dock_command
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.harness.steering import SteeringRangeError
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
-from artic.validation.logs.importers import read_log
+from artic.validation.logs.importers import SOURCES, read_log
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
 from artic.validation.runs.outputs import (
     OutDirLock,
@@ -384,7 +384,7 @@ def _campaign(args: argparse.Namespace) -> int:
     from artic.validation.campaign.main import run_campaign
     from artic.validation.models import parse_models
 
-    sweep = tuple(parse_models(args.sweep_models)) if args.sweep_models else ()
+    sweep = tuple(parse_models(args.sweep_models, "--sweep-models")) if args.sweep_models else ()
     models = tuple(parse_models(args.models))
     dask = DaskOptions(timeout=args.scheduler_timeout, tls_ca_file=args.tls_ca_file,
                        tls_cert=args.tls_cert, tls_key=args.tls_key)
@@ -418,7 +418,7 @@ def _one_model(text: str) -> str:
     from artic.validation.models import parse_models
 
     try:
-        models = parse_models(text)
+        models = parse_models(text, "")  # argparse names the option
     except ValueError as exc:
         raise argparse.ArgumentTypeError(f"invalid choice: {exc}") from None
     if len(models) != 1:
@@ -509,10 +509,7 @@ def build_parser() -> argparse.ArgumentParser:
     logs = sub.add_parser("logs", help="import measured logs")
     lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
-    imp.add_argument("sources", nargs="+", type=Path,
-                     help="canonical .parquet/.csv, .mat, a folder with tractor.csv, "
-                          "trailer.csv, can.csv, or with --channels a CSV, a ROS 1 .bag, a ROS 2 "
-                          "bag folder or an .mcap file")
+    imp.add_argument("sources", nargs="+", type=Path, help=SOURCES)
     imp.add_argument("--out-dir", required=True, type=Path)
     imp.add_argument("--vehicle", default=None,
                      help="preset name or TOML file for the steering and hitch checks, and "
@@ -521,8 +518,8 @@ def build_parser() -> argparse.ArgumentParser:
                           "the hitch fitted, and gosar2022-unloaded's geometry)")
     imp.add_argument("--channels", type=Path, default=None,
                      help="a channel map (.toml) for a CSV with other column names and units, "
-                          "or for a ROS bag or MCAP file (topics and fields); see "
-                          "docs/channels-example.toml and docs/channels-bag-example.toml")
+                          "or for a ROS bag or MCAP file (topics and fields); the logs guide "
+                          "of artic's documentation has examples of both")
     _add_accept(imp)
     imp.set_defaults(func=_logs_import)
     gen = lsub.add_parser("generate", help="the synthetic measured campaign")
@@ -555,7 +552,8 @@ def build_parser() -> argparse.ArgumentParser:
     tc.add_argument("--out", required=True, type=Path, help="output folder")
     tc.set_defaults(func=_tyre_curves)
 
-    camp = sub.add_parser("campaign", help="the main job: validate on the embedded default")
+    camp = sub.add_parser("campaign", help="the main job: generate the synthetic measured "
+                                           "campaign and validate every model on it")
     camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
     camp.add_argument("--models", default="kin,stm,mbd",
@@ -565,7 +563,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="seed of the synthetic campaign (with --seeds, the first)")
     camp.add_argument("--seeds", type=options.SEEDS, default=1,
                       help="trucks: one campaign per seed in OUT/seed-K and the pooled tables "
-                           "and report in OUT, about 90 s per seed on two cores "
+                           "and report in OUT, about two minutes per seed on two cores "
                            "(default: %(default)s, the single campaign in OUT)")
     camp.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
                       help="the synthetic campaign's truth: one with its own tyre and steering "

@@ -81,10 +81,11 @@ def list_all() -> str:
     from artic.validation.docking.controllers import BUILTIN
     from artic.validation.docking.scenarios import SCENARIOS
 
+    width = max(len(n) for n in [*SCENARIOS, *BUILTIN])  # one column for the descriptions
     lines = ["scenarios:"]
-    lines += [f"  {s.name:<10} {s.description}" for s in SCENARIOS.values()]
+    lines += [f"  {s.name:<{width}}  {s.description}" for s in SCENARIOS.values()]
     lines += ["controllers (or package.module:Class):"]
-    lines += [f"  {n:<10} {text}" for n, (_, text) in BUILTIN.items()]
+    lines += [f"  {n:<{width}}  {text}" for n, (_, text) in BUILTIN.items()]
     lines += ["vehicles (or a vehicle file):"]
     lines += [f"  {n}" for n in preset_names()]
     return "\n".join(lines)

@@ -44,6 +44,11 @@ from artic.validation.logs.runfile import (
 )
 from artic.validation.logs.scale import LogScale
 
+SOURCES = ("a canonical .parquet or .csv log, a .mat file, a folder with tractor.csv, "
+           "trailer.csv and can.csv, or with --channels a CSV, a ROS 1 .bag, a ROS 2 bag "
+           "folder or an .mcap file")
+"""What ``artic logs import`` reads, for its help and its errors: one list to extend."""
+
 
 def _checked(run: Run, source: str, vehicle, accept: Collection[str],
              ctx: consistency.Context = consistency.CANONICAL) -> Run:
@@ -144,8 +149,8 @@ def import_runs(path: Path, accept: Collection[str] = (), vehicle=None,
     accept = tuple(accept)
     if channels is None and is_bag(path):
         raise LogError(f"{path}: a ROS bag or MCAP file is read through a channel map that "
-                       "names a topic and field per channel: pass --channels MAP.toml (see "
-                       "docs/channels-bag-example.toml)")
+                       "names a topic and field per channel: pass --channels MAP.toml (the "
+                       "logs guide of artic's documentation has an example)")
     if channels is not None or _tractor_only(path):
         from artic.validation.logs.channels import import_mapped, map_context, tractor_only_map
 
@@ -207,9 +212,7 @@ def _import_export(path: Path, accept: tuple[str, ...], vehicle) -> tuple[Run, l
         run, report = _checked(Run(frame, {"source": "measured"}), str(path), vehicle,
                                accept), []
     else:
-        raise LogError(f"{path}: not a log: give a .parquet or .csv canonical log, a .mat file, "
-                       "a folder with tractor.csv, trailer.csv and can.csv, or a ROS bag or "
-                       "MCAP file with --channels")
+        raise LogError(f"{path}: not a log: give {SOURCES}")
     return run, report
 
 
