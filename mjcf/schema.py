@@ -11,6 +11,7 @@ keys`` prints them.
 
 from __future__ import annotations
 
+import difflib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -254,6 +255,20 @@ def _is_number(v: Any) -> bool:
     return isinstance(v, int | float) and not isinstance(v, bool)
 
 
+def _unknown_key(prefix: str, key: str, table: dict, fields: dict[str, Field],
+                 tables: tuple[str, ...]) -> str:
+    """What to say of an unknown key: the likely one, the keys, the sub-tables apart."""
+    lower = {k.lower(): k for k in fields}
+    near = difflib.get_close_matches(key.lower(), lower, n=1)
+    hint = f" (did you mean {lower[near[0]]}?)" if near else ""
+    text = f"unknown key{hint}; known keys of [{prefix}] are: {', '.join(sorted(fields))}"
+    if tables:
+        shown = [f"[[{prefix}.{t}]]" if isinstance(table.get(t), list) else f"[{prefix}.{t}]"
+                 for t in tables]
+        text += f"; its tables: {', '.join(shown)}"
+    return text
+
+
 def check_table(path: Path | str, prefix: str, table: Any,
                 fields: dict[str, Field], allow: tuple[str, ...] = ()) -> dict[str, Any]:
     """Check a TOML table: no unknown key, no missing key, every value valid.
@@ -281,9 +296,7 @@ def check_table(path: Path | str, prefix: str, table: Any,
     out: dict[str, Any] = {}
     for key in table:
         if key not in fields and key not in allow:
-            known = ", ".join(sorted([*fields, *allow]))
-            raise _fail(path, f"{prefix}.{key}",
-                        f"unknown key; known keys of [{prefix}] are: {known}")
+            raise _fail(path, f"{prefix}.{key}", _unknown_key(prefix, key, table, fields, allow))
     for key, field in fields.items():
         dotted = f"{prefix}.{key}"
         if key not in table:

@@ -129,6 +129,21 @@ def test_bad_file_names_file_and_key(tmp_path, old, new, key, words):
     assert str(p) in msg and f"'{key}'" in msg and words in msg, msg
 
 
+def test_an_unknown_key_lists_the_keys_apart_from_the_tables_and_the_likely_one(tmp_path):
+    p = _edited(tmp_path, "i_s = 21.0", "i_ss = 21.0")
+    with pytest.raises(VehicleFileError) as err:
+        load_vehicle(p)
+    msg = str(err.value)
+    assert ("unknown key (did you mean i_s?); known keys of [steering] are: delta_h_offset, "
+            "delta_max, i_s, q, steering_arm; its tables: [steering.kin], [steering.stm], "
+            "[steering.mbd]") in msg, msg
+    p = _edited(tmp_path, "L1c = 0.67", "l1c = 0.67")
+    with pytest.raises(VehicleFileError, match=r"'tractor\.l1c': unknown key \(did you mean "
+                       r"L1c\?\); known keys of \[tractor\] are: .*; its tables: \[\[tractor"
+                       r"\.axle\]\]"):
+        load_vehicle(p)
+
+
 def test_invalid_toml_names_file(tmp_path):
     p = _edited(tmp_path, "m1 = 8060.0", "m1 = = 8060.0")
     with pytest.raises(VehicleFileError, match="not valid TOML") as err:

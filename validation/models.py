@@ -455,7 +455,17 @@ def spec(name: str) -> ModelSpec:
 
 
 def build(name: str, vehicle: Vehicle, log: Run | None = None) -> Model:
-    """A new model ``name`` built from ``vehicle`` (and the log it runs, for the floor)."""
+    """A new model ``name`` built from ``vehicle`` (and the log it runs, for the floor).
+
+    A ``[steering.NAME]`` table of the vehicle that names no registered model
+    (a misspelt one) is a :class:`SteeringTableWarning`: the file is read
+    before models are registered, and the table may be for a model registered
+    in another process, so it is not an error here (``artic`` commands refuse
+    it, :func:`check_vehicle`).
+    """
+    for line in _unknown_tables(vehicle):
+        warnings.warn(f"{line}; it is unused: every model without a table of its own uses "
+                      "the [steering] map", SteeringTableWarning, stacklevel=2)
     s = spec(name)
     return s.build(vehicle, log) if s.per_log else s.build(vehicle)
 
@@ -512,12 +522,27 @@ def check_vehicle(vehicle: Vehicle) -> Vehicle:
     ValueError
         Naming the file and the table of a model that is not registered.
     """
+    unknown = _unknown_tables(vehicle)
+    if unknown:
+        raise ValueError(f"{unknown[0]}; correct the table's name, or register the model "
+                         "(artic.register_model)")
+    return vehicle
+
+
+class SteeringTableWarning(UserWarning):
+    """A vehicle's ``[steering.NAME]`` table names no registered model."""
+
+
+def _unknown_tables(vehicle: Vehicle) -> list[str]:
+    """One line per ``[steering.NAME]`` table of ``vehicle`` that names no registered model."""
+    lines = []
     for name in vehicle.steering_overrides:
         if name not in REGISTRY:
-            raise ValueError(f"{vehicle.path}: key 'steering.{name}': no model {name!r} is "
-                             f"registered (models: {', '.join(names())}); correct the table's "
-                             "name, or register the model (artic.register_model)")
-    return vehicle
+            near = difflib.get_close_matches(name, names(), n=1)
+            hint = f"; did you mean {near[0]}?" if near else ""
+            lines.append(f"{vehicle.path}: key 'steering.{name}': no model {name!r} is "
+                         f"registered (models: {', '.join(names())}{hint})")
+    return lines
 
 
 def parse_models(text: str, option: str = "--models") -> list[str]:

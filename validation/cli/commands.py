@@ -76,7 +76,7 @@ def finite_json(value):
 
 
 def _vehicle_show(args: argparse.Namespace) -> int:
-    v = load_vehicle(args.vehicle)
+    v = _load_vehicle(args.vehicle)
     flat = v.flat()
     if args.json:
         print(json.dumps(finite_json(flat), indent=2, allow_nan=False))
