@@ -86,6 +86,21 @@ CHECKS: dict[str, Callable[[dict], None]] = {
 """What a page's examples must have done, beyond running."""
 
 
+def _release_plants(namespace: dict) -> None:
+    """Detach the tyre callback from the MuJoCo models an example loaded (artic.plant.load)."""
+    import sys
+
+    if "mujoco" not in sys.modules:
+        return
+    import mujoco
+
+    from artic.plant import callback
+
+    for value in namespace.values():
+        if isinstance(value, mujoco.MjModel):
+            callback.uninstall(value)
+
+
 @pytest.mark.parametrize("page", _pages(), ids=lambda p: str(p.relative_to(ROOT)))
 def test_the_pages_python_examples_run(page, tmp_path, monkeypatch, request):
     from artic.validation.cli.commands import main
@@ -117,6 +132,7 @@ def test_the_pages_python_examples_run(page, tmp_path, monkeypatch, request):
     finally:
         for added in set(names()) - before:
             unregister_model(added)
+        _release_plants(namespace)
 
 
 def test_the_readme_stays_a_front_page():
