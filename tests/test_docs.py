@@ -135,6 +135,21 @@ def test_the_pages_python_examples_run(page, tmp_path, monkeypatch, request):
         _release_plants(namespace)
 
 
+def _sh_blocks(text: str) -> list[str]:
+    return [b.strip() for b in re.findall(r"(?ms)^```sh\n(.*?)^```", text)]
+
+
+def test_the_two_commands_are_the_same_everywhere_and_ci_runs_the_second():
+    # The README, the install guide and .ci/run give one line each; a change to
+    # one (a new check) must reach the others.
+    ci = (ROOT / ".ci" / "run").read_text().strip().splitlines()[-1]
+    readme = _sh_blocks((ROOT / "README.md").read_text())[:2]
+    install = _sh_blocks((DOCS / "guide" / "install.md").read_text())[:2]
+    assert readme == install, (readme, install)
+    assert readme[1] == ci
+    assert "sphinx-build -W" in ci and "artic campaign" in readme[0]
+
+
 def test_the_readme_stays_a_front_page():
     # The README is the front page; the docs site holds the rest.
     assert len((ROOT / "README.md").read_bytes()) < 9900
