@@ -79,9 +79,16 @@ def _check_docking(ns: dict) -> None:
     assert issubclass(ns["Proportional"], Controller)
 
 
+def _check_cli(ns: dict) -> None:
+    # The slalom ran to its end, and the plant stepped 10 s of simulated time.
+    run, profile = ns["run"], ns["profile"]
+    assert run.meta["status"] == "ok" and len(run.frame) == len(profile.t)
+    assert ns["d"].time == pytest.approx(2000 * ns["m"].opt.timestep)
+
+
 CHECKS: dict[str, Callable[[dict], None]] = {
     "README.md": _check_readme, "docs/guide/models.md": _check_models,
-    "docs/guide/docking.md": _check_docking,
+    "docs/guide/docking.md": _check_docking, "docs/guide/cli.md": _check_cli,
 }
 """What a page's examples must have done, beyond running."""
 
