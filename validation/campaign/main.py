@@ -95,7 +95,7 @@ from artic.validation.logs.runfile import (
 )
 from artic.validation.models import code_of, names
 from artic.validation.outputs import OutDirLock, clean_stale
-from artic.validation.progress import Counter
+from artic.validation.progress import BUDGET, Counter, budget_text
 from artic.validation.synthetic.generate import generate_campaign
 from artic.validation.synthetic.testmatrix import TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
@@ -110,22 +110,28 @@ TIMINGS = "timings.json"
 
 
 class Stages:
-    """Wall time per stage, with progress lines.
+    """Wall time and simulated time per stage, with progress lines.
 
     A stage that only reused earlier results (see :meth:`reused`) reports the
     wall time it took when it was computed, from ``saved``, so that a resumed
-    campaign's report matches the original run's. ``save`` receives the
-    times after every stage.
+    campaign's report matches the original run's; likewise its simulated
+    time (:data:`artic.validation.progress.BUDGET` counted over the stage),
+    from ``saved_budget``. ``save`` receives the times and the budgets after
+    every stage.
     """
 
     def __init__(self, progress: Callable[[str], None], saved: dict[str, float] | None = None,
-                 save: Callable[[dict[str, float]], None] | None = None) -> None:
+                 save: Callable[[dict[str, float], dict[str, dict]], None] | None = None,
+                 saved_budget: dict[str, dict] | None = None) -> None:
         self.times: dict[str, float] = {}
+        self.budget: dict[str, dict[str, tuple[int, float]]] = {}
         self.progress = progress
         self.saved = dict(saved or {})
+        self.saved_budget = dict(saved_budget or {})
         self.save = save
         self._name = ""
         self._t0 = 0.0
+        self._b0: dict[str, tuple[int, float]] = {}
         self._reused = False
 
     def __call__(self, name: str) -> Stages:
@@ -143,6 +149,7 @@ class Stages:
 
     def __enter__(self) -> Stages:
         self._t0 = time.perf_counter()
+        self._b0 = BUDGET.snapshot()
         self._reused = False
         if not hasattr(self, "_was"):
             self._was: dict[str, bool] = {}
@@ -151,19 +158,23 @@ class Stages:
 
     def __exit__(self, *exc) -> None:
         measured = time.perf_counter() - self._t0
+        counted = BUDGET.since(self._b0)
         if exc[0] is not None:
             return
         name = self._name
         self._was[name] = self._reused
         if self._reused and name in self.saved:
             self.times[name] = self.saved[name]
+            self.budget[name] = {k: tuple(v) for k, v in self.saved_budget.get(name, {}).items()}
             self.progress(f"== {name}: reused ({measured:.1f} s now; the {self.saved[name]:.1f} s "
                           "it took when computed are kept)")
         else:
             self.times[name] = measured
-            self.progress(f"== {name}: {measured:.1f} s")
+            self.budget[name] = counted
+            simulated = budget_text(counted)
+            self.progress(f"== {name}: {measured:.1f} s" + (f"; {simulated}" if simulated else ""))
         if self.save is not None:
-            self.save(self.times)
+            self.save(self.times, self.budget)
 
 
 def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
@@ -388,8 +399,9 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     if remeasure:
         state["efficiency"] = None
 
-    def save(times: dict[str, float]) -> None:
+    def save(times: dict[str, float], budget: dict[str, dict]) -> None:
         state["stages"] = {**state["stages"], **times}
+        state["budget"] = {**state.get("budget", {}), **budget}
         atomic_write_text(out_dir / TIMINGS, json.dumps(state, indent=1) + "\n")
 
     with contextlib.ExitStack() as stack:
@@ -399,7 +411,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
             stderr_progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
         pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
-        stage = Stages(stderr_progress, state["stages"], save)
+        stage = Stages(stderr_progress, state["stages"], save, state.get("budget"))
         stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
                         f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}")
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
@@ -559,6 +571,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     results = rep.CampaignResults(
         seed=seed, models=tuple(models), gain=gain, metrics=metrics, forward=forward,
         reverse=reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep, stages=stage.times,
+        budget=stage.budget,
         fingerprint=fingerprint.code(), version=_version(), per_load=per_load,
         files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
         forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth,
@@ -575,7 +588,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     paths["report"] = atomic_write_text(out_dir / "report.md", text)
     failed = metrics[[is_failed(st) for st in metrics["status"]]]
     if closing:
-        print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed)))
+        print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed),
+                               stage.budget))
     return paths
 
 
@@ -643,7 +657,8 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
 
 
 def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[str, float],
-                     report: Path, failed: int = 0) -> str:
+                     report: Path, failed: int = 0,
+                     budget: dict[str, dict] | None = None) -> str:
     """What the campaign prints at the end: the two tables, the stage times, the report."""
     from artic.validation.campaign.tables import markdown
 
@@ -656,6 +671,12 @@ def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[s
             lines += [title, "", markdown(table, digits=3), ""]
     lines.append("Wall time: " + ", ".join(f"{k} {v:.0f} s" for k, v in times.items())
                  + f"; total {sum(times.values()):.0f} s.")
+    simulated = {k: sec for k, b in (budget or {}).items()
+                 if (sec := (b or {}).get("multibody", (0, 0.0))[1]) > 0}
+    if simulated:
+        lines.append("Multibody simulated time: " + ", ".join(
+            f"{k} {v:.0f} s" for k, v in simulated.items())
+            + f"; total {sum(simulated.values()):.0f} s.")
     if failed:
         lines.append(f"{failed} (manoeuvre, model) pair(s) have no result; report.md lists "
                      "them and why.")

@@ -46,7 +46,7 @@ from artic.validation.logs.runfile import (
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
 from artic.validation.metrics import CRITERIA, run_metrics
 from artic.validation.models import build
-from artic.validation.progress import Counter, stderr
+from artic.validation.progress import BUDGET, Counter, stderr
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -182,8 +182,11 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             if (log.name, name) in reused:
                 continue
             v = _resolve(vehicle, log)  # pickles
-            todo[(log.name, name)] = executor.submit(_simulate, name, log, v, gain)
-        remote.update({k: f.result() for k, f in todo.items()})
+            todo[(log.name, name)] = executor.submit(_simulate_counted, name, log, v, gain)
+        for k, f in todo.items():
+            run, wall, counted = f.result()
+            BUDGET.merge(counted)  # what the worker simulated, in this process's count
+            remote[k] = (run, wall)
         rows = [one(t) for t in tasks]
     elif jobs > 1:
         with ThreadPoolExecutor(jobs) as pool:
@@ -301,6 +304,14 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     if notes:
         run.meta["limited"] = summary(notes)
     return run, wall
+
+
+def _simulate_counted(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
+                      gain: float) -> tuple[Run, float, dict]:
+    """:func:`_simulate` on an executor, with what it simulated (a ``Budget.scope``)."""
+    with BUDGET.scope() as counted:
+        run, wall = _simulate(name, log, vehicle, gain)
+    return run, wall, counted
 
 
 def _predict(model, log: Run, vehicle: Vehicle) -> dict:

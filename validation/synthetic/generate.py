@@ -57,7 +57,7 @@ from artic.validation.campaign import fingerprint
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.outputs import TEMP_SUFFIX, public_mode
-from artic.validation.progress import Counter
+from artic.validation.progress import BUDGET, Counter
 from artic.validation.steering import SteeringMap
 from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
@@ -341,6 +341,8 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     counter = Counter(len(missing), "generated", progress)
     with contextlib.closing(completed(_simulate_timed, tasks, jobs, executor)) as done:
         for m, (run, wall) in done:
+            t = run.frame["t"]
+            BUDGET.add("multibody", float(t.iloc[-1] - t.iloc[0]) if len(t) > 1 else 0.0)
             write_export(run, out_dir, name=m.name)
             counter.step(f"{m.name} ({wall:.1f} s)")
     return [out_dir / m.name for m in todo]
