@@ -80,6 +80,17 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
     eff = pd.read_csv(out / "efficiency.csv", index_col=0)
     assert eff.loc["mbd", "ratio_to_mbd"] == 1.0 and eff.loc["kin", "ratio_to_mbd"] < 1.0
+    # The efficiency times the validation runs, one row per model, and runs nothing itself.
+    assert list(eff.index) == ["kin", "stm", "mbd"] and (eff["runs"] == 3).all()
+    for model, rows in m.groupby("model"):
+        assert eff.loc[model, "simulated_s"] == pytest.approx(rows.duration_s.sum(), rel=1e-5)
+        assert eff.loc[model, "wall_s"] == pytest.approx(rows.wall_s.sum(), rel=1e-5)
+    assert (eff["build_s"] > 0).all()
+    budget = json.loads((out / "timings.json").read_text())["budget"]
+    assert budget["efficiency"]["multibody"][0] == budget["efficiency"]["reduced"][0] == 0
+    # The plant and the floor each ran the 3 logs and their open-loop predictions.
+    assert budget["validation"]["multibody"][0] == budget["references"]["multibody"][0] > 3
+    assert "| validation |" in report and "multibody simulated [s]" in report
     tuned = load_vehicle(out / "params" / "gosar2022-unloaded.tuned.toml")
     fitted = json.loads((out / "tuning.json").read_text())["loads"]["unloaded"]["fitted"]
     assert tuned.steering_for("stm").i_s == pytest.approx(fitted["stm"]["i_s"])
@@ -128,8 +139,8 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     def broken(*a, **k):
         raise RuntimeError("interrupted")
 
-    monkeypatch.setattr(eff_module, "measure", broken)
-    with pytest.raises(RuntimeError, match="interrupted"):  # --remeasure: measure again
+    monkeypatch.setattr(eff_module, "from_runs", broken)
+    with pytest.raises(RuntimeError, match="interrupted"):  # --remeasure: compute it again
         run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2, remeasure=True)
     assert not (out / "report.md").exists()
 

@@ -25,7 +25,8 @@ Stages, each timed and each resumable:
 5. **tables**: the paper's Table 2 and Table 3 columns, overall and per load,
    with the floor row (``table2_forward``, ``table3_reverse``), and the same
    against the plant (``table2_vs_plant``, ``table3_vs_plant``), ``.csv`` and ``.md``;
-6. **efficiency**: wall time per simulated second of each model (``efficiency.csv``);
+6. **efficiency**: wall time per simulated second of each model, from the
+   validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
 8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
 9. **report**: ``report.md``, written last.
@@ -366,8 +367,9 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     dask : DaskOptions, optional
         The scheduler's timeout and TLS files.
     remeasure : bool
-        Measure the efficiency again even when an earlier run with the same
-        key measured it (a resumed run keeps the original figures otherwise).
+        Compute the efficiency again from the validation runs' times, even
+        when an earlier run with the same key computed it (a resumed run keeps
+        the original figures otherwise; a run simulated again has new times).
     seeds : int
         Trucks: with more than one, a campaign per seed (``seed`` on) in
         ``out_dir/seed-K`` and the pooled results in ``out_dir``
@@ -434,7 +436,7 @@ def _saved_timings(out_dir: Path, key: str) -> dict:
 def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
                 stage, truth, state, closing=True) -> dict[str, Path]:
     from artic.validation.campaign import report as rep
-    from artic.validation.campaign.efficiency import measure
+    from artic.validation.campaign.efficiency import from_runs
     from artic.validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
 
     paths: dict[str, Path] = {}
@@ -532,12 +534,11 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     with stage("efficiency"):
         if state.get("efficiency") is not None:
             eff = pd.DataFrame(state["efficiency"]).set_index("model")
-            stderr_progress(f"efficiency reused from {out_dir / TIMINGS} (measured by the "
-                            "original run; --remeasure measures it again)")
+            stderr_progress(f"efficiency reused from {out_dir / TIMINGS} (as the original "
+                            "run timed its validation runs; --remeasure times them again)")
             stage.reused()
-        else:
-            sample = _efficiency_sample(metrics, by_name, vehicles)
-            eff = measure(sample, models, repeat=2, progress=stderr_progress)
+        else:  # the validation runs' own times: no run is made for it
+            eff = from_runs(metrics, models, out_dir / "runs")
             state["efficiency"] = eff.reset_index().to_dict(orient="records")
         atomic_write(out_dir / "efficiency.csv", lambda p: eff.to_csv(p, float_format="%.6g"))
         paths["efficiency"] = out_dir / "efficiency.csv"
@@ -701,18 +702,6 @@ def _version() -> str:
     from artic.validation.campaign.recording import artic_version
 
     return artic_version()
-
-
-def _efficiency_sample(metrics: pd.DataFrame, logs: dict[str, Run],
-                       vehicles: dict[str, Vehicle]) -> list[tuple[Vehicle, Run]]:
-    """Two forward and two reverse logs (the first of each kind that every model ran)."""
-    out = []
-    failed = set(metrics.loc[metrics["status"].map(is_failed), "log"])
-    for direction in ("forward", "reverse"):
-        names = [n for n in dict.fromkeys(metrics.loc[metrics.direction == direction, "log"])
-                 if n not in failed][:2]
-        out += [(vehicles[logs[n].meta.get("load", "unloaded")], logs[n]) for n in names]
-    return out
 
 
 def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Vehicle,

@@ -284,9 +284,11 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
         vehicle = vehicle(log)
     try:
         with collect() as notes:
+            t_build = time.perf_counter()
             model = build(name, vehicle, log)
             try:
                 t0 = time.perf_counter()
+                build_s = t0 - t_build
                 run = run_closed_loop(model, log, vehicle, gain)
                 wall = time.perf_counter() - t0
                 run.meta["prediction"] = _predict(model, log, vehicle)
@@ -303,6 +305,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
             time.perf_counter() - t0
     if notes:
         run.meta["limited"] = summary(notes)
+    run.meta["build_s"] = build_s  # for the efficiency figures (campaign.efficiency)
     return run, wall
 
 
