@@ -374,8 +374,10 @@ def render(r: CampaignResults) -> str:
               "`validation/tuning.py`).", "", *_tuning_text(r), ""]
     if r.efficiency is not None:
         lines += ["## Computational efficiency", "",
-                  "Each model on the same logs in one process, stepping only (model "
-                  "construction apart); the fastest of repeated passes.", "",
+                  "The validation runs themselves, timed as they ran (every model on the "
+                  "same validated logs, as many at a time as the campaign had jobs): their "
+                  "harness runs summed per model, model construction apart (`build_s`, "
+                  "mean per run). No run is made for these figures.", "",
                   markdown(r.efficiency), ""]
     if r.sweep is not None and len(r.sweep):
         from artic.validation.campaign.gainsweep import bounds_text, sweep_table
