@@ -256,7 +256,14 @@ def test_two_trucks_pool_and_resume(tmp_path, capsys):
     report = (out / "report.md").read_text()
     assert "over 2 trucks" in report and "nan" not in report.lower().split()
     assert "seed-3/report.md" in report
+    # The budget summed over the trucks: each truck's simulated seconds, added.
+    budgets = [json.loads((out / f"seed-{s}" / "timings.json").read_text())["budget"]
+               for s in (3, 4)]
+    total = sum(b[k]["multibody"][1] for b in budgets for k in b)
+    row = next(line for line in report.splitlines() if line.startswith("| total |"))
+    assert total > 0 and row.split("|")[4].strip() == f"{total:.0f}"
     captured = capsys.readouterr()
+    assert f"Multibody simulated time: {total:.0f} s over 2 trucks" in captured.out
     assert "[2/2] trucks: seed 4" in captured.err and "pooled over 2 trucks" in captured.out
     # A rerun reuses every seed's work.
     run_campaign(out, models=("kin", "mbd"), only=part, jobs=2, seeds=2, seed=3,
