@@ -61,10 +61,10 @@ _PUBLIC = {
     "register_model": ("artic.validation.models", "register_model"),
     "model_spec": ("artic.validation.models", "model_spec"),
     "model_names": ("artic.validation.models", "names"),
-    "simulate": ("artic.validation.simulate", "simulate"),
-    "run_closed_loop": ("artic.validation.harness", "run_closed_loop"),
-    "run_metrics": ("artic.validation.metrics", "run_metrics"),
-    "validate_runs": ("artic.validation.campaign.validate", "validate_runs"),
+    "simulate": ("artic.validation.harness.simulate", "simulate"),
+    "run_closed_loop": ("artic.validation.harness.loop", "run_closed_loop"),
+    "run_metrics": ("artic.validation.criteria.metrics", "run_metrics"),
+    "validate_runs": ("artic.validation.runs.validate", "validate_runs"),
     "run_campaign": ("artic.validation.campaign.main", "run_campaign"),
 }
 

@@ -4,10 +4,10 @@ The 8 forward tuning manoeuvres (constant steers at 200, 360 and 500 deg of
 steering wheel, 5 and 10 km/h, 40 s at 100 Hz each), made by the STM itself,
 run through the harness as one tuning objective evaluation does:
 
-- ``batch, 2 threads``: :func:`artic.validation.batch.run_batch` with ``jobs=2``,
+- ``batch, 2 threads``: :func:`artic.validation.harness.batch.run_batch` with ``jobs=2``,
   the logs spread over a thread pool (the compiled loop releases the GIL);
 - ``batch, 1 thread``: the same with ``jobs=1``;
-- ``per log``: :func:`artic.validation.harness.run_inputs`, one compiled call per log.
+- ``per log``: :func:`artic.validation.harness.loop.run_inputs`, one compiled call per log.
 
 Each round times every variant once, in turn, after a warm-up that compiles;
 a figure is the median (range) over the rounds of real time per manoeuvre
@@ -30,12 +30,12 @@ import time
 
 from artic.mjcf import load_vehicle
 from artic.reduced import KinematicModel, SingleTrackModel
-from artic.validation.batch import run_batch
-from artic.validation.harness import loop_inputs, run_inputs
+from artic.validation.harness.batch import run_batch
+from artic.validation.harness.loop import loop_inputs, run_inputs
+from artic.validation.harness.simulate import simulate
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
 from artic.validation.logs.schema import COLUMNS
-from artic.validation.simulate import simulate
-from artic.validation.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
 
 CELLS = [(200, 5), (500, 5), (360, 5), (360, 10)]
@@ -55,7 +55,8 @@ def _compile_from_nothing() -> float:
     """Wall time of the first KIN run in a fresh process with an empty numba cache [s]."""
     code = ("import time, sys; sys.path.insert(0, 'benchmarks');"
             "from artic.mjcf import load_vehicle; from artic.reduced import KinematicModel;"
-            "from bench_closedloop import _inputs; from artic.validation.harness import run_inputs;"
+            "from bench_closedloop import _inputs; "
+            "from artic.validation.harness.loop import run_inputs;"
             "v = load_vehicle('gosar2022-unloaded'); i = _inputs(v);"
             "t0 = time.perf_counter(); run_inputs(KinematicModel(v), i, v, 3.0);"
             "print(time.perf_counter() - t0)")
@@ -115,7 +116,7 @@ def main() -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from artic.validation import runtime
+    from artic.validation.runs import runtime
 
     runtime.configure()
     main()

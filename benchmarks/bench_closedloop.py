@@ -4,7 +4,7 @@ Every figure is a ratio of times measured in the same round; three rounds
 alternate the variants, and each figure is given as the median and range of
 the three. The log is the default forward manoeuvre of ``artic simulate``
 (a 200 deg constant steer at 5 km/h, 60 s), driven through
-:func:`artic.validation.harness.run_inputs` with the reversing feedback on (K = 3):
+:func:`artic.validation.harness.loop.run_inputs` with the reversing feedback on (K = 3):
 
 - **per step**, the compiled closed loop (:mod:`artic.plant.closedloop`) against
   the Python loop it replaces, and against bare ``mj_step`` loops over the
@@ -35,8 +35,8 @@ import numpy as np
 from _timing import bare_steps
 from artic.mjcf import load_vehicle
 from artic.plant import Plant
-from artic.validation.harness import LoopInputs, run_inputs
-from artic.validation.steering import SteeringMap
+from artic.validation.harness.loop import LoopInputs, run_inputs
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
 
 ROUNDS = 3
@@ -160,7 +160,7 @@ def main() -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from artic.validation import runtime
+    from artic.validation.runs import runtime
 
     runtime.configure()
     main()

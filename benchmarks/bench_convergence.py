@@ -32,7 +32,7 @@ from artic.mjcf import load_vehicle
 from artic.mjcf.builder import TIMESTEP
 from artic.plant import Plant
 from artic.validation.campaign.main import load_logs
-from artic.validation.harness import run_closed_loop
+from artic.validation.harness.loop import run_closed_loop
 from artic.validation.synthetic.testmatrix import MATRIX
 
 REFERENCE_STEP = 1e-3

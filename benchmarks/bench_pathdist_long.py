@@ -3,7 +3,7 @@
 A 60-minute yard log at 100 Hz (360 000 samples): the tractor drives loops
 and figure-eights of a 25 m yard, and the "model" runs 0.3 m beside it. The
 error criterion needs the distance of every model point to the measured
-polyline (:func:`artic.validation.pathdist.distance_to_polyline`). The same is
+polyline (:func:`artic.validation.criteria.pathdist.distance_to_polyline`). The same is
 timed with a single 500 m jump in the measured path halfway through, the
 case that used to take quadratic time and gigabytes. Printed: wall time
 (best of a few after a warm-up that compiles), node visits per point (the
@@ -19,7 +19,7 @@ import tracemalloc
 import numpy as np
 
 from _timing import best_wall
-from artic.validation.pathdist import distance_to_polyline
+from artic.validation.criteria.pathdist import distance_to_polyline
 
 SAMPLES = 360_000
 """One hour at 100 Hz."""

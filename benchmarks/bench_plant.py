@@ -118,7 +118,7 @@ def main() -> dict[str, float]:
 
 
 if __name__ == "__main__":
-    from artic.validation import runtime
+    from artic.validation.runs import runtime
 
     runtime.configure()  # as the artic command does: MuJoCo's step timers quiet
     main()

@@ -20,12 +20,12 @@ import numpy as np
 from _timing import REPEATS, best_wall
 from artic.mjcf import load_vehicle
 from artic.reduced import KinematicModel, SingleTrackModel
-from artic.validation.harness import run_closed_loop
+from artic.validation.criteria.pathdist import distance_to_polyline
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.harness.simulate import drive_articulation, simulate
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
 from artic.validation.logs.schema import COLUMNS
-from artic.validation.pathdist import distance_to_polyline
-from artic.validation.simulate import drive_articulation, simulate
-from artic.validation.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
 
 

@@ -87,7 +87,7 @@ def main() -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from artic.validation import runtime
+    from artic.validation.runs import runtime
 
     runtime.configure()
     main()

@@ -1,6 +1,6 @@
 /* The harness's closed loop around the plant, in C: a whole log in one call.
  *
- * Per sample k, in the order of validation/harness.py's Python loop (the
+ * Per sample k, in the order of validation/harness/loop.py's Python loop (the
  * reference this is tested against, within 1e-9):
  *
  *   1. the reversing feedback law: delta = delta_c + K wrap(gamma - gamma_meas)
@@ -80,7 +80,7 @@ static double wrap_angle(double a) {
   return PI - mod;
 }
 
-/* artic.validation.harness.wrap: a - 2 pi floor((a + pi) / (2 pi)). */
+/* artic.validation.harness.loop.wrap: a - 2 pi floor((a + pi) / (2 pi)). */
 static double wrap(double a) { return a - 2.0 * PI * floor((a + PI) / (2.0 * PI)); }
 
 /* Plant.observe */
@@ -188,7 +188,7 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
   if (!sound(m, s)) return LOOP_BAD;
   double h = m->opt.timestep;
   for (int k = s->k; k < n; k++) {
-    /* 1. the feedback law (artic.validation.feedback.feedback_law) */
+    /* 1. the feedback law (artic.validation.harness.feedback.feedback_law) */
     /* as the inertial units report it: the hitch angle and their mounting yaws (Plant.gamma) */
     double gamma = wrap_angle(-d->qpos[s->hitch_qpos] + s->sensor_yaw[0] - s->sensor_yaw[1]);
     double fb = reversing[k] ? s->gain * wrap(gamma - gamma_meas[k]) : 0.0;

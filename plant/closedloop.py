@@ -1,6 +1,6 @@
 """The harness's closed loop around the plant, compiled: a whole log in one call.
 
-``_loop_c.c`` does per sample what :func:`artic.validation.harness.run_inputs` does
+``_loop_c.c`` does per sample what :func:`artic.validation.harness.loop.run_inputs` does
 with :class:`plant.Plant` in Python (the reference, kept and tested against
 this within 1e-9): the reversing feedback law, the signals at the sensor
 points, the raw rows behind :meth:`plant.Plant.extras`, the stop at the
@@ -173,7 +173,7 @@ class Stepper:
 
 
 class LoopResult(NamedTuple):
-    """What one log gives: as :func:`artic.validation.harness.run_inputs`, plus the raw extras."""
+    """What one log gives: as :func:`artic.validation.harness.loop.run_inputs`, and raw extras."""
 
     obs: np.ndarray
     delta: np.ndarray

@@ -57,6 +57,19 @@ def step_batch(kind, x, u, dt, P):
     return out
 
 
+@njit(cache=True)
+def rollout_steps(kind, x0, u, dt, P):
+    """:func:`artic.reduced.integrate.rk4_step` repeated from ``x0`` over the rows of ``u``.
+
+    Returns the states ``(len(u) + 1, n)``, ``x0`` first.
+    """
+    out = np.empty((u.shape[0] + 1, x0.size))
+    out[0] = x0
+    for k in range(u.shape[0]):
+        out[k + 1] = integrate.rk4_step(kind, out[k], dt, u[k, 1], u[k, 2], u[k, 0], P)
+    return out
+
+
 class ControlModel:
     """What KIN and STM share: signals, batches, the step and its Jacobians.
 
@@ -183,6 +196,35 @@ class ControlModel:
         """
         X, U, single = self._batch(x, u)
         return self._out(step_batch(self.kind, X, U, float(dt), self.P), single)
+
+    def rollout(self, x0, u, dt: float) -> np.ndarray:
+        """The states of :meth:`step` taken once per row of ``u``, in one compiled call.
+
+        Equal to the bit to calling :meth:`step` in a loop; a prediction over
+        a horizon of many steps costs one call instead of one per step.
+
+        Parameters
+        ----------
+        x0 : array_like, shape (n,)
+            State now.
+        u : array_like, shape (steps, m)
+            Inputs held over each step.
+        dt : float
+            Step [s].
+
+        Returns
+        -------
+        ndarray, shape (steps + 1, n)
+            ``x0`` first, then the state after each step.
+        """
+        x0 = np.asarray(x0, dtype=float)
+        u = np.asarray(u, dtype=float)
+        if x0.ndim != 1 or u.ndim != 2:
+            raise ValueError(f"{type(self).__name__}.rollout: x0 has shape {x0.shape} and u "
+                             f"{u.shape}; expected ({self.nstates},) and (steps, "
+                             f"{self.ninputs})")
+        X, U, _ = self._batch(x0, u)
+        return rollout_steps(self.kind, X[0], U, float(dt), self.P)
 
     def output(self, x, u=None) -> np.ndarray:
         """Poses of both units: ``X_1, Y_1, psi_1`` (the state's point) and the semitrailer's.

@@ -63,7 +63,7 @@ class CompiledModel:
     def compiled(self) -> tuple:
         """Model kind, state, parameters and sensors, for compiled loops.
 
-        See :mod:`artic.reduced.integrate` and :mod:`artic.validation.harness`.
+        See :mod:`artic.reduced.integrate` and :mod:`artic.validation.harness.loop`.
         """
         return self.kind, self.x.copy(), self.P, self._s1, self._s2
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from artic.validation import runtime
+from artic.validation.runs import runtime
 
 # As the artic command does: numba's cache folder before any compiled model is imported.
 runtime.configure()

@@ -14,9 +14,9 @@ import numpy as np
 
 from artic.mjcf import load_vehicle
 from artic.reduced import InitialState, SingleTrackModel
+from artic.validation.harness.simulate import simulate
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.simulate import simulate
-from artic.validation.steering import SteeringMap
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.manoeuvres import make_profile
 from artic.validation.synthetic.sensors import measure

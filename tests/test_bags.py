@@ -24,9 +24,9 @@ pytest.importorskip("mcap_ros2", reason="mcap-ros2-support (test extra) is not i
 
 import bag_logs  # noqa: E402
 from artic.plant import Plant  # noqa: E402
-from artic.validation.cli import main  # noqa: E402
+from artic.validation.cli.commands import main  # noqa: E402
+from artic.validation.harness.simulate import simulate  # noqa: E402
 from artic.validation.logs.runfile import read_run  # noqa: E402
-from artic.validation.simulate import simulate  # noqa: E402
 from artic.validation.synthetic.manoeuvres import make_profile  # noqa: E402
 
 G = 9.81

@@ -7,10 +7,10 @@ import pytest
 
 from artic.plant import Plant
 from artic.reduced import KinematicModel, SingleTrackModel
-from artic.validation.batch import run_batch
-from artic.validation.harness import loop_args, loop_inputs, run_inputs
-from artic.validation.reducedloop import compiled_loop
-from artic.validation.steering import SteeringMap
+from artic.validation.harness.batch import run_batch
+from artic.validation.harness.loop import loop_args, loop_inputs, run_inputs
+from artic.validation.harness.reducedloop import compiled_loop
+from artic.validation.harness.steering import SteeringMap
 from conftest import straight_log
 
 

@@ -17,13 +17,13 @@ import pytest
 
 from artic.plant import Plant
 from artic.reduced import KinematicModel
-from artic.validation.batch import run_batch
 from artic.validation.campaign.efficiency import from_runs
 from artic.validation.campaign.report import budget_table
-from artic.validation.campaign.validate import validate_runs
-from artic.validation.harness import loop_inputs, run_inputs
-from artic.validation.progress import BUDGET, Budget, budget_text
-from artic.validation.steering import SteeringMap
+from artic.validation.cli.progress import BUDGET, Budget, budget_text
+from artic.validation.harness.batch import run_batch
+from artic.validation.harness.loop import loop_inputs, run_inputs
+from artic.validation.harness.steering import SteeringMap
+from artic.validation.runs.validate import validate_runs
 from conftest import straight_log
 
 

@@ -12,8 +12,8 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.validation.campaign.main import run_campaign
-from artic.validation.campaign.recording import PLOT_RATE, read_rows
 from artic.validation.logs.runfile import read_run
+from artic.validation.review.recording import PLOT_RATE, read_rows
 from artic.validation.synthetic.testmatrix import MATRIX, TUNING
 
 PART = [*[n for n in TUNING if "-unloaded-" in n][:2],

@@ -11,12 +11,12 @@ import pytest
 
 from artic.mjcf.interface import wrap_angle
 from artic.plant import Plant
-from artic.validation.campaign.validate import validate_runs
+from artic.validation.harness.simulate import simulate
 from artic.validation.logs.channels import read_map
 from artic.validation.logs.derive import derive_trailer
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import LogError, read_run
-from artic.validation.simulate import simulate
+from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.manoeuvres import make_profile
 from artic.validation.synthetic.sensors import SensorModel, measure
 

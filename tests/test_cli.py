@@ -8,10 +8,10 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
+from artic.validation.criteria.metrics import CRITERIA
 from artic.validation.logs.runfile import read_run
 from artic.validation.logs.schema import COLUMNS
-from artic.validation.metrics import CRITERIA
 
 
 def test_vehicle_show_json(capsys):
@@ -99,7 +99,7 @@ def test_user_errors_exit_2_with_message(tmp_path, capsys):
 
 def test_validate_refuses_duplicate_log_names(tmp_path, capsys):
     from artic.mjcf import load_vehicle
-    from artic.validation.campaign.validate import validate_runs
+    from artic.validation.runs.validate import validate_runs
     from conftest import straight_log
 
     with pytest.raises(ValueError, match="share the name"):

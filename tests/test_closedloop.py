@@ -1,6 +1,6 @@
 """The plant's compiled closed loop (plant/_loop_c.c) against the Python loop it replaces.
 
-The Python loop of :mod:`artic.validation.harness` driving :class:`plant.Plant`
+The Python loop of :mod:`artic.validation.harness.loop` driving :class:`plant.Plant`
 through ``step`` and ``observe`` is the reference. Both call the same MuJoCo
 step with the same controls, so they agree to rounding; the bound 1e-9 is
 far above double rounding over these runs (they agree exactly here) and far
@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from artic.plant import Plant, PlantError, PlantWarning, closedloop
-from artic.validation.harness import loop_inputs, run_inputs
-from artic.validation.steering import SteeringMap
+from artic.validation.harness.loop import loop_inputs, run_inputs
+from artic.validation.harness.steering import SteeringMap
 from conftest import straight_log
 
 TOL = 1e-9

@@ -18,7 +18,7 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.mjcf.interface import wrap_angle
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from artic.validation.logs import consistency
 from artic.validation.logs.importers import import_source, read_log
 from artic.validation.logs.oxts import export_oxts, import_tables

@@ -159,6 +159,23 @@ def test_step_is_the_harness_step(kin, stm):
 
 
 @pytest.mark.parametrize("which", ["kin", "stm"])
+def test_rollout_is_step_in_a_loop_to_the_bit(which, request):
+    """The compiled rollout takes the same steps as :meth:`step` called once per input."""
+    model = request.getfixturevalue(which)
+    rng = np.random.default_rng(5)
+    x, u = random_point(model, rng, -1)
+    us = np.repeat(u[None, :], 40, axis=0)
+    us[:, model.find_input("delta")] = np.linspace(-0.2, 0.3, 40)
+    xs = [x]
+    for k in range(40):
+        xs.append(model.step(xs[-1], us[k], 0.05))
+    np.testing.assert_array_equal(model.rollout(x, us, 0.05), np.array(xs))
+    assert np.abs(np.diff(np.array(xs), axis=0)).max() > 1e-3  # it moved
+    with pytest.raises(ValueError, match="rollout: x0 has shape"):
+        model.rollout(np.array([x, x]), us, 0.05)
+
+
+@pytest.mark.parametrize("which", ["kin", "stm"])
 @pytest.mark.parametrize("direction", [1, -1])
 def test_step_converges_at_fourth_order(which, direction, request):
     # Against the same integration at a step 64 times finer, over 4 s of a

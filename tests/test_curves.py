@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from artic.plant.curves import ALPHA_RANGE_DEG, COLUMNS, KAPPA_RANGE
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 
 
 def test_curves_are_written_as_csv_and_png(tmp_path, capsys):

@@ -11,16 +11,21 @@ import pytest
 
 from artic.mjcf.interface import wrap_angle
 from artic.reduced import KinematicModel
-from artic.validation.campaign.validate import validate_runs
+from artic.validation.criteria.metrics import (
+    CRITERIA,
+    distance_mean_abs,
+    distance_rms,
+    distance_weights,
+)
 from artic.validation.criteria.pooled import pool, pool_segments, whole_logs
-from artic.validation.harness import run_closed_loop
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.harness.simulate import simulate
+from artic.validation.harness.yawsteer import road_wheel_from_yaw_rate, speed_floor
 from artic.validation.logs.derive import derive_tractor, derive_trailer
 from artic.validation.logs.differentiate import derivative, rates_from_pose, sinusoid_gain
 from artic.validation.logs.runfile import Run, read_run
-from artic.validation.metrics import CRITERIA, distance_mean_abs, distance_rms, distance_weights
-from artic.validation.simulate import simulate
+from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.manoeuvres import make_profile
-from artic.validation.yawsteer import road_wheel_from_yaw_rate, speed_floor
 from hostile_logs import docking
 
 
@@ -114,7 +119,7 @@ def test_derive_tractor_on_a_rigid_turn(unloaded):
 
 # ------------------------------------------------------------------ steering from the yaw rate
 def test_yaw_rate_steering_is_kins_inverse_and_calm_at_standstill(unloaded):
-    from artic.validation.yawsteer import equivalent_wheelbase
+    from artic.validation.harness.yawsteer import equivalent_wheelbase
 
     L1 = equivalent_wheelbase(unloaded)
     u = np.array([2.0, -1.5, 1.0])
@@ -209,7 +214,7 @@ def test_steer_from_yaw_rate_and_tune_refusal(tmp_path, unloaded):
     import io
     from contextlib import redirect_stderr, redirect_stdout
 
-    from artic.validation.cli import main
+    from artic.validation.cli.commands import main
     from artic.validation.logs.runfile import write_run
     from hostile_logs import slalom
 

@@ -45,9 +45,11 @@ def test_the_mpcs_dock_a_straight_start_on_the_plant(name):
     assert row["success"], row["failure"]
     assert abs(row["lateral_error_m"]) <= 0.10
     assert abs(row["heading_error_deg"]) <= 1.0
-    # Reversing, every sample gives its predicted horizon for the recording.
-    given = [h for h in r.trace.horizons if h is not None]
-    assert len(given) > 100 and given[0].shape == (HORIZON, 2)
+    # Every sample that moves gives its predicted horizon for the recording, from
+    # where the semitrailer axle is, and the plan's points it was compared with.
+    given = [(h, ref) for h, ref in zip(r.trace.horizons, r.trace.references, strict=True)
+             if h is not None]
+    assert len(given) > 100 and given[-1][0].shape == given[-1][1].shape == (HORIZON + 1, 2)
 
 
 @pytest.mark.slow

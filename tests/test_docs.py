@@ -27,7 +27,7 @@ def test_every_page_is_in_a_table_of_contents():
 
 def test_the_readme_library_example_runs(tmp_path, monkeypatch):
     # The README's Python example, on a log the command line makes.
-    from artic.validation.cli import main
+    from artic.validation.cli.commands import main
 
     readme = (DOCS.parent / "README.md").read_text()
     code = readme.split("```python\n", 1)[1].split("```", 1)[0]

@@ -14,8 +14,8 @@ from artic.validation.criteria.fixedscale import (
     eps_n_fixed,
     write_scale,
 )
+from artic.validation.criteria.metrics import run_metrics
 from artic.validation.logs.runfile import Run
-from artic.validation.metrics import run_metrics
 from conftest import straight_log
 
 
@@ -105,7 +105,7 @@ def test_scale_file_says_what_it_is(tmp_path):
 
 
 def test_validate_runs_uses_one_scale_for_every_row(unloaded):
-    from artic.validation.campaign.validate import validate_runs
+    from artic.validation.runs.validate import validate_runs
 
     logs = [swaying(1500, -0.8, 0.02, 0.05), swaying(1500, -0.8, 0.06, 0.2)]
     logs[1].meta["name"] = "bigger"

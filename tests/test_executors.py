@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from artic.validation.campaign.executors import cluster_executor
-from artic.validation.campaign.validate import validate_runs
-from artic.validation.progress import BUDGET
+from artic.validation.cli.progress import BUDGET
+from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.generate import generate_campaign
 from conftest import straight_log
 

@@ -11,11 +11,11 @@ import pandas as pd
 import pytest
 
 from artic.plant import Plant, PlantError
-from artic.validation.campaign import validate as val
-from artic.validation.campaign.tables import summary
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from artic.validation.logs.runfile import read_run, write_run
-from artic.validation.runtime import MujocoWarning
+from artic.validation.review.tables import summary
+from artic.validation.runs import validate as val
+from artic.validation.runs.runtime import MujocoWarning
 from hostile_logs import docking, slalom
 
 DIVERGE_AT = 5.0
@@ -39,7 +39,7 @@ def absurd_after_5_s(monkeypatch):
 
 
 def test_plant_error_names_the_last_good_time_and_wheel(absurd_after_5_s, unloaded):
-    from artic.validation.harness import run_closed_loop
+    from artic.validation.harness.loop import run_closed_loop
 
     with Plant(unloaded) as p, pytest.warns(MujocoWarning, match="unstable"):
         with pytest.raises(PlantError) as err:
@@ -123,8 +123,8 @@ def test_a_log_without_a_plant_run_is_left_out_against_the_plant(tmp_path, unloa
     # The plant refused one log (its row says why); the comparison of KIN with
     # the plant skips that log instead of failing on the empty run file.
     from artic.validation.campaign.main import _versus_plant
-    from artic.validation.campaign.validate import failed_run
     from artic.validation.logs.runfile import write_run
+    from artic.validation.runs.validate import failed_run
     from conftest import as_log, straight_log
 
     log = as_log(straight_log(n=300), "refused-by-the-plant")

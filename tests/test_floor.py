@@ -17,8 +17,8 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.plant import Plant, PlantWarning, ctyre
-from artic.validation.harness import run_closed_loop
-from artic.validation.metrics import run_metrics
+from artic.validation.criteria.metrics import run_metrics
+from artic.validation.harness.loop import run_closed_loop
 from artic.validation.models import build
 from artic.validation.synthetic.generate import simulate_manoeuvre
 from artic.validation.synthetic.sensors import SensorModel

@@ -56,7 +56,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from artic.mjcf import load_vehicle
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from artic.validation.logs.runfile import check_frame, read_run, write_run
 from artic.validation.logs.schema import COLUMNS
 from hostile_logs import slalom

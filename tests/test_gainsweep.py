@@ -9,16 +9,16 @@ import pytest
 from artic.mjcf import load_vehicle
 from artic.reduced.kinematic import kin_rhs
 from artic.reduced.single_track import N_BODY, stm_parameters, stm_rhs
-from artic.validation.campaign.gainsweep import (
+from artic.validation.criteria.metrics import run_metrics
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.models import spec
+from artic.validation.runs.gainsweep import (
     gain_sweep,
     model_lengths,
     plot_gain_sweep,
     stability_bound,
     sweep_table,
 )
-from artic.validation.harness import run_closed_loop
-from artic.validation.metrics import run_metrics
-from artic.validation.models import spec
 from conftest import straight_log
 
 

@@ -9,10 +9,10 @@ import pytest
 
 from artic.reduced import KinematicModel, SingleTrackModel
 from artic.reduced.kinematic import kin_rhs
-from artic.validation.harness import run_closed_loop
-from artic.validation.metrics import run_metrics
-from artic.validation.simulate import drive_articulation, simulate
-from artic.validation.steering import SteeringMap
+from artic.validation.criteria.metrics import run_metrics
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.harness.simulate import drive_articulation, simulate
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
 from conftest import as_log, straight_log
 
@@ -135,7 +135,7 @@ def test_kin_validated_against_its_own_log_gives_zero(unloaded):
 def test_speed_input_corrects_sensor_offset(unloaded):
     # u1 = v_x_1 + r_1 * y_s1: a tractor sensor 5 mm right of the centre line
     # reads r_1 * 0.005 m/s less than the centre line moves.
-    from artic.validation.harness import loop_inputs
+    from artic.validation.harness.loop import loop_inputs
 
     log = straight_log(n=10, u=1.0)
     log.frame["r_1"] = 0.2
@@ -156,7 +156,7 @@ def test_jackknife_stops_open_loop_reverse(unloaded):
 
 
 def test_speed_filter_passes_a_quadratic_and_removes_noise():
-    from artic.validation.harness import smooth_speed
+    from artic.validation.harness.loop import smooth_speed
 
     t = np.arange(0.0, 20.0, 0.01)
     u = 0.5 + 0.2 * t - 0.01 * t ** 2  # braking and accelerating profiles are quadratic-ish
@@ -175,7 +175,7 @@ def test_compiled_law_equals_the_python_law_to_the_bit():
     # The truth's drivers and the plant's Python loop call the plain law, the
     # reduced models' numba loop its compiled form: the same arithmetic in the
     # same order, so the same bits, across wraps and both saturations.
-    from artic.validation import feedback, reducedloop
+    from artic.validation.harness import feedback, reducedloop
 
     rng = np.random.default_rng(7)
     for _ in range(2000):
@@ -192,8 +192,8 @@ def test_plant_runs_do_not_import_numba():
     import subprocess
     import sys
 
-    code = ("import sys, artic.validation.cli, artic.validation.harness, "
-            "artic.validation.simulate, artic.plant; "
+    code = ("import sys, artic.validation.cli.commands, artic.validation.harness.loop, "
+            "artic.validation.harness.simulate, artic.plant; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] == 'numba'))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)

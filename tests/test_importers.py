@@ -12,12 +12,12 @@ from hypothesis import strategies as st
 
 from artic.mjcf import load_vehicle
 from artic.reduced import SingleTrackModel
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
+from artic.validation.harness.simulate import simulate
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.oxts import export_mat, export_oxts, import_oxts, import_tables
 from artic.validation.logs.runfile import LogError, Run, check_frame, read_run
 from artic.validation.logs.schema import COLUMNS
-from artic.validation.simulate import simulate
 from artic.validation.synthetic.manoeuvres import make_profile
 
 

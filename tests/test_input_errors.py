@@ -20,8 +20,8 @@ import pyarrow.parquet as pq
 import pytest
 import scipy.io
 
-from artic.validation import options
-from artic.validation.cli import main
+from artic.validation.cli import options
+from artic.validation.cli.commands import main
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import read_run, write_run
 from artic.validation.logs.schema import COLUMNS

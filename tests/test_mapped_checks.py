@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 
 from artic.mjcf import load_vehicle
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from artic.validation.logs import consistency
 from artic.validation.logs.importers import import_source, read_log
 from artic.validation.logs.runfile import LogError, check_frame, read_run

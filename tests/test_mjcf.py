@@ -14,7 +14,7 @@ from artic.mjcf import naming as nm
 from artic.mjcf.builder import build_model, linkage, to_xml
 from artic.mjcf.linkage import Trapezoid, centre_angle
 from artic.mjcf.vehicle import G
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from conftest import PRESETS
 
 

@@ -22,10 +22,10 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.mjcf.writer import updated, write_vehicle
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, atomic_write_text, read_run, write_run
-from artic.validation.outputs import LOCK_NAME, OutDirLock, clean_stale
+from artic.validation.runs.outputs import LOCK_NAME, OutDirLock, clean_stale
 from artic.validation.synthetic import generate
 from artic.validation.synthetic.testmatrix import MATRIX, TUNING
 from hostile_logs import slalom
@@ -47,7 +47,7 @@ def test_two_campaigns_in_one_folder(tmp_path, capsys):
     holder = python(f"""
         import sys, time
         sys.argv = ["artic", "campaign", "--out-dir", {str(out)!r}]
-        from artic.validation.outputs import OutDirLock
+        from artic.validation.runs.outputs import OutDirLock
         with OutDirLock({str(out)!r}, "campaign"):
             print("locked", flush=True)
             time.sleep(60)
@@ -176,7 +176,7 @@ def test_workers_end_with_their_parent():
     parent = python("""
         import os, time
         from concurrent.futures import ProcessPoolExecutor
-        from artic.validation.workers import init_worker
+        from artic.validation.runs.workers import init_worker
         pool = ProcessPoolExecutor(2, initializer=init_worker, initargs=(os.getpid(),))
         busy = [pool.submit(time.sleep, 600) for _ in range(2)]
         while len(pool._processes) < 2:
@@ -208,7 +208,7 @@ def test_workers_end_with_their_parent():
 def test_mujoco_log_not_in_the_current_folder(tmp_path, monkeypatch, unloaded):
     import mujoco
 
-    from artic.validation.runtime import MujocoWarning
+    from artic.validation.runs.runtime import MujocoWarning
 
     monkeypatch.chdir(tmp_path)
     m = mujoco.MjModel.from_xml_string(
@@ -289,7 +289,7 @@ def test_a_resumed_validation_takes_the_criteria_from_the_footer(tmp_path, monke
     # was simulated, come from its footer; the rows are the same. A file whose
     # footer is damaged (cut short) is simulated again, not trusted.
     from artic.mjcf import load_vehicle
-    from artic.validation.campaign import validate as val
+    from artic.validation.runs import validate as val
 
     v = load_vehicle("gosar2022-unloaded")
     logs = [slalom()]
@@ -314,7 +314,7 @@ def _square_and_pid(x):
 def test_completed_gives_every_task_once_and_its_pool_ends_when_closed_early():
     import contextlib
 
-    from artic.validation.workers import completed
+    from artic.validation.runs.workers import completed
 
     tasks = [(k, (k,)) for k in range(6)]
     serial = dict(completed(_square_and_pid, tasks, jobs=1))

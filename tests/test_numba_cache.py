@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numba
 
-from artic.validation import runtime
+from artic.validation.runs import runtime
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -26,8 +26,8 @@ def copies(tmp_path: Path) -> list[Path]:
 
 def test_compiled_sources_are_the_reduced_package_and_the_harness_loops():
     names = {(p.parent.name, p.name) for p in runtime.compiled_sources()}
-    assert ("reduced", "single_track.py") in names and ("validation", "reducedloop.py") in names
-    assert ("validation", "cli.py") not in names
+    assert ("reduced", "single_track.py") in names and ("harness", "reducedloop.py") in names
+    assert ("cli", "commands.py") not in names
     # Every module that defines compiled code is among them, and so is every
     # module whose plain functions a compiled module compiles.
     for pkg in ("mjcf", "plant", "reduced", "validation"):
@@ -35,7 +35,7 @@ def test_compiled_sources_are_the_reduced_package_and_the_harness_loops():
             text = p.read_text()
             if "@njit" in text or "njit(" in text:
                 assert (p.parent.name, p.name) in names, p
-    assert ("validation", "feedback.py") in names  # reducedloop compiles its law
+    assert ("harness", "feedback.py") in names  # reducedloop compiles its law
 
 
 def test_editing_a_compiled_module_moves_the_cache(tmp_path):
@@ -71,7 +71,8 @@ def test_importing_reduced_sets_nothing():
     import sys
 
     code = ("import numba; before = numba.config.CACHE_DIR; "
-            "import artic.reduced, artic.validation.harness, artic.validation.reducedloop; "
+            "import artic.reduced, artic.validation.harness.loop, "
+            "artic.validation.harness.reducedloop; "
             "print(numba.config.CACHE_DIR == before)")
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -98,7 +99,7 @@ def test_old_folders_go_after_a_month(tmp_path, monkeypatch):
 
 
 def test_run_caches_follow_the_computing_code_only(tmp_path):
-    from artic.validation.campaign import fingerprint
+    from artic.validation.runs import fingerprint
 
     roots = {}
     for pkg in fingerprint.PACKAGES:
@@ -110,6 +111,6 @@ def test_run_caches_follow_the_computing_code_only(tmp_path):
     report = roots["validation"] / "campaign" / "report.py"
     report.write_text(report.read_text() + "\n# a comment in the report\n")
     assert fingerprint.code_hash(roots) == before  # the runs stay reusable
-    harness = roots["validation"] / "harness.py"
+    harness = roots["validation"] / "harness" / "loop.py"
     harness.write_text(harness.read_text() + "\n# an edit of the harness\n")
     assert fingerprint.code_hash(roots) != before  # the runs are recomputed

@@ -55,7 +55,7 @@ def test_the_driver_backs_the_outline_rear_to_the_dock(unloaded):
 
 
 def test_the_recording_draws_the_outline(unloaded):
-    from artic.validation.campaign.recording import _Geometry
+    from artic.validation.review.recording import _Geometry
 
     g, o = _Geometry(unloaded), outline(unloaded)
     cx, hx, _ = g.trailer_body

@@ -13,9 +13,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
+from artic.validation.criteria.pathdist import LEAF, _build, distance_to_polyline
 from artic.validation.logs.runfile import write_run
-from artic.validation.pathdist import LEAF, _build, distance_to_polyline
 from hostile_logs import slalom
 
 

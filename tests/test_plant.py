@@ -13,9 +13,9 @@ from artic.mjcf.linkage import centre_angle
 from artic.plant import Plant, PlantError, callback
 from artic.plant.tyre import TyreParams, TyreRangeWarning
 from artic.reduced import InitialState, SingleTrackModel
-from artic.validation.harness import run_closed_loop
-from artic.validation.simulate import drive_articulation
-from artic.validation.steering import SteeringMap
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.harness.simulate import drive_articulation
+from artic.validation.harness.steering import SteeringMap
 from conftest import PRESETS, straight_log
 
 

@@ -12,7 +12,7 @@ from artic.mjcf import load_vehicle
 from artic.mjcf.plausible import VEHICLE_RANGES, PlausibilityWarning
 from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.tir import COEFFICIENT_RANGES, TirError, read_tir
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 
 PRESET = Path(load_vehicle("gosar2022-unloaded").path)
 TYRE = Path(load_vehicle("gosar2022-unloaded").tyre_file)

@@ -140,7 +140,7 @@ def test_importing_the_plugin_loads_nothing_heavy():
     loaded = {m.split(".")[0] for m in json.loads(out.stdout)} | {
         m for m in json.loads(out.stdout) if m.startswith("artic.")}
     assert not loaded & {"numba", "mujoco", "pandas", "rerun", "artic.plant", "artic.reduced",
-                         "artic.validation.harness"}, loaded
+                         "artic.validation.harness.loop"}, loaded
 
 
 def test_within_is_checked():
@@ -179,7 +179,7 @@ def test_eps_gamma_of_kin_reversing_is_eq_6s_decay(unloaded):
     # step and the trapezoidal weights are of order |lambda| dt / 2 = 0.3 %,
     # the tan and sin of 3 and 9 deg less.
     from artic.reduced.kinematic import kin_parameters
-    from artic.validation.harness import DEFAULT_GAIN
+    from artic.validation.harness.loop import DEFAULT_GAIN
 
     v = dataclasses.replace(unloaded, steering=dataclasses.replace(
         unloaded.steering, delta_h_offset=0.0), steering_overrides={})

@@ -14,8 +14,8 @@ from artic.validation.criteria.prediction import (
     prediction_errors,
     start_points,
 )
+from artic.validation.harness.simulate import drive_articulation
 from artic.validation.logs.runfile import Run
-from artic.validation.simulate import drive_articulation
 
 
 def reverse_log(vehicle, seconds: float = 60.0, u: float = -1.0) -> Run:
@@ -120,7 +120,7 @@ def test_short_and_forward_logs_say_why_they_have_no_value(unloaded):
 
 
 def test_metrics_rows_carry_the_predictions(log, unloaded):
-    from artic.validation.campaign.validate import validate_runs
+    from artic.validation.runs.validate import validate_runs
 
     rows = validate_runs([log], unloaded, ["kin", "stm"])
     assert rows[list(COLUMNS)].notna().all().all()

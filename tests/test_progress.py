@@ -6,8 +6,8 @@ import warnings
 
 from artic.plant import PlantWarning
 from artic.plant.tyre import TyreRangeWarning
-from artic.validation.plantnotes import collect, summary
-from artic.validation.progress import Counter, duration
+from artic.validation.cli.progress import Counter, duration
+from artic.validation.harness.plantnotes import collect, summary
 
 
 def test_counter_counts_throttles_and_estimates():

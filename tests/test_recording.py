@@ -11,8 +11,10 @@ import pytest
 from artic.mjcf.interface import wrap_angle
 from artic.plant import Plant
 from artic.reduced import KinematicModel, SingleTrackModel
-from artic.validation.campaign.plantshape import plant_shape, wheel_quat, xyzw
-from artic.validation.campaign.recording import (
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.harness.simulate import simulate
+from artic.validation.review.plantshape import plant_shape, wheel_quat, xyzw
+from artic.validation.review.recording import (
     FORCE_SCALE,
     PLOT_RATE,
     YARD_RATE,
@@ -24,8 +26,6 @@ from artic.validation.campaign.recording import (
     record_manoeuvre,
     record_summary,
 )
-from artic.validation.harness import run_closed_loop
-from artic.validation.simulate import simulate
 from artic.validation.synthetic.manoeuvres import make_profile
 from conftest import as_log
 

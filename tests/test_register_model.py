@@ -22,8 +22,8 @@ import artic
 from artic.mjcf.vehicle import load_vehicle
 from artic.mjcf.writer import updated, write_vehicle
 from artic.reduced import KinematicModel
-from artic.validation.cli import main
-from artic.validation.metrics import CRITERIA
+from artic.validation.cli.commands import main
+from artic.validation.criteria.metrics import CRITERIA
 from artic.validation.models import (
     NAMES,
     REGISTRY,
@@ -117,7 +117,7 @@ def test_the_registry_lists_built_ins_first_then_registered(registered):
 
 def test_a_registered_model_is_validated_through_the_command_line(tmp_path, logs, registered,
                                                                   capsys):
-    from artic.validation.campaign.recording import read_column
+    from artic.validation.review.recording import read_column
 
     out = tmp_path / "val"
     vehicle = kin_map_for(tmp_path, "kin_blue", "kin_py")
@@ -284,7 +284,7 @@ def test_model_spec_is_a_checked_entry():
 
 def test_the_report_names_a_registered_model_by_its_label(registered):
     from artic.validation.campaign.report import CampaignResults, discussion
-    from artic.validation.campaign.tables import summary
+    from artic.validation.review.tables import summary
 
     # Ten reverse manoeuvres on which the registered model is 10 points below
     # KIN on each one: the paired comparison resolves it, and the text names

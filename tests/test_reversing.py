@@ -13,10 +13,10 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.reduced import KinematicModel, SingleTrackModel
-from artic.validation.harness import run_closed_loop, unsteered_inputs
+from artic.validation.harness.loop import run_closed_loop, unsteered_inputs
+from artic.validation.harness.reversing import DEAD_BAND, MIN_DURATION, reversing
+from artic.validation.harness.simulate import simulate
 from artic.validation.logs.runfile import Run
-from artic.validation.reversing import DEAD_BAND, MIN_DURATION, reversing
-from artic.validation.simulate import simulate
 from artic.validation.synthetic.manoeuvres import Profile
 from conftest import as_log
 

@@ -9,7 +9,7 @@ import pytest
 import artic.plant as plant
 from artic.mjcf import load_vehicle, naming
 from artic.plant import callback
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 
 
 def test_the_exported_truck_rolls_straight_on_its_tyres(tmp_path):

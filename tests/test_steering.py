@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from artic.validation.steering import SteeringMap, SteeringRangeError
+from artic.validation.harness.steering import SteeringMap, SteeringRangeError
 
 MAP = SteeringMap(i_s=20.0, q=0.01, delta_h_offset=math.radians(5.0))
 

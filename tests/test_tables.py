@@ -13,9 +13,9 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from artic.validation.campaign import tables as T
 from artic.validation.campaign.rankings import lowest, ranking_text
 from artic.validation.campaign.report import CampaignResults, render
+from artic.validation.review import tables as T
 
 N = 20
 

@@ -106,8 +106,8 @@ def test_the_structural_truth_differs_in_structure_the_legacy_one_does_not():
     # truth's own plant. From the legacy truth only LKY and LMUY differ, so the
     # preset plant sits near the floor; from the structural truth it is well above.
     from artic.plant import Plant, PlantWarning
-    from artic.validation.harness import run_closed_loop
-    from artic.validation.metrics import run_metrics
+    from artic.validation.criteria.metrics import run_metrics
+    from artic.validation.harness.loop import run_closed_loop
     from artic.validation.synthetic.generate import simulate_manoeuvre
     from artic.validation.synthetic.testmatrix import MATRIX
 

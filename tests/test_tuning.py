@@ -10,9 +10,9 @@ import pytest
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
 from artic.reduced import KinematicModel, SingleTrackModel
 from artic.validation.campaign.tuning import Objective, apply, bounds_for, tune_model
-from artic.validation.harness import run_closed_loop
-from artic.validation.metrics import run_metrics
-from artic.validation.simulate import simulate
+from artic.validation.criteria.metrics import run_metrics
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.harness.simulate import simulate
 from artic.validation.synthetic.manoeuvres import make_profile
 from conftest import as_log
 

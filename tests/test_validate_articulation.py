@@ -10,11 +10,11 @@ import pandas as pd
 
 from artic.mjcf import load_vehicle
 from artic.reduced import KinematicModel
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from artic.validation.criteria.columns import COLUMNS
 from artic.validation.criteria.fixedscale import SCALE_FILE
+from artic.validation.harness.simulate import drive_articulation
 from artic.validation.logs.runfile import Run, write_run
-from artic.validation.simulate import drive_articulation
 
 
 def test_validate_prints_eps_gamma_for_every_run(tmp_path, capsys):

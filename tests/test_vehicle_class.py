@@ -25,7 +25,7 @@ from artic.mjcf.plausible import (
 from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import REFERENCE_LENGTH
 from artic.reduced import KinematicModel, SingleTrackModel
-from artic.validation.cli import main
+from artic.validation.cli.commands import main
 from artic.validation.logs.runfile import read_run
 
 SCALE = "scale-model-1to14"

@@ -1,4 +1,4 @@
-"""Compiling ahead (artic.validation.warmup): the campaign's numba functions, on their own core."""
+"""Compiling ahead (artic.validation.runs.warmup): the campaign's numba functions, on a core."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from artic.validation import warmup
+from artic.validation.runs import warmup
 
 
 def test_the_warm_up_process_runs_to_the_end():
@@ -25,13 +25,14 @@ def test_after_the_warm_up_the_campaign_calls_load_from_the_cache(tmp_path):
     # same calls loads every function from disk and compiles nothing. If the warm-up
     # passed other argument types than the campaign does, numba would compile again.
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    warm = ("from artic.validation import runtime; runtime.configure(); "
-            "from artic.validation import warmup; p = warmup.start(); p.join(); "
+    warm = ("from artic.validation.runs import runtime; runtime.configure(); "
+            "from artic.validation.runs import warmup; p = warmup.start(); p.join(); "
             "raise SystemExit(p.exitcode)")
     subprocess.run([sys.executable, "-c", warm], env=env, check=True, timeout=300)
-    check = ("import json; from artic.validation import runtime; runtime.configure(); "
-             "from artic.validation.warmup import compile_all; compile_all(); "
-             "from artic.validation import pathdist, reducedloop; "
+    check = ("import json; from artic.validation.runs import runtime; runtime.configure(); "
+             "from artic.validation.runs.warmup import compile_all; compile_all(); "
+             "from artic.validation.criteria import pathdist; "
+             "from artic.validation.harness import reducedloop; "
              "s = [f.stats for f in (reducedloop.compiled_loop, pathdist._query)]; "
              "print(json.dumps([[len(x.cache_hits), len(x.cache_misses)] for x in s]))")
     out = subprocess.run([sys.executable, "-c", check], env=env, check=True, timeout=300,

@@ -1,22 +1,23 @@
-"""Validation of KIN, STM and the plant: the harness, the criteria, and what feeds them.
+"""Validation of KIN, STM and the plant: rooms by job, each a sub-package.
 
-At this level, what every validation shares:
+At this level, the two modules everything shares:
 
-- :mod:`~artic.validation.harness`: the closed-loop harness and its reversing
-  feedback law, eqs. (5)-(7); :mod:`~artic.validation.reversing`: when that
-  feedback is on (hysteresis on the speed);
-- :mod:`~artic.validation.metrics`: the distance-based error criteria, eqs. (8)-(10),
-  with :mod:`~artic.validation.pathdist` for the lateral position error;
-- :mod:`~artic.validation.steering`: the steering map, eq. (3);
-- :mod:`~artic.validation.models`: the model protocol and the one registry of models,
-  built-in and registered from outside;
-- :mod:`~artic.validation.batch`: many logs through the harness at once;
-- :mod:`~artic.validation.simulate`: open-loop simulation of a manoeuvre;
-- :mod:`~artic.validation.testing`: the pytest plugin for users' cross-model checks;
-- :mod:`~artic.validation.cli` (and :mod:`~artic.validation.entry`, the console script):
-  the ``artic`` command line; :mod:`~artic.validation.runtime`: process-wide settings.
+- :mod:`~artic.validation.models`: the model protocol and the one registry of
+  models, built-in and registered from outside;
+- :mod:`~artic.validation.testing`: the pytest plugin for users' cross-model checks.
 
-Sub-packages: :mod:`artic.validation.logs` (schema, run files, checks, importers),
-:mod:`artic.validation.synthetic` (the generated measured campaign) and
-:mod:`artic.validation.campaign` (the main job, tuning, tables, report, recordings).
+The rooms (each ``__init__`` lists its modules):
+
+- ``harness/``: the closed loop and its reversing feedback law, eqs. (5)-(7), the
+  steering map, when reversing is on, many logs at once, open-loop simulation;
+- ``criteria/``: the paper's criteria, eqs. (8)-(10), the criteria beyond them,
+  and the statistics that qualify them;
+- ``logs/``: the signal schema, run files, checks and repairs, the importers;
+- ``synthetic/``: the generated measured campaign, its truth, drivers and sensors;
+- ``runs/``: validating runs (``artic validate`` and the campaign alike), and the
+  processes and output folders they run in;
+- ``review/``: the summary tables, Rerun recordings and plots;
+- ``campaign/``: the main job: tuning, the efficiency study, the report, several trucks;
+- ``docking/``: the docking benchmark;
+- ``cli/``: the ``artic`` command line.
 """

@@ -18,7 +18,7 @@ Fixtures
         measured through its sensor models
         (:mod:`artic.validation.synthetic.generate`). Made once and cached
         in pytest's cache folder, under a key of artic's code fingerprint
-        (:mod:`artic.validation.campaign.fingerprint`), the seed and the
+        (:mod:`artic.validation.runs.fingerprint`), the seed and the
         manoeuvres, so a later session reads it back until artic changes.
         The ini options ``artic_logs`` (manoeuvre names or name prefixes of
         :data:`artic.validation.synthetic.testmatrix.MATRIX`) and
@@ -30,9 +30,9 @@ Assertions
     these manoeuvres.
 
 Both drive the models through artic's closed-loop harness
-(:func:`artic.validation.harness.run_closed_loop`) and compare with the
-criteria of eqs. (8)-(10) (:func:`artic.validation.metrics.run_metrics`).
-``within`` maps criterion names (:data:`artic.validation.metrics.CRITERIA`,
+(:func:`artic.validation.harness.loop.run_closed_loop`) and compare with the
+criteria of eqs. (8)-(10) (:func:`artic.validation.criteria.metrics.run_metrics`).
+``within`` maps criterion names (:data:`artic.validation.criteria.metrics.CRITERIA`,
 and the articulation error ``eps_gamma`` of
 :mod:`artic.validation.criteria.articulation`) to upper limits in their units
 (``eps_p`` [m], ``eps_a`` [rad/s], ``eps_v`` [m/s], ``eps_n`` and ``J_steer``
@@ -79,10 +79,10 @@ _configured = False
 
 
 def _configure() -> None:
-    """Make artic's process settings (:func:`artic.validation.runtime.configure`), once."""
+    """Make artic's process settings (:func:`artic.validation.runs.runtime.configure`), once."""
     global _configured
     if not _configured:
-        from artic.validation import runtime
+        from artic.validation.runs import runtime
 
         runtime.configure()
         _configured = True
@@ -140,8 +140,8 @@ def session_logs(config: pytest.Config, tmp_path_factory: pytest.TempPathFactory
     temporary folder of the session.
     """
     _configure()
-    from artic.validation.campaign import fingerprint
     from artic.validation.campaign.main import load_logs
+    from artic.validation.runs import fingerprint
 
     try:
         seed = int(str(config.getini("artic_seed")).strip() or 0)
@@ -226,7 +226,7 @@ def _logs(manoeuvres: Run | Iterable[Run] | Mapping[str, Run]) -> list[Run]:
 
 def _known() -> dict[str, str]:
     """The criteria a check may limit, with their units."""
-    from artic.validation.metrics import CRITERIA, UNITS
+    from artic.validation.criteria.metrics import CRITERIA, UNITS
 
     return {**{c: UNITS[c] for c in CRITERIA}, "eps_gamma": "rad"}
 
@@ -234,7 +234,7 @@ def _known() -> dict[str, str]:
 def _criteria(log: Run, run: Run) -> dict[str, float]:
     """The criteria of ``run`` against ``log``: eqs. (8)-(10) and ``eps_gamma``."""
     from artic.validation.criteria.articulation import eps_gamma
-    from artic.validation.metrics import run_metrics
+    from artic.validation.criteria.metrics import run_metrics
 
     out = run_metrics(log.frame, run.frame)
     out["eps_gamma"] = eps_gamma(log.frame, run.frame) if len(run.frame) else math.nan
@@ -262,8 +262,9 @@ def criteria_table(rows: list[tuple[str, dict[str, float], str]],
     Parameters
     ----------
     rows : list of (str, dict, str)
-        Per manoeuvre: its name, its criteria (:func:`artic.validation.metrics.run_metrics`)
-        and the status of its run(s), ``"ok"`` or why it stopped early.
+        Per manoeuvre: its name, its criteria
+        (:func:`artic.validation.criteria.metrics.run_metrics`) and the status of its
+        run(s), ``"ok"`` or why it stopped early.
     limits : mapping of str to float
         Upper limit per criterion, in its unit.
     """
@@ -313,7 +314,7 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
         or the one the log's metadata names.
     gain : float, optional
         The harness's reversing feedback gain K [rad/rad]; the paper's 3 by
-        default (:data:`artic.validation.harness.DEFAULT_GAIN`); 0 runs open loop.
+        default (:data:`artic.validation.harness.loop.DEFAULT_GAIN`); 0 runs open loop.
 
     Returns
     -------
@@ -327,7 +328,7 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
     """
     __tracebackhide__ = True
     _configure()
-    from artic.validation.harness import DEFAULT_GAIN, run_closed_loop
+    from artic.validation.harness.loop import DEFAULT_GAIN, run_closed_loop
 
     gain = DEFAULT_GAIN if gain is None else gain
     limits = _limits(within)
@@ -385,7 +386,7 @@ def assert_agree(model_a: Any, model_b: Any,
     """
     __tracebackhide__ = True
     _configure()
-    from artic.validation.harness import DEFAULT_GAIN, run_closed_loop
+    from artic.validation.harness.loop import DEFAULT_GAIN, run_closed_loop
     from artic.validation.logs.runfile import Run
     from artic.validation.logs.schema import COLUMNS
 

@@ -66,7 +66,7 @@ def from_runs(metrics: pd.DataFrame, models: Sequence[str],
         ``real_time_factor``, and ``ratio_to_mbd`` with the paper's
         ``paper_ratio`` beside it.
     """
-    from artic.validation.campaign.validate import is_failed
+    from artic.validation.runs.validate import is_failed
 
     rows = []
     for name in models:

@@ -5,7 +5,7 @@ Stages, each timed and each resumable:
 1. **logs**: the synthetic measured campaign (:mod:`artic.validation.synthetic.generate`),
    generated on first use into ``OUT/synthetic`` and imported through the
    same importer as real logs into ``OUT/logs``; meanwhile numba compiles
-   the reduced models ahead in a process of its own (:mod:`artic.validation.warmup`);
+   the reduced models ahead in a process of its own (:mod:`artic.validation.runs.warmup`);
 2. **tuning**: every model's parameters fitted per load condition on its 4
    forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`); ``OUT/tuning.json``,
    and one tuned vehicle file per load condition in ``OUT/params``;
@@ -32,7 +32,7 @@ Stages, each timed and each resumable:
 9. **report**: ``report.md``, written last.
 
 Resuming. Every cached result carries a key: the hash of artic's code, the
-seed, the models and the gain (:mod:`artic.validation.campaign.fingerprint`). A rerun
+seed, the models and the gain (:mod:`artic.validation.runs.fingerprint`). A rerun
 reuses what matches and redoes the rest, so an interrupted campaign picks up
 where it stopped. ``report.md`` is deleted when a run starts and written only
 when every stage has finished, and every file is written atomically, so no
@@ -45,7 +45,7 @@ campaign per seed in ``OUT/seed-K`` and pools them in ``OUT``
 (:mod:`artic.validation.campaign.seeds`); one seed writes into ``OUT`` itself.
 
 One campaign at a time per output folder: a second one is refused, naming the
-first (:class:`artic.validation.outputs.OutDirLock`). The temporaries a killed
+first (:class:`artic.validation.runs.outputs.OutDirLock`). The temporaries a killed
 campaign left behind are removed when the next one starts.
 
 A (log, model) pair that fails becomes a row of ``metrics.csv`` with its
@@ -67,23 +67,10 @@ import pandas as pd
 
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
-from artic.validation import warmup
-from artic.validation.campaign import fingerprint
 from artic.validation.campaign.executors import DaskOptions, cluster_executor
-from artic.validation.campaign.tables import (
-    paired_markdown,
-    paired_table,
-    summary,
-    write_table,
-)
-from artic.validation.campaign.validate import (
-    is_failed,
-    stderr_progress,
-    validate_runs,
-    write_metrics,
-)
+from artic.validation.cli.progress import BUDGET, Counter, budget_text
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
-from artic.validation.harness import DEFAULT_GAIN
+from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
     LogError,
@@ -95,12 +82,24 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.models import code_of, names
-from artic.validation.outputs import OutDirLock, clean_stale
-from artic.validation.progress import BUDGET, Counter, budget_text
+from artic.validation.review.tables import (
+    paired_markdown,
+    paired_table,
+    summary,
+    write_table,
+)
+from artic.validation.runs import fingerprint, warmup
+from artic.validation.runs.outputs import OutDirLock, clean_stale
+from artic.validation.runs.validate import (
+    is_failed,
+    stderr_progress,
+    validate_runs,
+    write_metrics,
+)
+from artic.validation.runs.workers import completed
 from artic.validation.synthetic.generate import generate_campaign
 from artic.validation.synthetic.testmatrix import TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
-from artic.validation.workers import completed
 
 LOADS = ("unloaded", "loaded")
 PRESET = "gosar2022-{load}"
@@ -116,7 +115,7 @@ class Stages:
     A stage that only reused earlier results (see :meth:`reused`) reports the
     wall time it took when it was computed, from ``saved``, so that a resumed
     campaign's report matches the original run's; likewise its simulated
-    time (:data:`artic.validation.progress.BUDGET` counted over the stage),
+    time (:data:`artic.validation.cli.progress.BUDGET` counted over the stage),
     from ``saved_budget``. ``save`` receives the times and the budgets after
     every stage.
     """
@@ -437,7 +436,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 stage, truth, state, closing=True) -> dict[str, Path]:
     from artic.validation.campaign import report as rep
     from artic.validation.campaign.efficiency import from_runs
-    from artic.validation.campaign.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
+    from artic.validation.runs.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
 
     paths: dict[str, Path] = {}
     # numba compiles the reduced models' loop and the criteria on a core of its
@@ -581,7 +580,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         stage.reused(stage.all_reused())
         draft = rep.render(results)  # the summary recording's copy, before the last timing
         if recordings:
-            from artic.validation.campaign.recording import record_summary
+            from artic.validation.review.recording import record_summary
 
             paths["summary_recording"] = record_summary(
                 out_dir / "recordings" / "campaign.rrd", metrics, draft)
@@ -661,7 +660,7 @@ def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[s
                      report: Path, failed: int = 0,
                      budget: dict[str, dict] | None = None) -> str:
     """What the campaign prints at the end: the two tables, the stage times, the report."""
-    from artic.validation.campaign.tables import markdown
+    from artic.validation.review.tables import markdown
 
     lines = []
     for title, table in (("Forward, mean over the validation manoeuvres (Table 2 columns)",
@@ -699,7 +698,7 @@ def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFram
 
 
 def _version() -> str:
-    from artic.validation.campaign.recording import artic_version
+    from artic.validation.review.recording import artic_version
 
     return artic_version()
 
@@ -707,7 +706,7 @@ def _version() -> str:
 def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Vehicle,
                 rows: pd.DataFrame) -> int:
     """Write one manoeuvre's recording from its run files; returns its size [bytes]."""
-    from artic.validation.campaign.recording import record_manoeuvre
+    from artic.validation.review.recording import record_manoeuvre
 
     loaded = {m: read_run(p) for m, p in run_paths.items()}
     record_manoeuvre(target, log, loaded, vehicle, rows)
@@ -725,7 +724,7 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
 
     Returns the paths and the number of recordings written.
     """
-    from artic.validation.campaign.plots import plot_manoeuvre
+    from artic.validation.review.plots import plot_manoeuvre
 
     names = list(dict.fromkeys(metrics["log"]))
     failed = {(r.log, r.model) for r in metrics.itertuples() if is_failed(r.status)}

@@ -2,7 +2,7 @@
 
 The report's sentences about which model is closer come from here. A pair
 of models is ranked only when the interval of their paired difference
-excludes zero (:func:`artic.validation.campaign.tables.paired_table`);
+excludes zero (:func:`artic.validation.review.tables.paired_table`);
 otherwise the text says "not resolved", with the difference and its
 interval, so that no sentence ranks what the data do not separate.
 """
@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import pandas as pd
 
-from artic.validation.campaign.tables import UNITS
 from artic.validation.criteria.statistics import Interval, format_ci
+from artic.validation.review.tables import UNITS
 
 FLOOR = "floor"
 """The reference row: the truth itself, without its random processes."""

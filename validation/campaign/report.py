@@ -23,7 +23,8 @@ from artic.validation.campaign.rankings import (
     lowest,
     ranking_text,
 )
-from artic.validation.campaign.tables import (
+from artic.validation.criteria.statistics import Interval, format_ci
+from artic.validation.review.tables import (
     EXTRA_COLUMNS,
     PAPER_FORWARD,
     PAPER_REVERSE,
@@ -33,7 +34,6 @@ from artic.validation.campaign.tables import (
     paired_table,
     versus_paper,
 )
-from artic.validation.criteria.statistics import Interval, format_ci
 
 
 @dataclass
@@ -312,7 +312,7 @@ def budget_table(stages: dict[str, float], budget: dict[str, dict]) -> list[str]
 
     Beside each stage's wall time, the multibody runs (the plant and the
     truth, MuJoCo) and reduced-model runs it made and the seconds they
-    simulated (:class:`artic.validation.progress.Budget`), and the stage's
+    simulated (:class:`artic.validation.cli.progress.Budget`), and the stage's
     share of the multibody seconds: the campaign's cost in numbers that do not
     depend on the machine.
     """
@@ -380,14 +380,14 @@ def render(r: CampaignResults) -> str:
                   "mean per run). No run is made for these figures.", "",
                   markdown(r.efficiency), ""]
     if r.sweep is not None and len(r.sweep):
-        from artic.validation.campaign.gainsweep import bounds_text, sweep_table
+        from artic.validation.runs.gainsweep import bounds_text, sweep_table
 
         lines += ["## Feedback gain sweep", "",
                   "Reverse manoeuvres at each K, means over them with their 95 % intervals. "
                   "A model's loop is stable only above K_min = L1 / (L2 - L1c) from the "
                   f"lengths it runs on: {bounds_text(r.sweep.attrs['K_min'])} (the rows "
                   "marked 'bound'; KIN's equivalent wheelbases, and the STM's low-speed "
-                  "limit, see `validation/campaign/gainsweep.py`). See "
+                  "limit, see `validation/runs/gainsweep.py`). See "
                   "`plots/gain_sweep.png`.", "",
                   markdown(sweep_table(r.sweep)), ""]
     lines += ["## Wall time by stage", "", *budget_table(r.stages, r.budget), ""]

@@ -18,13 +18,13 @@ from pathlib import Path
 import pandas as pd
 
 from artic.validation.campaign.rankings import excess_text, ranking_text
-from artic.validation.campaign.tables import (
+from artic.validation.harness.loop import DEFAULT_GAIN
+from artic.validation.review.tables import (
     EXTRA_COLUMNS,
     markdown,
     paired_markdown,
     spread_markdown,
 )
-from artic.validation.harness import DEFAULT_GAIN
 
 KEY_CRITERIA = {"forward": ("eps_n", "eps_p"), "reverse": ("eps_n", "J_steer")}
 """The paper's criteria the report ranks by, per direction."""

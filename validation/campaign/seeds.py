@@ -31,7 +31,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from artic.validation.campaign.tables import (
+from artic.validation.cli.progress import Counter, stderr
+from artic.validation.criteria.statistics import format_ci, mean_ci
+from artic.validation.logs.runfile import atomic_write_text
+from artic.validation.review.tables import (
     by_seed,
     differences,
     markdown,
@@ -41,10 +44,7 @@ from artic.validation.campaign.tables import (
     spread_markdown,
     write_table,
 )
-from artic.validation.criteria.statistics import format_ci, mean_ci
-from artic.validation.logs.runfile import atomic_write_text
-from artic.validation.outputs import OutDirLock, clean_stale
-from artic.validation.progress import Counter, stderr
+from artic.validation.runs.outputs import OutDirLock, clean_stale
 
 TABLES = {("logs", "forward"): "table2_forward", ("logs", "reverse"): "table3_reverse",
           ("plant", "forward"): "table2_vs_plant", ("plant", "reverse"): "table3_vs_plant"}
@@ -140,7 +140,7 @@ def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.D
                  campaign: dict, stages: dict[int, dict] | None = None) -> dict[str, Path]:
     """The pooled files and ``report.md`` from every truck's metrics (see the module docstring)."""
     from artic.validation.campaign import seedreport
-    from artic.validation.campaign.validate import write_metrics
+    from artic.validation.runs.validate import write_metrics
 
     paths: dict[str, Path] = {}
     logs = _first_columns(pd.concat(metrics, ignore_index=True))

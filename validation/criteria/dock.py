@@ -24,6 +24,7 @@ error is that of one body point.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -31,6 +32,9 @@ import pandas as pd
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.points import rear_x, trailer_point
+
+if TYPE_CHECKING:
+    from artic.validation.logs.runfile import Run
 
 KINDS = ("docking", "parking")
 """Manoeuvres that end at a dock."""
@@ -85,3 +89,12 @@ def dock_errors(measured: pd.DataFrame, model: pd.DataFrame, vehicle: Vehicle,
         return nan
     out = end_pose_error(measured.iloc[-1], model.iloc[len(measured) - 1], vehicle)
     return out if all(np.isfinite(v) for v in out.values()) else nan
+
+
+def of_run(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
+    """The dock errors of a model run against its log, as the runs compute them.
+
+    :func:`dock_errors` for the log's manoeuvre (its metadata's), in the form of
+    :data:`artic.validation.criteria.columns.TABLE`.
+    """
+    return dock_errors(log.frame, run.frame, vehicle, str(log.meta.get("manoeuvre", "")))

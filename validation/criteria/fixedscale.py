@@ -1,6 +1,6 @@
 """``eps_n_fixed``: the normalised error with one fixed scale per direction of travel.
 
-The paper's ``eps_n`` (eq. 9, :mod:`artic.validation.metrics`) divides each
+The paper's ``eps_n`` (eq. 9, :mod:`artic.validation.criteria.metrics`) divides each
 run's yaw-rate and lateral-velocity errors by that run's own
 distance-averaged mean of the measured ``|r|`` and ``|v_y|``:
 
@@ -38,8 +38,8 @@ from pathlib import Path
 import numpy as np
 
 from artic.validation.criteria.direction import DIRECTIONS, direction_of
+from artic.validation.criteria.metrics import NOISE_FLOOR, distance_weights
 from artic.validation.logs.runfile import Run, atomic_write_text
-from artic.validation.metrics import NOISE_FLOOR, distance_weights
 
 SCALE_FILE = "eps_n_fixed_scale.json"
 """Where the scale is written, beside ``metrics.csv``."""
@@ -97,7 +97,7 @@ def eps_n_fixed(eps_a: float, eps_v: float, scale: Mapping[str, float] | None) -
         The run's yaw-rate and lateral-velocity errors, eq. (9) [rad/s, m/s].
     scale : mapping, optional
         One direction's entry of :func:`campaign_scale`. Below the
-        :data:`artic.validation.metrics.NOISE_FLOOR` dividing by it means nothing.
+        :data:`artic.validation.criteria.metrics.NOISE_FLOOR` dividing by it means nothing.
     """
     if not scale:
         return float("nan")

@@ -13,13 +13,15 @@ integrals of eq. (8) add over disjoint stretches of road):
   distance-means of ``|r|`` and ``|v_y|`` (``sum s_k m_k / sum s_k``);
 - ``J_steer``: the pooled distance-RMS of ``delta_fb`` over the pooled
   distance-mean of ``|delta_center|``;
-- ``eps_gamma``: a distance-RMS error like the others; ``eps_n_fixed`` from the
-  pooled ``eps_a`` and ``eps_v`` on the set's fixed scale;
-- the open-loop prediction errors ``pred_*``: means over start points placed
-  every :data:`artic.validation.criteria.prediction.SPACING` metres, so their
-  count is the distance's and the pooled mean is the distance-weighted mean
-  of the segments' (those with a value);
-- the dock errors ``dock_*``: the last segment's, where the log ends at the dock.
+- the criteria beyond the paper's as their row of
+  :data:`artic.validation.criteria.columns.TABLE` says: ``eps_gamma`` is a
+  distance-RMS error like the others; ``eps_n_fixed`` comes from the pooled
+  ``eps_a`` and ``eps_v`` on the set's fixed scale; the open-loop prediction
+  errors ``pred_*`` are means over start points placed every
+  :data:`artic.validation.criteria.prediction.SPACING` metres, so their count
+  is the distance's and the pooled mean is the distance-weighted mean of the
+  segments' (those with a value); the dock errors ``dock_*`` are the last
+  segment's, where the log ends at the dock.
 
 The distance-means are taken from the segments' logs and run files over the
 samples each run compared.
@@ -36,15 +38,16 @@ import pandas as pd
 
 from artic.validation.criteria import columns as extra
 from artic.validation.criteria.fixedscale import eps_n_fixed
-from artic.validation.logs.runfile import LogError, Run, read_run
-from artic.validation.metrics import (
+from artic.validation.criteria.metrics import (
     CRITERIA,
     NOISE_FLOOR,
     distance_mean_abs,
     distance_weights,
 )
+from artic.validation.logs.runfile import LogError, Run, read_run
 
-RMS = ("eps_y1", "eps_y2", "eps_r1", "eps_r2", "eps_vy1", "eps_vy2", "eps_gamma")
+RMS = ("eps_y1", "eps_y2", "eps_r1", "eps_r2", "eps_vy1", "eps_vy2",
+       *(c for c in extra.COLUMNS if extra.POOL[c] == "rms"))
 """The criteria that are distance-RMS errors, eq. (8)."""
 
 POOLED = (*CRITERIA, *extra.COLUMNS)
@@ -81,7 +84,7 @@ def pool(parts: Sequence[dict], scale: dict | None = None) -> dict[str, float]:
     Parameters
     ----------
     parts : sequence of dict
-        Per segment: the :data:`artic.validation.metrics.CRITERIA`, ``s_max`` [m],
+        Per segment: the :data:`artic.validation.criteria.metrics.CRITERIA`, ``s_max`` [m],
         and the distance-means ``r`` [rad/s], ``v_y`` [m/s] and ``delta_c`` [rad];
         in segment order.
     scale : dict, optional
@@ -116,11 +119,11 @@ def pool(parts: Sequence[dict], scale: dict | None = None) -> dict[str, float]:
     out["J_steer"] = 100.0 * fb / dc if dc > 0 else math.nan
     out["eps_n_fixed"] = eps_n_fixed(out["eps_a"], out["eps_v"], scale)
     for c in extra.COLUMNS:
-        if c.startswith("pred_"):
+        if extra.POOL[c] == "mean":
             v = np.array([p.get(c, math.nan) for p in parts], dtype=float)
             ok = np.isfinite(v) & (s > 0)
             out[c] = float(np.sum(s[ok] * v[ok]) / np.sum(s[ok])) if ok.any() else math.nan
-        elif c.startswith("dock_"):
+        elif extra.POOL[c] == "last":
             out[c] = float(parts[-1].get(c, math.nan))
     return {c: out.get(c, math.nan) for c in POOLED} | {"s_max": total}
 
@@ -132,7 +135,7 @@ def pool_segments(metrics: pd.DataFrame, logs: Sequence[Run],
     Parameters
     ----------
     metrics : DataFrame
-        From :func:`artic.validation.campaign.validate.validate_runs`.
+        From :func:`artic.validation.runs.validate.validate_runs`.
     logs : sequence of Run
         The logs validated.
     runs_dir : Path, optional

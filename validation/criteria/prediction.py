@@ -7,13 +7,13 @@ without feedback for a short travelled distance from measured states:
 
 1. **Start points.** Along a reverse log, the first sample at or after every
    :data:`SPACING` metres of the tractor sensor's travelled distance (the
-   ``s`` of eq. (8), :func:`artic.validation.metrics.travelled`) at which the
+   ``s`` of eq. (8), :func:`artic.validation.criteria.metrics.travelled`) at which the
    harness sees the tractor reversing.
 2. **Start.** The model is reset to the log's state at that sample, as the
    harness starts a run from the first sample
-   (:func:`artic.validation.harness.initial_state`), and driven by the log's
+   (:func:`artic.validation.harness.loop.initial_state`), and driven by the log's
    steering (through the model's eq. (3) map) and smoothed speed, exactly
-   the harness's inputs (:func:`artic.validation.harness.window`), with
+   the harness's inputs (:func:`artic.validation.harness.loop.window`), with
    K = 0: the model's own ``reset``/``step``/``observe`` in the harness's
    loop, no feedback.
 3. **Score.** At the first sample at or after ``H`` metres of travel from
@@ -65,12 +65,12 @@ import numpy as np
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.direction import direction_of
+from artic.validation.criteria.metrics import travelled
 from artic.validation.criteria.points import axle_x, trailer_point
-from artic.validation.harness import loop_inputs, run_inputs, window
+from artic.validation.harness.loop import loop_inputs, run_inputs, window
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
-from artic.validation.metrics import travelled
 from artic.validation.models import Model
-from artic.validation.steering import SteeringMap
 
 HORIZONS = (2.0, 5.0, 10.0)
 """Travelled distances of the predictions [m]."""

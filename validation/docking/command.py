@@ -9,6 +9,10 @@
   two controllers or more, the Markdown ends with their paired comparisons
   over the starts both docked), ``D/dock_errors.png`` (the final errors) and,
   unless ``--no-recordings``, ``D/recordings/SCENARIO-VEHICLE-CONTROLLER-SEED.rrd``.
+  The Markdown ends with each controller's compute time per command over all
+  its runs (median, 99th percentile, largest): for the controller's own, run
+  it on one core, ``taskset -c 0 artic dock --no-recordings ...`` (``--jobs``
+  follows the process's cores).
 
 The parser is built without importing the benchmark (numba, the plant), so
 that every other command starts as fast as before.
@@ -28,7 +32,7 @@ PAIRED_METRICS = ("lateral_error_m", "heading_error_deg", "time_s")
 
 def add_parser(sub) -> None:
     """Add ``dock`` to the ``artic`` subcommands ``sub``."""
-    from artic.validation import options
+    from artic.validation.cli import options
 
     p = sub.add_parser("dock", help="the docking benchmark: controllers dock the plant in a yard")
     p.add_argument("--list", action="store_true",
@@ -43,8 +47,10 @@ def add_parser(sub) -> None:
     p.add_argument("--seeds", type=options.number(1, 10000, integer=True), default=10,
                    help="seeded starts per scenario and vehicle, 0 to N-1 (default: %(default)s)")
     p.add_argument("--out-dir", type=Path, default=None, help="output folder")
-    p.add_argument("--jobs", type=options.JOBS, default=os.cpu_count() or 1,
-                   help="processes (default: the number of cores, %(default)s)")
+    p.add_argument("--jobs", type=options.JOBS, default=_cores(),
+                   help="processes (default: the cores this process may run on, %(default)s; "
+                        "under taskset -c 0, one, so that the compute times are the "
+                        "controllers' own)")
     p.add_argument("--truth", action="store_true",
                    help="drive the synthetic campaign's truth (seed 0) instead of the plant built "
                         "from the vehicle file; gosar2022 presets only")
@@ -52,6 +58,14 @@ def add_parser(sub) -> None:
                    help="write one Rerun recording per run in OUT_DIR/recordings, about 1 MB "
                         "a minute of driving (default: on)")
     p.set_defaults(func=run)
+
+
+def _cores() -> int:
+    """The cores this process may run on (its affinity, e.g. one under ``taskset -c 0``)."""
+    try:
+        return len(os.sched_getaffinity(0)) or 1
+    except AttributeError:  # pragma: no cover - no affinity on this platform
+        return os.cpu_count() or 1
 
 
 def _names(text: str, option: str) -> list[str]:
@@ -86,14 +100,14 @@ def run(args: argparse.Namespace) -> int:
     import pandas as pd
 
     from artic.mjcf.vehicle import load_vehicle
+    from artic.validation.cli.progress import stderr
     from artic.validation.docking.controllers import load
     from artic.validation.docking.plots import plot_errors
     from artic.validation.docking.run import benchmark
     from artic.validation.docking.scenarios import SCENARIOS, scenario
-    from artic.validation.docking.scores import COLUMNS, markdown, paired, table
+    from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
-    from artic.validation.outputs import OutDirLock, check_output_dir, clean_stale
-    from artic.validation.progress import stderr
+    from artic.validation.runs.outputs import OutDirLock, check_output_dir, clean_stale
 
     scenarios = (list(SCENARIOS) if args.scenario.strip() == "all"
                  else [scenario(n).name for n in _names(args.scenario, "--scenario")])
@@ -128,6 +142,9 @@ def run(args: argparse.Namespace) -> int:
                        "(resolved: the interval excludes zero):\n\n")
                 pairs = pd.DataFrame([paired(frame, a, b, m) for m in PAIRED_METRICS])
                 md += markdown(pairs[["metric", "pairs", "difference [95 % CI]", "resolved"]])
+        md += ("\nCompute time per command, every run's commands pooled, in "
+               f"{args.jobs} process{'es' if args.jobs > 1 else ''} on {_cores()} "
+               f"core{'s' if _cores() > 1 else ''}:\n\n" + markdown(compute_times(rows)))
         atomic_write_text(out / "dock_table.md", md)
         plot_errors(frame, out / "dock_errors.png")
     docked = int(frame["success"].sum())

@@ -158,6 +158,9 @@ SCHEDULE_SPEEDS = np.linspace(0.1, 2.0, 20)
 class GainSchedule:
     """LQR gains tabulated over speed and interpolated, for a controller sampled every ``dt``.
 
+    With the gains it tabulates the design model over one sample, so that a
+    controller can predict its own closed loop (:meth:`closed_loop`).
+
     Parameters
     ----------
     kin : KIN
@@ -174,8 +177,31 @@ class GainSchedule:
                  weights: tuple[float, ...] | None = None) -> None:
         self.speeds = SCHEDULE_SPEEDS
         self.table = np.array([gains(kin, direction, v * dt, weights) for v in self.speeds])
+        d = float(np.sign(direction))
+        model = trailer_error_model if d < 0 else tractor_error_model
+        A, B = with_steering_state(*model(kin, d))
+        steps = [discretise(A, B, v * dt) for v in self.speeds]
+        self.Ad = np.array([a for a, _ in steps])
+        self.Bd = np.array([b for _, b in steps])
 
     def __call__(self, speed: float) -> np.ndarray:
         """The gains at ``|speed|`` [m/s], interpolated (held beyond the table's ends)."""
         v = abs(float(speed))
         return np.array([np.interp(v, self.speeds, col) for col in self.table.T])
+
+    def closed_loop(self, speed: float) -> np.ndarray:
+        """The errors' transition over a sample at ``|speed|`` [m/s] under the gains, ``Ad - Bd K``.
+
+        ``(z, delta - delta_path)`` one sample on is this matrix times its value
+        now, on the design model (KIN linearised about the path) with the
+        gains of :meth:`__call__`; the model over the sample is interpolated
+        over the table's speeds as the gains are (``expm(A |u| dt)`` is smooth
+        in the speed: with the table's 0.1 m/s steps the interpolation errs by
+        at most 1.1e-4 of ``Ad - I``, at the slowest speeds).
+        """
+        v = min(max(abs(float(speed)), self.speeds[0]), self.speeds[-1])
+        i = min(int(np.searchsorted(self.speeds, v, side="right")) - 1, len(self.speeds) - 2)
+        w = (v - self.speeds[i]) / (self.speeds[i + 1] - self.speeds[i])
+        Ad = (1.0 - w) * self.Ad[i] + w * self.Ad[i + 1]
+        Bd = (1.0 - w) * self.Bd[i] + w * self.Bd[i + 1]
+        return Ad - Bd @ self(v)[None, :]

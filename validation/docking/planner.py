@@ -10,7 +10,7 @@ equations (:func:`artic.reduced.integrate.rk4_step` in the distance domain):
 - reverse: the articulation steered towards one of five references up to
   :data:`GAMMA_PLAN`, through the harness's stabilising law
   ``delta = delta_ss(gamma_ref) + K (gamma - gamma_ref)``
-  (:func:`artic.validation.feedback.feedback_law`). Held steering in reverse
+  (:func:`artic.validation.harness.feedback.feedback_law`). Held steering in reverse
   would jackknife within a few metres; a primitive that steers the
   articulation is one a reversing controller can follow.
 
@@ -58,7 +58,7 @@ from artic.reduced.integrate import KIN, rk4_step
 from artic.validation.docking.geometry import Box, Frames, box_array, first_hit
 from artic.validation.docking.linear import APPROACH_WEIGHTS, gains
 from artic.validation.docking.scenarios import Start, Yard
-from artic.validation.feedback import feedback_law
+from artic.validation.harness.feedback import feedback_law
 
 PRIMITIVE_LENGTH = 3.0
 """Tractor travel of one motion primitive [m]."""

@@ -6,8 +6,9 @@ The loop (:func:`drive`), on the plant built from the vehicle file or, with
 1. the start of the scenario's seeded distribution places the plant at rest;
 2. the planner makes a path (a failure to plan is a failed run);
 3. every :data:`DT` (10 Hz) the controller gets the sensors' signals, with
-   the synthetic campaign's noise (:mod:`artic.validation.docking.sensing`), and
-   returns a steering-wheel angle and a speed;
+   the synthetic campaign's noise and, on the truth, its semitrailer unit's
+   clock skew (:mod:`artic.validation.docking.sensing`), and returns a
+   steering-wheel angle and a speed;
 4. the plant steps every :data:`PLANT_DT`. Between the controller and the
    plant sit the actuators: the steering wheel turns at most
    :data:`STEER_RATE`; the speed is the yard's, at most :data:`SPEED_MAX`
@@ -47,18 +48,18 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
 from artic.plant.plant import PlantError
+from artic.validation.cli.progress import Counter
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
 from artic.validation.docking.scores import score
 from artic.validation.docking.sensing import SensorStream
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build
-from artic.validation.progress import Counter
-from artic.validation.steering import SteeringMap
+from artic.validation.runs.workers import completed
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.workers import completed
 
 DT = 0.1
 """The controllers' sample period [s]: 10 Hz."""
@@ -104,6 +105,7 @@ class Trace:
     commands: list[tuple[float, float]] = field(default_factory=list)
     solve_ms: list[float] = field(default_factory=list)
     horizons: list[np.ndarray | None] = field(default_factory=list)
+    references: list[np.ndarray | None] = field(default_factory=list)
     extras: list[tuple[int, np.ndarray]] = field(default_factory=list)
     """The plant's :meth:`~artic.plant.Plant.extras` at each controller sample, by plant step
     (only when the run is recorded)."""
@@ -157,7 +159,9 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     planner : Planner, optional
         :class:`~artic.validation.docking.planner.HybridAStar` by default.
     sensors : SensorModel, optional
-        The campaign's measurement chain by default.
+        The campaign's measurement chain by default; with ``truth``, as the
+        truth carries it (its semitrailer unit's clock skew,
+        :func:`artic.validation.synthetic.generate.measurement_chain`).
     timeout : float, optional
         Longest run [s]; the scenario's by default.
     yard_model : str
@@ -182,8 +186,13 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     yard = scen.yard(vehicle)
     start = scen.start(seed)
     plant_vehicle, actuation = vehicle, None
+    sensors = sensors or SensorModel()
     if truth is not None:
+        from artic.validation.synthetic.generate import measurement_chain
+        from artic.validation.synthetic.truth import truth_configuration
+
         plant_vehicle, actuation = truth_yard(vehicle, truth, scen.number, seed)
+        sensors = measurement_chain(sensors, truth_configuration(truth))
     frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
     timeout = scen.timeout if timeout is None else float(timeout)
@@ -199,7 +208,7 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
-                         sensors or SensorModel(), timeout, yard_model, record is not None,
+                         sensors, timeout, yard_model, record is not None,
                          plant_vehicle, actuation)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
@@ -252,17 +261,19 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
         for k in range(n_ctrl):
             now = k * DT
             if settle_until is None:
-                signals, dh = stream.observe(k, trace.true[-1], trace.steering_wheel)
+                signals, dh = stream.observe(k, trace.true, trace.steering_wheel)
                 obs = Observation(now, signals, dh)
                 tc = time.perf_counter()
                 try:
                     cmd = ctrl.command(obs)
+                    solve_ms = 1e3 * (time.perf_counter() - tc)
                     target = (float(cmd.delta_h), float(cmd.u1), bool(cmd.done))
+                    intent = (_path(cmd, "horizon"), _path(cmd, "reference"))
                 except Exception as exc:  # noqa: BLE001 - the user's code: a failed run
                     _fail(trace, f"controller error: {_one_line(exc)} "
                                  f"({_where(exc)})")
                     return
-                trace.solve_ms.append(1e3 * (time.perf_counter() - tc))
+                trace.solve_ms.append(solve_ms)
                 if not (math.isfinite(target[0]) and math.isfinite(target[1])):
                     _fail(trace, f"controller error: non-finite command {target[:2]} at "
                                  f"t = {now:.1f} s")
@@ -270,8 +281,8 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 trace.t_ctrl.append(now)
                 trace.measured.append(signals)
                 trace.commands.append(target[:2])
-                trace.horizons.append(None if cmd.horizon is None
-                                      else np.asarray(cmd.horizon, dtype=float))
+                trace.horizons.append(intent[0])
+                trace.references.append(intent[1])
                 if extras and hasattr(plant, "extras"):
                     trace.extras.append((len(trace.t) - 1, plant.extras()))
                     trace.extra_columns = plant.extra_columns
@@ -316,6 +327,29 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 return
         if settle_until is None:
             _fail(trace, f"timeout: not docked after {timeout:.0f} s")
+
+
+def _path(cmd, name: str) -> np.ndarray | None:
+    """A command's ``horizon`` or ``reference`` as rows ``(x, y)``; ``None`` if it gave none.
+
+    A command class of the user's own may lack the field. A malformed one
+    raises :class:`ValueError` naming the field and what it must be (the run
+    fails with it, as for any controller error).
+    """
+    value = getattr(cmd, name, None)
+    if value is None:
+        return None
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        a = None
+    if a is None or a.ndim != 2 or a.shape[0] < 1 or a.shape[1] < 2 \
+            or not np.all(np.isfinite(a[:, :2])):
+        what = "not numbers" if a is None else f"shape {a.shape}" + (
+            "" if a.ndim != 2 or np.all(np.isfinite(a)) else " with non-finite values")
+        raise ValueError(f"Command.{name} must be finite rows (x, y) [m], shape (n, 2), or "
+                         f"None; got {type(value).__name__}, {what}")
+    return a[:, :2]
 
 
 def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
@@ -368,14 +402,15 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
 
 
 def write_recording(result: Result, vehicle, path: Path) -> Path:
-    """The run's Rerun recording (:func:`artic.validation.campaign.recording.record_docking`).
+    """The run's Rerun recording (:func:`artic.validation.review.recording.record_docking`).
 
     The yard and its obstacles, the plan, the plant drawn from its bodies at
-    every controller sample, its paths and swept envelope, the controller's
-    predicted horizons, the steering wheel, speed and articulation, and the
-    scores.
+    every controller sample, its paths and swept envelope, what the
+    controller intended at every sample (its predicted horizon and the
+    plan's points it tracked, ``Command.horizon`` and ``Command.reference``),
+    the steering wheel, speed and articulation, and the scores.
     """
-    from artic.validation.campaign.recording import record_docking
+    from artic.validation.review.recording import record_docking
 
     tr = result.trace
     a = tr.arrays()
@@ -392,13 +427,14 @@ def write_recording(result: Result, vehicle, path: Path) -> Path:
         for seg in result.plan.segments:
             plan.append(fr.trailer_axle(seg.states)[:, :2] if seg.direction < 0
                         else seg.states[:, :2])
-    horizons = [(t, h) for t, h in zip(tr.t_ctrl, tr.horizons, strict=True) if h is not None]
+    horizons = list(zip(tr.t_ctrl, tr.horizons, strict=True))
+    references = list(zip(tr.t_ctrl, tr.references, strict=True))
     row = result.row
     name = run_name(row["scenario"], row["vehicle"], row["controller"], row["seed"])
     obstacles = [(b.name, b.x_min, b.x_max, b.y_min, b.y_max) for b in result.yard.obstacles]
     return record_docking(path, name, frame, vehicle, obstacles, result.yard.doors,
                           (result.yard.x_dock, result.yard.y_dock), plan, horizons,
-                          scores_text(row))
+                          scores_text(row), references)
 
 
 def scores_text(row: dict) -> str:

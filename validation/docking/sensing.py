@@ -1,27 +1,51 @@
 """What a controller sees: the synthetic campaign's sensors, sample by sample.
 
 The campaign measures a whole run at once (:func:`artic.validation.synthetic.sensors.measure`).
-A controller needs the same signals as they arrive, at its own rate. The
-noise of the position, heading, velocity and yaw-rate channels is additive,
-so :class:`SensorStream` draws it for the whole run up front by measuring a
-run of zeros with ``measure`` itself (the same processes, correlation times
-and bias), sampled at the controller's rate: a Gauss-Markov process sampled
-every ``dt`` is the same process whatever rate it was generated at, and the
-white channels have the same variance per sample. The steering wheel
-arrives as ``measure`` delivers it: from the CAN bus, sampled at its rate,
-late by its delay and quantised in its steps.
+A controller needs the same signals as they arrive, at its own rate, with
+the same measurement chain, whose pieces are
+:mod:`artic.validation.synthetic.sensors`' own:
+
+- the noise of the position, heading, velocity and yaw-rate channels is
+  additive, so :class:`SensorStream` draws it for the whole run up front by
+  measuring a run of zeros with ``measure`` itself (the same processes,
+  correlation times and bias), sampled at the controller's rate: a
+  Gauss-Markov process sampled every ``dt`` is the same process whatever
+  rate it was generated at, and the white channels have the same variance
+  per sample;
+- the semitrailer unit's clock skew (``trailer_skew``, the truth's
+  ``trailer_clock_skew``): a controller that pairs the two units' samples
+  by their stamps, as the logs are paired, gets the semitrailer as it was
+  at :func:`~artic.validation.synthetic.sensors.trailer_taken` of now, that
+  is ``trailer_skew`` ago, interpolated between the plant's steps. A
+  negative skew stamps the semitrailer's samples early, so the pair for
+  now is complete only ``|trailer_skew|`` later: both units arrive that late;
+- the steering wheel from the CAN bus, sampled at its rate, late by its
+  delay and quantised in its steps
+  (:func:`~artic.validation.synthetic.sensors.can_sample`,
+  :func:`~artic.validation.synthetic.sensors.can_quantise`).
 """
 
 from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
 
 import numpy as np
 
 from artic.mjcf.interface import OBS_INDEX, wrap_angle
 from artic.validation.logs.runfile import new_frame
-from artic.validation.synthetic.sensors import SensorModel, measure
+from artic.validation.synthetic.sensors import (
+    TRAILER_CHANNELS,
+    SensorModel,
+    can_quantise,
+    can_sample,
+    measure,
+    trailer_taken,
+)
 
-_CHANNELS = ("x_1", "y_1", "psi_1", "v_x_1", "v_y_1", "r_1",
-             "x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2")
+_CHANNELS = ("x_1", "y_1", "psi_1", "v_x_1", "v_y_1", "r_1", *TRAILER_CHANNELS)
+_TRAILER = np.array([OBS_INDEX[c] for c in TRAILER_CHANNELS])
+_ANGLES = np.array([OBS_INDEX[c] for c in ("psi_1", "psi_2", "gamma")])
 
 
 class SensorStream:
@@ -30,8 +54,8 @@ class SensorStream:
     Parameters
     ----------
     model : SensorModel
-        Noise and sampling figures (:class:`SensorModel` ``()`` for the
-        campaign's, ``SensorModel.ideal()`` for none).
+        Noise, clock and sampling figures (:class:`SensorModel` ``()`` for
+        the campaign's, ``SensorModel.ideal()`` for none).
     rng : Generator
         This run's random numbers.
     n : int
@@ -39,7 +63,7 @@ class SensorStream:
     dt : float
         The controller's sample period [s].
     plant_dt : float
-        The plant's step [s]: the resolution of the steering-wheel history.
+        The plant's step [s]: the resolution of the histories it is given.
     """
 
     def __init__(self, model: SensorModel, rng: np.random.Generator, n: int, dt: float,
@@ -47,39 +71,60 @@ class SensorStream:
         self.model = model
         t = np.arange(n) * dt
         zero = new_frame(t, np.zeros(n), np.zeros((n, 13)))
-        noise = measure(zero, rng, model)
+        # The noise alone: the skew moves the signals, and the noise is the
+        # same process either way, so a run's noise is the same with or without it.
+        noise = measure(zero, rng, dataclasses.replace(model, trailer_skew=0.0))
         self.noise = noise[list(_CHANNELS)].to_numpy()
         self.plant_dt = plant_dt
 
-    def observe(self, k: int, true: np.ndarray, steering_wheel: list[float]) -> tuple:
+    def _at(self, true: Sequence[np.ndarray], when: float) -> np.ndarray:
+        """The plant's signals at time ``when`` [s], linear between its steps (angles wrapped)."""
+        f = min(max(when / self.plant_dt, 0.0), len(true) - 1.0)
+        i = min(int(f), len(true) - 2) if len(true) > 1 else 0
+        w = f - i
+        a = np.asarray(true[i], dtype=float)
+        if w <= 0.0:
+            return a.copy()
+        b = np.asarray(true[i + 1], dtype=float)
+        out = a + w * (b - a)
+        out[_ANGLES] = a[_ANGLES] + w * wrap_angle(b[_ANGLES] - a[_ANGLES])
+        return out
+
+    def observe(self, k: int, true: Sequence[np.ndarray],
+                steering_wheel: Sequence[float]) -> tuple:
         """Measured signals and steering-wheel angle at sample ``k``.
 
         Parameters
         ----------
         k : int
             The controller's sample.
-        true : ndarray, shape (13,)
-            The plant's signals now (``OBSERVATION`` order).
-        steering_wheel : list of float
+        true : sequence of ndarray, shape (13,) each
+            The plant's signals at every plant step so far (``OBSERVATION``
+            order), now last.
+        steering_wheel : sequence of float
             The steering-wheel angle at every plant step so far [rad], now last.
 
         Returns
         -------
         signals : ndarray, shape (13,)
-            With the noise of sample ``k``; ``gamma`` from the measured headings.
+            As the sensors report them now, with the noise of sample ``k``;
+            ``gamma`` from the measured headings.
         delta_h : float
             The steering wheel as the CAN bus reports it now [rad].
         """
-        out = np.array(true, dtype=float, copy=True)
+        m = self.model
+        i = len(true) - 1
+        if m.trailer_skew:
+            late = max(0.0, -m.trailer_skew)  # a negative skew: wait for the semitrailer
+            now = i * self.plant_dt - late
+            out = self._at(true, now)
+            out[_TRAILER] = self._at(true, trailer_taken(now, m))[_TRAILER]
+        else:
+            out = np.array(true[i], dtype=float, copy=True)
         out[:12] += self.noise[k]
         out[OBS_INDEX["gamma"]] = wrap_angle(float(out[2] - out[8]))
-        m = self.model
-        i = len(steering_wheel) - 1
+        j = len(steering_wheel) - 1
         if m.is_ideal:
-            return out, float(steering_wheel[i])
-        step = max(1, round(1.0 / (m.can_rate * self.plant_dt)))
-        lag = round(m.can_delay / self.plant_dt)
-        held = float(steering_wheel[min(max((i // step) * step - lag, 0), i)])
-        if m.can_step > 0:
-            held = round(held / m.can_step) * m.can_step
-        return out, held
+            return out, float(steering_wheel[j])
+        held = float(steering_wheel[min(max(can_sample(j, self.plant_dt, m), 0), j)])
+        return out, float(can_quantise(held, m))

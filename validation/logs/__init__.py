@@ -5,6 +5,8 @@
   their metadata), atomically;
 - :mod:`~artic.validation.logs.checks`: checks and repairs of raw channels, each
   reported or refused with the file, the channel and the time;
+  :mod:`~artic.validation.logs.consistency`: do the channels describe one motion;
+  :mod:`~artic.validation.logs.scale`: the checks' thresholds for a vehicle's size;
 - :mod:`~artic.validation.logs.oxts`: OXTS-style unit CSVs, CAN CSVs and ``.mat``;
 - :mod:`~artic.validation.logs.importers`: ``artic logs import``, any source to a
   canonical run;

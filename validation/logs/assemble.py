@@ -26,7 +26,7 @@ interpolated, time going back refused). Then:
   ``gamma`` (:mod:`artic.validation.logs.derive`), with ``gamma_rate`` or the
   same differentiator on ``gamma``; without ``delta_h``, the steering-wheel
   angle that turns the tractor at its yaw rate through the vehicle's map
-  (:mod:`artic.validation.yawsteer`), so that the models are steered from
+  (:mod:`artic.validation.harness.yawsteer`), so that the models are steered from
   the yaw rate. Each derivation is one line of the report and of
   ``meta["derived"]``.
 """
@@ -353,9 +353,9 @@ def complete(df: pd.DataFrame, chmap: ChannelMap, vehicle: Vehicle) -> tuple[pd.
 
 def _delta_h_from_yaw_rate(df: pd.DataFrame, vehicle: Vehicle) -> np.ndarray:
     """The steering-wheel angle that turns the tractor at its yaw rate (KIN's map) [rad]."""
-    from artic.validation.harness import smooth_speed
-    from artic.validation.steering import SteeringMap
-    from artic.validation.yawsteer import (
+    from artic.validation.harness.loop import smooth_speed
+    from artic.validation.harness.steering import SteeringMap
+    from artic.validation.harness.yawsteer import (
         equivalent_wheelbase,
         road_wheel_from_yaw_rate,
         steering_wheel,

@@ -38,7 +38,7 @@ other unit's channels are derived (:mod:`artic.validation.logs.derive`).
 Velocities ``v_x_i, v_y_i`` and yaw rates ``r_i`` not named are derived from
 the pose (:mod:`artic.validation.logs.differentiate`); ``gamma_rate`` is
 optional; without ``delta_h`` the models are steered from the measured yaw
-rate (:mod:`artic.validation.yawsteer`). Everything derived is marked as
+rate (:mod:`artic.validation.harness.yawsteer`). Everything derived is marked as
 derived in the run's metadata, the import report and ``artic validate``.
 """
 

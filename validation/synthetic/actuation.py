@@ -28,7 +28,7 @@ import numpy as np
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import G
-from artic.validation.steering import SteeringMap
+from artic.validation.harness.steering import SteeringMap
 
 
 @dataclass

@@ -35,8 +35,8 @@ import numpy as np
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.outline import DOCK_FACE, outline
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.feedback import feedback_law
-from artic.validation.simulate import steady_articulation_delta
+from artic.validation.harness.feedback import feedback_law
+from artic.validation.harness.simulate import steady_articulation_delta
 
 
 @dataclass

@@ -53,12 +53,13 @@ import numpy as np
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import PlantWarning
-from artic.validation.campaign import fingerprint
+from artic.validation.cli.progress import BUDGET, Counter
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.outputs import TEMP_SUFFIX, public_mode
-from artic.validation.progress import BUDGET, Counter
-from artic.validation.steering import SteeringMap
+from artic.validation.runs import fingerprint
+from artic.validation.runs.outputs import TEMP_SUFFIX, public_mode
+from artic.validation.runs.workers import completed
 from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.manoeuvres import make_profile
@@ -73,7 +74,6 @@ from artic.validation.synthetic.truth import (
     write_truth_files,
 )
 from artic.validation.synthetic.truthplant import truth_model
-from artic.validation.workers import completed
 
 META_FILE = "meta.json"
 
@@ -148,6 +148,17 @@ def _drive_dock(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: Stee
     return t, obs, np.asarray(held), info
 
 
+def measurement_chain(sensors: SensorModel, truth: dict) -> SensorModel:
+    """The sensors as the truth's vehicle carries them: with its semitrailer unit's clock skew.
+
+    Ideal sensors stay ideal, and the legacy truth has no skew. The docking
+    benchmark's ``--truth`` measures its runs with the same chain.
+    """
+    if truth["kind"] != "legacy" and not sensors.is_ideal:
+        return dataclasses.replace(sensors, trailer_skew=truth["trailer_clock_skew"])
+    return sensors
+
+
 def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
                        truth_kind: str = DEFAULT, drift: bool = True) -> Run:
     """Drive and measure one manoeuvre; returns the measured run with its metadata.
@@ -158,9 +169,7 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     sensors = sensors or SensorModel()
     truth = truth_configuration(seed, truth_kind, drift)
     structural = truth_kind != "legacy"
-    chain = sensors  # the measurement chain, with the truth's clock skew if it has one
-    if structural and not sensors.is_ideal:
-        chain = dataclasses.replace(sensors, trailer_skew=truth["trailer_clock_skew"])
+    chain = measurement_chain(sensors, truth)
     where = slope(seed, m.index, truth)
     vt = truth_vehicle(m.load, truth, seed, where)
     rng = np.random.default_rng([seed, m.index])
@@ -329,7 +338,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     missing = []
     for m in todo:
         meta = out_dir / m.name / META_FILE
-        # Reuse only what this seed and this code made (see artic.validation.campaign.fingerprint).
+        # Reuse only what this seed and this code made (see artic.validation.runs.fingerprint).
         if not (meta.is_file() and _same(meta, seed, sensors, config)):
             missing.append(m)
     if progress and len(missing) < len(todo):

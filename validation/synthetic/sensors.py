@@ -52,6 +52,34 @@ class SensorModel:
         return self == SensorModel.ideal()
 
 
+TRAILER_CHANNELS = ("x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2")
+"""The semitrailer unit's signals: those its clock's skew shifts."""
+
+
+def trailer_taken(t, model: SensorModel):
+    """When the semitrailer unit took the sample it stamps ``t`` [s]: ``t - trailer_skew``.
+
+    Its clock runs ``trailer_skew`` ahead, so a stream aligned by the stamps
+    holds, at ``t``, the semitrailer as it was ``trailer_skew`` earlier.
+    """
+    return t - model.trailer_skew
+
+
+def can_sample(i, dt: float, model: SensorModel):
+    """The step whose steering-wheel angle the CAN bus reports at step ``i`` (may be < 0).
+
+    The bus samples every ``1 / can_rate`` [s] and delivers ``can_delay``
+    [s] late, on a grid of ``dt`` [s]; the caller clips at the first step.
+    """
+    step = max(1, round(1.0 / (model.can_rate * dt)))
+    return (i // step) * step - round(model.can_delay / dt)
+
+
+def can_quantise(delta_h, model: SensorModel):
+    """The steering-wheel angle in the bus's steps of ``can_step`` [rad] (as given if 0)."""
+    return np.round(delta_h / model.can_step) * model.can_step if model.can_step > 0 else delta_h
+
+
 def gauss_markov(rng: np.random.Generator, n: int, dt: float, sigma: float,
                  tau: float) -> np.ndarray:
     """A stationary first-order Gauss-Markov sequence."""
@@ -100,14 +128,10 @@ def measure(frame: pd.DataFrame, rng: np.random.Generator,
                          + rng.normal(0.0, model.rate_bias_sigma))
     if model.trailer_skew:
         # A sample stamped t was taken at t - skew: resample the trailer's signals.
-        for c in ("x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2"):
-            out[c] = np.interp(t - model.trailer_skew, t, out[c].to_numpy())
+        for c in TRAILER_CHANNELS:
+            out[c] = np.interp(trailer_taken(t, model), t, out[c].to_numpy())
     out["gamma"] = wrap_angle(out["psi_1"].to_numpy() - out["psi_2"].to_numpy())
-    step = max(1, round(1.0 / (model.can_rate * dt)))
-    lag = round(model.can_delay / dt)
     true = frame["delta_h"].to_numpy()
-    sample_at = (np.arange(n) // step) * step - lag
-    held = true[np.clip(sample_at, 0, n - 1)]
-    out["delta_h"] = (np.round(held / model.can_step) * model.can_step if model.can_step > 0
-                      else held)
+    held = true[np.clip(can_sample(np.arange(n), dt, model), 0, n - 1)]
+    out["delta_h"] = can_quantise(held, model)
     return out

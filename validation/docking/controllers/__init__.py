@@ -3,6 +3,11 @@
 ``artic dock --controller NAME`` takes a built-in name from :data:`BUILTIN`,
 or ``package.module:Class`` for any importable class with a no-argument
 constructor and the interface of :class:`~artic.validation.docking.controllers.base.Controller`.
+
+- :mod:`~artic.validation.docking.controllers.base`: the interface and a base class;
+- :mod:`~artic.validation.docking.controllers.reference`: the reference controller,
+  LQR on KIN about the plan;
+- :mod:`~artic.validation.docking.controllers.mpc`: MPCs designed on KIN and on the STM.
 """
 
 from __future__ import annotations

@@ -12,6 +12,13 @@ A controller is a class with a no-argument constructor and two methods:
   :class:`Command`: the steering-wheel angle, the tractor's speed, and
   whether it has finished.
 
+What a controller intends travels with its command, for the recording, and
+is optional: ``Command.horizon``, the path it predicts for the point it
+steers (the MPC's predicted horizon; the reference controller's prediction
+of its own closed loop), and ``Command.reference``, the plan's points it
+tracks (the point it compares itself with now, then those its horizon aims
+at). A controller that gives neither still runs, scores and records.
+
 A controller never sees the plant's state. :class:`Controller` is a base
 with the helpers most controllers want: where the semitrailer's rear is by
 its sensor, its errors at the dock, and the steering wheel for a road-wheel
@@ -29,7 +36,7 @@ from artic.mjcf.vehicle import Vehicle
 from artic.validation.docking.geometry import Frames
 from artic.validation.docking.planner import Plan
 from artic.validation.docking.scenarios import Yard
-from artic.validation.steering import SteeringMap
+from artic.validation.harness.steering import SteeringMap
 
 
 @dataclass(frozen=True)
@@ -71,13 +78,20 @@ class Command:
         The controller has finished (docked, or given up): the run stops it
         and scores where it stands.
     horizon : ndarray, optional
-        The controller's predicted path, rows ``(x, y)`` [m], for the recording.
+        The controller's predicted path of the point it steers by (the
+        semitrailer axle reversing), rows ``(x, y)`` [m], now first, for the
+        recording.
+    reference : ndarray, optional
+        The plan's points the controller tracks, rows ``(x, y)`` [m]: first
+        the one it compares itself with now, then those its horizon aims at,
+        for the recording.
     """
 
     delta_h: float
     u1: float
     done: bool = False
     horizon: np.ndarray | None = None
+    reference: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,13 @@ like the last costs a few working-set changes; an interior-point solver
 (IPOPT, OSQP's ADMM) cannot reuse an active set that way, and a fixed
 ``max_nWSR`` bounds the work per sample.
 
+The QP is a small part of a sample's work; the rest is the prediction,
+which takes one compiled rollout of the design model
+(:meth:`artic.reduced.control.KIN.rollout`) and one batch of step
+Jacobians, composed into each prediction step's for all steps at once. The
+one-off costs of a process's first sample (numba's cache, qpOASES' plugin)
+are paid in ``reset``. None of it changes a number the controller computes.
+
 - ``mpc-kin`` predicts with KIN (4 states), its state from the tractor
   sensor by :class:`artic.reduced.KinematicModel`'s ``reset``;
 - ``mpc-stm`` with the STM (7 body states and a lagged slip per axle), its
@@ -124,6 +131,26 @@ class MPC(ReferenceController):
         self.moves = np.zeros(n)
         self.delta_traj: np.ndarray | None = None
         self.first = True
+        self._warm_up(ca, n)
+
+    def _warm_up(self, ca, n: int) -> None:
+        """Pay the one-off costs before the run, not in its first sample.
+
+        The first calls of the state estimate and the compiled prediction
+        load them from numba's cache, and the first solve of a qpOASES
+        instance in a process loads the plugin and prints its banner: tens of
+        milliseconds, once. An estimate and a prediction on the straight line
+        and a solve on a throwaway instance take them here, leaving
+        :attr:`qp` untouched, so that its first solve is the cold start it
+        always was and the results do not change.
+        """
+        self.estimator.reset(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.0, r_1=0.0, r_2=0.0,
+                                          u1=-1.0))
+        x, u = self.model.straight(-1.0)
+        self.predict(np.asarray(x, dtype=float), np.zeros(n), float(u[1]))
+        with _quiet_stdout():
+            self._conic(ca, n)(h=np.eye(n), g=np.zeros(n), a=self.L, lbx=-np.ones(n),
+                               ubx=np.ones(n), lba=-np.ones(n), uba=np.ones(n))
 
     @staticmethod
     def _conic(ca, n: int):
@@ -171,33 +198,33 @@ class MPC(ReferenceController):
         n = HORIZON
         m = self.substeps
         h = STEP / m
+        nx = x.size
         U = self._inputs(delta_bar, u)
         Us = np.repeat(U, m, axis=0)
-        Xs = np.empty((n * m + 1, x.size))
-        Xs[0] = x
-        for k in range(n * m):
-            Xs[k + 1] = self.model.step(Xs[k], Us[k], h)
-        # Each prediction step's Jacobians, composed from its substeps' (one batch call).
+        Xs = self.model.rollout(x, Us, h)  # one compiled call, as model.step in a loop
+        # Each prediction step's Jacobians (one batch call), composed from its
+        # substeps' for all steps at once: Ak = A_m ... A_1, Bk = sum A_m ... A_j+1 B_j.
         As, Bs = self.model.step_jacobians(Xs[:-1], Us, h)
-        Bs = Bs[:, :, self.i_delta]
-        S = np.zeros((n + 1, x.size, n))
+        As = As.reshape(n, m, nx, nx)
+        Bs = Bs[:, :, self.i_delta].reshape(n, m, nx, 1)
+        Ak, Bk = As[:, 0], Bs[:, 0]
+        for j in range(1, m):
+            Ak, Bk = As[:, j] @ Ak, As[:, j] @ Bk + Bs[:, j]
+        S = np.zeros((n + 1, nx, n))
         for k in range(n):
-            Ak, Bk = np.eye(x.size), np.zeros(x.size)
-            for j in range(k * m, (k + 1) * m):
-                Ak, Bk = As[j] @ Ak, As[j] @ Bk + Bs[j]
-            S[k + 1] = Ak @ S[k]
-            S[k + 1, :, k] += Bk
+            S[k + 1] = Ak[k] @ S[k]
+            S[k + 1, :, k] += Bk[k, :, 0]
         # delta_j is the sum of the moves up to j.
         return Xs[::m], S[1:] @ self.L, U
 
     def command(self, obs: Observation) -> Command:
         """The reference controller's, with the reversing steering from the QP."""
         before = self.delta
-        cmd = super().command(obs)
+        cmd = self._follow(obs)
         d = self.refs[self.k][0]
         if d > 0 or self.waiting or cmd.done or cmd.u1 == 0.0 or before is None:
             self.delta_traj = None  # the next reversing stretch starts afresh
-            return cmd
+            return self._intent(cmd)  # the reference's, and its closed-loop prediction
         self.delta = before  # the QP's steering instead of the LQR's
         return self._mpc(obs, cmd)
 
@@ -206,11 +233,10 @@ class MPC(ReferenceController):
         _, p, g_ref, d_ref, s = self.refs[self.k]
         u = float(cmd.u1)
         ds = abs(u) * STEP
-        # The path ahead, by the semitrailer axle's travel, from where it is now.
+        # The path ahead, by the semitrailer axle's travel, from where the
+        # reference's step found it now.
         me = self.frames.trailer_axle_of_signals(obs.signals)
-        i = self.i
-        c, sn = math.cos(p[i, 2]), math.sin(p[i, 2])
-        here = float(s[i]) + (c * (me[0] - p[i, 0]) + sn * (me[1] - p[i, 1]))
+        here = self.now[3]
         at = np.clip(here + ds * np.arange(1, n + 1), s[0], s[-1])
         ref = np.column_stack([np.interp(at, s, p[:, j]) for j in range(3)])
         gam = np.interp(at, s, g_ref)
@@ -263,10 +289,13 @@ class MPC(ReferenceController):
         self.delta_traj = delta0 + np.cumsum(self.moves)
         # The first step's wheel, as far as the actuator turns it in one control period.
         wheel = self._turn(delta0 + self.moves[0])
-        # The predicted path of the semitrailer axle, for the recording.
-        horizon = np.column_stack([Y[:, ix] + np.einsum("kn,knm->km", Cy[:, ix], S) @ dz,
-                                   Y[:, iy] + np.einsum("kn,knm->km", Cy[:, iy], S) @ dz])
-        return Command(wheel, cmd.u1, cmd.done, horizon)
+        # The predicted path of the semitrailer axle from where it is, and the path's
+        # points it was compared with, for the recording.
+        horizon = np.vstack([me[:2], np.column_stack(
+            [Y[:, ix] + np.einsum("kn,knm->km", Cy[:, ix], S) @ dz,
+             Y[:, iy] + np.einsum("kn,knm->km", Cy[:, iy], S) @ dz])])
+        foot = [np.interp(here, s, p[:, 0]), np.interp(here, s, p[:, 1])]
+        return Command(wheel, cmd.u1, cmd.done, horizon, np.vstack([foot, ref[:, :2]]))
 
 
 class MPCKin(MPC):

@@ -25,12 +25,27 @@ the last segment the end is the dock face, by the rear's sensor (its nearer
 corner, when askew): it asks for zero speed when the rear is as far from the
 face as it will still roll, and is then done.
 
+What it intends (``Command.horizon``): the prediction of its own closed
+loop on its design model, the errors ``z`` propagated by KIN linearised
+about the path under its gains (``Ad - Bd K`` per sample,
+:meth:`~artic.validation.docking.linear.GainSchedule.closed_loop`) over
+:data:`PREDICTION_STEPS` steps of :data:`PREDICTION_STEP`, at the commanded
+speed, and laid onto the path as offsets from it. That, not the preview of
+the path alone, is what an LQR expects of itself: where the tracked point
+will go while the errors decay as the gains were designed to make them
+decay, and so where the plant departs from the design model shows in the
+recording as the plant leaving the horizon. It costs about 25 products of
+4x4 matrices per sample. ``Command.reference`` is the path's points the
+horizon is laid on: the tracked point's foot on the path now, then one per
+prediction step.
+
 Everything comes from the sensors and the vehicle file; the plant's state
 is never read.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -50,6 +65,12 @@ WINDOW = (2, 40)
 
 MIN_SPEED = 0.3
 """Speed floor of the gain schedule [m/s]: at rest the gains of a crawl."""
+
+PREDICTION_STEPS = 25
+"""Steps of the closed-loop prediction given as the horizon (the MPC's number)."""
+
+PREDICTION_STEP = 0.3
+"""Its step [s]: 25 steps look 7.5 s ahead, as the MPC does."""
 
 
 class ReferenceController(Controller):
@@ -80,6 +101,7 @@ class ReferenceController(Controller):
         self.i = 0
         self.waiting = False
         self.delta: float | None = None
+        self.now: tuple | None = None
         # The road-wheel rate the steering wheel allows [rad/s], from the vehicle's map.
         self.delta_rate = task.steer_rate / self.steering.i_s
 
@@ -97,7 +119,63 @@ class ReferenceController(Controller):
         return self.steering_wheel(self.delta)
 
     def command(self, obs: Observation) -> Command:
-        """Steer onto the current segment's path; manage speed, cusps and the stop."""
+        """Steer onto the current segment's path; manage speed, cusps and the stop.
+
+        The command carries the closed-loop prediction and the path it is laid
+        on (see the module docstring).
+        """
+        return self._intent(self._follow(obs))
+
+    def _intent(self, cmd: Command) -> Command:
+        """``cmd`` with the closed-loop prediction and its path, where it follows one."""
+        if self.now is None:
+            return cmd
+        d, p, s, here, z = self.now
+        return dataclasses.replace(cmd, horizon=self._prediction(d, p, s, here, z, abs(cmd.u1)),
+                                   reference=self._preview(p, s, here, abs(cmd.u1)))
+
+    def _preview(self, p: np.ndarray, s: np.ndarray, here: float, speed: float) -> np.ndarray:
+        """The path's points ``(x, y)`` at ``here`` and a prediction step apart at ``speed``.
+
+        Only the point at ``here`` when the command stands still.
+        """
+        n = PREDICTION_STEPS + 1 if speed > 0.0 else 1
+        travel = max(speed, MIN_SPEED) * PREDICTION_STEP
+        at = np.clip(here + travel * np.arange(n), s[0], s[-1])
+        return np.column_stack([np.interp(at, s, p[:, 0]), np.interp(at, s, p[:, 1])])
+
+    def _prediction(self, d: int, p: np.ndarray, s: np.ndarray, here: float, z: np.ndarray,
+                    speed: float) -> np.ndarray | None:
+        """The closed loop's predicted path of the tracked point ``(x, y)`` [m], now first.
+
+        ``z`` is propagated by the design model under the gains at ``speed``
+        (at least :data:`MIN_SPEED`, as the law's gains are) and its offset
+        ``e_y`` laid off the path, to the left of its heading. ``None`` when
+        the command stands still.
+        """
+        if speed <= 0.0:
+            return None
+        v = max(speed, MIN_SPEED)
+        samples = max(1, round(PREDICTION_STEP / self.task.dt))
+        step = self.schedule[d].closed_loop(v)
+        M = step
+        for _ in range(samples - 1):
+            M = M @ step
+        e_y = np.empty(PREDICTION_STEPS + 1)
+        zk = z
+        e_y[0] = zk[0]
+        for k in range(1, PREDICTION_STEPS + 1):
+            zk = M @ zk
+            e_y[k] = zk[0]
+        at = np.clip(here + v * samples * self.task.dt * np.arange(PREDICTION_STEPS + 1),
+                     s[0], s[-1])
+        psi = np.interp(at, s, p[:, 2])
+        return np.column_stack([np.interp(at, s, p[:, 0]) - np.sin(psi) * e_y,
+                                np.interp(at, s, p[:, 1]) + np.cos(psi) * e_y])
+
+    def _follow(self, obs: Observation) -> Command:
+        """The reference's command, without what it intends; keeps ``now`` for that."""
+        self.now = None
         if self.delta is None:  # start from where the wheel is
             self.delta = self.road_wheel(obs.delta_h)
         v_meas = abs(obs["v_x_1"])
@@ -117,9 +195,10 @@ class ReferenceController(Controller):
         c, sn = math.cos(psi_ref), math.sin(psi_ref)
         dx, dy = me[0] - p[i, 0], me[1] - p[i, 1]
         e_y = -sn * dx + c * dy
-        # How far along the path the point is: the path runs against the
-        # heading in reverse.
-        here = float(s[i]) - d * (c * dx + sn * dy)
+        # How far along the path the point is: its offset from the nearest
+        # sample along the path's heading, which the travel follows forward
+        # and runs against in reverse.
+        here = float(s[i]) + d * (c * dx + sn * dy)
         e_psi = float(wrap_angle(float(me[2]) - psi_ref))
         ds = max(v_meas, MIN_SPEED) * self.task.dt
         K = self.schedule[d](max(v_meas, MIN_SPEED))
@@ -128,6 +207,7 @@ class ReferenceController(Controller):
             z = np.array([e_y, e_psi, obs["gamma"] - float(np.interp(here, s, g_ref)), err])
         else:
             z = np.array([e_y, e_psi, err])
+        self.now = (d, p, s, here, z)
         # The path's own steering where the point will be after this sample, plus the correction.
         target = float(np.interp(here + ds, s, d_ref)) + err - ds * float(K @ z)
         wheel = self._turn(target)

@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from artic.validation.pathdist import distance_to_polyline
+from artic.validation.criteria.pathdist import distance_to_polyline
 
 CRITERIA = ("eps_y1", "eps_y2", "eps_p", "eps_r1", "eps_r2", "eps_a",
             "eps_vy1", "eps_vy2", "eps_v", "eps_n", "J_steer")

@@ -11,7 +11,7 @@ dynamics then have the eigenvalue ``u1 (K (L2 - L1c) - L1) / (L1 L2)``, which is
 negative for ``u1 < 0`` once ``K > L1 / (L2 - L1c)``. Forward, the same feedback
 would destabilise the loop for such K, so it is off. Whether the tractor
 reverses is decided once per log on the speed input ``u1`` below, with a dead
-band and a minimum duration (:mod:`artic.validation.reversing`), so that speed
+band and a minimum duration (:mod:`artic.validation.harness.reversing`), so that speed
 noise at standstill never switches the feedback on in a forward run.
 
 Inputs per sample ``k`` (held over the step to ``k + 1``):
@@ -19,7 +19,7 @@ Inputs per sample ``k`` (held over the step to ``k + 1``):
 - ``delta_center`` from the log's ``delta_h`` through the model's eq. (3) map,
   or, for a log steered from its yaw rate (``--steer-from yaw-rate``, or a
   ``delta_h`` derived at import), the road-wheel angle of
-  :mod:`artic.validation.yawsteer`;
+  :mod:`artic.validation.harness.yawsteer`;
 - the tractor speed ``u1 = v_x_1 + r_1 * y_s1``, exact for a rigid tractor
   whose sensor sits ``y_s1`` off its centre line, smoothed by a quadratic
   Savitzky-Golay filter over :data:`SPEED_WINDOW` and rising linearly to the
@@ -33,8 +33,8 @@ Inputs per sample ``k`` (held over the step to ``k + 1``):
 The applied road-wheel angle is limited to the vehicle's ``delta_max``; the
 run's ``delta_saturated`` column says where.
 
-Three loops run this law (:mod:`artic.validation.feedback`): the numba loop of
-:mod:`artic.validation.reducedloop` for KIN and the STM,
+Three loops run this law (:mod:`artic.validation.harness.feedback`): the numba loop of
+:mod:`artic.validation.harness.reducedloop` for KIN and the STM,
 the plant's own loop in C (:mod:`artic.plant.closedloop`, which ``closed_loop()``
 offers), and :func:`_python_loop` for any other model. The Python loop is the
 reference the plant's C loop is tested against.
@@ -50,18 +50,18 @@ import pandas as pd
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.feedback import feedback_law
-from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.models import Model
-from artic.validation.progress import BUDGET
-from artic.validation.reversing import reversing
-from artic.validation.steering import SteeringMap
-from artic.validation.yawsteer import (
+from artic.validation.cli.progress import BUDGET
+from artic.validation.harness.feedback import feedback_law
+from artic.validation.harness.reversing import reversing
+from artic.validation.harness.steering import SteeringMap
+from artic.validation.harness.yawsteer import (
     equivalent_wheelbase,
     road_wheel_from_yaw_rate,
     steering_wheel,
     wants_yaw_rate,
 )
+from artic.validation.logs.runfile import Run, new_frame
+from artic.validation.models import Model
 
 DEFAULT_GAIN = 3.0
 """The paper's feedback gain K [rad/rad]."""
@@ -122,7 +122,7 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
 
 def yaw_steered(inputs: LoopInputs, run: Run, vehicle: Vehicle,
                 steering: SteeringMap) -> LoopInputs:
-    """``inputs`` with ``delta_c`` from the measured yaw rate (:mod:`artic.validation.yawsteer`).
+    """``inputs`` steered from the measured yaw rate (:mod:`artic.validation.harness.yawsteer`).
 
     ``delta_h`` becomes the steering-wheel angle that gives ``delta_c`` through
     the model's map, for the record.
@@ -137,7 +137,7 @@ def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     """:func:`loop_inputs` before the steering map: ``delta_c`` is NaN.
 
     ``reversing`` comes from ``u1`` with hysteresis
-    (:func:`artic.validation.reversing.reversing`).
+    (:func:`artic.validation.harness.reversing.reversing`).
 
     Tuning derives these once per log and applies each trial's map with
     :func:`steered`.
@@ -231,13 +231,15 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         Per computed sample.
     n_done : int
         Rows computed; fewer than the inputs when the model left the
-        plausible range (see :func:`artic.validation.reducedloop.compiled_loop`).
+        plausible range (see :func:`artic.validation.harness.reducedloop.compiled_loop`).
     """
     model.reset(inputs.initial)
     args = loop_args(inputs, vehicle, gain)
     form = model.compiled()
     if form is not None:
-        from artic.validation.reducedloop import compiled_loop  # numba: only for KIN and the STM
+        from artic.validation.harness.reducedloop import (
+            compiled_loop,  # numba: only for KIN and the STM
+        )
 
         out = compiled_loop(*form, *args)
         count_run("reduced", inputs.t, out[4])
@@ -257,7 +259,10 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
 
 
 def count_run(kind: str, t: np.ndarray, n_done: int) -> None:
-    """Count a run of ``n_done`` samples of ``t`` [s] (:data:`artic.validation.progress.BUDGET`)."""
+    """Count a run of ``n_done`` samples of ``t`` [s] in the process's budget.
+
+    :data:`artic.validation.cli.progress.BUDGET`.
+    """
     n = int(n_done)
     BUDGET.add(kind, float(t[n - 1] - t[0]) if n > 1 else 0.0)
 

@@ -28,13 +28,13 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
-from artic.validation.criteria.articulation import eps_gamma
 from artic.validation.criteria.direction import direction_of
-from artic.validation.criteria.dock import dock_errors
 from artic.validation.criteria.fixedscale import Scale, campaign_scale, eps_n_fixed
+from artic.validation.criteria.metrics import CRITERIA, run_metrics
 from artic.validation.criteria.prediction import prediction_errors
-from artic.validation.harness import DEFAULT_GAIN, run_closed_loop
+from artic.validation.harness.loop import DEFAULT_GAIN, run_closed_loop
 from artic.validation.logs.runfile import (
     META_KEY,
     LogError,
@@ -44,9 +44,7 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.metrics import CRITERIA, run_metrics
 from artic.validation.models import build
-from artic.validation.progress import BUDGET, Counter, stderr
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -81,9 +79,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         If given, each model run is written to ``out_dir/runs/LOG.MODEL.parquet``.
     progress : callable, optional
         Receives progress lines (counts and the time left, see
-        :class:`artic.validation.progress.Counter`), one line for the runs reused,
+        :class:`artic.validation.cli.progress.Counter`), one line for the runs reused,
         and one line per run whose model had to limit something
-        (:mod:`artic.validation.plantnotes`) or stopped early.
+        (:mod:`artic.validation.harness.plantnotes`) or stopped early.
     reuse_key : str, optional
         With ``out_dir``: a run file already there whose ``meta["key"]`` is
         this key plus the model is read instead of simulated again (resuming
@@ -224,9 +222,10 @@ def _where(out_dir, log: Run, name: str, reuse_key: str | None,
 def _criteria(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
     """The criteria of a model run against its log, and the simulated time ``duration_s``.
 
-    The paper's, the articulation error, the dock errors and the open-loop
-    prediction errors the run brought in ``meta["prediction"]`` (see
-    :func:`_simulate`); ``eps_n_fixed`` needs the whole set's scale and is
+    The paper's, every criterion of :data:`artic.validation.criteria.columns.TABLE`
+    computed from the log and the run (the articulation error, the dock errors),
+    and the open-loop prediction errors the run brought in ``meta["prediction"]``
+    (see :func:`_simulate`); ``eps_n_fixed`` needs the whole set's scale and is
     added per row.
     """
     t = log.frame["t"]
@@ -234,10 +233,10 @@ def _criteria(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
     if is_failed(run.meta["status"]) or len(run.frame) < 2:
         return nan | {"s_max": 0.0, "duration_s": 0.0}
     out = {k: float(v) for k, v in run_metrics(log.frame, run.frame).items()}
-    out["eps_gamma"] = eps_gamma(log.frame, run.frame)
-    out |= dock_errors(log.frame, run.frame, vehicle, str(log.meta.get("manoeuvre", "")))
+    out |= extra.of_run(log, run, vehicle)
     pred = run.meta.get("prediction", {})
-    out |= {c: float(pred.get(c, float("nan"))) for c in extra.COLUMNS if c.startswith("pred_")}
+    out |= {c: float(pred.get(c, float("nan"))) for c in extra.COLUMNS
+            if extra.COMPUTE[c] == "model"}
     return out | {"duration_s": float(t.iloc[len(run.frame) - 1] - t.iloc[0])}
 
 
@@ -277,7 +276,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     (:func:`artic.validation.criteria.prediction.prediction_errors`), into
     ``meta["prediction"]``; their wall time is there, not in the one returned.
     """
-    from artic.validation.plantnotes import collect, summary
+    from artic.validation.harness.plantnotes import collect, summary
 
     t0 = time.perf_counter()
     if not isinstance(vehicle, Vehicle):
@@ -324,7 +323,7 @@ def _predict(model, log: Run, vehicle: Vehicle) -> dict:
     except (MemoryError, RecursionError):
         raise
     except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point
-        return {c: float("nan") for c in extra.COLUMNS if c.startswith("pred_")} | {
+        return {c: float("nan") for c in extra.COLUMNS if extra.COMPUTE[c] == "model"} | {
             "note": f"failed: {_one_line(exc)}"}
 
 
@@ -370,4 +369,4 @@ def write_metrics(df: pd.DataFrame, path: Path) -> Path:
 
 
 stderr_progress = stderr
-"""Print a progress line to standard error (:func:`artic.validation.progress.stderr`)."""
+"""Print a progress line to standard error (:func:`artic.validation.cli.progress.stderr`)."""

@@ -45,8 +45,8 @@ from pathlib import Path
 STALE_DAYS = 30
 """Cache folders unused for this long are removed [days]."""
 
-COMPILED_MODULES = ("feedback.py", "reducedloop.py", "pathdist.py", "docking/geometry.py",
-                    "docking/planner.py")
+COMPILED_MODULES = ("harness/feedback.py", "harness/reducedloop.py", "criteria/pathdist.py",
+                    "docking/geometry.py", "docking/planner.py")
 """Modules of :mod:`validation` whose functions numba compiles (``feedback.py``'s
 plain-Python law is compiled by ``reducedloop.py`` and the docking planner)."""
 
@@ -59,7 +59,7 @@ def compiled_sources() -> list[Path]:
     """
     spec = importlib.util.find_spec("artic.reduced")
     reduced_dir = Path(next(iter(spec.submodule_search_locations)))
-    here = Path(__file__).resolve().parent
+    here = Path(__file__).resolve().parents[1]  # validation/
     return sorted(reduced_dir.glob("*.py")) + [here / m for m in COMPILED_MODULES]
 
 

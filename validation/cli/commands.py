@@ -20,7 +20,7 @@ Subcommands:
 
 Errors in the user's input end with exit code 2 and a one-line message that
 names the file and what to change; no traceback. That covers the options
-(every number finite and in range, see :mod:`artic.validation.options`), the
+(every number finite and in range, see :mod:`artic.validation.cli.options`), the
 output locations (checked before the work starts; a read-only, full or
 wrong-type path is named with the system's reason), the input files
 (malformed CSV, Parquet, ``.mat``, JSON or TOML), a run too long for the
@@ -42,14 +42,19 @@ from pathlib import Path
 from artic.mjcf import schema
 from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import load_vehicle
-from artic.validation import options
+from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
-from artic.validation.harness import DEFAULT_GAIN
+from artic.validation.harness.loop import DEFAULT_GAIN
+from artic.validation.harness.steering import SteeringRangeError
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import read_log
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
-from artic.validation.outputs import OutDirLock, check_output_dir, check_output_file, clean_stale
-from artic.validation.steering import SteeringRangeError
+from artic.validation.runs.outputs import (
+    OutDirLock,
+    check_output_dir,
+    check_output_file,
+    clean_stale,
+)
 from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
 from artic.validation.synthetic.truth import TRUTHS
 
@@ -99,8 +104,8 @@ def _load_vehicle(name: str):
 
 
 def _simulate(args: argparse.Namespace) -> int:
+    from artic.validation.harness.simulate import simulate
     from artic.validation.models import build
-    from artic.validation.simulate import simulate
 
     out = check_output_file(args.out)
     v = _load_vehicle(args.vehicle)
@@ -152,16 +157,16 @@ def _read_logs(args: argparse.Namespace, vehicle) -> list:
 
 
 def _validate(args: argparse.Namespace) -> int:
-    from artic.validation.campaign.tables import markdown, summary, write_table
-    from artic.validation.campaign.validate import (
+    from artic.validation.criteria.fixedscale import SCALE_FILE, write_scale
+    from artic.validation.criteria.pooled import pool_segments, segment_of, whole_logs
+    from artic.validation.models import parse_models
+    from artic.validation.review.tables import markdown, summary, write_table
+    from artic.validation.runs.validate import (
         FAILED,
         stderr_progress,
         validate_runs,
         write_metrics,
     )
-    from artic.validation.criteria.fixedscale import SCALE_FILE, write_scale
-    from artic.validation.criteria.pooled import pool_segments, segment_of, whole_logs
-    from artic.validation.models import parse_models
 
     v = _load_vehicle(args.vehicle)
     models = parse_models(args.models)
@@ -196,7 +201,7 @@ def _validate(args: argparse.Namespace) -> int:
                 write_table(table, out / stem, title)
                 print(f"\n{title}\n\n{markdown(table)}")
         if args.gain_sweep:
-            from artic.validation.campaign.gainsweep import (
+            from artic.validation.runs.gainsweep import (
                 DEFAULT_GAINS,
                 bounds_text,
                 gain_sweep,
@@ -242,9 +247,9 @@ def per_run_lines(metrics) -> str:
 
 def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
     """One Rerun recording per log, with every model that has a result on it."""
-    from artic.validation.campaign.recording import record_manoeuvre
-    from artic.validation.campaign.validate import is_failed
     from artic.validation.logs.runfile import read_run
+    from artic.validation.review.recording import record_manoeuvre
+    from artic.validation.runs.validate import is_failed
 
     for log in logs:
         rows = metrics[metrics["log"] == log.name]
@@ -259,9 +264,9 @@ def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
 def _tune(args: argparse.Namespace) -> int:
     from artic.mjcf.writer import fitted_changes, updated, write_vehicle
     from artic.validation.campaign.tuning import tune
-    from artic.validation.campaign.validate import stderr_progress
+    from artic.validation.harness.yawsteer import wants_yaw_rate
     from artic.validation.models import parse_models
-    from artic.validation.yawsteer import wants_yaw_rate
+    from artic.validation.runs.validate import stderr_progress
 
     out = check_output_file(args.out)
     v = _load_vehicle(args.vehicle)
@@ -326,7 +331,7 @@ def _logs_import(args: argparse.Namespace) -> int:
 
 
 def _logs_generate(args: argparse.Namespace) -> int:
-    from artic.validation.campaign.validate import stderr_progress
+    from artic.validation.runs.validate import stderr_progress
     from artic.validation.synthetic.generate import generate_campaign
 
     only = [o for o in args.only.split(",") if o] if args.only else None

@@ -4,14 +4,14 @@ From an empty cache, numba compiles the reduced models' harness loop and the
 path-distance tree in about 4 s, on one core, the first time a campaign tunes
 KIN and computes a criterion. :func:`start` does it in a background process
 while the campaign generates its logs, and writes numba's on-disk cache
-(:mod:`artic.validation.runtime` chooses its folder); the campaign then loads the
+(:mod:`artic.validation.runs.runtime` chooses its folder); the campaign then loads the
 compiled functions from it in a fraction of a second. A warm cache makes the
 process a no-op. Nothing computed here is kept but the compiled code, so the
 campaign's numbers are the same with or without it.
 
 The compile is driven through the very calls the campaign makes (a short
-reversing log through :func:`artic.validation.batch.run_batch` and
-:func:`artic.validation.metrics.run_metrics`), so numba compiles the argument types
+reversing log through :func:`artic.validation.harness.batch.run_batch` and
+:func:`artic.validation.criteria.metrics.run_metrics`), so numba compiles the argument types
 the campaign passes and no others.
 """
 
@@ -26,12 +26,12 @@ import numpy as np
 def compile_all() -> None:
     """Run a 0.2 s reversing log through KIN's compiled loop and the criteria."""
     from artic.mjcf.vehicle import load_vehicle
-    from artic.validation.batch import run_batch
-    from artic.validation.harness import loop_inputs
+    from artic.validation.criteria.metrics import run_metrics
+    from artic.validation.harness.batch import run_batch
+    from artic.validation.harness.loop import loop_inputs
+    from artic.validation.harness.steering import SteeringMap
     from artic.validation.logs.runfile import Run, new_frame
-    from artic.validation.metrics import run_metrics
     from artic.validation.models import spec
-    from artic.validation.steering import SteeringMap
 
     vehicle = load_vehicle("gosar2022-unloaded")
     t = np.arange(21) * 0.01
@@ -46,7 +46,7 @@ def compile_all() -> None:
 
 
 def _child(parent: int) -> None:
-    from artic.validation.workers import init_worker
+    from artic.validation.runs.workers import init_worker
 
     init_worker(parent)  # ends with the campaign, if the campaign is killed
     compile_all()

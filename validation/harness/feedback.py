@@ -1,8 +1,8 @@
 """The harness's steering law, in plain Python that numba also compiles.
 
 The law is eq. (5) of the seed paper with the stabilising sign of its
-eqs. (6)-(7) (see :mod:`artic.validation.harness`). It lives apart from the numba
-kernels (:mod:`artic.validation.reducedloop`) so that the plant's runs, which close
+eqs. (6)-(7) (see :mod:`artic.validation.harness.loop`). It lives apart from the numba
+kernels (:mod:`artic.validation.harness.reducedloop`) so that the plant's runs, which close
 the loop in C or in Python, never import numba.
 """
 

@@ -1,6 +1,6 @@
 """Static plots of a manoeuvre: the yard seen from above, and its key signals.
 
-The same data as a manoeuvre's recording (:mod:`artic.validation.campaign.recording`), for
+The same data as a manoeuvre's recording (:mod:`artic.validation.review.recording`), for
 reports and documents where a viewer is not at hand. matplotlib renders
 off-screen (Agg); files are written atomically.
 """
@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from artic.validation.criteria.metrics import travelled
 from artic.validation.logs.runfile import Run, atomic_write
-from artic.validation.metrics import travelled
 from artic.validation.models import REGISTRY
 
 

@@ -34,14 +34,14 @@ import pandas as pd
 
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.kinematic import kin_parameters
-from artic.validation.batch import BatchResult, run_batch
+from artic.validation.cli.progress import Counter
+from artic.validation.criteria.metrics import run_metrics
 from artic.validation.criteria.statistics import mean_ci
-from artic.validation.harness import LoopInputs, loop_inputs
+from artic.validation.harness.batch import BatchResult, run_batch
+from artic.validation.harness.loop import LoopInputs, loop_inputs
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.metrics import run_metrics
 from artic.validation.models import spec
-from artic.validation.progress import Counter
-from artic.validation.steering import SteeringMap
 
 DEFAULT_GAINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
 """Gains swept by default [rad/rad]; the bound of every vehicle is added."""

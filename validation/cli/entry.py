@@ -1,6 +1,6 @@
 """The ``artic`` console script: process-wide settings first, then the command line.
 
-The settings of :mod:`artic.validation.runtime` must be made before the compiled
+The settings of :mod:`artic.validation.runs.runtime` must be made before the compiled
 models are imported, so this module imports nothing of artic's at its top.
 """
 
@@ -10,10 +10,13 @@ from collections.abc import Sequence
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Configure the process, then run :func:`artic.validation.cli.main`; returns the exit code."""
-    from artic.validation import runtime
+    """Configure the process, then run :func:`artic.validation.cli.commands.main`.
+
+    Returns the exit code.
+    """
+    from artic.validation.runs import runtime
 
     runtime.configure()
-    from artic.validation.cli import main as cli_main
+    from artic.validation.cli.commands import main as cli_main
 
     return cli_main(argv)

@@ -1,8 +1,8 @@
 """The harness loop for KIN and the STM, compiled by numba: a whole log in one call.
 
-It runs the steering law of :mod:`artic.validation.feedback` exactly as the other
-loops of :mod:`artic.validation.harness` do, and releases the GIL, so that
-:mod:`artic.validation.batch` spreads logs over threads.
+It runs the steering law of :mod:`artic.validation.harness.feedback` exactly as the other
+loops of :mod:`artic.validation.harness.loop` do, and releases the GIL, so that
+:mod:`artic.validation.harness.batch` spreads logs over threads.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from artic.reduced.integrate import observe, rk4_step
-from artic.validation import feedback
+from artic.validation.harness import feedback
 
 wrap = njit(cache=True)(feedback.wrap)
 feedback_law = njit(cache=True)(feedback.feedback_law)
@@ -31,7 +31,7 @@ def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reve
     x0, P, s1, s2 : ndarray
         Initial state, parameters and sensors, from the model's ``compiled()``.
     dt, delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
-        Per-sample inputs (see :class:`artic.validation.harness.LoopInputs`).
+        Per-sample inputs (see :class:`artic.validation.harness.loop.LoopInputs`).
     gain, delta_max, gamma_max : float
         K [rad/rad], the road-wheel limit and the jackknife limit [rad].
 

@@ -25,10 +25,10 @@ import numpy as np
 PACKAGES = ("mjcf", "plant", "reduced", "validation")
 SUFFIXES = (".py", ".c", ".toml", ".tir")
 PRESENTATION = frozenset({
-    "validation/campaign/report.py", "validation/campaign/tables.py",
-    "validation/campaign/plots.py", "validation/campaign/recording.py",
-    "validation/cli.py", "validation/entry.py", "validation/campaign/plantshape.py",
-    "validation/progress.py", "validation/campaign/rankings.py",
+    "validation/campaign/report.py", "validation/review/tables.py",
+    "validation/review/plots.py", "validation/review/recording.py",
+    "validation/cli/commands.py", "validation/cli/entry.py", "validation/review/plantshape.py",
+    "validation/cli/progress.py", "validation/campaign/rankings.py",
     "validation/campaign/seeds.py", "validation/campaign/seedreport.py",
     "validation/testing.py",
 })

@@ -18,11 +18,11 @@ import numpy as np
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.feedback import feedback_law
-from artic.validation.harness import LoopInputs, run_inputs
+from artic.validation.harness.feedback import feedback_law
+from artic.validation.harness.loop import LoopInputs, run_inputs
+from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import Model
-from artic.validation.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import Profile
 
 
@@ -88,7 +88,7 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
 
     ``delta = delta_ss(gamma_ref) + gain * (gamma - gamma_ref)`` while
     reversing, and ``delta_ss(gamma_ref)`` forward. The feedback has the
-    harness's stabilising sign (see :mod:`artic.validation.harness`).
+    harness's stabilising sign (see :mod:`artic.validation.harness.loop`).
 
     Parameters
     ----------

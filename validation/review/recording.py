@@ -8,7 +8,7 @@ sensor's travelled distance [cm], the variable of the error criteria):
 
 - ``/yard``: the measured combination, KIN and STM as boxes for the bodies
   and the wheels, moving with their own poses; the plant drawn from its own
-  MuJoCo bodies and geoms (:mod:`artic.validation.campaign.plantshape`): chassis,
+  MuJoCo bodies and geoms (:mod:`artic.validation.review.plantshape`): chassis,
   semitrailer, axles on their suspension, wheels that steer and spin, and
   the fifth wheel, posed from the plant's state at every logged step; the
   plant's tyre forces in the ground plane as arrows at the contact points;
@@ -50,7 +50,11 @@ from rerun.chunk import RrdReader
 from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from artic.mjcf.tir import read_tir
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.campaign.plantshape import (
+from artic.validation.criteria.metrics import distance_weights, travelled
+from artic.validation.criteria.pathdist import distance_to_polyline
+from artic.validation.logs.runfile import Run
+from artic.validation.models import colour as model_colour
+from artic.validation.review.plantshape import (
     Geom,
     Part,
     has_pose,
@@ -60,10 +64,6 @@ from artic.validation.campaign.plantshape import (
     wheel_quat,
     xyzw,
 )
-from artic.validation.logs.runfile import Run
-from artic.validation.metrics import distance_weights, travelled
-from artic.validation.models import colour as model_colour
-from artic.validation.pathdist import distance_to_polyline
 
 YARD_RATE = 10.0
 """Samples per second of the 3-D yard [Hz]."""
@@ -602,8 +602,9 @@ DOCK_PLOTS = (("steering_wheel", "Steering wheel delta_h [deg]"),
 def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
                    obstacles: Sequence[tuple[str, float, float, float, float]],
                    doors: Sequence[float], dock_face: tuple[float, float],
-                   plan: Sequence[np.ndarray], horizons: Sequence[tuple[float, np.ndarray]],
-                   text: str) -> Path:
+                   plan: Sequence[np.ndarray],
+                   horizons: Sequence[tuple[float, np.ndarray | None]], text: str,
+                   references: Sequence[tuple[float, np.ndarray | None]] = ()) -> Path:
     """Write one docking run's recording.
 
     Parameters
@@ -625,10 +626,17 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         The dock face's x and the target door's y [m].
     plan : sequence of ndarray
         The planner's path as polylines ``(n, 2)`` [m].
-    horizons : sequence of (float, ndarray)
-        The controller's predicted path ``(n, 2)`` [m] at each time [s] it gave one.
+    horizons : sequence of (float, ndarray or None)
+        The controller's predicted path ``(n, 2)`` [m] at each of its samples
+        [s], ``None`` where it gave none: one row of ``/yard/horizon`` per
+        sample, empty where ``None`` (so that no stale horizon stays drawn).
     text : str
         Markdown for the description: the scores.
+    references : sequence of (float, ndarray or None)
+        The plan's points ``(n, 2)`` [m] the controller tracked at each
+        sample, the one it tracked then first: one row per sample of
+        ``/yard/plan/tracked`` (the points) and ``/yard/plan/point`` (the
+        first), empty where ``None``.
     """
     f = frame
     t = f["t"].to_numpy()
@@ -669,15 +677,17 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
             if rows.size > 1:
                 _log_plant(rec, "/yard/mbd", f, vehicle, _timelines(t[rows], s[rows]), rows,
                            colour)
-        if horizons:
-            ht = np.array([h[0] for h in horizons])
-            hs = np.interp(ht, t, s)
-            strips = [np.column_stack([h[1][:, :2], np.full(len(h[1]), 0.12)]) for h in horizons]
-            rec.send_columns("/yard/horizon", indexes=_timelines(ht, hs),
-                             columns=rr.LineStrips3D.columns(strips=strips).partition(
-                                 [1] * len(strips)))
-            rec.log("/yard/horizon", rr.LineStrips3D.from_fields(colors=[(255, 0, 200)],
-                                                                 radii=[0.05]), static=True)
+        _log_intent(rec, "/yard/horizon", horizons, t, s, 0.12, (255, 0, 200), 0.05)
+        _log_intent(rec, "/yard/plan/tracked", references, t, s, 0.10, (0, 255, 140), 0.09)
+        if any(r is not None for _, r in references):
+            rt = np.array([r[0] for r in references])
+            pts = [r[1][:1, :2] for r in references if r[1] is not None]
+            rec.send_columns("/yard/plan/point", indexes=_timelines(rt, np.interp(rt, t, s)),
+                             columns=rr.Points3D.columns(positions=np.column_stack(
+                                 [np.concatenate(pts), np.full(len(pts), 0.15)])).partition(
+                                 [0 if r is None else 1 for _, r in references]))
+            rec.log("/yard/plan/point", rr.Points3D.from_fields(colors=[(0, 255, 140)],
+                                                                radii=[0.25]), static=True)
         pe = _every(t, PLOT_RATE)
         ts = _timelines(t[::pe], s[::pe])
         _series(rec, "/signals/steering_wheel", ts, np.degrees(f["delta_h"].to_numpy()[::pe]),
@@ -688,6 +698,24 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         rec.log("/description", rr.TextDocument(text, media_type=rr.MediaType.MARKDOWN),
                 static=True)
     return Path(path)
+
+
+def _log_intent(rec: rr.RecordingStream, entity: str,
+                paths: Sequence[tuple[float, np.ndarray | None]], t: np.ndarray, s: np.ndarray,
+                z: float, colour: tuple[int, int, int], radius: float) -> None:
+    """One line strip per controller sample at ``entity`` (an empty row for ``None``).
+
+    Nothing is logged when no sample gave one.
+    """
+    if not any(p is not None for _, p in paths):
+        return
+    times = np.array([p[0] for p in paths])
+    strips = [np.column_stack([p[:, :2], np.full(len(p), z)]) for _, p in paths
+              if p is not None]
+    rec.send_columns(entity, indexes=_timelines(times, np.interp(times, t, s)),
+                     columns=rr.LineStrips3D.columns(strips=strips).partition(
+                         [0 if p is None else 1 for _, p in paths]))
+    rec.log(entity, rr.LineStrips3D.from_fields(colors=[colour], radii=[radius]), static=True)
 
 
 def _dock_blueprint(name: str, dock_face: tuple[float, float]) -> rrb.Blueprint:
@@ -721,6 +749,16 @@ def read_rows(path: Path) -> dict[str, int]:
         out[chunk.entity_path] = out.get(chunk.entity_path, 0) + (
             0 if chunk.is_static else chunk.num_rows)
     return out
+
+
+def read_times(path: Path, entity: str, timeline: str = "time") -> np.ndarray:
+    """The times [s] of an entity's rows on a duration timeline, read back, in order."""
+    out: list[float] = []
+    for chunk in RrdReader(Path(path)).stream():
+        if chunk.entity_path == entity and not chunk.is_static:
+            column = chunk.to_record_batch().column(timeline)
+            out.extend(v.total_seconds() for v in column.to_pylist())
+    return np.sort(np.array(out, dtype=float))
 
 
 def read_text(path: Path, entity: str) -> str:

@@ -1,9 +1,9 @@
 """Many logs through the harness at once, one log per call, on a thread pool.
 
-KIN and STM run :func:`artic.validation.reducedloop.compiled_loop`, the plant its
+KIN and STM run :func:`artic.validation.harness.reducedloop.compiled_loop`, the plant its
 compiled closed loop (:mod:`artic.plant.closedloop`). Both release the GIL for a
 whole log, so the logs of a batch spread over ``jobs`` threads and scale
-with cores. Each log is the very call :func:`artic.validation.harness.run_inputs`
+with cores. Each log is the very call :func:`artic.validation.harness.loop.run_inputs`
 makes, so a batch returns exactly what one call per log returns, at any
 number of threads.
 
@@ -21,14 +21,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.harness import (
+from artic.validation.harness.loop import (
     DEFAULT_GAIN,
     LoopInputs,
     count_run,
     loop_args,
     run_inputs,
 )
-from artic.validation.reducedloop import compiled_loop
+from artic.validation.harness.reducedloop import compiled_loop
 
 
 @dataclass(frozen=True)
@@ -36,7 +36,7 @@ class BatchResult:
     """Per log: observations, applied and feedback steering, saturation, rows computed.
 
     ``limited`` holds, per log, what the model had to limit (the plant's
-    warnings as one line, :mod:`artic.validation.plantnotes`), or ``""``.
+    warnings as one line, :mod:`artic.validation.harness.plantnotes`), or ``""``.
     """
 
     obs: list[np.ndarray]
@@ -64,7 +64,7 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
     vehicle : Vehicle
         For the limits ``delta_max`` and ``gamma_max``.
     inputs : sequence of LoopInputs
-        One per log, from :func:`artic.validation.harness.loop_inputs`.
+        One per log, from :func:`artic.validation.harness.loop.loop_inputs`.
     gain : float
         Reversing feedback gain K [rad/rad].
     jobs : int
@@ -118,7 +118,7 @@ def run_many(model_factory, vehicles: Sequence[Vehicle], inputs: Sequence[LoopIn
     run is independent of the others, so the numbers do not depend on ``jobs``.
     The longest runs start first, which keeps the threads busy to the end.
     """
-    from artic.validation.plantnotes import collect, summary
+    from artic.validation.harness.plantnotes import collect, summary
 
     def one(i):
         v, inp = vehicles[i], inputs[i]

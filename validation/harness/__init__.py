@@ -1,0 +1,18 @@
+"""The closed-loop harness: drives any model from a log with the reversing feedback.
+
+- :mod:`~artic.validation.harness.loop`: the closed loop, eqs. (5)-(7): a log's
+  inputs, any model driven through them, the model's run;
+- :mod:`~artic.validation.harness.feedback`: its steering law, one function every
+  loop runs; :mod:`~artic.validation.harness.reducedloop`: the loop for KIN and
+  the STM, compiled by numba;
+- :mod:`~artic.validation.harness.reversing`: when the feedback is on (reversing
+  decided with hysteresis on the speed);
+- :mod:`~artic.validation.harness.steering`: the steering map, eq. (3);
+  :mod:`~artic.validation.harness.yawsteer`: steering from the measured yaw rate,
+  for logs without a steering channel;
+- :mod:`~artic.validation.harness.batch`: many logs through the harness at once;
+- :mod:`~artic.validation.harness.simulate`: open-loop simulation of a manoeuvre,
+  and a driver who steers the articulation onto a reference;
+- :mod:`~artic.validation.harness.plantnotes`: what the plant had to limit during
+  a run, collected per run instead of printed.
+"""

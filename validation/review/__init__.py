@@ -1,0 +1,12 @@
+"""What a person reviews: the summary tables, Rerun recordings and plots.
+
+Used by ``artic validate``, the campaign and ``artic dock`` alike.
+
+- :mod:`~artic.validation.review.tables`: the paper's Tables 2 and 3 with
+  intervals, paired comparisons, the excess over the floor, pooling over trucks;
+- :mod:`~artic.validation.review.recording`: Rerun recordings, one per manoeuvre
+  and one per campaign (artic's only module that imports rerun);
+- :mod:`~artic.validation.review.plantshape`: the plant's bodies and geoms, as the
+  recordings draw them;
+- :mod:`~artic.validation.review.plots`: static plots of a manoeuvre.
+"""
