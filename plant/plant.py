@@ -742,7 +742,7 @@ class Plant:
         n = max(1, round(dt / h))
         if self._stepper is not None and self.use_compiled_step:
             # The same step in C: the speed controls here, the rest there.
-            self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
+            self._control(u1 + u1_dot * 0.5 * (n * h), u1_dot, n * h)
             code = self._stepper.step(delta, n)
             s = self._stepper.struct
             if s.steer_limited:
@@ -768,8 +768,9 @@ class Plant:
                 self.warn_steer_limited(d.time, delta)
         d.ctrl[self._servo] = min(max(delta, lo), hi)
         # The speed controller is sampled once per call (zero-order hold over
-        # dt), at the middle of the interval, so MuJoCo runs n steps uninterrupted.
-        self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
+        # dt), at the middle of the interval (the commanded ramp's mean, at
+        # dt / 2 whatever the step), so MuJoCo runs n steps uninterrupted.
+        self._control(u1 + u1_dot * 0.5 * (n * h), u1_dot, n * h)
         # MuJoCo resets a diverged simulation to t = 0 by itself: keep what a report needs.
         good_time, good_forces = d.time, self.last_forces.copy()
         mujoco.mj_step(m, d, nstep=n)

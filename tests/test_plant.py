@@ -179,6 +179,26 @@ def test_timestep_is_converged(unloaded):
     np.testing.assert_allclose(out[0][:, [0, 1, 6, 7]], out[1][:, [0, 1, 6, 7]], atol=1e-3)
 
 
+def test_the_speed_set_point_is_the_middle_of_the_step_whatever_the_timestep(unloaded):
+    # A ramp of the commanded speed is held for each 10 ms at its value at the
+    # middle of the interval (its mean), so the followed speed does not depend
+    # on how many MuJoCo steps the interval takes. At 0.5 m/s^2, a set-point at
+    # the middle of the steps' starts (4.5 ms into the interval at 1 ms, 0 at
+    # 10 ms) puts the two 2.2e-3 m/s apart; at the middle they agree within
+    # RK4's own error at 10 ms (1.4e-4 m/s, 1e-5 at 5 ms): 5e-4 m/s.
+    out = []
+    for h in (0.01, 0.001):
+        with Plant(unloaded, timestep=h) as p:
+            p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=0.0))
+            v = []
+            for k in range(400):
+                p.step(0.01, 0.0, 0.5 * k * 0.01, 0.5)
+                v.append(p.observe()[3])
+            out.append(np.array(v))
+    assert out[0][-1] == pytest.approx(2.0, abs=0.01)
+    assert np.abs(out[0][50:] - out[1][50:]).max() < 5e-4
+
+
 def test_divergence_names_time_and_wheel(unloaded_plant):
     p = unloaded_plant
     p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=1.0))
