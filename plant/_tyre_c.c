@@ -313,18 +313,17 @@ static double actuator_now(const mjModel* m, const mjData* d, int a) {
   return f;
 }
 
-/* The generalized force on hinge dof j from everything but the tyres that the
- * passive stage can know: MuJoCo's own passive force, the applied force and the
- * actuators on its joint (the drive and the brakes). */
-static double other_spin_force(const mjModel* m, const mjData* d, int j) {
-  double q = d->qfrc_passive[j] + d->qfrc_applied[j];
-  int jnt = m->dof_jntid[j];
+/* Into q[nv]: the generalized force on every dof from the actuators on a joint
+ * (the drive and the brakes on a wheel's spin; the tread states' actuators have
+ * no gain), as mj_fwdActuation will compute it. One pass over the actuators. */
+static void joint_actuator_forces(const mjModel* m, const mjData* d, mjtNum* q) {
+  mju_zero(q, m->nv);
   for (int a = 0; a < m->nu; a++) {
     int t = m->actuator_trntype[a];
-    if ((t == mjTRN_JOINT || t == mjTRN_JOINTINPARENT) && m->actuator_trnid[2 * a] == jnt)
-      q += m->actuator_gear[6 * m->actuator_outadr[a]] * actuator_now(m, d, a);
+    if (t == mjTRN_JOINT || t == mjTRN_JOINTINPARENT)
+      q[m->jnt_dofadr[m->actuator_trnid[2 * a]]] +=
+          m->actuator_gear[6 * m->actuator_outadr[a]] * actuator_now(m, d, a);
   }
-  return q;
 }
 
 /* qfrc += J' [F; T], J the Jacobian of `point` on `body`: mj_applyFT's sum, taken
@@ -524,6 +523,14 @@ void artic_passive(const mjModel* m, mjData* d) {
   }
   int moments = blk[6] != 0.0;
   double fit_scale = blk[7], h = m->opt.timestep;
+  /* The spin's other generalized forces for the fit: MuJoCo's own passive
+   * force, the applied force and the joints' actuators (artic_spin_fit). */
+  mj_markStack(d);
+  mjtNum* q_other = NULL;
+  if (fit_scale > 0.0) {
+    q_other = mj_stackAllocNum(d, m->nv);
+    joint_actuator_forces(m, d, q_other);
+  }
   const double* sets = blk + HEADER;
   const double* w = sets + (int)blk[5] * N_PARAMS;
   int outside = 0;
@@ -577,8 +584,8 @@ void artic_passive(const mjModel* m, mjData* d) {
       double zero[3] = {0.0, 0.0, 0.0};
       double inv_I = m->dof_invweight0[spin];
       double q_x = dof_ft(m, d, hx, zero, point, wheel_body, spin);
-      double f_spin = (dof_ft(m, d, F, torque, point, wheel_body, spin)
-                       + other_spin_force(m, d, spin)) * inv_I;
+      double f_spin = (dof_ft(m, d, F, torque, point, wheel_body, spin) + q_other[spin]
+                       + d->qfrc_passive[spin] + d->qfrc_applied[spin]) * inv_I;
       double dFx, ddu;
       artic_spin_fit(h, fit_scale, inv_I, q_x, n, Re, k_x, c_x, b_x, f_spin, du, &dFx, &ddu);
       Fx += dFx;
@@ -593,6 +600,7 @@ void artic_passive(const mjModel* m, mjData* d) {
     d->userdata[3 * i + 2] = F[2];
     apply_ft(m, d, F, torque, point, wheel_body, d->qfrc_passive);
   }
+  mj_freeStack(d);
   d->userdata[3 * nw] += outside;
 }
 

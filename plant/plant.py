@@ -589,13 +589,15 @@ class Plant:
         """:func:`artic.plant.spinmode.fit` of every wheel end, before its forces apply.
 
         The spin's rate counts the tyre's force and torque and everything else
-        the passive stage knows on the spin dof (:meth:`_other_spin_forces`). A
-        spin held by dry friction (the parking brake) is left to MuJoCo's solver.
+        the passive stage knows on the spin dof: MuJoCo's own passive force, the
+        applied force and the actuators on the joint (:meth:`_spin_actuator_forces`).
+        A spin held by dry friction (the parking brake) is left to MuJoCo's solver.
         """
         spin = self._spin_dof
         q_x, Q = self._spin_forces(m, d, F, torque, contact, hx)
         inv_I = m.dof_invweight0[spin]
-        f_spin = (Q + self._other_spin_forces(m, d)) * inv_I
+        f_spin = (Q + self._spin_actuator_forces(m, d) + d.qfrc_passive[spin]
+                  + d.qfrc_applied[spin]) * inv_I
         dFx, ddu = spinmode.fit(m.opt.timestep, inv_I, q_x, self._n_tyres, Re, k_x, c_x, b_x,
                                 f_spin, du, self.spin_fit)
         held = m.dof_frictionloss[spin] != 0.0
@@ -642,18 +644,16 @@ class Plant:
         return spinmode.eigenvalues(m.dof_invweight0[self._spin_dof], q_x, self._n_tyres, Re,
                                     k_x, c_x, b_x)
 
-    def _other_spin_forces(self, m: mujoco.MjModel, d: mujoco.MjData) -> np.ndarray:
-        """Generalized force on each spin dof from all but the tyres, as the passive stage knows it.
+    def _spin_actuator_forces(self, m: mujoco.MjModel, d: mujoco.MjData) -> np.ndarray:
+        """Generalized force on each spin dof from the actuators on its joint.
 
-        MuJoCo's own passive force, the applied force and the actuators on the
-        spin joint (drive, brakes; the tread states' actuators have no gain),
+        The drive and the brakes (the tread states' actuators have no gain),
         each as ``mj_fwdActuation`` will compute it: fixed or affine gain and
         bias, the control clamped to its range, the force to its.
         """
-        spin = self._spin_dof
-        q = d.qfrc_passive[spin] + d.qfrc_applied[spin]
+        q = np.zeros(self.n_wheels)
         joint_trn = (mujoco.mjtTrn.mjTRN_JOINT, mujoco.mjtTrn.mjTRN_JOINTINPARENT)
-        for i, j in enumerate(m.dof_jntid[spin]):
+        for i, j in enumerate(m.dof_jntid[self._spin_dof]):
             for a in range(m.nu):
                 if m.actuator_trntype[a] in joint_trn and m.actuator_trnid[a, 0] == j:
                     q[i] += m.actuator_gear[m.actuator_outadr[a], 0] * _actuator_now(m, d, a)
