@@ -21,7 +21,7 @@ So ``d(Omega, u)/dt = J (Omega, u) + inputs`` with
 At standstill (``b = 0``, the damper fully in) the eigenvalues of ``J`` are
 real, about -44 and -430 1/s for artic's tyres; rolling above ``VXLOW`` (no
 damper) they are ``-b/2 +- i 137`` 1/s. RK4 is stable for real ``h lambda``
-down to -2.785: the fast standstill root limits its step to 6.5 ms
+down to -2.785: the fast standstill root limits its step to about 6 ms
 (``docs/design/timestep.md``). Nothing else in the plant is that fast.
 
 **The fit.** At a step ``h`` the tyre callback does not hand the integrator
@@ -48,9 +48,10 @@ does, so momentum balances. Then:
 
 ``g`` has poles where ``(z / z_0)^4 = -1``, at ``|z| = z_0`` and 45 degrees
 off either axis. The mode's eigenvalues stay away from them: on both axes
-``(z / z_0)^4 >= 0``, and an underdamped pair at 45 degrees has ``|lambda|``
-at most ``sqrt(2) omega_0`` (``omega_0^2 = det J``), 0.28 at 10 ms where
-``z_0 = 4`` is 14 times more.
+``(z / z_0)^4 >= 0``, and a pair 45 degrees off the negative axis (damping
+ratio 0.71, ``a + b = sqrt(2) |lambda|``, ``|lambda|^2 = omega_0^2 + a b``
+with ``a b <= (a + b)^2 / 4``) has ``|lambda| <= sqrt(2) omega_0``: at most
+200 1/s for artic's tyres, ``|z / z_0| <= 0.5`` at 10 ms.
 """
 
 from __future__ import annotations
@@ -80,7 +81,10 @@ def fit_factor(z, scale: float = FIT_SCALE):
 
 
 def jacobian(inv_inertia, q_x, n, Re, k, c, b) -> np.ndarray:
-    """The mode's ``J``, shape ``(..., 2, 2)`` [1/s, N/(m kg m)...] (module docstring).
+    """The mode's ``J``, shape ``(..., 2, 2)`` (module docstring).
+
+    Rows: ``dOmega/dt`` [rad/s^2] and ``du/dt`` [m/s]; columns: ``Omega``
+    [rad/s] and ``u`` [m].
 
     Parameters
     ----------
@@ -112,6 +116,11 @@ def eigenvalues(inv_inertia, q_x, n, Re, k, c, b) -> np.ndarray:
     lam = np.linalg.eigvals(jacobian(inv_inertia, q_x, n, Re, k, c, b))
     order = np.argsort(-np.abs(lam), axis=-1)
     return np.take_along_axis(lam, order, axis=-1)
+
+
+DET_MIN = 0.5
+"""Smallest ``det(1 + P^4)`` the fit divides by [-]; below it (never reached by a
+mode of a tyre with the module docstring's bounds) the wheel end is integrated plainly."""
 
 
 def fit(h, inv_inertia, q_x, n, Re, k, c, b, f_spin, f_u,
@@ -160,7 +169,3 @@ def fit(h, inv_inertia, q_x, n, Re, k, c, b, f_spin, f_u,
     y1 = np.where(ok, -(-n2 * w0 + n0 * w1) / det, 0.0)
     return c * Re * y0 + k * y1, Re * y0 - b * y1
 
-
-DET_MIN = 0.5
-"""Smallest ``det(1 + P^4)`` the fit divides by [-]; below it (never reached by a
-mode of a tyre with the module docstring's bounds) the wheel end is integrated plainly."""

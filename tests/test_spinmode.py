@@ -91,6 +91,18 @@ def test_eigenvalues_at_standstill_and_rolling_match_the_closed_form(name):
             assert np.all(lam.imag != 0.0) and abs(lam[0]) == pytest.approx(w0, rel=0.01)
 
 
+def test_rk4_real_stability_limit():
+    # On the negative real axis RK4's factor falls to 0.27 at z = -1.596 and
+    # rises back to 1 at the limit: inside it a mode decays (without changing
+    # sign), beyond it it grows.
+    z = -spinmode.RK4_REAL_LIMIT
+    assert spinmode.rk4_amplification(z) == pytest.approx(1.0, abs=1e-8)
+    inside = np.linspace(z + 1e-6, -1e-6, 1000)
+    R = spinmode.rk4_amplification(inside)
+    assert np.all((R > 0.27) & (R < 1.0))
+    assert spinmode.rk4_amplification(z - 1e-3) > 1.0
+
+
 def test_plain_rk4_is_unstable_at_standstill_at_10_ms_and_the_fit_is_stable():
     # Every load and speed of both tyres, single and twin wheel ends: plain
     # RK4's factor exceeds 1 somewhere at 10 ms (the standstill root near
@@ -103,9 +115,11 @@ def test_plain_rk4_is_unstable_at_standstill_at_10_ms_and_the_fit_is_stable():
         Vx = np.linspace(0.0, 1.5 * p.VXLOW, 61)[None, :]
         for inertia, n in ((12.0, 1.0), (24.0, 2.0)):
             w = wheel(p, Fz, Vx, inertia, n)
-            plain = np.abs(spinmode.rk4_amplification(h * spinmode.eigenvalues(**w))).max()
+            lam = spinmode.eigenvalues(**w)
+            plain = np.abs(spinmode.rk4_amplification(h * lam)).max()
             fitted = np.linalg.eigvals(fitted_jacobian(h, w))
-            assert plain > 5.0
+            assert plain > 5.0 and (h * lam.real).min() < -spinmode.RK4_REAL_LIMIT
+            assert (h * fitted.real).min() > -0.57 * spinmode.FIT_SCALE
             assert np.abs(spinmode.rk4_amplification(h * fitted)).max() <= 1.0 + 1e-12
 
 
