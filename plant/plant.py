@@ -1,6 +1,6 @@
 """The multibody reference plant behind the harness's model interface.
 
-Every integrator stage (RK4, 5 ms by default: see :data:`artic.mjcf.builder.TIMESTEP`)
+Every integrator stage (RK4, 10 ms by default: see :data:`artic.mjcf.builder.TIMESTEP`)
 the passive-force callback runs for every wheel end at once:
 
 - wheel-centre position and velocity, from the hub site and its body's
@@ -203,7 +203,7 @@ class Plant:
     vehicle : Vehicle
         Every number of the model comes from here and its tyre file.
     timestep : float, optional
-        MuJoCo timestep [s]; the model's default (5 ms, RK4) otherwise.
+        MuJoCo timestep [s]; the model's default (10 ms, RK4) otherwise.
     backend : str
         Tyre callback: ``"auto"`` (compiled if available), ``"c"`` or ``"numpy"``.
     speed : str
