@@ -9,8 +9,9 @@
  *      row of raw outputs for Plant.extras;
  *   3. a stop when the articulation passes gamma_max or a signal is not finite;
  *   4. otherwise Plant.step: the steering servos, the speed follower sampled
- *      at the middle of the interval, n = round(dt / h) MuJoCo steps, and the
- *      divergence check.
+ *      at the middle of the interval (the commanded ramp's mean, at dt / 2,
+ *      whatever the step), n = round(dt / h) MuJoCo steps, and the divergence
+ *      check.
  *
  * The tyre forces come from MuJoCo's passive callback as always (the compiled
  * one, plant/_tyre_c.c). Nothing here is global: the loop's state lives in
@@ -221,7 +222,7 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
     /* 4. Plant.step: the servos, the speed follower, the steps, the check */
     int nsub = (int)nearbyint(dt[k] / h);
     if (nsub < 1) nsub = 1;
-    double u_cmd = u1[k] + u1_dot[k] * 0.5 * (nsub - 1) * h;
+    double u_cmd = u1[k] + u1_dot[k] * 0.5 * (nsub * h);
     double e = u_cmd - speed(d, s);
     s->integral += e * (nsub * h);
     double rr = s->rr_coef * tanh(u_cmd / 0.1);

@@ -30,10 +30,10 @@
 
 #include <mujoco/mujoco.h>
 
-#define ARTIC_ABI 2
+#define ARTIC_ABI 3
 #define BLOCK_NAME "artic.tyre"
-/* abi, key_hi, key_lo, n_wheels, n_params, n_sets, moments, checksum */
-#define HEADER 8
+/* abi, key_hi, key_lo, n_wheels, n_params, n_sets, moments, spin_fit, checksum */
+#define HEADER 9
 #define PER_WHEEL 13
 #define MAX_TYRES_PER_END 4 /* ctyre.MAX_TYRES_PER_END */
 
@@ -202,7 +202,8 @@ static double bore_max(const double* p, double Fz) {
  * Returns 1 when a loaded wheel is outside the file's ranges. */
 static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, double omega_z,
                  double u, double v, double phi, int moments, double* Fx, double* Fy,
-                 double* Mz, double* My, double* du, double* dv, double* dphi) {
+                 double* Mz, double* My, double* du, double* dv, double* dphi, double* k_x,
+                 double* c_x, double* b_x) {
   double Fzc = fmax(Fz, p[FZMIN]);
   double sk = sigma_kappa(p, Fzc), sa = sigma_alpha(p, Fzc), ax = fabs(Vx);
   double kappa = u / sk, alpha = atan(v / sa);
@@ -220,6 +221,9 @@ static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, d
   double Ky = cornering_stiffness(p, Fzp);
   *Fx = *Fx - fade * p[PTX4] * Kx / sk * Vsx * 0.25;
   *Fy = *Fy - fade * p[PTX4] * Ky / sa * Vy * 0.25;
+  *k_x = Kx / sk;
+  *c_x = fade * p[PTX4] * Kx / sk * 0.25;
+  *b_x = ax / sk;
   if (moments) { /* bore torque, and the damper on the twist's elastic rate */
     double th = tanh(phi / phi_s);
     double elastic = (1.0 - th * th) * *dphi;
@@ -235,6 +239,91 @@ static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, d
   *My = -mag * tanh(Vx / V_SIGN);
   return Fz > 0.0 && (Fz < p[FZMIN] || Fz > p[FZMAX] || kappa < p[KPUMIN] || kappa > p[KPUMAX]
                       || alpha < p[ALPMIN] || alpha > p[ALPMAX]);
+}
+
+/* ------------------------------------------------------------------ the spin mode */
+
+/* spinmode.fit, term by term: the additions to a wheel end's F_x [N per tyre] and
+ * du/dt [m/s] that make the integrator see g(h J) f instead of the rate f of
+ * the wheel-spin/tread mode, g(z) = 1 / (1 + (z / scale)^4). Nothing for h or
+ * scale 0, or where det(1 + P^4) < DET_MIN (spinmode.DET_MIN). */
+static const double DET_MIN = 0.5; /* spinmode.DET_MIN */
+
+void artic_spin_fit(double h, double scale, double inv_inertia, double q_x, double n,
+                    double Re, double k, double c, double b, double f_spin, double f_u,
+                    double* dFx, double* ddu) {
+  *dFx = 0.0;
+  *ddu = 0.0;
+  if (!(scale > 0.0 && h > 0.0)) return;
+  double g = q_x * n * inv_inertia;
+  double s = h / scale;
+  double p0 = s * g * c * Re, p1 = s * g * k, p2 = s * Re, p3 = -s * b; /* P = s J */
+  double w0 = s * f_spin, w1 = s * f_u;
+  for (int i = 0; i < 3; i++) { /* P^3 s f */
+    double t0 = p0 * w0 + p1 * w1, t1 = p2 * w0 + p3 * w1;
+    w0 = t0;
+    w1 = t1;
+  }
+  double q0 = p0 * p0 + p1 * p2, q1 = p0 * p1 + p1 * p3; /* P^2 */
+  double q2 = p2 * p0 + p3 * p2, q3 = p2 * p1 + p3 * p3;
+  double n0 = 1.0 + q0 * q0 + q1 * q2, n1 = q0 * q1 + q1 * q3; /* 1 + P^4 */
+  double n2 = q2 * q0 + q3 * q2, n3 = 1.0 + q2 * q1 + q3 * q3;
+  double det = n0 * n3 - n1 * n2;
+  if (!(det > DET_MIN)) return;
+  double y0 = -(n3 * w0 - n1 * w1) / det, y1 = -(-n2 * w0 + n0 * w1) / det;
+  *dFx = c * Re * y0 + k * y1;
+  *ddu = Re * y0 - b * y1;
+}
+
+/* The generalized force on dof j of the force F and torque T at point on body's chain. */
+static double dof_ft(const mjModel* m, const mjData* d, const double F[3], const double T[3],
+                     const double point[3], int body, int j) {
+  const mjtNum* c = d->subtree_com + 3 * m->body_rootid[body];
+  double o[3] = {point[0] - c[0], point[1] - c[1], point[2] - c[2]};
+  double tc[3] = {T[0] + o[1] * F[2] - o[2] * F[1], T[1] + o[2] * F[0] - o[0] * F[2],
+                  T[2] + o[0] * F[1] - o[1] * F[0]};
+  const mjtNum* sd = d->cdof + 6 * j;
+  return sd[0] * tc[0] + sd[1] * tc[1] + sd[2] * tc[2] + sd[3] * F[0] + sd[4] * F[1]
+         + sd[5] * F[2];
+}
+
+/* The force of actuator a now, as mj_fwdActuation will compute it (gain and bias
+ * fixed or affine; others count zero). */
+static double actuator_now(const mjModel* m, const mjData* d, int a) {
+  int out = m->actuator_outadr[a];
+  double input;
+  if (m->actuator_dyntype[a] == mjDYN_NONE) {
+    input = d->ctrl[a];
+    if (m->actuator_ctrllimited[a] && !(m->opt.disableflags & mjDSBL_CLAMPCTRL))
+      input = fmin(fmax(input, m->actuator_ctrlrange[2 * a]), m->actuator_ctrlrange[2 * a + 1]);
+  } else {
+    input = d->act[m->actuator_actadr[a] + m->actuator_actnum[a] - 1];
+  }
+  const mjtNum* gp = m->actuator_gainprm + mjNGAIN * a;
+  const mjtNum* bp = m->actuator_biasprm + mjNBIAS * a;
+  double len = d->actuator_length[out], vel = d->actuator_velocity[out], gain, bias = 0.0;
+  if (m->actuator_gaintype[a] == mjGAIN_FIXED) gain = gp[0];
+  else if (m->actuator_gaintype[a] == mjGAIN_AFFINE) gain = gp[0] + gp[1] * len + gp[2] * vel;
+  else return 0.0;
+  if (m->actuator_biastype[a] == mjBIAS_AFFINE) bias = bp[0] + bp[1] * len + bp[2] * vel;
+  else if (m->actuator_biastype[a] != mjBIAS_NONE) return 0.0;
+  double f = gain * input + bias;
+  if (m->actuator_forcelimited[a])
+    f = fmin(fmax(f, m->actuator_forcerange[2 * a]), m->actuator_forcerange[2 * a + 1]);
+  return f;
+}
+
+/* Into q[nv]: the generalized force on every dof from the actuators on a joint
+ * (the drive and the brakes on a wheel's spin; the tread states' actuators have
+ * no gain), as mj_fwdActuation will compute it. One pass over the actuators. */
+static void joint_actuator_forces(const mjModel* m, const mjData* d, mjtNum* q) {
+  mju_zero(q, m->nv);
+  for (int a = 0; a < m->nu; a++) {
+    int t = m->actuator_trntype[a];
+    if (t == mjTRN_JOINT || t == mjTRN_JOINTINPARENT)
+      q[m->jnt_dofadr[m->actuator_trnid[2 * a]]] +=
+          m->actuator_gear[6 * m->actuator_outadr[a]] * actuator_now(m, d, a);
+  }
 }
 
 /* qfrc += J' [F; T], J the Jacobian of `point` on `body`: mj_applyFT's sum, taken
@@ -327,7 +416,8 @@ static const double* valid_block(const mjModel* m, const mjData* d, int* nw_out)
   if (!(nw_d >= 0.0 && nw_d <= 4096.0 && ns_d >= 1.0 && ns_d <= 64.0)) return NULL;
   int nw = (int)nw_d, ns = (int)ns_d;
   if (size != HEADER + ns * N_PARAMS + nw * PER_WHEEL) return NULL;
-  if (checksum(blk + HEADER, size - HEADER) != blk[7]) return NULL;
+  if (!(blk[7] >= 0.0 && isfinite(blk[7]))) return NULL; /* spin_fit */
+  if (checksum(blk + HEADER, size - HEADER) != blk[8]) return NULL;
   if (m->nuserdata < 3 * nw + 1 || d == NULL) return NULL;
   const double* w = blk + HEADER + ns * N_PARAMS;
   for (int i = 0; i < nw; i++, w += PER_WHEEL) {
@@ -416,8 +506,9 @@ void artic_tyre_eval(const double* p, int n, int moments, const double* Fz, cons
                      const double* v, const double* phi, double* Fx, double* Fy, double* Mz,
                      double* My, double* du, double* dv, double* dphi) {
   for (int i = 0; i < n; i++) {
+    double k_x, c_x, b_x;
     wheel(p, Fz[i], Vx[i], Vsx[i], Vy[i], omega_z[i], u[i], v[i], phi[i], moments, Fx + i,
-          Fy + i, Mz + i, My + i, du + i, dv + i, dphi + i);
+          Fy + i, Mz + i, My + i, du + i, dv + i, dphi + i, &k_x, &c_x, &b_x);
   }
 }
 
@@ -431,6 +522,15 @@ void artic_passive(const mjModel* m, mjData* d) {
     return;
   }
   int moments = blk[6] != 0.0;
+  double fit_scale = blk[7], h = m->opt.timestep;
+  /* The spin's other generalized forces for the fit: MuJoCo's own passive
+   * force, the applied force and the joints' actuators (artic_spin_fit). */
+  mj_markStack(d);
+  mjtNum* q_other = NULL;
+  if (fit_scale > 0.0) {
+    q_other = mj_stackAllocNum(d, m->nv);
+    joint_actuator_forces(m, d, q_other);
+  }
   const double* sets = blk + HEADER;
   const double* w = sets + (int)blk[5] * N_PARAMS;
   int outside = 0;
@@ -468,12 +568,9 @@ void artic_passive(const mjModel* m, mjData* d) {
     double Vy = vel[0] * hy[0] + vel[1] * hy[1] + vel[2] * hy[2];
     double Re = R0 - fmax(rho, 0.0) / 3.0;
     double Vsx = Vx - d->qvel[spin] * Re;
-    double Fx, Fy, Mz, My, du, dv, dphi;
+    double Fx, Fy, Mz, My, du, dv, dphi, k_x, c_x, b_x;
     outside += wheel(p, Fz, Vx, Vsx, Vy, om[2], d->act[act_u], d->act[act_v], d->act[act_w],
-                     moments, &Fx, &Fy, &Mz, &My, &du, &dv, &dphi);
-    d->ctrl[ctrl_u] = du;
-    d->ctrl[ctrl_v] = dv;
-    d->ctrl[ctrl_w] = dphi;
+                     moments, &Fx, &Fy, &Mz, &My, &du, &dv, &dphi, &k_x, &c_x, &b_x);
     double torque[3], point[3] = {pos[0], pos[1], 0.0};
     for (int j = 0; j < 3; j++) {
       F[j] = n * Fx * hx[j] + n * Fy * hy[j];
@@ -481,11 +578,29 @@ void artic_passive(const mjModel* m, mjData* d) {
     }
     F[2] += n * Fz;
     torque[2] += n * Mz;
+    /* the spin mode, fitted to the step (spinmode); a braked spin is MuJoCo's
+     * friction constraint's, which the solver holds implicitly */
+    if (fit_scale > 0.0 && m->dof_frictionloss[spin] == 0.0) {
+      double zero[3] = {0.0, 0.0, 0.0};
+      double inv_I = m->dof_invweight0[spin];
+      double q_x = dof_ft(m, d, hx, zero, point, wheel_body, spin);
+      double f_spin = (dof_ft(m, d, F, torque, point, wheel_body, spin) + q_other[spin]
+                       + d->qfrc_passive[spin] + d->qfrc_applied[spin]) * inv_I;
+      double dFx, ddu;
+      artic_spin_fit(h, fit_scale, inv_I, q_x, n, Re, k_x, c_x, b_x, f_spin, du, &dFx, &ddu);
+      Fx += dFx;
+      du += ddu;
+      for (int j = 0; j < 3; j++) F[j] += n * dFx * hx[j];
+    }
+    d->ctrl[ctrl_u] = du;
+    d->ctrl[ctrl_v] = dv;
+    d->ctrl[ctrl_w] = dphi;
     d->userdata[3 * i] = F[0];
     d->userdata[3 * i + 1] = F[1];
     d->userdata[3 * i + 2] = F[2];
     apply_ft(m, d, F, torque, point, wheel_body, d->qfrc_passive);
   }
+  mj_freeStack(d);
   d->userdata[3 * nw] += outside;
 }
 

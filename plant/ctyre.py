@@ -32,15 +32,19 @@ from typing import NamedTuple
 import mujoco
 import numpy as np
 
+from artic.plant.spinmode import FIT_SCALE
 from artic.plant.tyre import TyreParams
 
 BLOCK = "artic.tyre"
 """Name of the numeric that carries the callback's parameters; it must be numeric 0."""
 
-ABI = 2
+ABI = 3
 HEADER_FIELDS = ("abi", "key_hi", "key_lo", "n_wheels", "n_params", "n_sets", "moments",
-                 "checksum")
-"""Header entries, in block order; then ``n_sets`` coefficient sets, then the wheels."""
+                 "spin_fit", "checksum")
+"""Header entries, in block order; then ``n_sets`` coefficient sets, then the wheels.
+
+``spin_fit`` is the scale ``z_0`` of the wheel-spin mode's fit to the step
+(:data:`artic.plant.spinmode.FIT_SCALE`), 0 for none."""
 
 WHEEL_FIELDS = ("hub_site", "hub_body", "root_body", "wheel_body", "spin_dof", "act_u",
                 "act_v", "act_w", "ctrl_u", "ctrl_v", "ctrl_w", "n_tyres", "tyre_set")
@@ -101,6 +105,8 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     lib.artic_param_names.restype = ctypes.c_char_p
     lib.artic_tyre_eval.restype = None
     lib.artic_tyre_eval.argtypes = [_DOUBLE_P, ctypes.c_int, ctypes.c_int] + [_DOUBLE_P] * 15
+    lib.artic_spin_fit.restype = None
+    lib.artic_spin_fit.argtypes = [ctypes.c_double] * 11 + [_DOUBLE_P] * 2
     lib.artic_passive.restype = None
     lib.artic_passive.argtypes = [ctypes.c_void_p, ctypes.c_void_p]
     lib.artic_block_ok.restype = ctypes.c_int
@@ -175,7 +181,8 @@ def _check_values(where: str, values: dict[str, float]) -> None:
             raise TyreBlockError(f"{where}: tyre coefficient {n} = {float(x)!r} must be positive")
 
 
-def block(sets: list[TyreParams], wheels: np.ndarray, moments: bool) -> np.ndarray:
+def block(sets: list[TyreParams], wheels: np.ndarray, moments: bool,
+          spin_fit: float = FIT_SCALE) -> np.ndarray:
     """The ``artic.tyre`` numeric, sealed with this process's key.
 
     Parameters
@@ -186,12 +193,19 @@ def block(sets: list[TyreParams], wheels: np.ndarray, moments: bool) -> np.ndarr
         Per wheel end, the ids and values named by :data:`WHEEL_FIELDS`.
     moments : bool
         Whether the tyres' aligning and bore torques act.
+    spin_fit : float
+        The scale of the spin mode's fit to the step (:mod:`artic.plant.spinmode`);
+        0 integrates the mode plainly.
     """
     for p in sets:
         check_set(p)
+    if not (np.isfinite(spin_fit) and spin_fit >= 0.0):
+        raise TyreBlockError(f"spin_fit = {spin_fit!r}: the fit's scale must be finite and "
+                             "not negative (0 for no fit)")
     wheels = np.asarray(wheels, dtype=float).reshape(-1, len(WHEEL_FIELDS))
     body = np.concatenate([*(param_vector(p) for p in sets), wheels.ravel()])
-    head = [ABI, *KEY, len(wheels), len(param_names()), len(sets), float(moments), 0.0]
+    head = [ABI, *KEY, len(wheels), len(param_names()), len(sets), float(moments),
+            float(spin_fit), 0.0]
     head[-1] = checksum(body)
     return np.concatenate([head, body])
 
@@ -228,6 +242,9 @@ def check_block(m: mujoco.MjModel, d: mujoco.MjData | None = None) -> None:
     if h["n_params"] != npar:
         raise TyreBlockError(f"'{BLOCK}' has sets of {h['n_params']:g} coefficients, not {npar}")
     nw, ns = h["n_wheels"], h["n_sets"]
+    if not (np.isfinite(h["spin_fit"]) and h["spin_fit"] >= 0.0):
+        raise TyreBlockError(f"'{BLOCK}': spin_fit = {h['spin_fit']!r} must be finite and not "
+                             "negative (0 for no fit)")
     if not (nw >= 0 and nw == int(nw) and 1 <= ns <= 64 and ns == int(ns)):
         raise TyreBlockError(f"'{BLOCK}': bad counts n_wheels = {nw:g}, n_sets = {ns:g}")
     nw, ns = int(nw), int(ns)
@@ -284,6 +301,19 @@ def evaluate(p: TyreParams, Fz, Vx, Vsx, Vy, omega_z, u, v, phi,
     lib.artic_tyre_eval(pv.ctypes.data_as(_DOUBLE_P), n, int(moments),
                         *(a.ctypes.data_as(_DOUBLE_P) for a in args + out))
     return TyreOutputs(*out)
+
+
+def spin_fit(h: float, scale: float, inv_inertia: float, q_x: float, n: float, Re: float,
+             k: float, c: float, b: float, f_spin: float, f_u: float) -> tuple[float, float]:
+    """The compiled ``artic_spin_fit`` of one wheel end: ``(dFx, ddu)``.
+
+    For comparison with :func:`artic.plant.spinmode.fit`: the same arguments,
+    with the fit's scale second.
+    """
+    dFx, ddu = ctypes.c_double(), ctypes.c_double()
+    _lib().artic_spin_fit(h, scale, inv_inertia, q_x, n, Re, k, c, b, f_spin, f_u,
+                          ctypes.byref(dFx), ctypes.byref(ddu))
+    return dFx.value, ddu.value
 
 
 def zero_clock():

@@ -1,6 +1,6 @@
 """The multibody reference plant behind the harness's model interface.
 
-Every integrator stage (RK4, 5 ms by default: see :data:`artic.mjcf.builder.TIMESTEP`)
+Every integrator stage (RK4, 10 ms by default: see :data:`artic.mjcf.builder.TIMESTEP`)
 the passive-force callback runs for every wheel end at once:
 
 - wheel-centre position and velocity, from the hub site and its body's
@@ -58,11 +58,12 @@ from artic.mjcf.interface import InitialState, rotate, wrap_angle
 from artic.mjcf.masses import layout
 from artic.mjcf.plausible import check_tyre_data
 from artic.mjcf.vehicle import G, Vehicle, resolve_tyre_file
-from artic.plant import callback, closedloop, ctyre
+from artic.plant import callback, closedloop, ctyre, spinmode
 from artic.plant.tyre import (
     TyreParams,
     check_ranges,
     deflection_rates,
+    longitudinal_tread,
     rolling_resistance,
     transient_forces,
 )
@@ -121,6 +122,39 @@ def _warn_loop_fallback() -> None:
                "about a third slower, and plants on threads scale less")
 
 
+def _actuator_now(m: mujoco.MjModel, d: mujoco.MjData, a: int) -> float:
+    """Actuator ``a``'s force as ``mj_fwdActuation`` will compute it from the state now.
+
+    Fixed or affine gain and bias (the motors and servos of the plant); any
+    other kind counts zero. The C callback's ``actuator_now``.
+    """
+    out = m.actuator_outadr[a]
+    if m.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_NONE:
+        x = d.ctrl[a]
+        clamp = not m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CLAMPCTRL
+        if m.actuator_ctrllimited[a] and clamp:
+            x = min(max(x, m.actuator_ctrlrange[a, 0]), m.actuator_ctrlrange[a, 1])
+    else:
+        x = d.act[m.actuator_actadr[a] + m.actuator_actnum[a] - 1]
+    gp, bp = m.actuator_gainprm[a], m.actuator_biasprm[a]
+    length, speed = d.actuator_length[out], d.actuator_velocity[out]
+    if m.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_FIXED:
+        gain = gp[0]
+    elif m.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_AFFINE:
+        gain = gp[0] + gp[1] * length + gp[2] * speed
+    else:
+        return 0.0
+    bias = 0.0
+    if m.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_AFFINE:
+        bias = bp[0] + bp[1] * length + bp[2] * speed
+    elif m.actuator_biastype[a] != mujoco.mjtBias.mjBIAS_NONE:
+        return 0.0
+    f = gain * x + bias
+    if m.actuator_forcelimited[a]:
+        f = min(max(f, m.actuator_forcerange[a, 0]), m.actuator_forcerange[a, 1])
+    return f
+
+
 def scaled(p: TyreParams, scaling: tuple[tuple[str, float], ...]) -> TyreParams:
     """``p`` with its Magic Formula scaling factors multiplied by the vehicle file's."""
     if not scaling:
@@ -169,7 +203,7 @@ class Plant:
     vehicle : Vehicle
         Every number of the model comes from here and its tyre file.
     timestep : float, optional
-        MuJoCo timestep [s]; the model's default (5 ms, RK4) otherwise.
+        MuJoCo timestep [s]; the model's default (10 ms, RK4) otherwise.
     backend : str
         Tyre callback: ``"auto"`` (compiled if available), ``"c"`` or ``"numpy"``.
     speed : str
@@ -181,18 +215,26 @@ class Plant:
         with artic. Axles left out keep ``vehicle.tyre_file_for(axle)``, which
         is the vehicle's one tyre file unless its parameter file gives the
         axle its own. The ride height follows each axle's tyre.
+    spin_fit : bool
+        Integrate each wheel's spin/tread mode fitted to the step
+        (:mod:`artic.plant.spinmode`), which keeps RK4 stable and accurate through
+        standstill at 10 ms; ``False`` integrates it plainly, which RK4 holds
+        only up to about 6 ms (the plain RK4 reference of the convergence study).
     """
 
     name = "mbd"
 
     def __init__(self, vehicle: Vehicle, timestep: float | None = None,
                  backend: str = "auto", speed: str = "follow",
-                 tyre_files: Mapping[int, str | Path] | None = None) -> None:
+                 tyre_files: Mapping[int, str | Path] | None = None,
+                 spin_fit: bool = True) -> None:
         if backend not in BACKENDS:
             raise ValueError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
         if speed not in SPEED_MODES:
             raise ValueError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)}")
         self.speed_mode = speed
+        self.spin_fit = spinmode.FIT_SCALE if spin_fit else 0.0
+        """The scale of the spin mode's fit to the step (0: none; :mod:`artic.plant.spinmode`)."""
         self.use_compiled_loop = True
         """Whether :meth:`closed_loop` offers the compiled loop (``False``: the Python one)."""
         self.pedals = (0.0, 0.0)
@@ -261,7 +303,7 @@ class Plant:
     def _write_block(self) -> None:
         """Write the numeric block from :attr:`tyres` and check it against the model."""
         self.model.numeric_data[:] = ctyre.block(self._tyres, self._wheel_table(),
-                                                 self.vehicle.plant.tyre_moments)
+                                                 self.vehicle.plant.tyre_moments, self.spin_fit)
         ctyre.check_block(self.model, self.data)
 
     def _wheel_table(self) -> np.ndarray:
@@ -507,31 +549,115 @@ class Plant:
         Vsx = Vx - d.qvel[self._spin_dof] * Re
         u, v, phi = d.act[self._act_u], d.act[self._act_v], d.act[self._act_w]
         omega_z = d.cvel[self._hub_body][:, 2]  # the wheel's yaw rate about the ground normal
-        Fx, Fy, Mz, My = (np.empty(self.n_wheels) for _ in range(4))
+        Fx, Fy, Mz, My, du, dv, dphi, k_x, c_x, b_x = (np.empty(self.n_wheels)
+                                                      for _ in range(10))
         for k, p in enumerate(self._tyres):  # each tyre file on its wheels
             w = self._tyre_set == k
-            du, dv, dphi = deflection_rates(p, Fz[w], Vx[w], Vsx[w], Vy[w], omega_z[w], u[w],
-                                            v[w], phi[w])
-            d.ctrl[self._tread_u[w]] = np.where(flat[w], 0.0, du)
-            d.ctrl[self._tread_v[w]] = np.where(flat[w], 0.0, dv)
-            d.ctrl[self._tread_w[w]] = np.where(flat[w], 0.0, dphi)
+            du[w], dv[w], dphi[w] = deflection_rates(p, Fz[w], Vx[w], Vsx[w], Vy[w],
+                                                     omega_z[w], u[w], v[w], phi[w])
             Fx[w], Fy[w], Mz[w] = transient_forces(p, Fz[w], Vx[w], Vsx[w], Vy[w], omega_z[w],
                                                    u[w], v[w], phi[w],
                                                    self.vehicle.plant.tyre_moments)
             My[w] = rolling_resistance(p, Fz[w], Vx[w], Fx[w])
+            k_x[w], c_x[w], b_x[w] = longitudinal_tread(p, Fz[w], Vx[w])
         n = self._n_tyres
         F = (n * Fx)[:, None] * hx + (n * Fy)[:, None] * hy
         F[:, 2] += n * Fz
         torque = (n * My)[:, None] * hy  # about the spin axis
         torque[:, 2] += n * Mz  # aligning and bore torque about the ground normal
-        F[flat] = 0.0
-        torque[flat] = 0.0
         contact = pos.copy()
         contact[:, 2] = 0.0
+        if self.spin_fit > 0.0:  # the spin mode, fitted to the step (as in the C callback)
+            dFx, ddu = self._fit_spin(m, d, F, torque, contact, hx, Re, k_x, c_x, b_x, du)
+            Fx += dFx
+            du += ddu
+            F += (n * dFx)[:, None] * hx
+        d.ctrl[self._tread_u] = np.where(flat, 0.0, du)
+        d.ctrl[self._tread_v] = np.where(flat, 0.0, dv)
+        d.ctrl[self._tread_w] = np.where(flat, 0.0, dphi)
+        F[flat] = 0.0
+        torque[flat] = 0.0
         self._last_forces = F
         for i in range(self.n_wheels):
             mujoco.mj_applyFT(m, d, F[i], torque[i], contact[i], int(self._wheel_body[i]),
                               d.qfrc_passive)
+
+    def _fit_spin(self, m: mujoco.MjModel, d: mujoco.MjData, F: np.ndarray,
+                  torque: np.ndarray, contact: np.ndarray, hx: np.ndarray, Re: np.ndarray,
+                  k_x: np.ndarray, c_x: np.ndarray, b_x: np.ndarray,
+                  du: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`artic.plant.spinmode.fit` of every wheel end, before its forces apply.
+
+        The spin's rate counts the tyre's force and torque and everything else
+        the passive stage knows on the spin dof: MuJoCo's own passive force, the
+        applied force and the actuators on the joint (:meth:`_spin_actuator_forces`).
+        A spin held by dry friction (the parking brake) is left to MuJoCo's solver.
+        """
+        spin = self._spin_dof
+        q_x, Q = self._spin_forces(m, d, F, torque, contact, hx)
+        inv_I = m.dof_invweight0[spin]
+        f_spin = (Q + self._spin_actuator_forces(m, d) + d.qfrc_passive[spin]
+                  + d.qfrc_applied[spin]) * inv_I
+        dFx, ddu = spinmode.fit(m.opt.timestep, inv_I, q_x, self._n_tyres, Re, k_x, c_x, b_x,
+                                f_spin, du, self.spin_fit)
+        held = m.dof_frictionloss[spin] != 0.0
+        return np.where(held, 0.0, dFx), np.where(held, 0.0, ddu)
+
+    def _spin_forces(self, m: mujoco.MjModel, d: mujoco.MjData, F: np.ndarray,
+                     torque: np.ndarray, contact: np.ndarray,
+                     hx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Generalized forces on every wheel end's spin, per wheel end.
+
+        Returns ``q_x``, that of one newton along ``hx`` at the contact [m], and
+        ``Q``, that of its tyre force ``F`` and ``torque`` [N m].
+        """
+        spin = self._spin_dof
+        jacp, jacr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+        q_x, Q = np.empty(self.n_wheels), np.empty(self.n_wheels)
+        for i in range(self.n_wheels):
+            mujoco.mj_jac(m, d, jacp, jacr, contact[i], int(self._wheel_body[i]))
+            q_x[i] = jacp[:, spin[i]] @ hx[i]
+            Q[i] = jacp[:, spin[i]] @ F[i] + jacr[:, spin[i]] @ torque[i]
+        return q_x, Q
+
+    def spin_modes(self) -> np.ndarray:
+        """Eigenvalues of every wheel end's spin/tread mode now [1/s], shape ``(n_wheels, 2)``.
+
+        :func:`artic.plant.spinmode.eigenvalues` of the spin dof's inertia, the
+        contact point's lever on it and the tyre's tread at the wheel's load and
+        speed now, fastest first: the model's own, whatever the step.
+        """
+        m, d = self.model, self.data
+        pos, hx, _, vel, _ = self._wheel_kinematics(d)
+        rho = self.R0_w - pos[:, 2]
+        Fz = np.maximum(np.where(rho > 0.0, self.k_t_w * rho - self.c_t_w * vel[:, 2], 0.0), 0.0)
+        Vx = np.einsum("ij,ij->i", vel, hx)
+        Re = self.R0_w - np.maximum(rho, 0.0) / 3.0
+        k_x, c_x, b_x = (np.empty(self.n_wheels) for _ in range(3))
+        for k, p in enumerate(self._tyres):
+            w = self._tyre_set == k
+            k_x[w], c_x[w], b_x[w] = longitudinal_tread(p, Fz[w], Vx[w])
+        contact = pos.copy()
+        contact[:, 2] = 0.0
+        zero = np.zeros_like(hx)
+        q_x, _ = self._spin_forces(m, d, zero, zero, contact, hx)
+        return spinmode.eigenvalues(m.dof_invweight0[self._spin_dof], q_x, self._n_tyres, Re,
+                                    k_x, c_x, b_x)
+
+    def _spin_actuator_forces(self, m: mujoco.MjModel, d: mujoco.MjData) -> np.ndarray:
+        """Generalized force on each spin dof from the actuators on its joint.
+
+        The drive and the brakes (the tread states' actuators have no gain),
+        each as ``mj_fwdActuation`` will compute it: fixed or affine gain and
+        bias, the control clamped to its range, the force to its.
+        """
+        q = np.zeros(self.n_wheels)
+        joint_trn = (mujoco.mjtTrn.mjTRN_JOINT, mujoco.mjtTrn.mjTRN_JOINTINPARENT)
+        for i, j in enumerate(m.dof_jntid[self._spin_dof]):
+            for a in range(m.nu):
+                if m.actuator_trntype[a] in joint_trn and m.actuator_trnid[a, 0] == j:
+                    q[i] += m.actuator_gear[m.actuator_outadr[a], 0] * _actuator_now(m, d, a)
+        return q
 
     # ------------------------------------------------------------ interface
     def reset(self, initial: InitialState) -> None:
@@ -616,7 +742,7 @@ class Plant:
         n = max(1, round(dt / h))
         if self._stepper is not None and self.use_compiled_step:
             # The same step in C: the speed controls here, the rest there.
-            self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
+            self._control(u1 + u1_dot * 0.5 * (n * h), u1_dot, n * h)
             code = self._stepper.step(delta, n)
             s = self._stepper.struct
             if s.steer_limited:
@@ -642,8 +768,9 @@ class Plant:
                 self.warn_steer_limited(d.time, delta)
         d.ctrl[self._servo] = min(max(delta, lo), hi)
         # The speed controller is sampled once per call (zero-order hold over
-        # dt), at the middle of the interval, so MuJoCo runs n steps uninterrupted.
-        self._control(u1 + u1_dot * 0.5 * (n - 1) * h, u1_dot, n * h)
+        # dt), at the middle of the interval (the commanded ramp's mean, at
+        # dt / 2 whatever the step), so MuJoCo runs n steps uninterrupted.
+        self._control(u1 + u1_dot * 0.5 * (n * h), u1_dot, n * h)
         # MuJoCo resets a diverged simulation to t = 0 by itself: keep what a report needs.
         good_time, good_forces = d.time, self.last_forces.copy()
         mujoco.mj_step(m, d, nstep=n)

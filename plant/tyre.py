@@ -62,9 +62,11 @@ and smooth through standstill and change of direction, with no division by
 the speed anywhere. Below ``VXLOW`` a damper, faded out with
 ``(1 + cos(pi |V_x| / VXLOW)) / 2``, damps the tread-spring oscillation: on
 the slip velocity for ``u`` and ``v``, on the twist's elastic rate (its rate
-times the torque's slope, so nothing once the patch slides) for ``phi``. The
-sign of travel in the trail and the rolling resistance is smoothed over
-:data:`V_SIGN`.
+times the torque's slope, so nothing once the patch slides) for ``phi``.
+With the wheel's spin inertia, the damped longitudinal tread is the plant's
+fastest mode (a real root near -430 1/s at standstill); the plant integrates
+it fitted to its step (:mod:`artic.plant.spinmode`). The sign of travel in the
+trail and the rolling resistance is smoothed over :data:`V_SIGN`.
 
 Bore torque (turn slip), a documented contact-patch model, as a PAC2002 file
 has no turn-slip coefficients (an MF 6.1 file's ``PDXP1`` to ``QDRP1`` are not
@@ -473,6 +475,32 @@ def twist_rate(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, omega_z: np.ndarra
     return -omega_z - np.abs(omega_z) * phi / phi_lim - np.abs(Vx) * phi / p.patch_half_length(Fz)
 
 
+def longitudinal_tread(p: TyreParams, Fz: np.ndarray,
+                       Vx: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The longitudinal tread's linear terms: what :mod:`artic.plant.spinmode` needs.
+
+    Returns
+    -------
+    k : ndarray
+        Tread stiffness ``K_x / sigma_kappa`` [N/m], with the damper's ``K_x =
+        Fz PKX1 LKX``: the slope of ``F_x`` in ``u`` at zero slip.
+    c : ndarray
+        Low-speed damper on the slip velocity [N s/m] (:func:`transient_forces`):
+        ``F_x`` gains ``-c V_sx``.
+    b : ndarray
+        Rolling relaxation rate ``|V_x| / sigma_kappa`` [1/s] (:func:`deflection_rates`).
+    """
+    sk = p.sigma_kappa(np.maximum(Fz, p.FZMIN))
+    Kx = np.maximum(Fz, 0.0) * p.PKX1 * p.LKX
+    return Kx / sk, low_speed_fade(p, Vx) * p.PTX4 * Kx / sk * 0.25, np.abs(Vx) / sk
+
+
+def low_speed_fade(p: TyreParams, Vx: np.ndarray) -> np.ndarray:
+    """The low-speed dampers' weight ``(1 + cos(pi |V_x| / VXLOW)) / 2`` below ``VXLOW``, else 0."""
+    return np.where(np.abs(Vx) < p.VXLOW,
+                    0.5 * (1.0 + np.cos(math.pi * np.abs(Vx) / p.VXLOW)), 0.0)
+
+
 def bore_torque(p: TyreParams, Fz: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """Torque of the twisted tread about the ground normal [N m] (see the module docstring)."""
     Fz = np.maximum(Fz, 0.0)
@@ -507,8 +535,7 @@ def transient_forces(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndar
     Fx, Fy, Mz = steady_state(p, Fz, kappa, alpha, np.tanh(Vx / V_SIGN))
     # Damping of the tread springs below VXLOW: the tyre's own stiffness over
     # its relaxation length, a quarter of it as a damping rate [1/s].
-    fade = np.where(np.abs(Vx) < p.VXLOW,
-                    0.5 * (1.0 + np.cos(math.pi * np.abs(Vx) / p.VXLOW)), 0.0)
+    fade = low_speed_fade(p, Vx)
     Fzp = np.maximum(Fz, 0.0)
     Kx = Fzp * p.PKX1 * p.LKX
     Ky = p.cornering_stiffness(Fzp)

@@ -80,6 +80,17 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
     eff = pd.read_csv(out / "efficiency.csv", index_col=0)
     assert eff.loc["mbd", "ratio_to_mbd"] == 1.0 and eff.loc["kin", "ratio_to_mbd"] < 1.0
+    # The efficiency times the validation runs, one row per model, and runs nothing itself.
+    assert list(eff.index) == ["kin", "stm", "mbd"] and (eff["runs"] == 3).all()
+    for model, rows in m.groupby("model"):
+        assert eff.loc[model, "simulated_s"] == pytest.approx(rows.duration_s.sum(), rel=1e-5)
+        assert eff.loc[model, "wall_s"] == pytest.approx(rows.wall_s.sum(), rel=1e-5)
+    assert (eff["build_s"] > 0).all()
+    budget = json.loads((out / "timings.json").read_text())["budget"]
+    assert budget["efficiency"]["multibody"][0] == budget["efficiency"]["reduced"][0] == 0
+    # The plant and the floor each ran the 3 logs and their open-loop predictions.
+    assert budget["validation"]["multibody"][0] == budget["references"]["multibody"][0] > 3
+    assert "| validation |" in report and "multibody simulated [s]" in report
     tuned = load_vehicle(out / "params" / "gosar2022-unloaded.tuned.toml")
     fitted = json.loads((out / "tuning.json").read_text())["loads"]["unloaded"]["fitted"]
     assert tuned.steering_for("stm").i_s == pytest.approx(fitted["stm"]["i_s"])
@@ -128,8 +139,8 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     def broken(*a, **k):
         raise RuntimeError("interrupted")
 
-    monkeypatch.setattr(eff_module, "measure", broken)
-    with pytest.raises(RuntimeError, match="interrupted"):  # --remeasure: measure again
+    monkeypatch.setattr(eff_module, "from_runs", broken)
+    with pytest.raises(RuntimeError, match="interrupted"):  # --remeasure: compute it again
         run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2, remeasure=True)
     assert not (out / "report.md").exists()
 
@@ -245,7 +256,14 @@ def test_two_trucks_pool_and_resume(tmp_path, capsys):
     report = (out / "report.md").read_text()
     assert "over 2 trucks" in report and "nan" not in report.lower().split()
     assert "seed-3/report.md" in report
+    # The budget summed over the trucks: each truck's simulated seconds, added.
+    budgets = [json.loads((out / f"seed-{s}" / "timings.json").read_text())["budget"]
+               for s in (3, 4)]
+    total = sum(b[k]["multibody"][1] for b in budgets for k in b)
+    row = next(line for line in report.splitlines() if line.startswith("| total |"))
+    assert total > 0 and row.split("|")[4].strip() == f"{total:.0f}"
     captured = capsys.readouterr()
+    assert f"Multibody simulated time: {total:.0f} s over 2 trucks" in captured.out
     assert "[2/2] trucks: seed 4" in captured.err and "pooled over 2 trucks" in captured.out
     # A rerun reuses every seed's work.
     run_campaign(out, models=("kin", "mbd"), only=part, jobs=2, seeds=2, seed=3,

@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from artic.mjcf import load_vehicle
 from artic.reduced.kinematic import kin_rhs
 from artic.reduced.single_track import N_BODY, stm_parameters, stm_rhs
+from artic.validation.criteria.metrics import run_metrics
+from artic.validation.harness.loop import run_closed_loop
+from artic.validation.models import spec
 from artic.validation.runs.gainsweep import (
     gain_sweep,
     model_lengths,
@@ -82,6 +86,28 @@ def test_sweep_separates_at_the_bound(unloaded, tmp_path):
     assert list(table["stable"]) == ["no", "bound", "yes", "yes"]
     plot_gain_sweep(sweep, tmp_path / "sweep.png", 3.0)
     assert (tmp_path / "sweep.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_sweep_rows_are_the_means_of_the_harness_runs_criteria(unloaded):
+    # The sweep derives each log's inputs once for every K, runs the gains side
+    # by side and leaves out the position errors it does not report: its rows
+    # must be what one harness run per (model, K, log) and its criteria give,
+    # at any number of threads.
+    logs = [straight_log(n=1500, u=-0.8, gamma0=0.1), straight_log(n=900, u=-1.0, gamma0=-0.05)]
+    for i, log in enumerate(logs):
+        log.meta["name"] = f"log{i}"
+    by_load = {"unloaded": (unloaded, logs)}
+    sweep = gain_sweep(by_load, ["kin", "stm"], gains=(0.25, 3.0), jobs=2)
+    pd.testing.assert_frame_equal(sweep, gain_sweep(by_load, ["kin", "stm"], gains=(0.25, 3.0)))
+    assert len(sweep) == 2 * 3  # the two gains and the bound, per model
+    for row in sweep.itertuples():
+        direct = pd.DataFrame([run_metrics(log.frame, run_closed_loop(
+            spec(row.model).build(unloaded), log, unloaded, row.K).frame) for log in logs])
+        # eps_n is NaN on a straight log, which has no yaw rate to normalise by.
+        assert np.isfinite([row.J_steer, row.eps_a, row.eps_v]).all() and row.J_steer > 0
+        for c in ("J_steer", "eps_n", "eps_a", "eps_v"):
+            assert getattr(row, c) == pytest.approx(direct[c].mean(), rel=1e-12, abs=0,
+                                                    nan_ok=True), c
 
 
 def test_sweep_table_has_one_bound_per_model_when_they_differ():

@@ -130,6 +130,56 @@ def test_broyden_updates_meet_the_secant_condition_without_a_run(unloaded):
     np.testing.assert_allclose(J2 @ w, J1 @ w, atol=1e-12 * np.abs(J1 @ w).max())
 
 
+def test_a_last_step_within_xtol_is_not_run_and_changes_the_fit_less_than_xtol(unloaded):
+    # The plant's fit does not run a trial step shorter than least_squares' own
+    # xtol test, which would end the fit after it whatever its outcome: the fit
+    # ends one evaluation earlier, at the current point, less than that step
+    # from where least_squares would have ended. KIN stands in for the plant
+    # (the same objective and Jacobian, 100 times cheaper), from a start the
+    # plant's way: offset and ratio near the truth, q at its bound.
+    from scipy.optimize import least_squares
+
+    from artic.validation.campaign.tuning import (
+        TOLERANCES,
+        ParallelJacobian,
+        WithinTolerance,
+        start_values,
+    )
+
+    logs = own_logs(unloaded, "kin", TRUTH["kin"])
+    xtol, ftol = TOLERANCES["plant"]
+    ends = {}
+    for skip in (False, True):
+        obj = Objective("kin", unloaded, logs)
+        lo = np.array([b.lo for b in obj.bounds])
+        span = np.array([b.hi - b.lo for b in obj.bounds])
+        z0 = (start_values(obj.bounds, {"i_s": 20.3, "delta_h_offset": -0.02}) - lo) / span
+        jac = ParallelJacobian(obj, lo, span, xtol if skip else None)
+        points = []  # where least_squares stood: each point it asked the Jacobian at
+
+        def jacobian(z, *_, jac=jac, points=points):
+            points.append(np.array(z))
+            return jac(z)
+
+        jac.fun(z0)
+        try:
+            sol = least_squares(jac.fun, z0, jac=jacobian, bounds=(0.0, 1.0), method="trf",
+                                x_scale=1.0, xtol=xtol, ftol=ftol, max_nfev=40)
+            ends[skip] = (sol.x, sol.status, obj.evaluations, points)
+        except WithinTolerance as done:
+            ends[skip] = (done.z, "within xtol", obj.evaluations, points)
+    (z_full, status, n_full, path), (z_skip, why, n_skip, path_skip) = ends[False], ends[True]
+    assert status == 3 and why == "within xtol"  # the full fit ended on its step length
+    assert n_skip == n_full - 1  # exactly its last evaluation spared
+    # The same path up to there; the shortened fit ends where the full one stood
+    # before its last step (or at its end, had that step been refused).
+    assert len(path_skip) in (len(path) - 1, len(path))
+    for a, b in zip(path_skip, path, strict=False):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(z_skip, path_skip[-1])
+    assert np.linalg.norm(z_skip - z_full) < xtol * (xtol + np.linalg.norm(z_skip))
+
+
 def test_the_plant_starts_from_the_stm_steering_column():
     from artic.validation.campaign.main import start_from
     from artic.validation.campaign.tuning import Bound, start_values

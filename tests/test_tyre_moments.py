@@ -168,6 +168,7 @@ MALFORMED = {
     "bad body id": "blk[HDR + NS * NP + 1] = 1e6",
     "foreign key": "blk[1] = 12345",
     "zero relaxation length": "blk[HDR + NAMES.index('PTY1')] = 0.0",
+    "negative spin fit": "blk[ctyre.HEADER_FIELDS.index('spin_fit')] = -1.0",
 }
 
 
@@ -293,7 +294,7 @@ FOREIGN = textwrap.dedent('''
         # an artic model, its block built (and checksummed) like artic's.
         row = [{**WHEEL, **change}[f] for f in ctyre.WHEEL_FIELDS]
         body = np.concatenate([ctyre.param_vector(P), row])
-        head = [ctyre.ABI, *key, 1, len(ctyre.param_names()), 1, 1, ctyre.checksum(body)]
+        head = [ctyre.ABI, *key, 1, len(ctyre.param_names()), 1, 1, 0.0, ctyre.checksum(body)]
         data = " ".join(repr(float(x)) for x in np.concatenate([head, body]))
         act = '<general joint="spin" dyntype="integrator" gainprm="0" biasprm="0 0 0"/>' * 3
         return (f'<mujoco><size nuserdata="{nuserdata}"/>'

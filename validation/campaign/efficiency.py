@@ -3,81 +3,83 @@
 The paper reports its kinematic model 90 % and its single-track model 60 %
 faster than its multibody model, that is wall-time ratios KIN/MBD = 0.1 and
 STM/MBD = 0.4. Here every model runs the same logs through the same harness,
-one after the other in one process with nothing else running, so the ratios
-come from one run on one machine. The plant runs without recording its
-extra outputs for the drawings (:meth:`plant.Plant.extras`). Model
-construction (the plant compiles its MJCF) is timed apart from stepping.
+so the ratios come from one run on one machine.
+
+The figures time the validation runs themselves, which the campaign makes
+anyway: each (log, model) run records the wall time of its harness run
+(``wall_s`` in ``metrics.csv`` and in its run file) and of building its model
+(``build_s`` in the run file's metadata), and the stage adds them up per
+model over every validated log. No run is made for the figures alone. The
+runs are those of the validation, ``jobs`` at a time on as many threads:
+each is timed on its own thread, whose core it has to itself when there are
+as many cores as jobs (the plant's compiled loop runs without the GIL; two
+threads run 1.95 times as fast as one, ``docs/design/speed.md``).
 """
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
+from pathlib import Path
 
+import numpy as np
 import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 
-from artic.mjcf.vehicle import Vehicle
-from artic.validation.cli.progress import Counter
-from artic.validation.harness.loop import run_closed_loop
-from artic.validation.logs.runfile import Run
-from artic.validation.models import build as build_model
+from artic.validation.logs.runfile import META_KEY, LogError, parse_meta
 
 PAPER_RATIO = {"kin": 0.1, "stm": 0.4, "mbd": 1.0}
 """Wall-time ratio to the multibody model reported by the paper (90 % and 60 % faster)."""
 
 
-def measure(logs: Sequence[tuple[Vehicle, Run]], models: Sequence[str],
-            repeat: int = 1, progress: Callable[[str], None] | None = None) -> pd.DataFrame:
-    """Time each model on the logs.
+def build_time(path: Path) -> float:
+    """The model construction time a run file records (``meta["build_s"]``) [s]; NaN if none."""
+    try:
+        raw = (pq.read_metadata(path).metadata or {}).get(META_KEY)
+        meta = parse_meta(raw, str(path)) if raw else {}
+    except (pa.ArrowInvalid, OSError, LogError):
+        return float("nan")
+    value = meta.get("build_s")
+    return float(value) if isinstance(value, int | float) else float("nan")
+
+
+def from_runs(metrics: pd.DataFrame, models: Sequence[str],
+              runs_dir: Path | None = None) -> pd.DataFrame:
+    """Each model's efficiency from the validation runs' own times.
 
     Parameters
     ----------
-    logs : sequence of (Vehicle, Run)
-        Logs with the vehicle to run them with.
+    metrics : DataFrame
+        Validation rows (``metrics.csv``): ``log``, ``model``, ``status``,
+        ``wall_s`` (the harness run, construction excluded) and
+        ``duration_s`` (its simulated time).
     models : sequence of str
-        Models to time.
-    repeat : int
-        Passes over the logs; the fastest pass counts (the usual guard against
-        a busy machine).
-    progress : callable, optional
-        Receives progress lines with counts and the time left.
+        Models to report, one row each (a model without a timed run has NaN).
+    runs_dir : Path, optional
+        The run files' folder (``OUT/runs``), for the construction times.
 
     Returns
     -------
     DataFrame
-        Per model: ``simulated_s``, ``build_s`` (construction, per run),
-        ``wall_s`` (stepping), ``wall_per_sim_s``, ``real_time_factor``, and
-        ``ratio_to_mbd`` with the paper's ``paper_ratio`` beside it.
+        Per model: ``runs`` (timed runs), ``simulated_s``, ``build_s``
+        (construction, mean per run), ``wall_s`` (stepping), ``wall_per_sim_s``,
+        ``real_time_factor``, and ``ratio_to_mbd`` with the paper's
+        ``paper_ratio`` beside it.
     """
-    from artic.validation.harness.plantnotes import collect
+    from artic.validation.runs.validate import is_failed
 
     rows = []
-    counter = Counter(len(models) * repeat * len(logs), "efficiency", progress)
     for name in models:
-        best = None
-        for _ in range(repeat):
-            build = wall = sim = 0.0
-            for vehicle, log in logs:
-                t0 = time.perf_counter()
-                model = build_model(name, vehicle)
-                t1 = time.perf_counter()
-                try:
-                    # What the plant limits here, validation has already reported.
-                    with collect():
-                        run = run_closed_loop(model, log, vehicle, extras=False)
-                finally:
-                    model.close()
-                t2 = time.perf_counter()
-                counter.step(f"{name} on {log.name}")
-                build += t1 - t0
-                wall += t2 - t1
-                sim += float(run.frame["t"].iloc[-1] - run.frame["t"].iloc[0])
-            if best is None or wall < best[1]:
-                best = (build, wall, sim)
-        build, wall, sim = best
-        rows.append({"model": name, "simulated_s": sim, "build_s": build / len(logs),
-                     "wall_s": wall, "wall_per_sim_s": wall / sim,
-                     "real_time_factor": sim / wall})
+        part = metrics[(metrics["model"] == name) & ~metrics["status"].map(is_failed)
+                       & (metrics["duration_s"] > 0)]
+        sim, wall = float(part["duration_s"].sum()), float(part["wall_s"].sum())
+        builds = [build_time(Path(runs_dir) / f"{log}.{name}.parquet")
+                  for log in part["log"]] if runs_dir is not None else []
+        build = float(np.nanmean(builds)) if np.isfinite(builds).any() else float("nan")
+        rows.append({"model": name, "runs": len(part), "simulated_s": sim, "build_s": build,
+                     "wall_s": wall,
+                     "wall_per_sim_s": wall / sim if sim > 0 else float("nan"),
+                     "real_time_factor": sim / wall if wall > 0 else float("nan")})
     out = pd.DataFrame(rows).set_index("model")
     if "mbd" in out.index:
         out["ratio_to_mbd"] = out["wall_per_sim_s"] / out.loc["mbd", "wall_per_sim_s"]

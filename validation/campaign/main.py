@@ -25,7 +25,8 @@ Stages, each timed and each resumable:
 5. **tables**: the paper's Table 2 and Table 3 columns, overall and per load,
    with the floor row (``table2_forward``, ``table3_reverse``), and the same
    against the plant (``table2_vs_plant``, ``table3_vs_plant``), ``.csv`` and ``.md``;
-6. **efficiency**: wall time per simulated second of each model (``efficiency.csv``);
+6. **efficiency**: wall time per simulated second of each model, from the
+   validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
 8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
 9. **report**: ``report.md``, written last.
@@ -67,7 +68,7 @@ import pandas as pd
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
 from artic.validation.campaign.executors import DaskOptions, cluster_executor
-from artic.validation.cli.progress import Counter
+from artic.validation.cli.progress import BUDGET, Counter, budget_text
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
@@ -109,22 +110,28 @@ TIMINGS = "timings.json"
 
 
 class Stages:
-    """Wall time per stage, with progress lines.
+    """Wall time and simulated time per stage, with progress lines.
 
     A stage that only reused earlier results (see :meth:`reused`) reports the
     wall time it took when it was computed, from ``saved``, so that a resumed
-    campaign's report matches the original run's. ``save`` receives the
-    times after every stage.
+    campaign's report matches the original run's; likewise its simulated
+    time (:data:`artic.validation.cli.progress.BUDGET` counted over the stage),
+    from ``saved_budget``. ``save`` receives the times and the budgets after
+    every stage.
     """
 
     def __init__(self, progress: Callable[[str], None], saved: dict[str, float] | None = None,
-                 save: Callable[[dict[str, float]], None] | None = None) -> None:
+                 save: Callable[[dict[str, float], dict[str, dict]], None] | None = None,
+                 saved_budget: dict[str, dict] | None = None) -> None:
         self.times: dict[str, float] = {}
+        self.budget: dict[str, dict[str, tuple[int, float]]] = {}
         self.progress = progress
         self.saved = dict(saved or {})
+        self.saved_budget = dict(saved_budget or {})
         self.save = save
         self._name = ""
         self._t0 = 0.0
+        self._b0: dict[str, tuple[int, float]] = {}
         self._reused = False
 
     def __call__(self, name: str) -> Stages:
@@ -142,6 +149,7 @@ class Stages:
 
     def __enter__(self) -> Stages:
         self._t0 = time.perf_counter()
+        self._b0 = BUDGET.snapshot()
         self._reused = False
         if not hasattr(self, "_was"):
             self._was: dict[str, bool] = {}
@@ -150,19 +158,23 @@ class Stages:
 
     def __exit__(self, *exc) -> None:
         measured = time.perf_counter() - self._t0
+        counted = BUDGET.since(self._b0)
         if exc[0] is not None:
             return
         name = self._name
         self._was[name] = self._reused
         if self._reused and name in self.saved:
             self.times[name] = self.saved[name]
+            self.budget[name] = {k: tuple(v) for k, v in self.saved_budget.get(name, {}).items()}
             self.progress(f"== {name}: reused ({measured:.1f} s now; the {self.saved[name]:.1f} s "
                           "it took when computed are kept)")
         else:
             self.times[name] = measured
-            self.progress(f"== {name}: {measured:.1f} s")
+            self.budget[name] = counted
+            simulated = budget_text(counted)
+            self.progress(f"== {name}: {measured:.1f} s" + (f"; {simulated}" if simulated else ""))
         if self.save is not None:
-            self.save(self.times)
+            self.save(self.times, self.budget)
 
 
 def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
@@ -354,8 +366,9 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     dask : DaskOptions, optional
         The scheduler's timeout and TLS files.
     remeasure : bool
-        Measure the efficiency again even when an earlier run with the same
-        key measured it (a resumed run keeps the original figures otherwise).
+        Compute the efficiency again from the validation runs' times, even
+        when an earlier run with the same key computed it (a resumed run keeps
+        the original figures otherwise; a run simulated again has new times).
     seeds : int
         Trucks: with more than one, a campaign per seed (``seed`` on) in
         ``out_dir/seed-K`` and the pooled results in ``out_dir``
@@ -387,8 +400,9 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     if remeasure:
         state["efficiency"] = None
 
-    def save(times: dict[str, float]) -> None:
+    def save(times: dict[str, float], budget: dict[str, dict]) -> None:
         state["stages"] = {**state["stages"], **times}
+        state["budget"] = {**state.get("budget", {}), **budget}
         atomic_write_text(out_dir / TIMINGS, json.dumps(state, indent=1) + "\n")
 
     with contextlib.ExitStack() as stack:
@@ -398,7 +412,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
             stderr_progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
         pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
-        stage = Stages(stderr_progress, state["stages"], save)
+        stage = Stages(stderr_progress, state["stages"], save, state.get("budget"))
         stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
                         f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}")
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
@@ -421,7 +435,7 @@ def _saved_timings(out_dir: Path, key: str) -> dict:
 def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
                 stage, truth, state, closing=True) -> dict[str, Path]:
     from artic.validation.campaign import report as rep
-    from artic.validation.campaign.efficiency import measure
+    from artic.validation.campaign.efficiency import from_runs
     from artic.validation.runs.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
 
     paths: dict[str, Path] = {}
@@ -519,12 +533,11 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     with stage("efficiency"):
         if state.get("efficiency") is not None:
             eff = pd.DataFrame(state["efficiency"]).set_index("model")
-            stderr_progress(f"efficiency reused from {out_dir / TIMINGS} (measured by the "
-                            "original run; --remeasure measures it again)")
+            stderr_progress(f"efficiency reused from {out_dir / TIMINGS} (as the original "
+                            "run timed its validation runs; --remeasure times them again)")
             stage.reused()
-        else:
-            sample = _efficiency_sample(metrics, by_name, vehicles)
-            eff = measure(sample, models, repeat=2, progress=stderr_progress)
+        else:  # the validation runs' own times: no run is made for it
+            eff = from_runs(metrics, models, out_dir / "runs")
             state["efficiency"] = eff.reset_index().to_dict(orient="records")
         atomic_write(out_dir / "efficiency.csv", lambda p: eff.to_csv(p, float_format="%.6g"))
         paths["efficiency"] = out_dir / "efficiency.csv"
@@ -558,6 +571,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     results = rep.CampaignResults(
         seed=seed, models=tuple(models), gain=gain, metrics=metrics, forward=forward,
         reverse=reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep, stages=stage.times,
+        budget=stage.budget,
         fingerprint=fingerprint.code(), version=_version(), per_load=per_load,
         files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
         forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth,
@@ -574,7 +588,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
     paths["report"] = atomic_write_text(out_dir / "report.md", text)
     failed = metrics[[is_failed(st) for st in metrics["status"]]]
     if closing:
-        print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed)))
+        print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed),
+                               stage.budget))
     return paths
 
 
@@ -642,7 +657,8 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
 
 
 def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[str, float],
-                     report: Path, failed: int = 0) -> str:
+                     report: Path, failed: int = 0,
+                     budget: dict[str, dict] | None = None) -> str:
     """What the campaign prints at the end: the two tables, the stage times, the report."""
     from artic.validation.review.tables import markdown
 
@@ -655,6 +671,12 @@ def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[s
             lines += [title, "", markdown(table, digits=3), ""]
     lines.append("Wall time: " + ", ".join(f"{k} {v:.0f} s" for k, v in times.items())
                  + f"; total {sum(times.values()):.0f} s.")
+    simulated = {k: sec for k, b in (budget or {}).items()
+                 if (sec := (b or {}).get("multibody", (0, 0.0))[1]) > 0}
+    if simulated:
+        lines.append("Multibody simulated time: " + ", ".join(
+            f"{k} {v:.0f} s" for k, v in simulated.items())
+            + f"; total {sum(simulated.values()):.0f} s.")
     if failed:
         lines.append(f"{failed} (manoeuvre, model) pair(s) have no result; report.md lists "
                      "them and why.")
@@ -679,18 +701,6 @@ def _version() -> str:
     from artic.validation.review.recording import artic_version
 
     return artic_version()
-
-
-def _efficiency_sample(metrics: pd.DataFrame, logs: dict[str, Run],
-                       vehicles: dict[str, Vehicle]) -> list[tuple[Vehicle, Run]]:
-    """Two forward and two reverse logs (the first of each kind that every model ran)."""
-    out = []
-    failed = set(metrics.loc[metrics["status"].map(is_failed), "log"])
-    for direction in ("forward", "reverse"):
-        names = [n for n in dict.fromkeys(metrics.loc[metrics.direction == direction, "log"])
-                 if n not in failed][:2]
-        out += [(vehicles[logs[n].meta.get("load", "unloaded")], logs[n]) for n in names]
-    return out
 
 
 def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Vehicle,

@@ -66,6 +66,7 @@ class CampaignResults:
     metrics_vs_plant: pd.DataFrame | None = None
     paired: dict[str, pd.DataFrame] = field(default_factory=dict)
     excess: dict[str, pd.DataFrame] = field(default_factory=dict)
+    budget: dict[str, dict] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for d in ("forward", "reverse"):
@@ -306,6 +307,33 @@ def _tuning_text(r: CampaignResults) -> list[str]:
     return lines
 
 
+def budget_table(stages: dict[str, float], budget: dict[str, dict]) -> list[str]:
+    """The stages' wall times and simulated times as Markdown table lines.
+
+    Beside each stage's wall time, the multibody runs (the plant and the
+    truth, MuJoCo) and reduced-model runs it made and the seconds they
+    simulated (:class:`artic.validation.cli.progress.Budget`), and the stage's
+    share of the multibody seconds: the campaign's cost in numbers that do not
+    depend on the machine.
+    """
+    def cell(stage: str, kind: str) -> tuple[int, float]:
+        runs, seconds = (budget.get(stage) or {}).get(kind, (0, 0.0))
+        return int(runs), float(seconds)
+
+    total_mb = sum(cell(k, "multibody")[1] for k in stages)
+    lines = ["| stage | wall [s] | multibody runs | multibody simulated [s] | share [%] "
+             "| reduced runs | reduced simulated [s] |", "|---|---|---|---|---|---|---|"]
+    for k, v in stages.items():
+        (mr, ms), (rr, rs) = cell(k, "multibody"), cell(k, "reduced")
+        share = f"{100.0 * ms / total_mb:.0f}" if total_mb > 0 else "-"
+        lines.append(f"| {k} | {v:.1f} | {mr} | {ms:.0f} | {share} | {rr} | {rs:.0f} |")
+    sums = [sum(cell(k, kind)[i] for k in stages) for kind in ("multibody", "reduced")
+            for i in (0, 1)]
+    lines.append(f"| total | {sum(stages.values()):.1f} | {sums[0]} | {sums[1]:.0f} | "
+                 f"{100 if total_mb > 0 else '-'} | {sums[2]} | {sums[3]:.0f} |")
+    return lines
+
+
 def render(r: CampaignResults) -> str:
     """The whole report as Markdown."""
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
@@ -346,8 +374,10 @@ def render(r: CampaignResults) -> str:
               "`validation/tuning.py`).", "", *_tuning_text(r), ""]
     if r.efficiency is not None:
         lines += ["## Computational efficiency", "",
-                  "Each model on the same logs in one process, stepping only (model "
-                  "construction apart); the fastest of repeated passes.", "",
+                  "The validation runs themselves, timed as they ran (every model on the "
+                  "same validated logs, as many at a time as the campaign had jobs): their "
+                  "harness runs summed per model, model construction apart (`build_s`, "
+                  "mean per run). No run is made for these figures.", "",
                   markdown(r.efficiency), ""]
     if r.sweep is not None and len(r.sweep):
         from artic.validation.runs.gainsweep import bounds_text, sweep_table
@@ -360,10 +390,7 @@ def render(r: CampaignResults) -> str:
                   "limit, see `validation/runs/gainsweep.py`). See "
                   "`plots/gain_sweep.png`.", "",
                   markdown(sweep_table(r.sweep)), ""]
-    lines += ["## Wall time by stage", "",
-              "| stage | wall [s] |", "|---|---|",
-              *[f"| {k} | {v:.1f} |" for k, v in r.stages.items()],
-              f"| total | {total:.1f} |", ""]
+    lines += ["## Wall time by stage", "", *budget_table(r.stages, r.budget), ""]
     if r.files:
         lines += ["## Files", "", *[f"- `{v}`: {k}" for k, v in r.files.items()], ""]
     if "recordings" in r.files:

@@ -54,6 +54,21 @@ class SeedResults:
     by_seed: dict[tuple[str, str], pd.DataFrame] = field(default_factory=dict)
     paired: dict[tuple[str, str], pd.DataFrame] = field(default_factory=dict)
     excess: dict[str, pd.DataFrame] = field(default_factory=dict)
+    stages: dict[int, dict] = field(default_factory=dict)
+
+    def summed_stages(self) -> tuple[dict[str, float], dict[str, dict]]:
+        """Stage wall times and simulated times, each summed over the trucks."""
+        times: dict[str, float] = {}
+        budget: dict[str, dict] = {}
+        for part in self.stages.values():
+            for k, v in part.get("stages", {}).items():
+                times[k] = times.get(k, 0.0) + float(v)
+            for k, kinds in part.get("budget", {}).items():
+                into = budget.setdefault(k, {})
+                for kind, (runs, sec) in kinds.items():
+                    r0, s0 = into.get(kind, (0, 0.0))
+                    into[kind] = (r0 + int(runs), s0 + float(sec))
+        return times, budget
 
     def add(self, ref: str, direction: str, table: pd.DataFrame, seeds: pd.DataFrame,
             pairs: pd.DataFrame, excess: pd.DataFrame | None) -> None:
@@ -122,6 +137,12 @@ def render(r: SeedResults, metrics: pd.DataFrame) -> str:
         lines += [f"{direction.capitalize()}, against the {ref}:", "", markdown(table), ""]
     lines += ["## Each truck's own report", "",
               *[f"- seed {s}: `{p}`" for s, p in r.reports.items()], ""]
+    times, budget = r.summed_stages()
+    if times:
+        from artic.validation.campaign.report import budget_table
+
+        lines += ["## Wall time by stage, summed over the trucks", "",
+                  *budget_table(times, budget), ""]
     return "\n".join(lines)
 
 
@@ -149,5 +170,9 @@ def closing(r: SeedResults, report: Path) -> str:
             lines += [f"{direction.capitalize()}, pooled over {len(r.walls)} trucks (interval "
                       "over trucks)", "", markdown(table), ""]
     lines.append(f"Wall time: {sum(r.walls.values()):.0f} s over {len(r.walls)} trucks.")
+    _, budget = r.summed_stages()
+    simulated = sum(float(b.get("multibody", (0, 0.0))[1]) for b in budget.values())
+    if simulated > 0:
+        lines.append(f"Multibody simulated time: {simulated:.0f} s over {len(r.walls)} trucks.")
     lines.append(f"The whole report: {report}")
     return "\n".join(lines)

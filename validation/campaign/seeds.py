@@ -91,7 +91,7 @@ def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
             progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
         counter = Counter(seeds, "trucks", progress, every=0.0)
-        metrics, vs_plant, walls, reports = [], [], {}, {}
+        metrics, vs_plant, walls, reports, stages = [], [], {}, {}, {}
         for k in range(seeds):
             s = seed + k
             where = seed_dir(out_dir, s)
@@ -103,10 +103,11 @@ def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
             if "metrics_vs_plant" in paths:
                 vs_plant.append(pd.read_csv(paths["metrics_vs_plant"]).assign(seed=s))
             walls[s] = _wall(where, time.perf_counter() - t0)
+            stages[s] = _stages(where)
             reports[s] = paths["report"].relative_to(out_dir)
             counter.step(f"seed {s} in {walls[s]:.0f} s; reverse eps_n {_eps_n_line(m)}",
                          always=True)
-        return write_pooled(out_dir, metrics, vs_plant, walls, reports, campaign)
+        return write_pooled(out_dir, metrics, vs_plant, walls, reports, campaign, stages)
 
 
 def _wall(where: Path, measured: float) -> float:
@@ -118,6 +119,15 @@ def _wall(where: Path, measured: float) -> float:
         return measured
 
 
+def _stages(where: Path) -> dict:
+    """A truck's stage times and simulated time by stage (``timings.json``; empty if unreadable)."""
+    try:
+        saved = json.loads((where / "timings.json").read_text())
+        return {"stages": dict(saved["stages"]), "budget": dict(saved.get("budget") or {})}
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
 def _eps_n_line(m: pd.DataFrame) -> str:
     """``KIN 47 ± 8, ... %``: a truck's reverse eps_n per model, for its progress line."""
     part = m[(m["direction"] == "reverse") & (m["status"] == "ok")]
@@ -127,7 +137,7 @@ def _eps_n_line(m: pd.DataFrame) -> str:
 
 def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.DataFrame],
                  walls: dict[int, float], reports: dict[int, Path],
-                 campaign: dict) -> dict[str, Path]:
+                 campaign: dict, stages: dict[int, dict] | None = None) -> dict[str, Path]:
     """The pooled files and ``report.md`` from every truck's metrics (see the module docstring)."""
     from artic.validation.campaign import seedreport
     from artic.validation.runs.validate import write_metrics
@@ -139,7 +149,8 @@ def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.D
     if vs_plant:
         plant = _first_columns(pd.concat(vs_plant, ignore_index=True))
         paths["metrics_vs_plant"] = write_metrics(plant, out_dir / "metrics_vs_plant.csv")
-    results = seedreport.SeedResults(walls=walls, reports=reports, campaign=campaign)
+    results = seedreport.SeedResults(walls=walls, reports=reports, campaign=campaign,
+                                     stages=stages or {})
     for ref, frame in (("logs", logs), ("plant", plant)):
         if frame is None:
             continue

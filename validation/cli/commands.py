@@ -579,8 +579,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="a part of the campaign: comma-separated manoeuvre names or prefixes "
                            "(include tuning manoeuvres such as 00-,01-,06-,07- to tune)")
     camp.add_argument("--remeasure", action="store_true",
-                      help="measure the efficiency again on a resumed run (it keeps the "
-                           "original run's figures otherwise)")
+                      help="compute the efficiency again from the validation runs' times on a "
+                           "resumed run (it keeps the original run's figures otherwise)")
     camp.add_argument("--executor", choices=("local", "dask"), default="local",
                       help="where generation and validation run (default: %(default)s)")
     camp.add_argument("--scheduler", default=None,

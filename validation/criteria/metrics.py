@@ -91,7 +91,8 @@ def distance_mean_abs(x: np.ndarray, w: np.ndarray) -> float:
     return float(np.sum(w * np.abs(x)) / s_max) if s_max > 0 else float("nan")
 
 
-def run_metrics(measured: pd.DataFrame, model: pd.DataFrame) -> dict[str, float]:
+def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
+                positions: bool = True) -> dict[str, float]:
     """Error criteria of one model run against its measured log.
 
     Parameters
@@ -101,6 +102,10 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame) -> dict[str, float]
     model : DataFrame
         The model's run from the harness, sample for sample; if it stopped
         early, only its rows are compared.
+    positions : bool
+        Compute the lateral position errors (``eps_y1``, ``eps_y2``,
+        ``eps_p``), the path distances that are most of this function's
+        work; NaN when ``False`` (the gain sweep reports none of them).
 
     Returns
     -------
@@ -116,7 +121,8 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame) -> dict[str, float]
     for i in (1, 2):
         pts = np.column_stack([sim[f"x_{i}"], sim[f"y_{i}"]])
         path = np.column_stack([col[f"x_{i}"], col[f"y_{i}"]])
-        out[f"eps_y{i}"] = distance_rms(distance_to_polyline(pts, path), w)
+        out[f"eps_y{i}"] = (distance_rms(distance_to_polyline(pts, path), w) if positions
+                            else float("nan"))
         out[f"eps_r{i}"] = distance_rms(sim[f"r_{i}"] - col[f"r_{i}"], w)
         out[f"eps_vy{i}"] = distance_rms(sim[f"v_y_{i}"] - col[f"v_y_{i}"], w)
     out["eps_p"] = out["eps_y1"] + out["eps_y2"]

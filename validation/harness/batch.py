@@ -21,7 +21,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.harness.loop import DEFAULT_GAIN, LoopInputs, loop_args, run_inputs
+from artic.validation.harness.loop import (
+    DEFAULT_GAIN,
+    LoopInputs,
+    count_run,
+    loop_args,
+    run_inputs,
+)
 from artic.validation.harness.reducedloop import compiled_loop
 
 
@@ -75,7 +81,10 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
         def one(i):
             return compiled_loop(*forms[i], *loop_args(inputs[i], vehicle, gain))
 
-        return _result(_on_threads(one, inputs, jobs), [""] * len(inputs))
+        runs = _on_threads(one, inputs, jobs)
+        for inp, run in zip(inputs, runs, strict=True):
+            count_run("reduced", inp.t, run[4])
+        return _result(runs, [""] * len(inputs))
     probe.close()
     return run_many(model_factory, [vehicle] * len(inputs), inputs, gain, jobs)
 

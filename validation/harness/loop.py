@@ -50,6 +50,7 @@ import pandas as pd
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.cli.progress import BUDGET
 from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.reversing import reversing
 from artic.validation.harness.steering import SteeringMap
@@ -240,7 +241,9 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
             compiled_loop,  # numba: only for KIN and the STM
         )
 
-        return compiled_loop(*form, *args)
+        out = compiled_loop(*form, *args)
+        count_run("reduced", inputs.t, out[4])
+        return out
     loop = model.closed_loop()
     if loop is not None:  # the plant's loop in C (artic.plant.closedloop)
         res = loop(*args, extras=extras is not None)
@@ -248,8 +251,20 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
             names = model.extra_columns
             ext = model.extras_from_raw(res.raw).astype(np.float32)
             extras.update((c, ext[:, j]) for j, c in enumerate(names))
+        count_run("multibody", inputs.t, res.n_done)
         return res.obs, res.delta, res.delta_fb, res.saturated, res.n_done
-    return _python_loop(model, *args, extras=extras)
+    out = _python_loop(model, *args, extras=extras)
+    count_run("other", inputs.t, out[4])
+    return out
+
+
+def count_run(kind: str, t: np.ndarray, n_done: int) -> None:
+    """Count a run of ``n_done`` samples of ``t`` [s] in the process's budget.
+
+    :data:`artic.validation.cli.progress.BUDGET`.
+    """
+    n = int(n_done)
+    BUDGET.add(kind, float(t[n - 1] - t[0]) if n > 1 else 0.0)
 
 
 def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,

@@ -104,62 +104,76 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
                    for m in models}
     bounds = {m: float(max(b)) for m, b in per_vehicle.items() if b}
     ks = sorted(set(map(float, gains)) | {k for b in per_vehicle.values() for k in b})
+    # The harness's inputs do not depend on K: derived once per model and log.
+    prepared = {m: [(vehicle, logs, _inputs(m, vehicle, logs))
+                    for vehicle, logs in logs_by_vehicle.values() if logs] for m in models}
+    tasks = [(m, k) for m in models for k in ks]
     rows = []
-    counter = Counter(len(models) * len(ks), "gain sweep", progress)
+    counter = Counter(len(tasks), "gain sweep", progress)
+    limited: dict[str, dict[str, str]] = {m: {} for m in models}
+    # One (model, K) per thread: its runs and criteria on one thread, the
+    # gains side by side, so that no thread waits for another between them.
     with ThreadPoolExecutor(max(1, jobs)) as pool:
+        done = pool.map(lambda task: _at_gain(task[0], task[1], prepared[task[0]]), tasks)
+        for (model, k), (m, stopped, notes) in zip(tasks, done, strict=True):
+            for name, text in notes.items():
+                limited[model].setdefault(name, f"K = {k:.3g}: {text}")
+            steer, eps_n = mean_ci(m["J_steer"]), mean_ci(m["eps_n"])
+            rows.append({"model": model, "K": k, "J_steer": m["J_steer"].mean(),
+                         "J_steer_lo": steer.lo, "J_steer_hi": steer.hi,
+                         "eps_n": m["eps_n"].mean(), "eps_n_lo": eps_n.lo,
+                         "eps_n_hi": eps_n.hi, "eps_a": m["eps_a"].mean(),
+                         "eps_v": m["eps_v"].mean(), "stopped": stopped, "n": len(m),
+                         "K_min": bounds[model]})
+            counter.step(f"{model} K = {k:.3g}: J_steer {rows[-1]['J_steer']:.1f} %, eps_n "
+                         f"{rows[-1]['eps_n']:.1f} %, {stopped} of {len(m)} stopped")
+    if progress is not None:
         for model in models:
-            limited: dict[str, str] = {}
-            for k in ks:
-                m, stopped = _at_gain(model, k, logs_by_vehicle, jobs, pool, limited)
-                steer, eps_n = mean_ci(m["J_steer"]), mean_ci(m["eps_n"])
-                rows.append({"model": model, "K": k, "J_steer": m["J_steer"].mean(),
-                             "J_steer_lo": steer.lo, "J_steer_hi": steer.hi,
-                             "eps_n": m["eps_n"].mean(), "eps_n_lo": eps_n.lo,
-                             "eps_n_hi": eps_n.hi, "eps_a": m["eps_a"].mean(),
-                             "eps_v": m["eps_v"].mean(), "stopped": stopped, "n": len(m),
-                             "K_min": bounds[model]})
-                counter.step(f"{model} K = {k:.3g}: J_steer {rows[-1]['J_steer']:.1f} %, eps_n "
-                             f"{rows[-1]['eps_n']:.1f} %, {stopped} of {len(m)} stopped")
-            if progress is not None:
-                for name, text in limited.items():
-                    progress(f"gain sweep {model} on {name}: limited (first at {text})")
+            for name, text in limited[model].items():
+                progress(f"gain sweep {model} on {name}: limited (first at {text})")
     out = pd.DataFrame(rows)
     out.attrs["K_min"] = bounds
     return out
 
 
-def _at_gain(model: str, k: float, logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
-             jobs: int, pool: ThreadPoolExecutor,
-             limited: dict[str, str]) -> tuple[pd.DataFrame, int]:
-    """One model's criteria on every log at gain ``k``, and the runs stopped early.
+def _inputs(model: str, vehicle: Vehicle, logs: Sequence[Run]) -> list[LoopInputs]:
+    """The harness's inputs of ``model`` on each log (:func:`loop_inputs`)."""
+    steering = SteeringMap.from_steering(vehicle.steering_for(model))
+    return [loop_inputs(log, vehicle, steering) for log in logs]
 
-    Notes in ``limited`` the first gain at which the model limited something on a log.
+
+def _at_gain(model: str, k: float,
+             prepared: Sequence[tuple[Vehicle, Sequence[Run], list[LoopInputs]]],
+             ) -> tuple[pd.DataFrame, int, dict[str, str]]:
+    """One model's criteria on every log at gain ``k``, on one thread.
+
+    Returns the criteria per log, the runs stopped early, and per log what
+    the model had to limit.
     """
     per_log = []
     stopped = 0
-    for vehicle, logs in logs_by_vehicle.values():
-        if not logs:
-            continue
-        steering = SteeringMap.from_steering(vehicle.steering_for(model))
-        inputs = [loop_inputs(log, vehicle, steering) for log in logs]
-        res = run_batch(spec(model).build, vehicle, inputs, k, jobs)
-        # The path distances release the GIL: the metrics of a batch take
-        # about as long as its runs, so they share the threads.
-        per_log.extend(pool.map(_metrics, logs, inputs, [res] * len(logs), range(len(logs))))
+    limited: dict[str, str] = {}
+    for vehicle, logs, inputs in prepared:
+        res = run_batch(spec(model).build, vehicle, inputs, k, 1)
+        per_log.extend(_metrics(log, inp, res, i)
+                       for i, (log, inp) in enumerate(zip(logs, inputs, strict=True)))
         for i, log in enumerate(logs):
             if res.limited and res.limited[i]:
-                limited.setdefault(log.name, f"K = {k:.3g}: {res.limited[i]}")
+                limited.setdefault(log.name, res.limited[i])
             stopped += int(res.n_done[i]) < inputs[i].t.size
-    return pd.DataFrame(per_log), stopped
+    return pd.DataFrame(per_log), stopped, limited
 
 
 def _metrics(log: Run, inputs: LoopInputs, res: BatchResult, i: int) -> dict[str, float]:
-    """The criteria of log ``i`` of a batch against its measured log."""
+    """The criteria of log ``i`` of a batch against its measured log.
+
+    The sweep reports no position error, so the path distances are not computed.
+    """
     n = int(res.n_done[i])
     frame = new_frame(inputs.t[:n], inputs.delta_h[:n], res.obs[i][:n])
     frame["delta"] = res.delta[i][:n]
     frame["delta_fb"] = res.delta_fb[i][:n]
-    return run_metrics(log.frame, frame)
+    return run_metrics(log.frame, frame, positions=False)
 
 
 def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:

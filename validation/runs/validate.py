@@ -28,7 +28,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.cli.progress import Counter, stderr
+from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
 from artic.validation.criteria.direction import direction_of
 from artic.validation.criteria.fixedscale import Scale, campaign_scale, eps_n_fixed
@@ -180,8 +180,11 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             if (log.name, name) in reused:
                 continue
             v = _resolve(vehicle, log)  # pickles
-            todo[(log.name, name)] = executor.submit(_simulate, name, log, v, gain)
-        remote.update({k: f.result() for k, f in todo.items()})
+            todo[(log.name, name)] = executor.submit(_simulate_counted, name, log, v, gain)
+        for k, f in todo.items():
+            run, wall, counted = f.result()
+            BUDGET.merge(counted)  # what the worker simulated, in this process's count
+            remote[k] = (run, wall)
         rows = [one(t) for t in tasks]
     elif jobs > 1:
         with ThreadPoolExecutor(jobs) as pool:
@@ -280,9 +283,11 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
         vehicle = vehicle(log)
     try:
         with collect() as notes:
+            t_build = time.perf_counter()
             model = build(name, vehicle, log)
             try:
                 t0 = time.perf_counter()
+                build_s = t0 - t_build
                 run = run_closed_loop(model, log, vehicle, gain)
                 wall = time.perf_counter() - t0
                 run.meta["prediction"] = _predict(model, log, vehicle)
@@ -299,7 +304,16 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
             time.perf_counter() - t0
     if notes:
         run.meta["limited"] = summary(notes)
+    run.meta["build_s"] = build_s  # for the efficiency figures (campaign.efficiency)
     return run, wall
+
+
+def _simulate_counted(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
+                      gain: float) -> tuple[Run, float, dict]:
+    """:func:`_simulate` on an executor, with what it simulated (a ``Budget.scope``)."""
+    with BUDGET.scope() as counted:
+        run, wall = _simulate(name, log, vehicle, gain)
+    return run, wall, counted
 
 
 def _predict(model, log: Run, vehicle: Vehicle) -> dict:

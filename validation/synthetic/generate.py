@@ -53,7 +53,7 @@ import numpy as np
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import PlantWarning
-from artic.validation.cli.progress import Counter
+from artic.validation.cli.progress import BUDGET, Counter
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
@@ -350,6 +350,8 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     counter = Counter(len(missing), "generated", progress)
     with contextlib.closing(completed(_simulate_timed, tasks, jobs, executor)) as done:
         for m, (run, wall) in done:
+            t = run.frame["t"]
+            BUDGET.add("multibody", float(t.iloc[-1] - t.iloc[0]) if len(t) > 1 else 0.0)
             write_export(run, out_dir, name=m.name)
             counter.step(f"{m.name} ({wall:.1f} s)")
     return [out_dir / m.name for m in todo]

@@ -55,6 +55,13 @@ from artic.plant.plant import BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE
 from artic.validation.synthetic import tmeasy, truthc
 from artic.validation.synthetic.column import Column
 
+TIMESTEP = 5e-3
+"""The truths' own step [s], RK4, pinned: the plant's default step
+(:data:`artic.mjcf.builder.TIMESTEP`) can change without the synthetic logs
+changing. The independent truth's tyres are not fitted to the step as the
+plant's are (:mod:`artic.plant.spinmode`), and the structural and legacy
+truths, the plant itself, keep the plain integration their logs were made with."""
+
 DUAL_SPACING = 0.35
 """Centre distance of twin tyres [m]: 22.5-inch twin wheels on a drive axle."""
 
@@ -81,7 +88,7 @@ class TruthPlant(Plant):
         As :class:`artic.plant.Plant`: ``"pedals"`` for the truth's driver,
         ``"follow"`` for the harness (the floor).
     timestep : float, optional
-        MuJoCo timestep [s].
+        MuJoCo timestep [s]; :data:`TIMESTEP` by default.
 
     Raises
     ------
@@ -97,7 +104,8 @@ class TruthPlant(Plant):
         self.tmeasy = [tmeasy.fit(f, vehicle.tyre_scaling) for f in files]
         """The TMeasy tyre of each tyre file in use (the ``tyre_set`` of each wheel)."""
         self._parked = False
-        super().__init__(vehicle, timestep=timestep, backend="c", speed=speed)
+        super().__init__(vehicle, timestep=TIMESTEP if timestep is None else timestep,
+                         backend="c", speed=speed)
 
     # ------------------------------------------------------------ brakes
     # The truth's brakes are dry friction on the wheels' spin joints, which
@@ -274,7 +282,8 @@ def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow") -> Plan
     """The vehicle of a truth configuration (see :mod:`artic.validation.synthetic.truth`).
 
     The independent truth is a :class:`TruthPlant` with its column's play; the
-    structural and legacy truths are the plant itself.
+    structural and legacy truths are the plant itself. Both at the truths' own
+    step, :data:`TIMESTEP`.
 
     Parameters
     ----------
@@ -288,4 +297,4 @@ def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow") -> Plan
     """
     if truth.get("kind") == "independent":
         return TruthPlant(vehicle, Column.of(vehicle, play=float(truth["backlash"])), speed)
-    return Plant(vehicle, speed=speed)
+    return Plant(vehicle, speed=speed, timestep=TIMESTEP, spin_fit=False)
