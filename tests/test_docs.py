@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import inspect
 import re
+import textwrap
 from collections.abc import Callable
 from pathlib import Path
 
@@ -24,14 +25,16 @@ import artic
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 
-FENCE = re.compile(r"(?ms)^```python(?P<info>[^\n]*)\n(?P<code>.*?)^```[ \t]*$")
-"""A fenced Python block; ``info`` is the rest of its info string."""
+FENCE = re.compile(r"(?ms)^(?P<indent> *)```python(?P<info>[^\n]*)\n(?P<code>.*?)"
+                   r"^(?P=indent)```[ \t]*$")
+"""A fenced Python block, also one indented in a list; ``info`` is the rest of its info
+string."""
 
 
 def python_blocks(text: str) -> list[tuple[int, bool, str]]:
     """The Python blocks of a page: (line of the fence, whether it runs, its code)."""
     return [(text.count("\n", 0, m.start()) + 1, "fragment" not in m.group("info").split(),
-             m.group("code")) for m in FENCE.finditer(text)]
+             textwrap.dedent(m.group("code"))) for m in FENCE.finditer(text)]
 
 
 def _pages() -> list[Path]:
@@ -169,8 +172,10 @@ def test_every_page_with_setup_or_checks_has_examples():
 
 
 def test_a_fragment_is_compiled_not_run():
-    text = "x\n```python\na = 1\n```\n\n```python fragment\nb = a\n```\n```sh\nc\n```\n"
-    assert python_blocks(text) == [(2, True, "a = 1\n"), (6, False, "b = a\n")]
+    text = ("x\n```python\na = 1\n```\n\n```python fragment\nb = a\n```\n```sh\nc\n```\n"
+            "1. in a list:\n\n   ```python\n   c = 2\n   ```\n")
+    assert python_blocks(text) == [(2, True, "a = 1\n"), (6, False, "b = a\n"),
+                                   (14, True, "c = 2\n")]
 
 
 def test_the_api_page_lists_the_public_names():
