@@ -423,7 +423,8 @@ def test_dock_list_aligns_a_long_controller_name(monkeypatch):
     rows = lines[i + 1:lines.index("vehicles (or a vehicle file):")]
     starts = {len(r) - len(r.split(None, 1)[1].lstrip()) for r in rows}
     assert len(rows) == len(BUILTIN) and len(starts) == 1, rows  # one column of descriptions
-    assert all(r.split(None, 1)[1].startswith(("follows", "MPC", "a controller")) for r in rows)
+    for row, (name, (_, text)) in zip(rows, BUILTIN.items(), strict=True):
+        assert row.split()[0] == name and row.endswith(f"  {text}"), row
 
 
 # ---------------------------------------------------------------- the reference controller
