@@ -275,16 +275,30 @@ void artic_spin_fit(double h, double scale, double inv_inertia, double q_x, doub
   *ddu = Re * y0 - b * y1;
 }
 
-/* The generalized force on dof j of the force F and torque T at point on body's chain. */
-static double dof_ft(const mjModel* m, const mjData* d, const double F[3], const double T[3],
-                     const double point[3], int body, int j) {
+/* The torque about the subtree centre of mass of body's root, T + (point - c) x F,
+ * the rotational part of the wrench MuJoCo's cdof act on. */
+static void torque_about_com(const mjModel* m, const mjData* d, const double F[3],
+                             const double T[3], const double point[3], int body, double tc[3]) {
   const mjtNum* c = d->subtree_com + 3 * m->body_rootid[body];
   double o[3] = {point[0] - c[0], point[1] - c[1], point[2] - c[2]};
-  double tc[3] = {T[0] + o[1] * F[2] - o[2] * F[1], T[1] + o[2] * F[0] - o[0] * F[2],
-                  T[2] + o[0] * F[1] - o[1] * F[0]};
+  tc[0] = T[0] + o[1] * F[2] - o[2] * F[1];
+  tc[1] = T[1] + o[2] * F[0] - o[0] * F[2];
+  tc[2] = T[2] + o[0] * F[1] - o[1] * F[0];
+}
+
+/* Column j of J' [F; T]: cdof_rot . tc + cdof_lin . F. */
+static double cdof_dot(const mjData* d, int j, const double tc[3], const double F[3]) {
   const mjtNum* sd = d->cdof + 6 * j;
   return sd[0] * tc[0] + sd[1] * tc[1] + sd[2] * tc[2] + sd[3] * F[0] + sd[4] * F[1]
          + sd[5] * F[2];
+}
+
+/* The generalized force on dof j of the force F and torque T at point on body's chain. */
+static double dof_ft(const mjModel* m, const mjData* d, const double F[3], const double T[3],
+                     const double point[3], int body, int j) {
+  double tc[3];
+  torque_about_com(m, d, F, T, point, body, tc);
+  return cdof_dot(d, j, tc, F);
 }
 
 /* The force of actuator a now, as mj_fwdActuation will compute it (gain and bias
@@ -335,15 +349,10 @@ static void apply_ft(const mjModel* m, const mjData* d, const double F[3], const
                      const double point[3], int body, mjtNum* qfrc) {
   while (body > 0 && m->body_dofnum[body] == 0) body = m->body_parentid[body];
   if (body <= 0) return;
-  const mjtNum* c = d->subtree_com + 3 * m->body_rootid[body];
-  double o[3] = {point[0] - c[0], point[1] - c[1], point[2] - c[2]};
-  double tc[3] = {T[0] + o[1] * F[2] - o[2] * F[1], T[1] + o[2] * F[0] - o[0] * F[2],
-                  T[2] + o[0] * F[1] - o[1] * F[0]};
-  for (int j = m->body_dofadr[body] + m->body_dofnum[body] - 1; j >= 0; j = m->dof_parentid[j]) {
-    const mjtNum* s = d->cdof + 6 * j;
-    qfrc[j] += s[0] * tc[0] + s[1] * tc[1] + s[2] * tc[2] + s[3] * F[0] + s[4] * F[1]
-               + s[5] * F[2];
-  }
+  double tc[3];
+  torque_about_com(m, d, F, T, point, body, tc);
+  for (int j = m->body_dofadr[body] + m->body_dofnum[body] - 1; j >= 0; j = m->dof_parentid[j])
+    qfrc[j] += cdof_dot(d, j, tc, F);
 }
 
 /* ------------------------------------------------------------------ block */

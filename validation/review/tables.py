@@ -100,18 +100,29 @@ def summary(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
         interval over manoeuvres) and, where fewer runs have it than ``n``,
         ``col_n``; then ``n``.
     """
-    cols = columns(metrics, direction)
-    part = _ok(metrics)
-    part = part[part["direction"] == direction]
-    rows = {}
-    for model, g in part.groupby("model", sort=False):
+    def row_of(g: pd.DataFrame, cols: list[str]) -> dict:
         row: dict = {}
         for c in cols:
             _interval_columns(row, c, mean_ci(pd.to_numeric(g[c], errors="coerce")), len(g))
         row["n"] = len(g)
-        rows[model] = row
+        return row
+
+    return _per_model(metrics, direction, row_of, ("n",))
+
+
+def _per_model(metrics: pd.DataFrame, direction: str, row_of, tail: tuple[str, ...]
+               ) -> pd.DataFrame:
+    """One row per model of one direction's results, ``row_of(rows, criteria)`` each.
+
+    The rows with results of ``direction``, grouped by model in order of
+    appearance; columns grouped per criterion, then ``tail``; indexed by model.
+    """
+    cols = columns(metrics, direction)
+    part = _ok(metrics)
+    part = part[part["direction"] == direction]
+    rows = {model: row_of(g, cols) for model, g in part.groupby("model", sort=False)}
     out = pd.DataFrame.from_dict(rows, orient="index")
-    out = out[_ordered(out.columns, cols)] if len(out) else out
+    out = out[_ordered(out.columns, cols, tail)] if len(out) else out
     out.index.name = "model"
     return out
 
@@ -330,11 +341,7 @@ def pooled(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
         ``col_sd_manoeuvres`` (the pooled standard deviation of the manoeuvres
         within a seed); ``n`` (runs) and ``seeds``.
     """
-    cols = columns(metrics, direction)
-    part = _ok(metrics)
-    part = part[part["direction"] == direction]
-    rows = {}
-    for model, g in part.groupby("model", sort=False):
+    def row_of(g: pd.DataFrame, cols: list[str]) -> dict:
         row: dict = {}
         for c in cols:
             v = pd.to_numeric(g[c], errors="coerce")
@@ -351,11 +358,9 @@ def pooled(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
             if int(v.notna().sum()) != len(g):
                 row[f"{c}_n"] = int(v.notna().sum())
         row["n"], row["seeds"] = len(g), int(g["seed"].nunique())
-        rows[model] = row
-    out = pd.DataFrame.from_dict(rows, orient="index")
-    out = out[_ordered(out.columns, cols, ("n", "seeds"))] if len(out) else out
-    out.index.name = "model"
-    return out
+        return row
+
+    return _per_model(metrics, direction, row_of, ("n", "seeds"))
 
 
 def spread_markdown(table: pd.DataFrame) -> str:
