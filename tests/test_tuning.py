@@ -219,7 +219,7 @@ def test_the_plant_fit_matches_full_differences_from_nominal(unloaded):
 
 
 def test_the_quasi_newton_fit_reaches_least_squares_optimum_with_large_residuals(unloaded):
-    # KIN's and the STM's fits run L-BFGS-B on the sum of squares; the
+    # The STM's fit runs L-BFGS-B on the sum of squares (it tunes f); the
     # reference is least_squares' trust-region Gauss-Newton with its own
     # differences from the nominal values (full_difference_fit). On logs the
     # STM cannot fit exactly (its own runs, the yaw rate read 3 % high, a

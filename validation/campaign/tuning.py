@@ -18,10 +18,11 @@ terms whose sum is ``eps_n``. The fit works in coordinates scaled to the
 bounds, so all parameters weigh alike. Forward, the harness's feedback is
 off, so the fit sees the models' open-loop response, as the paper's does.
 
-Solvers. KIN and the STM: L-BFGS-B on the sum of squares, its gradient
-``2 J^T r`` from forward differences of the residuals
-(:func:`quasi_newton_fit`). The plant: ``scipy.optimize.least_squares``
-(trust-region reflective, a Gauss-Newton method) with Broyden's updates
+Solvers. A model that tunes ``f`` (the STM): L-BFGS-B on the sum of
+squares, its gradient ``2 J^T r`` from forward differences of the residuals
+(:func:`quasi_newton_fit`). The others: ``scipy.optimize.least_squares``
+(trust-region reflective, a Gauss-Newton method), with its own differences
+for KIN and with Broyden's updates for the plant
 (:class:`ParallelJacobian`). Gauss-Newton models the cost's curvature by
 ``J^T J`` alone and leaves out ``sum r_i grad^2 r_i``, which is small only
 where the residuals are: a model that cannot fit the logs exactly (the STM's
@@ -31,10 +32,12 @@ steps were short: ``least_squares`` took 119 and 251 evaluations (seed 0,
 unloaded and loaded), 170 of them moving ``f`` from 11.8 to 13.1 for 0.16 %
 of the cost. L-BFGS-B learns the whole curvature from its gradients and
 reaches the same optimum (``f`` within 1e-4 relative, the cost within 1e-9
-relative) in 65 and 105 (``tests/test_tuning.py`` holds it to
-``least_squares``' optimum). The plant's problem is small-residual in its
-three steering parameters and costs 4 plant runs per evaluation; there
-Gauss-Newton with Broyden's updates needs 6-8.
+relative) in 65 and 105 (seeds 0-2: 455 evaluations in all of 947;
+``tests/test_tuning.py`` holds it to ``least_squares``' optimum). Without
+``f`` the residuals are nearly linear in the steering parameters (``i_s``,
+``q``, the offset) and Gauss-Newton is the quicker: KIN's fits take 20-24
+evaluations by ``least_squares`` and 52 by L-BFGS-B, to the same optimum; the
+plant's, with Broyden's updates, 6-8.
 
 Bounds. ``i_s`` within 25 % of its nominal value; ``q`` from 0 (the
 parameter files' domain: a linkage driven from the left wheel) to 0.04 /rad
@@ -75,20 +78,21 @@ DIFF_STEP = 1e-3
 
 GRADIENT_STEP = 1e-6
 """Forward-difference step of :func:`quasi_newton_fit`'s gradient, in the
-bound-scaled coordinates [-]: KIN's and the STM's runs are smooth in their
+bound-scaled coordinates [-]: the STM's runs are smooth in their
 parameters to rounding, and the gradient must still resolve the STM's flat
 valley near the optimum, where ``DIFF_STEP`` (1e-3) would not (its truncation
 error, ``h/2`` times the curvature, is then the size of the gradient)."""
 
 QUASI_NEWTON_FTOL = 1e-10
-"""L-BFGS-B's stop for KIN and the STM: the cost fell by less than this in
+"""L-BFGS-B's stop (the STM's fit): the cost fell by less than this in
 one iteration (relative to ``max(cost, 1)``, i.e. absolutely, as the costs are
 below 1). The cost at the optimum is about 4e-3: this is 2.5e-8 of it, where
 ``least_squares``' ftol was 1e-8 of it."""
 
 TOLERANCES = {"batched": (1e-6, 1e-8), "plant": (1e-4, 1e-6)}
-"""``least_squares``' xtol and ftol: ``batched`` for :func:`full_difference_fit`,
-the reference the tests hold the fits against; ``plant`` for the plant.
+"""``least_squares``' xtol and ftol: ``batched`` for KIN (and
+:func:`full_difference_fit`, the reference the tests hold the fits against),
+``plant`` for the plant.
 
 The plant's are looser: each of its evaluations costs a second, and it stops
 within 1e-4 of each bound's span (1e-3 in i_s, 5e-5 rad in the offset), far
@@ -383,7 +387,7 @@ class ParallelJacobian:
 
 def quasi_newton_fit(obj: Objective, z0: np.ndarray, r0: np.ndarray,
                      max_nfev: int) -> tuple[np.ndarray, np.ndarray]:
-    """KIN's and the STM's fit: L-BFGS-B on the sum of squared residuals.
+    """The fit of a model that tunes ``f``: L-BFGS-B on the sum of squared residuals.
 
     The gradient is ``2 J^T r``, ``J`` by forward differences of
     :data:`GRADIENT_STEP` in the bound-scaled coordinates ``z`` (backwards at
@@ -437,7 +441,7 @@ def quasi_newton_fit(obj: Objective, z0: np.ndarray, r0: np.ndarray,
 def full_difference_fit(obj: Objective) -> tuple[dict[str, float], float]:
     """The reference fit: ``least_squares``' own two-point differences at every step.
 
-    From the nominal values, with KIN's and STM's tolerances, one evaluation
+    From the nominal values, with KIN's tolerances, one evaluation
     after another: the plant's fit before its shortcuts (start values,
     :class:`ParallelJacobian`, looser tolerances), which the tests and
     ``benchmarks/bench_tuning.py`` hold them against.
@@ -535,16 +539,18 @@ def tune_model(model: str, vehicle: Vehicle, logs: Sequence[Run], jobs: int = 1,
         return Fit(model=model, bounds=[], fitted={}, cost_before=before, cost_after=before,
                    eps_n_before=obj.eps_n_of(r0), eps_n_after=obj.eps_n_of(r0),
                    evaluations=obj.evaluations, wall_s=time.perf_counter() - t0)
-    # KIN and STM: L-BFGS-B, each run a compiled batch. The plant: least_squares'
-    # differences once, all columns' runs on the thread pool, then Broyden's
-    # updates (ParallelJacobian). See the module docstring.
-    if spec(model).batched:
+    # The STM (it tunes f): L-BFGS-B. KIN: least_squares' own differences, each
+    # a compiled batch. The plant: those differences once, all columns' runs on
+    # the thread pool, then Broyden's updates (ParallelJacobian). See the
+    # module docstring.
+    if "f" in obj.names:
         z_fit, f_fit = quasi_newton_fit(obj, z0, r0, max_nfev)
         cost = float(np.dot(f_fit, f_fit))
     else:
+        kw = {"diff_step": DIFF_STEP} if spec(model).batched else {"jac": jac}
         try:
-            sol = least_squares(fun, z0, jac=jac, bounds=(0.0, 1.0), method="trf",
-                                x_scale=1.0, xtol=xtol, ftol=ftol, max_nfev=max_nfev)
+            sol = least_squares(fun, z0, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
+                                xtol=xtol, ftol=ftol, max_nfev=max_nfev, **kw)
             z_fit, f_fit, cost = sol.x, sol.fun, float(2.0 * sol.cost)
         except WithinTolerance as done:  # the fit is where it stands, within xtol
             z_fit, f_fit = done.z, done.f
