@@ -270,6 +270,7 @@ class Plant:
             self.model.actuator_gainprm[self._follower, 0] = 0.0
             self.model.actuator_biasprm[self._follower, 2] = 0.0
         self._psi = np.zeros(2)
+        self._velocity = np.zeros(6)  # mj_objectVelocity's output, reused
         self._integral = 0.0
         self.steer_limited = 0
         self._last_forces = np.zeros((self.n_wheels, 3))
@@ -705,20 +706,19 @@ class Plant:
         u = self._speed()
         e = u_cmd - u
         self._integral += e * h
-        rr = self.tyre.QSY1 * self.mass * G * math.tanh(u_cmd / 0.1)
-        if self.speed_mode == "follow":
-            ff = self.mass_eff * u_dot + rr
-            d.ctrl[self._follower] = u_cmd + ff / self._follower_kv + FOLLOW_KI * self._integral
-            return
         if self.speed_mode == "pedals":
-            throttle, brake = (min(max(float(x), 0.0), 1.0) for x in self.pedals)
+            throttle = min(max(float(self.pedals[0]), 0.0), 1.0)
+            brake = min(max(float(self.pedals[1]), 0.0), 1.0)
             direction = 1.0 if u_cmd >= 0.0 else -1.0  # the gear: forward or reverse
             weight = self.mass * G
             d.ctrl[self._drive] = direction * throttle * DRIVE_FORCE_MAX * weight * self.R0 \
                 / len(self._drive)
-            spin = d.qvel[self._spin_dof]
-            d.ctrl[self._brake] = (-brake * BRAKE_DECEL_MAX * weight * self.R0
-                                   * self._brake_share * np.tanh(spin / BRAKE_SPIN_SCALE))
+            self._pedal_brake(brake, weight)
+            return
+        rr = self.tyre.QSY1 * self.mass * G * math.tanh(u_cmd / 0.1)
+        if self.speed_mode == "follow":
+            ff = self.mass_eff * u_dot + rr
+            d.ctrl[self._follower] = u_cmd + ff / self._follower_kv + FOLLOW_KI * self._integral
             return
         F = self.mass * (u_dot + SPEED_KP * e + SPEED_KI * self._integral) + rr
         direction = math.copysign(1.0, u_cmd) if abs(u_cmd) > 0.05 else math.copysign(1.0, F)
@@ -730,6 +730,12 @@ class Plant:
             spin = d.qvel[self._spin_dof]
             d.ctrl[self._brake] = (-abs(F) * self.R0 * self._brake_share
                                    * np.tanh(spin / BRAKE_SPIN_SCALE))
+
+    def _pedal_brake(self, brake: float, weight: float) -> None:
+        """The service brake at pedal ``brake`` [0-1] on a combination of ``weight`` [N]."""
+        spin = self.data.qvel[self._spin_dof]
+        self.data.ctrl[self._brake] = (-brake * BRAKE_DECEL_MAX * weight * self.R0
+                                       * self._brake_share * np.tanh(spin / BRAKE_SPIN_SCALE))
 
     def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
         """Advance ``dt`` [s]; see :mod:`artic.mjcf.interface`.
@@ -831,7 +837,7 @@ class Plant:
 
         In the unit's axes: turned by the sensor's mounting yaw ``eps`` to the left.
         """
-        res = np.zeros(6)
+        res = self._velocity  # written whole by MuJoCo
         mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_SITE,
                                  self._sensor[i], res, 1)
         vx, vy = res[3], res[4]

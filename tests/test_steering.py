@@ -57,3 +57,17 @@ def test_monotonic_guard_refuses_the_fold():
 def test_map_is_monotonic_below_the_fold():
     d = np.linspace(-10, 0.95 / (2 * 0.01), 1000)
     assert np.all(np.diff(MAP.road_wheel(d + MAP.delta_h_offset)) > 0)
+
+
+def test_the_scalar_path_is_the_array_path_to_the_bit():
+    # The simulation loops call the map with one float per step and take a
+    # plain-float path; the logs must not depend on which path ran, so the two
+    # must agree exactly, not to a tolerance.
+    rng = np.random.default_rng(3)
+    for q in (0.0, 0.01, 0.03):
+        m = SteeringMap(i_s=21.7, q=q, delta_h_offset=0.087)
+        for x in rng.uniform(-8.0, 8.0, 200):
+            x = float(x)
+            assert m.road_wheel(x) == float(m.road_wheel(np.array([x]))[0])
+            d = float(m.road_wheel(x))
+            assert m.steering_wheel(d) == float(m.steering_wheel(np.array([d]))[0])

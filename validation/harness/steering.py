@@ -10,6 +10,7 @@ refuses a range in use beyond that instead of folding back silently.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,6 +89,9 @@ class SteeringMap:
         delta_h : float or ndarray
             Steering-wheel angle as measured, offset included [rad].
         """
+        if isinstance(delta_h, float):  # the loops' per-step path, the same arithmetic
+            d = delta_h - self.delta_h_offset
+            return float((d - self.q * d * d) / self.i_s)
         d = np.asarray(delta_h, dtype=float) - self.delta_h_offset
         out = (d - self.q * d * d) / self.i_s
         return float(out) if out.ndim == 0 else out
@@ -101,6 +105,11 @@ class SteeringMap:
             Road-wheel angle [rad]; must lie below the map's maximum
             ``fold / (2 i_s)``.
         """
+        if isinstance(delta, float) and self.q != 0:  # the per-step path, the same arithmetic
+            x = delta * self.i_s
+            disc = 1.0 - 4.0 * self.q * x
+            if disc >= 0.0:  # (IEEE square roots are exact-rounded in math and numpy alike)
+                return float(2.0 * x / (1.0 + math.sqrt(disc)) + self.delta_h_offset)
         x = np.asarray(delta, dtype=float) * self.i_s
         if self.q == 0:
             d = x

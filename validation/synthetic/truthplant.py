@@ -104,6 +104,7 @@ class TruthPlant(Plant):
         self.tmeasy = [tmeasy.fit(f, vehicle.tyre_scaling) for f in files]
         """The TMeasy tyre of each tyre file in use (the ``tyre_set`` of each wheel)."""
         self._parked = False
+        self._friction_decel: float | None = None  # the brakes' friction as last written
         super().__init__(vehicle, timestep=TIMESTEP if timestep is None else timestep,
                          backend="c", speed=speed)
 
@@ -117,13 +118,17 @@ class TruthPlant(Plant):
         brake = 0.0
         if self.speed_mode == "pedals":
             brake = min(max(float(self.pedals[1]), 0.0), 1.0)
-            self.data.ctrl[self._brake] = 0.0
         self._set_friction(brake)
+
+    def _pedal_brake(self, brake: float, weight: float) -> None:
+        self.data.ctrl[self._brake] = 0.0  # no fading brake torque: dry friction instead
 
     def _set_friction(self, brake: float) -> None:
         decel = max(brake * BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE if self._parked else 0.0)
-        self.model.dof_frictionloss[self._spin_dof] = (decel * self.mass * G * self.R0
-                                                       * self._brake_share)
+        if decel != self._friction_decel:  # written when it changes, not at every step
+            self.model.dof_frictionloss[self._spin_dof] = (decel * self.mass * G * self.R0
+                                                           * self._brake_share)
+            self._friction_decel = decel
 
     @property
     def parking_brake(self) -> bool:
