@@ -3,7 +3,7 @@
 Measured in one run on one machine, driving a 200 deg constant steer at
 5 km/h through ``Plant.step`` at the harness's 100 Hz:
 
-- real-time factor of the plant at its default timestep (RK4, 5 ms), with
+- real-time factor of the plant at its default timestep (RK4, 10 ms), with
   the compiled tyre callback and with the numpy reference;
 - plant step time / bare ``mj_step`` time of the same model and timestep.
   "Bare" is ``mj_step`` with no passive callback, from the plant's own states:
@@ -58,8 +58,13 @@ def _bare(p: Plant, states: list) -> float:
     return bare_steps(p.model, states, round(DT / p.model.opt.timestep))
 
 
-def _tyre_ns() -> tuple[float, float]:
-    """Per wheel evaluation: compiled and numpy tyre model [ns]."""
+def _tyre_ns() -> tuple[float, float, float]:
+    """Per wheel evaluation [ns]: compiled, numpy, and compiled with the tyre moments.
+
+    The first two as the default plant runs (``tyre_moments`` off: forces,
+    deflection rates, rolling resistance), the third with the aligning and
+    bore torques too.
+    """
     from artic.plant import ctyre
     from artic.plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
 
@@ -72,21 +77,22 @@ def _tyre_ns() -> tuple[float, float]:
          rng.normal(0, 0.05, n), rng.normal(0, 0.02, n))
 
     def numpy_eval():
-        Fx = transient_forces(p, *a)[0]
+        Fx = transient_forces(p, *a, moments=False)[0]
         deflection_rates(p, *a)
         rolling_resistance(p, a[0], a[1], Fx)
 
     times = []
-    for fn in (lambda: ctyre.evaluate(p, *a), numpy_eval):
+    for fn in (lambda: ctyre.evaluate(p, *a, moments=False), numpy_eval,
+               lambda: ctyre.evaluate(p, *a, moments=True)):
         fn()
         t0 = time.perf_counter()
         fn()
         times.append((time.perf_counter() - t0) / n * 1e9)
-    return times[0], times[1]
+    return times[0], times[1], times[2]
 
 
 def main() -> dict[str, float]:
-    c_ns, np_ns = _tyre_ns()
+    c_ns, np_ns, cm_ns = _tyre_ns()
     states: list = []
     wall_c, p = _run("c", SIM_SECONDS, states)
     bare = _bare(p, states)
@@ -102,9 +108,9 @@ def main() -> dict[str, float]:
            "plant_over_bare": wall_c / bare, "numpy_over_c": wall_np / wall_c,
            "timestep_ms": p.model.opt.timestep * 1e3,
            "bare_step_us": bare / steps * 1e6, "plant_step_us": wall_c / steps * 1e6}
-    out["tyre_c_ns"], out["tyre_numpy_ns"] = c_ns, np_ns
+    out["tyre_c_ns"], out["tyre_numpy_ns"], out["tyre_c_moments_ns"] = c_ns, np_ns, cm_ns
     print(f"Tyre model per wheel evaluation: compiled {c_ns:.0f} ns, numpy (vectorised over "
-          f"100 000 wheels) {np_ns:.0f} ns")
+          f"100 000 wheels) {np_ns:.0f} ns; compiled with the tyre moments {cm_ns:.0f} ns")
     print(f"Plant, {SIM_SECONDS:.0f} s of constant steer, RK4 at {out['timestep_ms']:.0f} ms, "
           "stepped at 100 Hz:")
     print(f"  real-time factor, compiled tyre callback: {out['plant_rtf']:.1f} x")

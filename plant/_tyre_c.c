@@ -121,7 +121,8 @@ static double patch_half_length(const double* p, double Fz) {
 
 /* Steady-state forces and aligning moment, PAC2002 at zero camber (tyre.steady_state). */
 static void steady_state(const double* p, double Fz, double kappa, double alpha,
-                         double v_sign, double* Fx_out, double* Fy_out, double* Mz_out) {
+                         double v_sign, int moments, double* Fx_out, double* Fy_out,
+                         double* Mz_out) {
   Fz = fmax(Fz, 0.0);
   double a = -alpha, k = kappa;
   double ta = tan(a), ca = cos(a);
@@ -157,6 +158,12 @@ static void steady_state(const double* p, double Fz, double kappa, double alpha,
   double DVyk = muy * Fz * (p[RVY1] + p[RVY2] * dfz) * cos_atan(p[RVY4] * ta);
   double SVyk = DVyk == 0.0 ? 0.0 : DVyk * sin(p[RVY5] * atan(p[RVY6] * k)) * p[LVYKA];
   double Fx = Gxa * Fx0, Fy = Gyk * Fy0 + SVyk;
+  *Fx_out = Fx;
+  *Fy_out = Fy;
+  if (!moments) { /* the plant without its tyre moments: no aligning moment to compute */
+    *Mz_out = 0.0;
+    return;
+  }
   /* aligning moment */
   double Kyp = Ky + EPS * (Ky < 0.0 ? -1.0 : 1.0);
   double SHt = p[QHZ1] + p[QHZ2] * dfz;
@@ -178,8 +185,6 @@ static void steady_state(const double* p, double Fz, double kappa, double alpha,
               * ca;
   double Mzr = Dr * cos_atan(Br * ar_eq);
   double s_arm = p[UNLOADED_RADIUS] * (p[SSZ1] + p[SSZ2] * (Fy / Fz0)) * p[LS];
-  *Fx_out = Fx;
-  *Fy_out = Fy;
   *Mz_out = -trail * (Gyk * Fy0) + Mzr + s_arm * Fx;
 }
 
@@ -213,7 +218,8 @@ static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, d
   *dv = -Vy - ax * v / sa;
   *dphi = -omega_z - fabs(omega_z) * phi / (TWIST_LIMIT * phi_s) - ax * phi / a;
   /* tyre.transient_forces */
-  steady_state(p, Fz, kappa, alpha, tanh(Vx / V_SIGN), Fx, Fy, Mz);
+  double v_sign = tanh(Vx / V_SIGN); /* the smoothed sign of travel */
+  steady_state(p, Fz, kappa, alpha, v_sign, moments, Fx, Fy, Mz);
   double vxlow = p[VXLOW] > 0.0 ? p[VXLOW] : TINY;
   double fade = ax < vxlow ? 0.5 * (1.0 + cos(PI * ax / vxlow)) : 0.0;
   double Fzp = fmax(Fz, 0.0);
@@ -236,7 +242,7 @@ static int wheel(const double* p, double Fz, double Vx, double Vsx, double Vy, d
   double mag = p[UNLOADED_RADIUS] * Fzp
                * (p[QSY1] + p[QSY2] * *Fx / fz0(p) + p[QSY3] * vr + p[QSY4] * (vr * vr) * (vr * vr))
                * p[LMY];
-  *My = -mag * tanh(Vx / V_SIGN);
+  *My = -mag * v_sign;
   return Fz > 0.0 && (Fz < p[FZMIN] || Fz > p[FZMAX] || kappa < p[KPUMIN] || kappa > p[KPUMAX]
                       || alpha < p[ALPMIN] || alpha > p[ALPMAX]);
 }
