@@ -335,3 +335,50 @@ def test_completed_gives_every_task_once_and_its_pool_ends_when_closed_early():
         time.sleep(0.05)
     else:
         pytest.fail(f"worker {worker} still runs after the iteration was closed")
+
+
+def test_tuning_side_by_side_saves_each_fit_and_stops_starting_new_ones(tmp_path, monkeypatch):
+    # With two jobs the load conditions are tuned on two threads. A fit that
+    # raises (as an interrupted one does) ends the stage: the other load's
+    # running fit finishes and is saved, no further fit starts, and the next
+    # run resumes from what was saved.
+    import threading
+    import time
+
+    from artic.validation.campaign import main as campaign
+    from artic.validation.campaign import tuning
+
+    logs = [Run(slalom().frame, {"name": n, "load": "unloaded" if "-unloaded-" in n
+                                 else "loaded"}) for n in TUNING]
+    calls, lock, interrupted = [], threading.Lock(), threading.Event()
+
+    def fake_tune(model, vehicle, logs, jobs, progress, start=None):
+        load = logs[0].meta["load"]
+        with lock:
+            calls.append((model, load, jobs))
+        if (model, load) == ("stm", "unloaded"):
+            interrupted.set()
+            raise KeyboardInterrupt
+        if (model, load) == ("kin", "loaded"):
+            assert interrupted.wait(10.0)
+            time.sleep(1.0)  # still running when the stage is interrupted
+        return tuning.Fit(model, [tuning.Bound("i_s", 21.0, 15.0, 26.0)], {"i_s": 20.0},
+                          1.0, 0.5, 10.0, 9.0, 3, 0.1)
+
+    monkeypatch.setattr(tuning, "tune_model", fake_tune)
+    with pytest.raises(KeyboardInterrupt):
+        campaign._tune(tmp_path, logs, ("kin", "stm"), "key", 2)
+    saved = json.loads((tmp_path / "tuning.json").read_text())
+    assert [r["model"] for r in saved["loads"]["unloaded"]["summary"]] == ["kin"]
+    assert [r["model"] for r in saved["loads"]["loaded"]["summary"]] == ["kin"]
+    assert ("stm", "loaded", 1) not in calls  # it would have started after the interruption
+    assert all(jobs == 1 for _, _, jobs in calls)  # two jobs: one thread for each load
+    assert not saved["complete"]
+    calls.clear()
+    interrupted.set()
+    monkeypatch.setattr(tuning, "tune_model", lambda model, vehicle, logs, jobs, progress,
+                        start=None: calls.append((model, logs[0].meta["load"])) or tuning.Fit(
+                            model, [], {}, 1.0, 1.0, 1.0, 1.0, 1, 0.1))
+    done = campaign._tune(tmp_path, logs, ("kin", "stm"), "key", 2)
+    assert sorted(calls) == [("stm", "loaded"), ("stm", "unloaded")]  # the kin fits were kept
+    assert done["complete"]

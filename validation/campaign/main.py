@@ -58,9 +58,10 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import threading
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Executor
+from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
 
 import pandas as pd
@@ -245,6 +246,12 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
     every (load, model) fit with the fits so far; a rerun with the same key
     reuses them and fits only the rest. A model whose fit fails keeps the
     preset's values; its summary row says why.
+
+    The load conditions are fitted side by side, on ``jobs // 2`` threads
+    each (one each on two cores): their fits are independent, and one
+    load's Python (the optimiser's steps, the residuals) then runs while the
+    other's models compute, where one after the other left a core idle in
+    each fit's serial part. The fits do not depend on the threads.
     """
     path = out_dir / "tuning.json"
     saved = _read_json(path)
@@ -258,51 +265,83 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
     from artic.validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
 
     out: dict = {"key": key, "loads": {}, "complete": False}
+    lock = threading.Lock()  # guards out and tuning.json
+    todo = []
     for load in LOADS:
         tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
         if not tuning:
             stderr_progress(f"{load}: no tuning manoeuvre among the logs; the preset's "
                             "parameters are used untuned")
             continue
-        vehicle = load_vehicle(PRESET.format(load=load))
         names = [log.name for log in tuning]
         part = saved["loads"].get(load)
         if not (isinstance(part, dict) and part.get("logs") == names):
             part = None
-        entry = {"logs": names, "rows": [], "summary": [], "fitted": {},
-                 "truth": tuning[0].meta.get("truth", {}),
-                 "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
-        out["loads"][load] = entry
+        out["loads"][load] = {"logs": names, "rows": [], "summary": [], "fitted": {},
+                              "truth": tuning[0].meta.get("truth", {}),
+                              "nominal": {"i_s": load_vehicle(PRESET.format(load=load))
+                                          .steering_for("mbd").i_s}}
+        todo.append((load, tuning, part))
+
+    stop = threading.Event()  # set when the campaign is interrupted: no further fit starts
+
+    def tune_load(load: str, tuning: list[Run], part: dict | None, threads: int) -> None:
+        vehicle = load_vehicle(PRESET.format(load=load))
+        entry = out["loads"][load]
         for m in models:
+            if stop.is_set():
+                return
             done = [r for r in (part or {}).get("summary", []) if r.get("model") == m]
             if done:
-                entry["rows"] += [r for r in part.get("rows", []) if r.get("model") == m]
-                entry["summary"] += done
-                if m in part.get("fitted", {}):
-                    entry["fitted"][m] = part["fitted"][m]
+                with lock:
+                    entry["rows"] += [r for r in part.get("rows", []) if r.get("model") == m]
+                    entry["summary"] += done
+                    if m in part.get("fitted", {}):
+                        entry["fitted"][m] = part["fitted"][m]
                 stderr_progress(f"{load}: tuning of {m} reused from {path}")
                 continue
             stderr_progress(f"{load}: tuning {m} on {len(tuning)} logs")
             try:
-                fit = tune_model(m, vehicle, tuning, jobs,
+                with lock:
+                    start = start_from(m, entry["fitted"])
+                fit = tune_model(m, vehicle, tuning, threads,
                                  lambda line, load=load: stderr_progress(f"{load}: {line}"),
-                                 start=start_from(m, entry["fitted"]))
+                                 start=start)
             except (MemoryError, RecursionError):
                 raise
             except Exception as exc:  # noqa: BLE001 - one model's failure is a row
                 why = " ".join(str(exc).split()) or type(exc).__name__
                 stderr_progress(f"{load}: tuning {m} failed ({why}); its preset values are "
                                 "used")
-                entry["summary"].append({"load": load, "model": m, "status": f"failed: {why}"})
+                row = {"load": load, "model": m, "status": f"failed: {why}"}
+                with lock:
+                    entry["summary"].append(row)
+                    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
             else:
-                entry["rows"] += [{"load": load, **row} for row in fit.rows()]
-                entry["fitted"][m] = fit.fitted
-                entry["summary"].append(
-                    {"load": load, "model": m, "eps_n_before": fit.eps_n_before,
-                     "eps_n_after": fit.eps_n_after, "cost_before": fit.cost_before,
-                     "cost_after": fit.cost_after, "evaluations": fit.evaluations,
-                     "wall_s": fit.wall_s, "status": "ok"})
-            atomic_write_text(path, json.dumps(out, indent=1) + "\n")
+                with lock:
+                    entry["rows"] += [{"load": load, **row} for row in fit.rows()]
+                    entry["fitted"][m] = fit.fitted
+                    entry["summary"].append(
+                        {"load": load, "model": m, "eps_n_before": fit.eps_n_before,
+                         "eps_n_after": fit.eps_n_after, "cost_before": fit.cost_before,
+                         "cost_after": fit.cost_after, "evaluations": fit.evaluations,
+                         "wall_s": fit.wall_s, "status": "ok"})
+                    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
+
+    side_by_side = min(len(todo), max(1, jobs))
+    threads = max(1, jobs // side_by_side)
+    if side_by_side > 1:
+        with ThreadPoolExecutor(side_by_side, thread_name_prefix="artic-tune") as pool:
+            futures = [pool.submit(tune_load, *t, threads) for t in todo]
+            try:
+                for f in futures:
+                    f.result()
+            except BaseException:  # interrupted, or a fit raised: the fits running end theirs
+                stop.set()
+                raise
+    else:
+        for t in todo:
+            tune_load(*t, threads)
     if not out["loads"]:
         raise ValueError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
                          f"({', '.join(TUNING[:2])}, ...)")
