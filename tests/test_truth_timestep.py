@@ -156,3 +156,41 @@ def test_a_nudged_tie_rod_settles_at_10_ms_as_at_1_ms():
     # The rod damped as it was runs away at 10 ms to a stretch of degrees.
     old = stretch_after_a_nudge(dataclasses.replace(column, c_rod=8.0 * column.c_rod), STEP)
     assert np.abs(old).max() > 1.0
+
+
+@pytest.mark.parametrize("kind", ["figure-8", "docking"])
+def test_the_floor_replays_a_log_at_the_step_that_made_it(kind):
+    import pandas as pd
+
+    from artic.validation.logs.runfile import Run
+    from artic.validation.models import build
+    from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
+
+    truth = truth_configuration(0, "independent")
+    log = Run(pd.DataFrame(), {"truth": truth, "kind": kind, "load": "unloaded"})
+    with build("floor", truth_vehicle("unloaded", truth, 0), log) as floor:
+        assert floor.model.opt.timestep == timestep_for(kind)
+    assert timestep_for(kind) == (STEP if kind == "figure-8" else TIMESTEP)
+
+
+@pytest.mark.parametrize("kind", ["constant-steer", "parking"])
+def test_generation_drives_the_truth_at_its_step_for_the_kind(kind, monkeypatch):
+    from artic.validation.synthetic import generate
+    from artic.validation.synthetic.testmatrix import MATRIX
+
+    asked = []
+
+    class Built(Exception):
+        pass
+
+    def truth_model(vehicle, truth, speed, timestep=None):
+        asked.append(timestep)
+        raise Built  # the step is all this test needs, not the drive
+
+    monkeypatch.setattr(generate, "truth_model", truth_model)
+    m = next(x for x in MATRIX if x.kind == kind)
+    with pytest.raises(Built):
+        generate.simulate_manoeuvre(m, 0)
+    with pytest.raises(Built):
+        generate.simulate_manoeuvre(m, 0, timestep=1e-3)  # the convergence study's
+    assert asked == [timestep_for(kind), 1e-3]
