@@ -124,13 +124,16 @@ def _floor(vehicle: Vehicle, log: Run | None = None) -> Model:
     structural and legacy truths the plant. ``vehicle`` is the truth's, with
     the log's yard slope (the campaign's ``_floor`` makes it). Left out are
     what no model can know: the sensors' noise, the trailer unit's clock skew
-    and the drift of the column's zero. Without a log, the plant.
+    and the drift of the column's zero. Without a log, the plant. The
+    independent truth steps as it did making the log, at its step for the
+    log's kind (:func:`artic.validation.synthetic.truthplant.timestep_for`).
     """
     truth = (log.meta.get("truth") if log is not None else None) or {}
     if truth.get("kind") == "independent":
-        from artic.validation.synthetic.truthplant import truth_model
+        from artic.validation.synthetic.truthplant import timestep_for, truth_model
 
-        return truth_model(vehicle, truth, speed="follow")
+        return truth_model(vehicle, truth, speed="follow",
+                           timestep=timestep_for(log.meta.get("kind")))
     return _mbd(vehicle)
 
 

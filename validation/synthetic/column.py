@@ -62,8 +62,21 @@ the column's stiffness at a ratio near 0.5."""
 TIE_ROD_STIFFNESS = 4.0e5
 """The tie rod's stiffness seen at the right knuckle straight ahead [N m/rad]."""
 
-TIE_ROD_DAMPING = 4000.0
-"""The tie rod's damping seen at the right knuckle straight ahead [N m s/rad]."""
+TIE_ROD_DAMPING = 500.0
+"""The tie rod's damping seen at the right knuckle straight ahead [N m s/rad].
+
+The rod stretches when the knuckles turn against each other: with each
+knuckle's inertia about its kingpin ``J`` (26.4 kg m^2 in the presets, most of
+it the steering gear's armature), the stretch mode is
+``J x'' = -2 k x - (2 c + c_kingpin) x'`` in ``x = delta_L - delta_R``, at
+``sqrt(2 k / J) = 174 rad/s`` (28 Hz). This damper gives the rod alone a
+damping ratio ``c / sqrt(2 k J) = 0.11``, a steel rod's on rubber-bushed ball
+joints; the kingpins bring the mode to 0.44 (roots ``-76 +- 157i`` 1/s). It
+was 4000 until the truth's step became 10 ms: a rod damped at 0.87 by itself,
+which no rod is, overdamped the mode into a root at -333 1/s, a 3 ms relaxation
+that explicit RK4 at 10 ms cannot hold (``h lambda = -3.3``, beyond -2.785;
+``docs/design/truth.md``). The damper carries no static force: the truth's
+equilibria and quasi-static steering are unchanged."""
 
 CASTER = math.radians(4.0)
 """Caster angle of the steered axle: the contact point trails the kingpin by

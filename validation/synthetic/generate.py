@@ -73,7 +73,7 @@ from artic.validation.synthetic.truth import (
     truth_vehicle,
     write_truth_files,
 )
-from artic.validation.synthetic.truthplant import truth_model
+from artic.validation.synthetic.truthplant import timestep_for, truth_model
 
 META_FILE = "meta.json"
 
@@ -160,11 +160,15 @@ def measurement_chain(sensors: SensorModel, truth: dict) -> SensorModel:
 
 
 def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
-                       truth_kind: str = DEFAULT, drift: bool = True) -> Run:
+                       truth_kind: str = DEFAULT, drift: bool = True,
+                       timestep: float | None = None) -> Run:
     """Drive and measure one manoeuvre; returns the measured run with its metadata.
 
     Pure computation, no files: it runs wherever an executor sends it.
     ``drift=False`` stills the column's drift (see the module docstring).
+    The independent truth steps at its own step for the manoeuvre's kind
+    (:func:`artic.validation.synthetic.truthplant.timestep_for`); ``timestep``
+    [s] overrides it, for the convergence study only.
     """
     sensors = sensors or SensorModel()
     truth = truth_configuration(seed, truth_kind, drift)
@@ -179,7 +183,8 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     column = SteeringColumn(play, truth.get("drift_rate", 0.0))
     pedals = PedalDriver(vt.m1 + vt.m2, delay=truth["driver_delay"],
                          gain=truth["driver_gain"]) if structural else None
-    with truth_model(vt, truth, "pedals" if structural else "drive") as p:
+    h = timestep_for(m.kind) if timestep is None else timestep
+    with truth_model(vt, truth, "pedals" if structural else "drive", h) as p:
         plant = TruthActuation(p, steering, column, pedals)
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
         # The driver may ask for more wheel angle than the linkage gives at

@@ -90,7 +90,11 @@ it keeps the slips finite at standstill (Rill uses 0.01 m/s)."""
 DAMPING_TIME = 0.01
 """Each deflection's damper over its spring [s]: a tyre carcass's damping ratio
 of a few tenths at its 10-20 Hz modes; also the fastest rate a deflection
-relaxes at once sliding, 100 /s, which explicit RK4 at 5 ms steps holds."""
+relaxes at once sliding, 100 /s, which explicit RK4 holds at the truth's 10 ms
+(``h lambda = -1``). At standstill it damps a wheel's spin on its tread at
+``a = DAMPING_TIME w0^2`` (``w0``, 140 rad/s, the spin on the tread's spring),
+below ``2 w0``: the mode stays a damped oscillation at ``|lambda| = w0``, inside
+RK4's region at 10 ms (``docs/design/truth.md``)."""
 
 BORE_TWIST = math.radians(4.0)
 """Twist at which a standing tyre's bore torque reaches its friction limit at

@@ -56,11 +56,26 @@ from artic.validation.synthetic import tmeasy, truthc
 from artic.validation.synthetic.column import Column
 
 TIMESTEP = 5e-3
-"""The truths' own step [s], RK4, pinned: the plant's default step
-(:data:`artic.mjcf.builder.TIMESTEP`) can change without the synthetic logs
-changing. The independent truth's tyres are not fitted to the step as the
-plant's are (:mod:`artic.plant.spinmode`), and the structural and legacy
-truths, the plant itself, keep the plain integration their logs were made with."""
+"""The independent truth's own step [s], RK4, on the reversing manoeuvres
+(ramp steer in reverse, docking, parking), and its default. Pinned: the
+plant's default step (:data:`artic.mjcf.builder.TIMESTEP`) can change without
+the synthetic logs changing. At 10 ms these kinds' stops miss the convergence
+targets (``benchmarks/bench_truth_convergence.py``, ``docs/design/truth.md``)."""
+
+FORWARD_TIMESTEP = 1e-2
+"""The independent truth's step [s] on the forward manoeuvres
+(:data:`FORWARD_KINDS`): the log's sample. Every linearised mode of the truth
+lies inside RK4's stability region at 10 ms (``tests/test_truth_timestep.py``),
+and on every forward manoeuvre of the test matrix the truth at 10 ms is
+within 1 cm, 0.05 deg and 1e-3 rad/s of itself at 1 ms, driven and replayed."""
+
+FORWARD_KINDS = ("constant-steer", "slalom", "figure-8")
+"""The manoeuvre kinds the truth integrates at :data:`FORWARD_TIMESTEP`."""
+
+PLANT_TRUTH_TIMESTEP = 5e-3
+"""The structural and legacy truths' step [s]: they are the plant itself, and
+keep the plain RK4 at 5 ms their logs were made with (the plant's spin mode
+needs its fit, :mod:`artic.plant.spinmode`, to run at 10 ms)."""
 
 DUAL_SPACING = 0.35
 """Centre distance of twin tyres [m]: 22.5-inch twin wheels on a drive axle."""
@@ -283,12 +298,22 @@ def _integrator(a) -> None:
 
 
 
-def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow") -> Plant:
+def timestep_for(kind: str | None) -> float:
+    """The independent truth's step [s] on a manoeuvre of ``kind``.
+
+    :data:`FORWARD_TIMESTEP` for the :data:`FORWARD_KINDS`, :data:`TIMESTEP`
+    for every other kind and for none (a docking benchmark's yard).
+    """
+    return FORWARD_TIMESTEP if kind in FORWARD_KINDS else TIMESTEP
+
+
+def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow",
+                timestep: float | None = None) -> Plant:
     """The vehicle of a truth configuration (see :mod:`artic.validation.synthetic.truth`).
 
     The independent truth is a :class:`TruthPlant` with its column's play; the
-    structural and legacy truths are the plant itself. Both at the truths' own
-    step, :data:`TIMESTEP`.
+    structural and legacy truths are the plant itself, at their own step
+    :data:`PLANT_TRUTH_TIMESTEP`.
 
     Parameters
     ----------
@@ -299,7 +324,11 @@ def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow") -> Plan
     speed : str
         ``"pedals"`` for the truth's driver, ``"drive"`` for the legacy
         truth's, ``"follow"`` for the harness.
+    timestep : float, optional
+        The independent truth's MuJoCo timestep [s]: :func:`timestep_for` the
+        manoeuvre's kind; :data:`TIMESTEP` by default.
     """
     if truth.get("kind") == "independent":
-        return TruthPlant(vehicle, Column.of(vehicle, play=float(truth["backlash"])), speed)
-    return Plant(vehicle, speed=speed, timestep=TIMESTEP, spin_fit=False)
+        return TruthPlant(vehicle, Column.of(vehicle, play=float(truth["backlash"])), speed,
+                          timestep=timestep)
+    return Plant(vehicle, speed=speed, timestep=PLANT_TRUTH_TIMESTEP, spin_fit=False)
