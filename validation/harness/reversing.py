@@ -37,10 +37,11 @@ weight (:func:`feedback_weight`, the ``w`` of
 long where it ends, and is 1 in between and 0 outside. Switched in one
 sample, the road-wheel command steps by the whole feedback term, which
 reaches 15 deg where a model's articulation is 5 deg off the log's at a
-stop; no driver or actuator steers like that, and the plant's steering servo
-answering such a step is the only place where its 10 ms step misses the
-yaw-rate accuracy of the timestep study (``docs/design/timestep.md``). The
-ramp's length is set by what it costs either way:
+stop (4.7 deg at most in the default campaign); no driver or actuator steers
+like that, and the plant's steering servo answering such a step was the only
+place where its 10 ms step missed the yaw-rate accuracy of the timestep study
+(``docs/design/timestep.md``). The ramp's length is set by what it costs
+either way:
 
 - *steering rate*: the handover turns the wheels at ``K |e| / HANDOVER``
   beside what the log's steering does; 1 s keeps that within a truck
@@ -50,11 +51,13 @@ ramp's length is set by what it costs either way:
 - *distance with partial feedback*: a stretch's edges are where the smoothed
   speed passes ``-v_off``, at a standstill, so a ramp covers at most
   ``v_off HANDOVER + a HANDOVER**2 / 2`` of travel: 0.18 m at 0.3 m/s^2,
-  0.28 m at the 0.5 m/s^2 of the synthetic drivers' pedal. Even open loop
-  over the whole ramp the articulation's error would grow by
-  ``exp(s / L2)``, 2.4 % and 3.7 % (L2 = 7.5 m), and the loop is already
-  stable once ``w K`` passes ``K_min = L1 / (L2 - L1c)`` (0.50 to 0.56 on
-  the gosar presets: a fifth of the way at K = 3).
+  0.28 m at the 0.5 m/s^2 of the docking driver's pedal, 0.53 m at the
+  synthetic logs' hardest braking (1 m/s^2). Even open loop over the whole
+  ramp the articulation's error would grow by ``exp(s / L2)``: 2.4 %, 3.7 %
+  and 7 % (L2 = 7.5 m); a shorter ramp would cost less here and more in
+  steering rate. And the loop is already stable once ``w K`` passes
+  ``K_min = L1 / (L2 - L1c)`` (0.50 to 0.56 on the gosar presets: a fifth of
+  the way at K = 3).
 
 A stretch at the log's first sample starts at weight 1: the model starts on
 the log's state, so the feedback term starts at zero there and nothing steps;
