@@ -53,7 +53,7 @@ def _inputs(vehicle) -> LoopInputs:
     u1_dot[:-1] = np.diff(prof.u1) / np.diff(prof.t)
     return LoopInputs(t=prof.t, delta_h=prof.delta_h,
                       delta_c=np.asarray(steering.road_wheel(prof.delta_h)), u1=prof.u1,
-                      u1_dot=u1_dot, gamma_meas=np.zeros(n), reversing=np.zeros(n, dtype=bool),
+                      u1_dot=u1_dot, gamma_meas=np.zeros(n), weight=np.zeros(n),
                       initial=InitialState(0.0, 0.0, 0.0, 0.0, u1=float(prof.u1[0])))
 
 

@@ -51,16 +51,14 @@ standstill, a real root near -430 1/s, beyond plain RK4's reach at 10 ms
 (:mod:`artic.plant.spinmode`), an ``O(h^4)`` change that keeps 10 ms stable.
 The convergence study (``benchmarks/bench_convergence.py``,
 ``docs/design/timestep.md``) against plain RK4 at 1 ms: on every manoeuvre
-kind of both gosar2022 presets and on all 58 campaign logs, within 0.72 mm,
-0.0023 deg and 3.9e-4 rad/s (targets 1 cm, 0.05 deg, 1e-3 rad/s). On the
-``six-axle`` preset the yaw rate misses its target for one sample in two of
-the 58 logs (1.1e-3 and 2.0e-3 rad/s), where the harness's reversing feedback,
-switched off at a stop, steps the road-wheel command by 15 deg in one sample:
-the steering servo's response to that step, not the tyres'. Position and
-articulation stay 70 and 50 times inside their targets there. ``5e-3`` meets
-every target everywhere (1.5e-5 m, 4.4e-5 deg, 7.6e-5 rad/s) at twice the
-cost: pass ``timestep=5e-3`` to :class:`artic.Plant` where a servo step must
-be resolved."""
+kind of the three presets and on all 58 campaign logs, on their own preset
+and on ``six-axle``, within 0.73 mm, 0.0023 deg and 3.9e-4 rad/s (targets
+1 cm, 0.05 deg, 1e-3 rad/s). What 10 ms resolves less well than 5 ms is a
+steering servo's response to a step of its command (1.1e-3 rad/s of yaw rate
+after a 15 deg step); the harness hands its feedback over in ramps
+(:mod:`artic.validation.harness.reversing`) rather than stepping it.
+``5e-3`` (1.5e-5 m, 4.4e-5 deg, 2.2e-5 rad/s) at twice the cost: pass
+``timestep=5e-3`` to :class:`artic.Plant` where a servo step must be resolved."""
 
 SERVO_KP = 2.0e5
 """Steering servo stiffness [N m/rad]."""

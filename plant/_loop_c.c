@@ -3,8 +3,9 @@
  * Per sample k, in the order of validation/harness/loop.py's Python loop (the
  * reference this is tested against, within 1e-9):
  *
- *   1. the reversing feedback law: delta = delta_c + K wrap(gamma - gamma_meas)
- *      while the log reverses, limited to +-delta_max;
+ *   1. the reversing feedback law: delta = delta_c + w K wrap(gamma - gamma_meas),
+ *      w the feedback's weight in [0, 1] (1 while the log reverses, 0 otherwise,
+ *      ramping between: validation/harness/reversing.py), limited to +-delta_max;
  *   2. the signals at the two sensor points (Plant.observe), and a gathered
  *      row of raw outputs for Plant.extras;
  *   3. a stop when the articulation passes gamma_max or a signal is not finite;
@@ -33,7 +34,7 @@
 
 #include <mujoco/mujoco.h>
 
-#define ARTIC_LOOP_ABI 2
+#define ARTIC_LOOP_ABI 3
 #define N_OBS 13
 #define MAX_SERVOS 4
 #define MAX_WHEELS 64
@@ -183,7 +184,7 @@ int artic_loop_size(void) { return (int)sizeof(artic_loop); }
  * number of rows filled so far (all of them on LOOP_DONE). */
 int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const double* dt,
                    const double* delta_c, const double* u1, const double* u1_dot,
-                   const double* gamma_meas, const unsigned char* reversing, double* obs,
+                   const double* gamma_meas, const double* weight, double* obs,
                    double* delta, double* delta_fb, unsigned char* sat, double* raw,
                    int* n_done) {
   if (!sound(m, s)) return LOOP_BAD;
@@ -192,7 +193,8 @@ int artic_run_loop(const mjModel* m, mjData* d, artic_loop* s, int n, const doub
     /* 1. the feedback law (artic.validation.harness.feedback.feedback_law) */
     /* as the inertial units report it: the hitch angle and their mounting yaws (Plant.gamma) */
     double gamma = wrap_angle(-d->qpos[s->hitch_qpos] + s->sensor_yaw[0] - s->sensor_yaw[1]);
-    double fb = reversing[k] ? s->gain * wrap(gamma - gamma_meas[k]) : 0.0;
+    /* w K wrap(e) in feedback_law's order, (w K) wrap(e); none at all where w = 0 */
+    double fb = weight[k] != 0.0 ? weight[k] * s->gain * wrap(gamma - gamma_meas[k]) : 0.0;
     double dl = delta_c[k] + fb;
     unsigned char limited = 0;
     if (dl > s->delta_max) {

@@ -39,7 +39,7 @@ from artic.plant import ctyre
 if TYPE_CHECKING:
     from artic.plant.plant import Plant
 
-ABI = 2
+ABI = 3
 MAX_SERVOS = 4
 MAX_WHEELS = 64
 N_OBS = 13
@@ -88,7 +88,7 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     d, b = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_ubyte)
     lib.artic_run_loop.restype = ctypes.c_int
     lib.artic_run_loop.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
-                                   ctypes.c_int, d, d, d, d, d, b, d, d, d, b, d,
+                                   ctypes.c_int, d, d, d, d, d, d, d, d, d, b, d,
                                    ctypes.POINTER(ctypes.c_int)]
     lib.artic_step.restype = ctypes.c_int
     lib.artic_step.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
@@ -188,7 +188,7 @@ def _ptr(a: np.ndarray, kind):
 
 
 def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
-        u1_dot: np.ndarray, gamma_meas: np.ndarray, reversing: np.ndarray, gain: float,
+        u1_dot: np.ndarray, gamma_meas: np.ndarray, weight: np.ndarray, gain: float,
         delta_max: float, gamma_max: float, extras: bool = False) -> LoopResult:
     """Drive ``plant`` (already reset) through a log's inputs in compiled code.
 
@@ -198,10 +198,11 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
         Reset to the log's first sample; :func:`available` must be empty.
     dt : ndarray
         Step to the next sample [s], one fewer than the samples (or as many).
-    delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
+    delta_c, u1, u1_dot, gamma_meas, weight : ndarray
         Per sample: road-wheel angle from the steering map [rad], speed
-        [m/s] and its rate [m/s^2], the log's articulation [rad], and
-        whether the log reverses.
+        [m/s] and its rate [m/s^2], the log's articulation [rad], and the
+        feedback's weight in [0, 1] [-]
+        (:func:`artic.validation.harness.reversing.feedback_weight`).
     gain, delta_max, gamma_max : float
         Feedback gain K [rad/rad], road-wheel limit and jackknife limit [rad].
     extras : bool
@@ -222,10 +223,10 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
         raise RuntimeError(f"the compiled closed loop is unavailable: {why}")
     lib = _loaded()[0]
     n = int(np.asarray(delta_c).size)
-    f64 = [np.ascontiguousarray(a, dtype=float) for a in (delta_c, u1, u1_dot, gamma_meas)]
+    f64 = [np.ascontiguousarray(a, dtype=float)
+           for a in (delta_c, u1, u1_dot, gamma_meas, weight)]
     dt_full = np.zeros(n)
     dt_full[:min(n, np.size(dt))] = np.asarray(dt, dtype=float)[:n]
-    rev = np.ascontiguousarray(reversing, dtype=np.uint8)
     obs = np.full((n, N_OBS), np.nan)
     delta, delta_fb = np.full(n, np.nan), np.full(n, np.nan)
     sat = np.zeros(n, dtype=np.uint8)
@@ -239,7 +240,7 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
     while True:
         code = lib.artic_run_loop(
             m._address, d._address, ctypes.byref(s), n, _ptr(dt_full, ctypes.c_double),
-            *(_ptr(a, ctypes.c_double) for a in f64), _ptr(rev, ctypes.c_ubyte),
+            *(_ptr(a, ctypes.c_double) for a in f64),
             _ptr(obs, ctypes.c_double), _ptr(delta, ctypes.c_double),
             _ptr(delta_fb, ctypes.c_double), _ptr(sat, ctypes.c_ubyte),
             _ptr(raw, ctypes.c_double), ctypes.byref(done))

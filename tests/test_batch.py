@@ -49,7 +49,7 @@ def test_the_reduced_loop_releases_the_gil(unloaded):
     reps = 80
     long = type(inp)(**{**inp.__dict__, **{k: np.tile(getattr(inp, k), reps) for k in
                                            ("delta_h", "delta_c", "u1", "u1_dot",
-                                            "gamma_meas", "reversing")},
+                                            "gamma_meas", "weight")},
                         "t": np.arange(inp.t.size * reps) * 0.01})
     model = KinematicModel(unloaded)
     model.reset(long.initial)

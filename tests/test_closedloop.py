@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import warnings
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -73,6 +74,29 @@ def test_compiled_loop_equals_python_loop(unloaded, which):
         assert np.abs(a[2]).max() > 0.05
 
 
+def test_compiled_loop_weighs_the_feedback_as_python_does(unloaded):
+    # The handover's fractional weights (reversing.feedback_weight), here a weight
+    # that sweeps 0..1 twice over a reverse with the feedback busy (the model starts
+    # on the log's 0.25 rad, the log's articulation then is 0): C = Python, and the
+    # term is w K wrap(e) sample by sample.
+    log = straight_log(n=800, u=-1.0, gamma0=0.25)
+    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    inp = loop_inputs(log, unloaded, steering)
+    w = 0.5 - 0.5 * np.cos(2 * math.pi * inp.t / 4.0)
+    inp = replace(inp, weight=w)
+    (a, _, _, _), (b, _, _, _) = _both(unloaded, log, inputs=inp)
+    assert a[4] == b[4] == inp.t.size
+    for x, y in zip(a[:4], b[:4], strict=True):
+        np.testing.assert_allclose(x, y, rtol=0.0, atol=TOL)
+    # The law reads the hitch joint's angle, the signal is the two units' headings'
+    # difference: they differ by the units' small roll and pitch, 1e-5 of the angle.
+    e = np.angle(np.exp(1j * (a[0][:, 12] - inp.gamma_meas)))
+    unsat = ~a[3]
+    np.testing.assert_allclose(a[2][unsat], (w * 3.0 * e)[unsat], rtol=1e-4, atol=1e-12)
+    part = (w > 0.05) & (w < 0.95)
+    assert part.sum() > 100 and np.abs(a[2][part]).max() > 0.05  # the partial weights act
+
+
 def test_the_loop_stops_at_the_jackknife_limit_where_python_does(unloaded):
     (a, _, _, _), (b, _, _, _) = _both(unloaded, straight_log(n=3000, u=-1.5, gamma0=0.3),
                                        gain=0.0)
@@ -132,7 +156,7 @@ def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
         assert p.closed_loop() is None
         assert why in closedloop.available(p)
         with pytest.raises(RuntimeError, match=why):
-            closedloop.run(p, np.full(1, 0.01), *np.zeros((4, 2)), np.zeros(2, bool),
+            closedloop.run(p, np.full(1, 0.01), *np.zeros((4, 2)), np.zeros(2),
                            3.0, 0.5, 1.5)
 
 

@@ -178,12 +178,36 @@ def test_compiled_law_equals_the_python_law_to_the_bit():
     from artic.validation.harness import feedback, reducedloop
 
     rng = np.random.default_rng(7)
-    for _ in range(2000):
+    for i in range(3000):
+        weight = (0.0, 1.0, float(rng.uniform(0.0, 1.0)))[i % 3]  # off, on, handing over
         args = (float(rng.uniform(-0.9, 0.9)), float(rng.uniform(-7.0, 7.0)),
-                float(rng.uniform(-7.0, 7.0)), bool(rng.integers(2)),
-                float(rng.uniform(0.0, 6.0)), 0.75)
+                float(rng.uniform(-7.0, 7.0)), weight, float(rng.uniform(0.0, 6.0)), 0.75)
         assert feedback.feedback_law(*args) == reducedloop.feedback_law(*args), args
         assert feedback.wrap(args[1]) == reducedloop.wrap(args[1])
+
+
+def test_the_law_weighs_its_feedback_term():
+    # delta = delta_c + w K wrap(gamma_model - gamma_meas): linear in w, none at w = 0
+    # (not even a NaN error's), the wrap before the weight, the limit after it.
+    from artic.validation.harness.feedback import feedback_law
+
+    dc, K, dmax = 0.1, 3.0, 0.75
+    gm, gs = 0.05, -0.02  # e = 0.07 rad
+    full = feedback_law(dc, gm, gs, 1.0, K, dmax)
+    assert full[1] == pytest.approx(K * 0.07, rel=1e-12) and not full[2]
+    for w in (0.25, 0.5, 0.9):
+        d, fb, sat = feedback_law(dc, gm, gs, w, K, dmax)
+        assert fb == pytest.approx(w * K * 0.07, rel=1e-12) and d == pytest.approx(dc + fb)
+        assert not sat
+    assert feedback_law(dc, math.nan, gs, 0.0, K, dmax) == (dc, 0.0, False)
+    # An error across the wrap: 2 pi - 0.01 is -0.01, weighted.
+    assert feedback_law(0.0, 2 * math.pi - 0.005, 0.005, 0.5, K, dmax)[1] == \
+        pytest.approx(0.5 * K * -0.01, rel=1e-9)
+    # Saturation applies to the weighted command: half of 0.4 rad of feedback fits.
+    big = (0.5, 0.4 / K, 0.0, None, K, dmax)
+    assert feedback_law(*big[:3], 1.0, *big[4:]) == (dmax, dmax - 0.5, True)
+    d, fb, sat = feedback_law(*big[:3], 0.5, *big[4:])
+    assert d == pytest.approx(0.7) and not sat
 
 
 def test_plant_runs_do_not_import_numba():

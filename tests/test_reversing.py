@@ -1,7 +1,8 @@
 """The reversing decision: hysteresis on the speed, so that standstill noise is no reversing.
 
 A forward log whose speed noise crosses zero at standstill gets no feedback
-steering at all; a real reverse gets it from its first millimetres.
+steering at all; a real reverse gets it from its first millimetres, its weight
+ramping up over the handover, and hands it back the same way at a stop.
 """
 
 from __future__ import annotations
@@ -14,7 +15,13 @@ import pytest
 from artic.mjcf import load_vehicle
 from artic.reduced import KinematicModel, SingleTrackModel
 from artic.validation.harness.loop import run_closed_loop, unsteered_inputs
-from artic.validation.harness.reversing import DEAD_BAND, MIN_DURATION, reversing
+from artic.validation.harness.reversing import (
+    DEAD_BAND,
+    HANDOVER,
+    MIN_DURATION,
+    feedback_weight,
+    reversing,
+)
 from artic.validation.harness.simulate import simulate
 from artic.validation.logs.runfile import Run
 from artic.validation.synthetic.manoeuvres import Profile
@@ -52,7 +59,8 @@ def test_standstill_noise_gives_no_feedback_in_a_forward_run(preset, noise):
     # The old decision, v_x_1 < 0 per sample, took half the 19 s of standstill (a fifth of
     # the log) for reversing.
     assert (log.frame["v_x_1"] < 0).mean() > 0.15
-    assert not unsteered_inputs(log, v).reversing.any()
+    inputs = unsteered_inputs(log, v)
+    assert not inputs.reversing.any() and np.all(inputs.weight == 0.0)
     models = [KinematicModel(v)] + ([SingleTrackModel(v)] if v.has_tyre_data else [])
     for model in models:
         run = run_closed_loop(model, log, v, gain=3.0)
@@ -131,3 +139,106 @@ def test_a_log_reversing_from_its_first_sample_is_reversing_throughout(unloaded)
 
     log = straight_log(n=300, u=-0.83, gamma0=math.radians(1.0))
     assert unsteered_inputs(log, unloaded).reversing.all()
+
+
+def reverse_stop_forward(t: np.ndarray, a: float = 0.5, u_rev: float = -0.83,
+                         start: float = 3.0, stop: float = 15.0) -> np.ndarray:
+    """Speed [m/s]: standing, reversing at ``a`` [m/s^2] to ``u_rev``, stopping, then forward."""
+    u = np.maximum(u_rev, -a * np.clip(t - start, 0.0, None))
+    brake = np.clip(u_rev + a * (t - stop), u_rev, 0.0)
+    u = np.where(t < stop, u, brake)
+    return np.where(t > stop - u_rev / a + 2.0, 0.5 * np.clip(t - (stop - u_rev / a + 2.0), 0, 1),
+                    u)
+
+
+@pytest.mark.parametrize("speed_ratio", [1.0, math.sqrt(1 / 14)])
+def test_the_weight_is_0_outside_1_inside_and_ramps_at_a_bounded_slope(speed_ratio):
+    t = np.arange(0.0, 25.0, DT)
+    u = reverse_stop_forward(t) * speed_ratio
+    w = feedback_weight(t, u, speed_ratio)
+    r = reversing(t, u, speed_ratio)
+    assert w.dtype == float and np.all((w >= 0.0) & (w <= 1.0))
+    # Positive on exactly the reversing samples: which samples reverse is unchanged.
+    np.testing.assert_array_equal(w > 0.0, r)
+    first, last = int(np.argmax(r)), int(r.size - 1 - np.argmax(r[::-1]))
+    ramp = HANDOVER * speed_ratio
+    # Continuous: no sample-to-sample jump beyond the ramp's slope (1 / ramp per second,
+    # rounding aside), the edges included (0 just outside, DT / ramp on the edge sample).
+    assert np.abs(np.diff(w)).max() <= DT / ramp * (1 + 1e-9)
+    assert w[first] == pytest.approx(DT / ramp) and w[last] == pytest.approx(DT / ramp)
+    # Linear over the ramp, then exactly 1: the middle of the stretch has the whole law.
+    k = int(math.ceil(ramp / DT - 1e-9))  # samples to reach 1
+    up = np.minimum(1.0, (np.arange(k) + 1) * DT / ramp)
+    np.testing.assert_allclose(w[first:first + k], up, rtol=1e-9)
+    assert np.all(w[first + k:last - k + 1] == 1.0) and last - first > 4 * k
+    np.testing.assert_allclose(w[last - k + 1:last + 1], up[::-1], rtol=1e-9)
+    # Where the weight is short of 1 the tractor is near a standstill: the ramp's travel
+    # is v_off T + a T^2 / 2 (filter aside, this log is unsmoothed), 0.275 m at 0.5 m/s^2
+    # full-size, the same share of L2 at 1:14 (distances scale with speed_ratio^2).
+    dist = np.sum(np.abs(u[(w > 0) & (w < 1)])) * DT / 2  # per ramp: two of them
+    a = 0.5
+    assert dist <= (0.5 * DEAD_BAND * speed_ratio * ramp + 0.5 * a * ramp ** 2) * 1.05
+
+
+def test_a_short_stretch_ramps_up_and_straight_down():
+    # A stretch shorter than two ramps never reaches 1: a triangle, still continuous.
+    t = np.arange(0.0, 5.0, DT)
+    u = np.zeros_like(t)
+    u[100:250] = -0.3  # 1.5 s
+    w = feedback_weight(t, u)
+    assert 0.7 < w.max() < 0.8 and np.abs(np.diff(w)).max() <= DT / HANDOVER * (1 + 1e-9)
+    np.testing.assert_array_equal(w > 0, reversing(t, u))
+
+
+def test_a_stretch_at_the_logs_ends_starts_and_ends_at_full_weight():
+    # The model starts on the log's state, so the feedback term starts at 0 anyway:
+    # no ramp at the log's first sample, none at its last (nothing follows).
+    t = np.arange(0.0, 5.0, DT)
+    assert np.all(feedback_weight(t, np.full(t.size, -0.8)) == 1.0)
+    u = np.full(t.size, -0.8)
+    u[300:] = 0.5
+    w = feedback_weight(t, u)
+    assert w[0] == 1.0 and w[299] == pytest.approx(DT / HANDOVER) and np.all(w[300:] == 0.0)
+
+
+@pytest.mark.parametrize("cls", [KinematicModel, SingleTrackModel])
+def test_the_feedback_is_handed_over_without_a_step(unloaded, cls):
+    # A reverse that stops and drives on forward, with the model 2 deg off the log's
+    # articulation at the start: the feedback term rises from 0 and falls back to 0
+    # at the slope of the ramp (times K |e|), never stepping by the whole term, and
+    # it is w K wrap(e) throughout. The Python law (any model) and the numba loop agree.
+    v = unloaded
+    log = reverse_from_standstill(v, 0.5)  # 20 s
+    t = log.frame["t"].to_numpy()
+    log.frame["v_x_1"] = log.frame["v_x_2"] = reverse_stop_forward(t, stop=12.0)
+    x = np.concatenate([[0.0], np.cumsum(0.5 * (log.frame["v_x_1"].to_numpy()[1:]
+                                                + log.frame["v_x_1"].to_numpy()[:-1]) * DT)])
+    log.frame["x_1"], log.frame["x_2"] = x, x - 10.0
+    log.frame["gamma"] = log.frame["psi_2"] = 0.0
+    log.frame.loc[0, ["gamma", "psi_2"]] = [math.radians(2.0), -math.radians(2.0)]
+    run = run_closed_loop(cls(v), log, v, gain=3.0)
+    inputs = unsteered_inputs(log, v)
+    w = inputs.weight
+    fb = run.frame["delta_fb"].to_numpy()
+    g = run.frame["gamma"].to_numpy()
+    assert run.meta["status"] == "ok" and (w == 1.0).sum() > 500
+    assert np.all(fb[w == 0.0] == 0.0)
+    np.testing.assert_allclose(fb, w * 3.0 * (g - log.frame["gamma"].to_numpy()), atol=1e-12)
+    # Standing 3 s 2 deg off, the model meets the reverse with K |e| = 6 deg of feedback
+    # due: switched on in one sample, that was the step. Handed over, no sample moves the
+    # term by more than the ramp's dt / T of it plus what the error itself moves.
+    first = int(np.argmax(w > 0))
+    assert 3.0 * abs(g[first]) > math.radians(5.9)
+    jump = np.abs(np.diff(fb))
+    assert jump.max() <= DT / HANDOVER * 3.0 * np.abs(g).max() + np.abs(np.diff(3.0 * g)).max()
+    assert jump.max() < math.radians(0.1)
+    # The same run in Python's loop (a model without a compiled form) gives the same bits.
+    from artic.validation.harness.loop import _python_loop, loop_args, steered
+    from artic.validation.harness.steering import SteeringMap
+
+    steering = SteeringMap.from_steering(v.steering_for(cls.name))
+    inp = steered(inputs, steering, "test")
+    model = cls(v)
+    model.reset(inp.initial)
+    py = _python_loop(model, *loop_args(inp, v, 3.0))
+    np.testing.assert_allclose(py[2], fb, rtol=0.0, atol=1e-12)

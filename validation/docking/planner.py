@@ -272,7 +272,7 @@ def rollout(x0, direction, mode, value, steps, ds, P, delta_max, gamma_max, x_re
         if mode == 0:
             target = value
         else:
-            target, _, _ = _law(steady_delta(value, P), x[3], value, True, GAIN, delta_max)
+            target, _, _ = _law(steady_delta(value, P), x[3], value, 1.0, GAIN, delta_max)
         delta += max(-turn, min(turn, target - delta))
         x = rk4_step(KIN, x, ds, direction, 0.0, delta, P)
         out[i, :4] = x

@@ -6,7 +6,7 @@
   loop runs; :mod:`~artic.validation.harness.reducedloop`: the loop for KIN and
   the STM, compiled by numba;
 - :mod:`~artic.validation.harness.reversing`: when the feedback is on (reversing
-  decided with hysteresis on the speed);
+  decided with hysteresis on the speed) and its weight, handed over in ramps;
 - :mod:`~artic.validation.harness.steering`: the steering map, eq. (3);
   :mod:`~artic.validation.harness.yawsteer`: steering from the measured yaw rate,
   for logs without a steering channel;

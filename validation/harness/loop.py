@@ -4,15 +4,21 @@ Reversing is open-loop unstable, so a model fed only the measured steering
 drifts away from the measurement. The harness closes the loop the way the
 paper's eq. (5) intends, with the stabilising sign of its eqs. (6)-(7):
 
-    delta = delta_center(delta_h) + K * (gamma_model - gamma_measured)
+    delta = delta_center(delta_h) + w * K * (gamma_model - gamma_measured)
 
-only while the tractor reverses. The linearised articulation
+only while the tractor reverses: the weight ``w`` is 1 while it reverses,
+0 otherwise, and ramps between the two over
+:data:`~artic.validation.harness.reversing.HANDOVER` (1 s) where a reversing
+stretch starts or ends inside the log, so that the steering never steps by the
+whole feedback term in one sample (the handover; the ramp's length is argued
+in :mod:`artic.validation.harness.reversing`). The linearised articulation
 dynamics then have the eigenvalue ``u1 (K (L2 - L1c) - L1) / (L1 L2)``, which is
 negative for ``u1 < 0`` once ``K > L1 / (L2 - L1c)``. Forward, the same feedback
 would destabilise the loop for such K, so it is off. Whether the tractor
-reverses is decided once per log on the speed input ``u1`` below, with a dead
-band and a minimum duration (:mod:`artic.validation.harness.reversing`), so that speed
-noise at standstill never switches the feedback on in a forward run.
+reverses, and the weight, are decided once per log on the speed input ``u1``
+below, with a dead band and a minimum duration
+(:mod:`artic.validation.harness.reversing`), so that speed noise at standstill
+never switches the feedback on in a forward run.
 
 Inputs per sample ``k`` (held over the step to ``k + 1``):
 
@@ -52,7 +58,7 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import BUDGET
 from artic.validation.harness.feedback import feedback_law
-from artic.validation.harness.reversing import reversing
+from artic.validation.harness.reversing import feedback_weight
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.harness.yawsteer import (
     equivalent_wheelbase,
@@ -98,8 +104,14 @@ class LoopInputs:
     u1: np.ndarray
     u1_dot: np.ndarray
     gamma_meas: np.ndarray
-    reversing: np.ndarray
+    weight: np.ndarray
+    """The feedback's weight per sample, in [0, 1] (:mod:`artic.validation.harness.reversing`)."""
     initial: InitialState
+
+    @property
+    def reversing(self) -> np.ndarray:
+        """Which samples reverse (bool): where the feedback's weight is positive."""
+        return self.weight > 0.0
 
 
 def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs:
@@ -136,8 +148,8 @@ def yaw_steered(inputs: LoopInputs, run: Run, vehicle: Vehicle,
 def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     """:func:`loop_inputs` before the steering map: ``delta_c`` is NaN.
 
-    ``reversing`` comes from ``u1`` with hysteresis
-    (:func:`artic.validation.harness.reversing.reversing`).
+    ``weight`` (and with it ``reversing``) comes from ``u1`` with hysteresis
+    (:func:`artic.validation.harness.reversing.feedback_weight`).
 
     Tuning derives these once per log and applies each trial's map with
     :func:`steered`.
@@ -152,7 +164,7 @@ def unsteered_inputs(run: Run, vehicle: Vehicle) -> LoopInputs:
     return LoopInputs(
         t=t, delta_h=delta_h, delta_c=np.full_like(delta_h, np.nan), u1=u1,
         u1_dot=u1_dot, gamma_meas=df["gamma"].to_numpy(dtype=float),
-        reversing=reversing(t, u1, vehicle.speed_ratio),
+        weight=feedback_weight(t, u1, vehicle.speed_ratio),
         initial=initial_state(df, 0, float(u1[0])))
 
 
@@ -182,7 +194,7 @@ def window(inputs: LoopInputs, frame: pd.DataFrame, start: int, stop: int) -> Lo
     drive a model with from a point inside a log.
     """
     part = {f: getattr(inputs, f)[start:stop]
-            for f in ("t", "delta_h", "delta_c", "u1", "u1_dot", "gamma_meas", "reversing")}
+            for f in ("t", "delta_h", "delta_c", "u1", "u1_dot", "gamma_meas", "weight")}
     return _started(LoopInputs(**part, initial=initial_state(frame, start,
                                                              float(inputs.u1[start]))))
 
@@ -214,7 +226,7 @@ def _started(inputs: LoopInputs) -> LoopInputs:
 def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) -> tuple:
     """The per-log arguments of every loop after the model's own: steps, inputs, limits."""
     return (np.diff(inputs.t), inputs.delta_c, inputs.u1, inputs.u1_dot, inputs.gamma_meas,
-            inputs.reversing, float(gain), vehicle.steering.delta_max, vehicle.gamma_max)
+            inputs.weight, float(gain), vehicle.steering.delta_max, vehicle.gamma_max)
 
 
 def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
@@ -267,7 +279,7 @@ def count_run(kind: str, t: np.ndarray, n_done: int) -> None:
     BUDGET.add(kind, float(t[n - 1] - t[0]) if n > 1 else 0.0)
 
 
-def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
+def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
                  delta_max, gamma_max, extras=None):
     n = delta_c.size
     obs = np.full((n, 13), np.nan)
@@ -278,7 +290,7 @@ def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
     if names:
         extras.update((c, ext[:, j]) for j, c in enumerate(names))
     for k in range(n):
-        d, f, s = feedback_law(delta_c[k], model.gamma, gamma_meas[k], reversing[k], gain,
+        d, f, s = feedback_law(delta_c[k], model.gamma, gamma_meas[k], weight[k], gain,
                                delta_max)
         o = model.observe(d)
         obs[k], delta[k], delta_fb[k], sat[k] = o, d, f, s

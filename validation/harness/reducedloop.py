@@ -20,7 +20,7 @@ feedback_law = njit(cache=True)(feedback.feedback_law)
 
 
 @njit(cache=True, nogil=True)
-def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reversing, gain,
+def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
                   delta_max, gamma_max):
     """The harness loop for a reduced model, compiled: a whole log in one call.
 
@@ -30,7 +30,7 @@ def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reve
         ``artic.reduced.integrate.KIN`` or ``STM``.
     x0, P, s1, s2 : ndarray
         Initial state, parameters and sensors, from the model's ``compiled()``.
-    dt, delta_c, u1, u1_dot, gamma_meas, reversing : ndarray
+    dt, delta_c, u1, u1_dot, gamma_meas, weight : ndarray
         Per-sample inputs (see :class:`artic.validation.harness.loop.LoopInputs`).
     gain, delta_max, gamma_max : float
         K [rad/rad], the road-wheel limit and the jackknife limit [rad].
@@ -49,7 +49,7 @@ def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, reve
     sat = np.zeros(n, dtype=np.bool_)
     x = x0.copy()
     for k in range(n):
-        d, f, s = feedback_law(delta_c[k], wrap(x[3]), gamma_meas[k], reversing[k],
+        d, f, s = feedback_law(delta_c[k], wrap(x[3]), gamma_meas[k], weight[k],
                                gain, delta_max)
         o = observe(kind, x, u1[k], d, P, s1, s2)
         o[12] = wrap(o[12])

@@ -29,6 +29,47 @@ slower than ``v_off``, or for less than a second, ``v_off`` metres per second
 of it. Both are far below ``L2`` (7.5 m full-size, 0.54 m at 1:14).
 :data:`MIN_DURATION` is two filter windows, so that one outlier, which the
 filter spreads over one window, never makes a stretch.
+
+The handover. The feedback does not switch on and off in one sample: its
+weight (:func:`feedback_weight`, the ``w`` of
+``delta = delta_c + w K wrap(gamma_model - gamma_meas)``) rises linearly from
+0 over :data:`HANDOVER` where a stretch starts and falls back to 0 over as
+long where it ends, and is 1 in between and 0 outside. Switched in one
+sample, the road-wheel command steps by the whole feedback term, which
+reaches 15 deg where a model's articulation is 5 deg off the log's at a
+stop (4.7 deg at most in the default campaign); no driver or actuator steers
+like that, and the plant's steering servo answering such a step was the only
+place where its 10 ms step missed the yaw-rate accuracy of the timestep study
+(``docs/design/timestep.md``). The ramp's length is set by what it costs
+either way:
+
+- *steering rate*: the handover turns the wheels at ``K |e| / HANDOVER``
+  beside what the log's steering does; 1 s keeps that within a truck
+  steering actuator's 0.3 rad/s of road wheel (the synthetic driver's and
+  the docking runs' limit, 360 deg/s at the steering wheel through 21:1) for
+  a feedback term up to 17 deg, more than the 15 deg above;
+- *distance with partial feedback*: a stretch's edges are where the smoothed
+  speed passes ``-v_off``, at a standstill, so a ramp covers at most
+  ``v_off HANDOVER + a HANDOVER**2 / 2`` of travel: 0.18 m at 0.3 m/s^2,
+  0.28 m at the 0.5 m/s^2 of the docking driver's pedal, 0.53 m at the
+  synthetic logs' hardest braking (1 m/s^2). Even open loop over the whole
+  ramp the articulation's error would grow by ``exp(s / L2)``: 2.4 %, 3.7 %
+  and 7 % (L2 = 7.5 m); a shorter ramp would cost less here and more in
+  steering rate. And the loop is already stable once ``w K`` passes
+  ``K_min = L1 / (L2 - L1c)`` (0.50 to 0.56 on the gosar presets: a fifth of
+  the way at K = 3).
+
+A stretch at the log's first sample starts at weight 1: the model starts on
+the log's state, so the feedback term starts at zero there and nothing steps;
+likewise a stretch that ends with the log ends at 1. The ramp runs between
+the sample outside the stretch (weight 0) and the stretch's samples, so the
+weight is positive on exactly the reversing samples (:func:`reversing`):
+``weight > 0`` is still which samples reverse. Like the dead band, the
+ramp's time scales with the vehicle's ``speed_ratio`` (Froude: times as the
+square root of the length, so the distance over the ramp stays the same
+fraction of ``L2``). The command is held over each sample, so the plant
+sees a staircase whatever the ramp's shape; a linear ramp gives the lowest
+peak rate for its length.
 """
 
 from __future__ import annotations
@@ -40,6 +81,9 @@ DEAD_BAND = 0.05
 
 MIN_DURATION = 1.0
 """Shortest reversing stretch [s]: two of the harness's speed-filter windows."""
+
+HANDOVER = 1.0
+"""Time over which the feedback's weight rises from 0 to 1, and falls back, full-size [s]."""
 
 
 def reversing(t: np.ndarray, u1: np.ndarray, speed_ratio: float = 1.0) -> np.ndarray:
@@ -68,3 +112,41 @@ def reversing(t: np.ndarray, u1: np.ndarray, speed_ratio: float = 1.0) -> np.nda
         if t[b - 1] - t[a] >= MIN_DURATION and float(np.min(u1[a:b])) < -v_on:
             out[a:b] = True
     return out
+
+
+def feedback_weight(t: np.ndarray, u1: np.ndarray, speed_ratio: float = 1.0) -> np.ndarray:
+    """The harness feedback's weight per sample, in [0, 1] (see the module docstring).
+
+    0 outside the reversing stretches of :func:`reversing`, 1 inside them,
+    with linear ramps of :data:`HANDOVER` (times ``speed_ratio``) where a
+    stretch starts or ends inside the log. Positive on exactly the reversing
+    samples.
+
+    Parameters
+    ----------
+    t : ndarray
+        Time [s].
+    u1 : ndarray
+        The tractor's (smoothed) longitudinal speed [m/s].
+    speed_ratio : float
+        The vehicle's speeds over the full-size reference's [-]; scales the
+        dead band and the ramp's time.
+
+    Returns
+    -------
+    ndarray of float
+        The weight ``w`` of the feedback term [-].
+    """
+    t = np.asarray(t, dtype=float)
+    rev = reversing(t, u1, speed_ratio)
+    ramp = HANDOVER * speed_ratio
+    w = np.zeros(rev.size)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], rev.view(np.int8), [0]])))
+    for a, b in zip(edges[0::2], edges[1::2], strict=True):  # stretches [a, b)
+        part = np.ones(b - a)
+        if a > 0:  # from 0 at the sample before the stretch
+            part = np.minimum(part, (t[a:b] - t[a - 1]) / ramp)
+        if b < rev.size:  # to 0 at the sample after it
+            part = np.minimum(part, (t[b] - t[a:b]) / ramp)
+        w[a:b] = part
+    return w

@@ -51,7 +51,7 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
     inputs = LoopInputs(
         t=profile.t, delta_h=profile.delta_h,
         delta_c=np.asarray(steering.road_wheel(profile.delta_h)), u1=profile.u1,
-        u1_dot=u1_dot, gamma_meas=np.zeros(n), reversing=np.zeros(n, dtype=bool),
+        u1_dot=u1_dot, gamma_meas=np.zeros(n), weight=np.zeros(n),
         initial=InitialState(0.0, 0.0, 0.0, 0.0, u1=float(profile.u1[0])))
     obs, delta, _, sat, k = run_inputs(model, inputs, vehicle, gain=0.0)
     status = "ok"
@@ -116,7 +116,7 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
     delta = np.empty(n)
     for k in range(n):
         d_ff = steady_articulation_delta(float(gamma_ref[k]), vehicle)
-        delta[k], _, _ = feedback_law(d_ff, model.gamma, float(gamma_ref[k]), bool(u1[k] < 0),
+        delta[k], _, _ = feedback_law(d_ff, model.gamma, float(gamma_ref[k]), float(u1[k] < 0),
                                       gain, vehicle.steering.delta_max)
         obs[k] = model.observe(delta[k])
         if k + 1 < n:

@@ -118,7 +118,7 @@ class DockingDriver:
                                                         r2_des * v.L2 / u))
             g_ref = math.asin(s)
             d_ff = steady_articulation_delta(g_ref, v)
-            delta, _, _ = feedback_law(d_ff, gamma, g_ref, True, self.gain,
+            delta, _, _ = feedback_law(d_ff, gamma, g_ref, 1.0, self.gain,
                                        v.steering.delta_max)
             return self._steer(delta), u, False
         # Forward: steer the tractor back onto the line while the trailer straightens.
