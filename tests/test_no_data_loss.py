@@ -350,16 +350,19 @@ def test_tuning_side_by_side_saves_each_fit_and_stops_starting_new_ones(tmp_path
 
     logs = [Run(slalom().frame, {"name": n, "load": "unloaded" if "-unloaded-" in n
                                  else "loaded"}) for n in TUNING]
-    calls, lock, interrupted = [], threading.Lock(), threading.Event()
+    calls, lock = [], threading.Lock()
+    running, interrupted = threading.Event(), threading.Event()
 
     def fake_tune(model, vehicle, logs, jobs, progress, start=None):
         load = logs[0].meta["load"]
         with lock:
             calls.append((model, load, jobs))
         if (model, load) == ("stm", "unloaded"):
+            assert running.wait(10.0)  # the other load's first fit is under way
             interrupted.set()
             raise KeyboardInterrupt
         if (model, load) == ("kin", "loaded"):
+            running.set()
             assert interrupted.wait(10.0)
             time.sleep(1.0)  # still running when the stage is interrupted
         return tuning.Fit(model, [tuning.Bound("i_s", 21.0, 15.0, 26.0)], {"i_s": 20.0},
