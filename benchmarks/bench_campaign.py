@@ -52,7 +52,7 @@ def _stages(report: Path) -> dict[str, float]:
     for line in lines[start + 4:]:
         if not line.startswith("|"):
             break
-        name, wall = (c.strip() for c in line.strip("|").split("|"))
+        name, wall = (c.strip() for c in line.strip("|").split("|")[:2])
         out[name] = float(wall)
     return out
 

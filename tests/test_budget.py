@@ -110,3 +110,24 @@ def test_the_budget_table_gives_each_stage_its_share():
     assert lines[3] == "| tables | 1.0 | 0 | 0 | 0 | 0 | 0 |"
     assert lines[4] == "| validation | 20.0 | 150 | 1000 | 25 | 100 | 500 |"
     assert lines[5] == "| total | 51.0 | 208 | 4000 | 100 | 100 | 500 |"
+
+
+def test_the_campaign_benchmark_reads_the_reports_stage_table(tmp_path):
+    # benchmarks/bench_campaign.py and bench_commands.py read each stage's wall
+    # time from report.md; the table grew columns once and the reader broke
+    # unnoticed, so it is read here from the table the report writes.
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_campaign.py"
+    spec = importlib.util.spec_from_file_location("bench_campaign", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    lines = budget_table({"logs": 30.5, "tables": 1.25},
+                         {"logs": {"multibody": (58, 3173.0)}})
+    report = tmp_path / "report.md"
+    report.write_text("\n".join(["# Report", "", "## Wall time by stage", "", *lines, "",
+                                 "## Files"]) + "\n")
+    stages = bench._stages(report)
+    assert stages["logs"] == 30.5 and stages["tables"] == 1.2  # as printed, one decimal
+    assert "total" in stages
