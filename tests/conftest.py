@@ -82,3 +82,37 @@ def steady_turn(model, delta: float, u: float, seconds: float, tail: int) -> tup
         out.append(model.observe())
     y = np.array(out)[-tail:]
     return float(y[:, 5].mean()), float(y[:, 12].mean())
+
+
+def rates_jacobian(p, eps: float = 1e-6) -> np.ndarray:
+    """The continuous-time Jacobian of a MuJoCo model's rates at its state [1/s].
+
+    Central differences in the state's tangent space (``qpos`` through
+    ``mj_integratePos``, ``qvel``, ``act``), of ``(qvel, qacc, act_dot)``; the
+    controls are restored before each evaluation (a callback writes rates into
+    them). ``p`` has ``model`` and ``data`` (the plant, the truth); its state is
+    restored at the end.
+    """
+    import mujoco
+
+    m, d = p.model, p.data
+    q0, v0, a0, c0 = d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.ctrl.copy()
+    nv = m.nv
+
+    def rate(dx: np.ndarray) -> np.ndarray:
+        d.qpos[:] = q0
+        mujoco.mj_integratePos(m, d.qpos, dx[:nv], 1.0)
+        d.qvel[:] = v0 + dx[nv:2 * nv]
+        d.act[:] = a0 + dx[2 * nv:]
+        d.ctrl[:] = c0
+        mujoco.mj_forward(m, d)
+        return np.concatenate([d.qvel, d.qacc, d.act_dot])
+
+    n = 2 * nv + m.na
+    A = np.empty((n, n))
+    for k in range(n):
+        e = np.zeros(n)
+        e[k] = eps
+        A[:, k] = (rate(e) - rate(-e)) / (2.0 * eps)
+    rate(np.zeros(n))
+    return A

@@ -19,6 +19,7 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import G
 from artic.plant import Plant, PlantError, ctyre, spinmode
 from artic.plant.tyre import TyreParams, longitudinal_tread
+from conftest import rates_jacobian
 
 TYRES = ("artic-truck-315-80R22.5.tir", "artic-trailer-385-65R22.5.tir")
 
@@ -167,29 +168,6 @@ def test_equilibria_are_kept():
 # ---------------------------------------------------------------- the plant
 
 
-def jacobian(p: Plant, eps: float = 1e-6) -> np.ndarray:
-    """The continuous-time Jacobian of the plant's rates at its state, central differences."""
-    m, d = p.model, p.data
-    q0, v0, a0, c0 = d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.ctrl.copy()
-    nv, na = m.nv, m.na
-
-    def rate(dx):
-        d.qpos[:] = q0
-        mujoco.mj_integratePos(m, d.qpos, dx[:nv], 1.0)
-        d.qvel[:] = v0 + dx[nv:2 * nv]
-        d.act[:] = a0 + dx[2 * nv:]
-        d.ctrl[:] = c0
-        mujoco.mj_forward(m, d)
-        return np.concatenate([d.qvel, d.qacc, d.act_dot])
-
-    n = 2 * nv + na
-    A = np.empty((n, n))
-    for k in range(n):
-        e = np.zeros(n)
-        e[k] = eps
-        A[:, k] = (rate(e) - rate(-e)) / (2.0 * eps)
-    rate(np.zeros(n))
-    return A
 
 
 def at_rest(vehicle, **kw) -> Plant:
@@ -211,7 +189,7 @@ def test_the_plant_spin_modes_are_the_derived_eigenvalues(name):
     # rest only below about 6 ms, and the linearisation needs a true rest state.
     with at_rest(load_vehicle(name), spin_fit=False, timestep=5e-3) as p:
         local = np.sort(p.spin_modes()[:, 0].real)
-        lam = np.linalg.eigvals(jacobian(p))
+        lam = np.linalg.eigvals(rates_jacobian(p))
         fast = np.sort(lam[np.abs(lam) > 200.0].real)
         assert fast.size == p.n_wheels and np.all(np.abs(lam[np.abs(lam) > 200.0].imag) < 1e-6)
         np.testing.assert_allclose(fast, local, rtol=0.04)
@@ -228,7 +206,7 @@ def test_the_plant_integrates_the_fitted_mode():
     with at_rest(v, timestep=0.01) as p:
         lam0 = p.spin_modes()[:, 0].real
         want = np.sort(spinmode.fit_factor(0.01 * lam0) * lam0)
-        lam = np.linalg.eigvals(jacobian(p))
+        lam = np.linalg.eigvals(rates_jacobian(p))
         spin = lam[(np.abs(lam) > 150.0) & (np.abs(lam) < 250.0)]
         np.testing.assert_allclose(np.sort(spin.real), want, rtol=0.05)
         # and RK4 at 10 ms is stable on every mode (the pose's zero roots: 1).

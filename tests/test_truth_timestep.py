@@ -11,7 +11,6 @@ from __future__ import annotations
 import dataclasses
 import math
 
-import mujoco
 import numpy as np
 import pytest
 
@@ -31,6 +30,7 @@ from artic.validation.synthetic.truthplant import (
     TruthPlant,
     timestep_for,
 )
+from conftest import rates_jacobian
 
 STEP = FORWARD_TIMESTEP
 """The truth's step on the forward manoeuvres [s], the log's sample."""
@@ -44,29 +44,6 @@ def rk4_factor(z: np.ndarray) -> np.ndarray:
     return np.abs(1.0 + z + z ** 2 / 2.0 + z ** 3 / 6.0 + z ** 4 / 24.0)
 
 
-def rates_jacobian(p: TruthPlant, eps: float = 1e-6) -> np.ndarray:
-    """The Jacobian of the truth's rates at its state: central differences in its tangent space."""
-    m, d = p.model, p.data
-    q0, v0, a0, c0 = d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.ctrl.copy()
-    nv = m.nv
-
-    def rate(dx: np.ndarray) -> np.ndarray:
-        d.qpos[:] = q0
-        mujoco.mj_integratePos(m, d.qpos, dx[:nv], 1.0)
-        d.qvel[:] = v0 + dx[nv:2 * nv]
-        d.act[:] = a0 + dx[2 * nv:]
-        d.ctrl[:] = c0  # the callback writes the deflections' rates into ctrl
-        mujoco.mj_forward(m, d)
-        return np.concatenate([d.qvel, d.qacc, d.act_dot])
-
-    n = 2 * nv + m.na
-    A = np.empty((n, n))
-    for k in range(n):
-        e = np.zeros(n)
-        e[k] = eps
-        A[:, k] = (rate(e) - rate(-e)) / (2.0 * eps)
-    rate(np.zeros(n))
-    return A
 
 
 def eigenvalues(vehicle, column: Column, speed: float) -> tuple[np.ndarray, float]:
