@@ -277,16 +277,16 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
         part = saved["loads"].get(load)
         if not (isinstance(part, dict) and part.get("logs") == names):
             part = None
+        vehicle = load_vehicle(PRESET.format(load=load))
         out["loads"][load] = {"logs": names, "rows": [], "summary": [], "fitted": {},
                               "truth": tuning[0].meta.get("truth", {}),
-                              "nominal": {"i_s": load_vehicle(PRESET.format(load=load))
-                                          .steering_for("mbd").i_s}}
-        todo.append((load, tuning, part))
+                              "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
+        todo.append((load, vehicle, tuning, part))
 
     stop = threading.Event()  # set when the campaign is interrupted: no further fit starts
 
-    def tune_load(load: str, tuning: list[Run], part: dict | None, threads: int) -> None:
-        vehicle = load_vehicle(PRESET.format(load=load))
+    def tune_load(load: str, vehicle: Vehicle, tuning: list[Run], part: dict | None,
+                  threads: int) -> None:
         entry = out["loads"][load]
         for m in models:
             if stop.is_set():

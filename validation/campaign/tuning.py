@@ -421,7 +421,7 @@ def quasi_newton_fit(obj: Objective, z0: np.ndarray, r0: np.ndarray,
     def cost_and_gradient(z: np.ndarray) -> tuple[float, np.ndarray]:
         z = np.asarray(z, dtype=float)
         h = np.where(z + GRADIENT_STEP <= 1.0, GRADIENT_STEP, -GRADIENT_STEP)
-        steps = [z + h[i] * np.eye(z.size)[i] for i in range(z.size)]
+        steps = [z + hk * e for hk, e in zip(h, np.eye(z.size), strict=True)]
         known = np.array_equal(z, z0)
         runs = [obj.residuals_of(res) for res in
                 obj.simulate_many([lo + span * p for p in (steps if known else [z, *steps])])]

@@ -106,9 +106,8 @@ def reversing(t: np.ndarray, u1: np.ndarray, speed_ratio: float = 1.0) -> np.nda
     v_on = DEAD_BAND * speed_ratio
     v_off = 0.5 * v_on
     below = np.asarray(u1, dtype=float) < -v_off
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], below.view(np.int8), [0]])))
     out = np.zeros(below.size, dtype=bool)
-    for a, b in zip(edges[0::2], edges[1::2], strict=True):  # stretches [a, b)
+    for a, b in _stretches(below):
         if t[b - 1] - t[a] >= MIN_DURATION and float(np.min(u1[a:b])) < -v_on:
             out[a:b] = True
     return out
@@ -141,8 +140,7 @@ def feedback_weight(t: np.ndarray, u1: np.ndarray, speed_ratio: float = 1.0) -> 
     rev = reversing(t, u1, speed_ratio)
     ramp = HANDOVER * speed_ratio
     w = np.zeros(rev.size)
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], rev.view(np.int8), [0]])))
-    for a, b in zip(edges[0::2], edges[1::2], strict=True):  # stretches [a, b)
+    for a, b in _stretches(rev):
         part = np.ones(b - a)
         if a > 0:  # from 0 at the sample before the stretch
             part = np.minimum(part, (t[a:b] - t[a - 1]) / ramp)
@@ -150,3 +148,9 @@ def feedback_weight(t: np.ndarray, u1: np.ndarray, speed_ratio: float = 1.0) -> 
             part = np.minimum(part, (t[b] - t[a:b]) / ramp)
         w[a:b] = part
     return w
+
+
+def _stretches(mask: np.ndarray) -> list[tuple[int, int]]:
+    """The runs of True in a boolean array, as half-open index ranges ``[a, b)``."""
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.view(np.int8), [0]])))
+    return list(zip(edges[0::2].tolist(), edges[1::2].tolist(), strict=True))

@@ -105,9 +105,11 @@ class SteeringMap:
             Road-wheel angle [rad]; must lie below the map's maximum
             ``fold / (2 i_s)``.
         """
-        if isinstance(delta, float) and self.q != 0:  # the per-step path, the same arithmetic
+        if isinstance(delta, float):  # the per-step path, the same arithmetic
             x = delta * self.i_s
             disc = 1.0 - 4.0 * self.q * x
+            if self.q == 0:
+                return float(x + self.delta_h_offset)
             if disc >= 0.0:  # (IEEE square roots are exact-rounded in math and numpy alike)
                 return float(2.0 * x / (1.0 + math.sqrt(disc)) + self.delta_h_offset)
         x = np.asarray(delta, dtype=float) * self.i_s

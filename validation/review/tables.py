@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -231,6 +232,21 @@ def _models(metrics: pd.DataFrame) -> list[str]:
     return list(dict.fromkeys(metrics["model"]))
 
 
+def _model_pairs(metrics: pd.DataFrame, direction: str, criteria: list[str] | None,
+                 by: tuple[str, ...]) -> Iterator[tuple[str, str, str, pd.DataFrame]]:
+    """``(criterion, a, b, table)`` for every criterion and pair of models in it.
+
+    ``table`` is :func:`_pivot`'s: the criterion per ``by`` (rows) and model.
+    """
+    models = _models(metrics)
+    for c in criteria or columns(metrics, direction):
+        if c not in metrics:
+            continue
+        table = _pivot(metrics, direction, c, by=by)
+        for a, b in itertools.combinations([m for m in models if m in table], 2):
+            yield c, a, b, table
+
+
 def paired_table(metrics: pd.DataFrame, direction: str,
                  criteria: list[str] | None = None) -> pd.DataFrame:
     """Every pair of models compared on the same manoeuvres, per criterion.
@@ -244,20 +260,14 @@ def paired_table(metrics: pd.DataFrame, direction: str,
         the model with the smaller error where resolved, ``not resolved``
         otherwise. Smaller is better for every criterion.
     """
-    criteria = criteria or columns(metrics, direction)
-    models = _models(metrics)
     rows = []
-    for c in criteria:
-        if c not in metrics:
+    for c, a, b, table in _model_pairs(metrics, direction, criteria, ("log",)):
+        p = paired(table[a].to_numpy(), table[b].to_numpy(), (a, b))
+        if p.diff.n == 0:
             continue
-        table = _pivot(metrics, direction, c)
-        for a, b in itertools.combinations([m for m in models if m in table], 2):
-            p = paired(table[a].to_numpy(), table[b].to_numpy(), (a, b))
-            if p.diff.n == 0:
-                continue
-            rows.append({"criterion": c, "a": a, "b": b, "n": p.diff.n, "diff": p.diff.mean,
-                         "diff_lo": p.diff.lo, "diff_hi": p.diff.hi, "resolved": p.resolved,
-                         "lower": p.lower or "not resolved"})
+        rows.append({"criterion": c, "a": a, "b": b, "n": p.diff.n, "diff": p.diff.mean,
+                     "diff_lo": p.diff.lo, "diff_hi": p.diff.hi, "resolved": p.resolved,
+                     "lower": p.lower or "not resolved"})
     return pd.DataFrame(rows, columns=["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi",
                                        "resolved", "lower"])
 
@@ -384,27 +394,21 @@ def pooled_paired(metrics: pd.DataFrame, direction: str,
     decides ``resolved``. ``seeds_resolved`` counts the seeds whose own paired
     comparison resolves it with the pooled sign.
     """
-    criteria = criteria or columns(metrics, direction)
-    models = _models(metrics)
     rows = []
-    for c in criteria:
-        if c not in metrics:
+    for c, a, b, table in _model_pairs(metrics, direction, criteria, ("seed", "log")):
+        d = (table[a] - table[b]).dropna()
+        if d.empty:
             continue
-        table = _pivot(metrics, direction, c, by=("seed", "log"))
-        for a, b in itertools.combinations([m for m in models if m in table], 2):
-            d = (table[a] - table[b]).dropna()
-            if d.empty:
-                continue
-            per_seed = d.groupby(level="seed").mean()
-            iv = mean_ci(per_seed.to_numpy())
-            resolved = iv.excludes(0.0)
-            sign = np.sign(d.mean())
-            alone = sum(mean_ci(g.to_numpy()).excludes(0.0) and np.sign(g.mean()) == sign
-                        for _, g in d.groupby(level="seed"))
-            rows.append({"criterion": c, "a": a, "b": b, "n": len(d), "diff": float(d.mean()),
-                         "diff_lo": iv.lo, "diff_hi": iv.hi, "resolved": resolved,
-                         "lower": (a if sign < 0 else b) if resolved else "not resolved",
-                         "seeds_resolved": int(alone), "seeds": len(per_seed)})
+        per_seed = d.groupby(level="seed").mean()
+        iv = mean_ci(per_seed.to_numpy())
+        resolved = iv.excludes(0.0)
+        sign = np.sign(d.mean())
+        alone = sum(mean_ci(g.to_numpy()).excludes(0.0) and np.sign(g.mean()) == sign
+                    for _, g in d.groupby(level="seed"))
+        rows.append({"criterion": c, "a": a, "b": b, "n": len(d), "diff": float(d.mean()),
+                     "diff_lo": iv.lo, "diff_hi": iv.hi, "resolved": resolved,
+                     "lower": (a if sign < 0 else b) if resolved else "not resolved",
+                     "seeds_resolved": int(alone), "seeds": len(per_seed)})
     return pd.DataFrame(rows, columns=["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi",
                                        "resolved", "lower", "seeds_resolved", "seeds"])
 
