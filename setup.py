@@ -1,14 +1,30 @@
-"""Build hook for artic's compiled parts: the plant's C tyre callback and closed loop, the truth's.
+"""Build hook for artic's layout and compiled parts.
 
-Everything else is in pyproject.toml. The extension is compiled against the
-headers that the mujoco wheel ships. It is optional: without a C compiler the
-install goes on, and the plant falls back, with a warning, to the numpy tyre
-model (see plant/ctyre.py).
+Everything else is in pyproject.toml. Two things need code:
+
+- **The layout.** ``artic`` is the one import name, and its four sub-packages
+  stay at the repository root as the design card names them: ``artic.mjcf`` is
+  ``mjcf/``, ``artic.plant`` is ``plant/`` and so on (setuptools' package-dir
+  mapping; a wheel stores them as ``artic/mjcf/...``). The packages are found
+  here so that a new sub-folder needs no edit.
+- **The compiled parts**: the plant's C tyre callback and closed loop, the
+  truth's. They are compiled against the headers that the mujoco wheel ships,
+  and are optional: without a C compiler the install goes on, and the plant
+  falls back, with a warning, to the numpy tyre model (see plant/ctyre.py).
 """
 
 import os
 
-from setuptools import Extension, setup
+from setuptools import Extension, find_packages, setup
+
+ROOMS = ("mjcf", "plant", "reduced", "validation")
+"""The four folders at the root that are ``artic``'s sub-packages."""
+
+
+def packages() -> list[str]:
+    """``artic`` and every package under the four folders, as ``artic.<folder>...``."""
+    found = find_packages(include=[*ROOMS, *(f"{room}.*" for room in ROOMS)])
+    return ["artic", *(f"artic.{name}" for name in found)]
 
 
 def mujoco_include() -> list[str]:
@@ -21,6 +37,8 @@ def mujoco_include() -> list[str]:
 
 
 setup(
+    packages=packages(),
+    package_dir={"artic": "artic", **{f"artic.{room}": room for room in ROOMS}},
     ext_modules=[
         Extension(
             "artic.plant._tyre_c",

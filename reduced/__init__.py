@@ -10,3 +10,7 @@ from artic.mjcf.interface import OBSERVATION, InitialState, wrap_angle
 from artic.reduced.models import KinematicModel, SingleTrackModel
 
 __all__ = ["OBSERVATION", "InitialState", "KinematicModel", "SingleTrackModel", "wrap_angle"]
+
+if __name__ != "artic.reduced":  # a bare `import reduced` from the repository root
+    raise ImportError(f"{__file__} is artic.reduced: import artic.reduced, not {__name__} (a "
+                      "second copy of its modules would make isinstance fail between them)")

@@ -9,6 +9,8 @@ top-level name, ``artic``.
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 import json
 import os
 import shutil
@@ -93,11 +95,61 @@ def test_the_layer_contract_is_declared():
     assert layers[0]["layers"] == ["validation", "plant | reduced", "mjcf"]
 
 
-def test_the_artic_folder_links_the_four_root_folders():
-    # The design card keeps the four folders at the root; artic/ links to them.
+def test_the_four_root_folders_are_artic_without_links():
+    # The design card keeps the four folders at the root; setup.py maps them
+    # under artic (package-dir), and no file in the repository is a link.
+    import artic
+
+    links = [p for p in ROOT.rglob("*") if p.is_symlink()
+             and not {".venv", ".git", "build"} & set(p.relative_to(ROOT).parts)]
+    assert not links, links
     for pkg in PACKAGES:
-        link = ROOT / "artic" / pkg
-        assert link.is_symlink() and link.resolve() == (ROOT / pkg).resolve(), link
+        module = importlib.import_module(f"artic.{pkg}")
+        assert Path(module.__file__).resolve() == (ROOT / pkg / "__init__.py").resolve()
+    assert Path(artic.__file__).resolve() == (ROOT / "artic" / "__init__.py").resolve()
+
+
+@pytest.mark.parametrize("pkg", PACKAGES)
+def test_a_bare_import_from_the_root_is_refused(pkg):
+    # From the repository root, `import mjcf` would load a second copy of
+    # artic.mjcf's modules, whose classes isinstance would tell apart.
+    done = subprocess.run([sys.executable, "-c", f"import {pkg}"], cwd=ROOT,
+                          capture_output=True, text=True)
+    assert done.returncode != 0
+    assert f"import artic.{pkg}, not {pkg}" in done.stderr, done.stderr[-500:]
+
+
+def test_the_stub_lists_the_public_api():
+    # artic/__init__.pyi is what type checkers read; it must name each public
+    # name from the module the front door loads it from.
+    import ast
+
+    import artic
+
+    tree = ast.parse((ROOT / "artic" / "__init__.pyi").read_text())
+    stub = {}
+    for node in tree.body:
+        if isinstance(node, ast.ImportFrom):
+            for alias in node.names:
+                stub[alias.asname or alias.name] = (node.module, alias.name)
+    assert stub == artic._PUBLIC
+    listed = next(n.value for n in tree.body if isinstance(n, ast.Assign)
+                  and n.targets[0].id == "__all__")
+    assert ast.literal_eval(listed) == artic.__all__
+    assert (ROOT / "artic" / "py.typed").is_file()
+
+
+def test_the_staged_tree_is_the_wheels(tmp_path):
+    # .ci/staged.py lays the package out as the wheel does; lint-imports and
+    # mypy read that tree. Every module of the four folders is in it.
+    spec = importlib.util.spec_from_file_location("staged", ROOT / ".ci" / "staged.py")
+    staged = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(staged)
+    tree = staged.stage(tmp_path)
+    want = {str(p.relative_to(ROOT)) for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")
+            if "__pycache__" not in p.parts}
+    got = {str(p.relative_to(tree / "artic")) for p in (tree / "artic").rglob("*.py")}
+    assert want <= got and got - want == {"__init__.py"}, sorted(want ^ got)[:10]
 
 
 def _lint():
@@ -129,11 +181,25 @@ def test_the_wheel_installs_one_import_name(tmp_path):
     # Build the wheel as pip would (no build isolation: the test environment
     # has setuptools and mujoco's headers), then install it into a fresh
     # virtual environment that borrows only the dependencies of this one.
+    # From a clone without symbolic links (Git for Windows' default), where
+    # this is a checkout; an unpacked sdist is built as it is.
+    source = ROOT
+    if (ROOT / ".git").exists() and shutil.which("git"):
+        source = tmp_path / "clone"
+        subprocess.run(["git", "clone", "-q", "-c", "core.symlinks=false", str(ROOT),
+                        str(source)], check=True, capture_output=True)
     wheels = tmp_path / "wheels"
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
-                    "-q", "-w", str(wheels), str(ROOT)], check=True, capture_output=True)
+                    "-q", "-w", str(wheels), str(source)], check=True, capture_output=True)
     (wheel,) = wheels.glob("artic-*.whl")
-    top = {n.split("/")[0] for n in zipfile.ZipFile(wheel).namelist()}
+    names = zipfile.ZipFile(wheel).namelist()
+    top = {n.split("/")[0] for n in names}
+    # Every module of the four folders, under artic/ (a checkout without links
+    # once gave a wheel of artic/__init__.py alone).
+    want = {f"artic/{p.relative_to(ROOT).as_posix()}" for pkg in PACKAGES
+            for p in (ROOT / pkg).rglob("*.py") if "__pycache__" not in p.parts}
+    assert want <= set(names), sorted(want - set(names))[:10]
+    assert "artic/py.typed" in names and "artic/__init__.pyi" in names
     assert {t for t in top if not t.endswith((".dist-info", ".data"))} == {"artic"}, top
 
     env_dir = tmp_path / "env"
