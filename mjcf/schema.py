@@ -19,7 +19,17 @@ from typing import Any
 
 
 class VehicleFileError(ValueError):
-    """A vehicle parameter file is malformed; the message names file and key."""
+    """A vehicle parameter file is malformed; the message names file and key.
+
+    Examples
+    --------
+    >>> import artic
+    >>> try:
+    ...     artic.load_vehicle("no-such-truck")
+    ... except artic.VehicleFileError as error:
+    ...     print(str(error).split(";")[0])
+    'no-such-truck' is neither a preset nor a file
+    """
 
 
 @dataclass(frozen=True)

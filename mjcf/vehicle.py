@@ -147,6 +147,13 @@ class Vehicle:
 
     Use :func:`load_vehicle` to build one; the attributes carry the paper's
     symbols and SI units. Derived quantities are properties.
+
+    Examples
+    --------
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-loaded")
+    >>> round(vehicle.m2) > round(artic.load_vehicle("gosar2022-unloaded").m2)  # payload [kg]
+    True
     """
 
     name: str
@@ -372,7 +379,14 @@ def _static_loads(v: Vehicle) -> tuple[np.ndarray, float]:
 
 # ------------------------------------------------------------------ loading
 def preset_names() -> list[str]:
-    """Names of the presets shipped with artic."""
+    """Names of the presets shipped with artic.
+
+    Examples
+    --------
+    >>> import artic
+    >>> "gosar2022-loaded" in artic.preset_names()
+    True
+    """
     files = resources.files("artic.mjcf") / "presets"
     return sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
 
@@ -444,6 +458,13 @@ def load_vehicle(name_or_path: str | Path) -> Vehicle:
         For a missing file, invalid TOML, an unknown or missing key, a value
         out of range, or inconsistent geometry. The message names the file and
         the key.
+
+    Examples
+    --------
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> vehicle.L1, vehicle.m1  # tractor wheelbase [m], tractor mass [kg]
+    (3.8, 8060.0)
     """
     path = resolve_vehicle_path(name_or_path)
     return vehicle_from_dict(read_vehicle_toml(path), path)

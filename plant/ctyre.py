@@ -80,7 +80,15 @@ class TyreOutputs(NamedTuple):
     dphi: np.ndarray
 
 
+NO_EXTENSIONS = "ARTIC_NO_EXTENSIONS"
+"""An environment variable: set to 1, artic runs as if its C parts were not built
+(the numpy tyre, the Python loops), as an install without a C compiler does."""
+
+
 def _load() -> tuple[ctypes.CDLL | None, str]:
+    if os.environ.get(NO_EXTENSIONS, "") not in ("", "0"):
+        return None, (f"the compiled parts are switched off ({NO_EXTENSIONS} is set), as "
+                      "without a C compiler at install time")
     spec = importlib.util.find_spec("artic.plant._tyre_c")
     if spec is None or spec.origin is None:
         return None, ("the compiled tyre callback was not built (no C compiler at install "

@@ -111,6 +111,16 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
     -------
     dict
         The :data:`CRITERIA`, plus ``s_max`` [m] (distance compared).
+
+    Examples
+    --------
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> kin = artic.build_model("kin", vehicle)
+    >>> log = artic.simulate(kin, vehicle, artic.make_profile("constant-steer", duration=8.0))
+    >>> scores = artic.run_metrics(log.frame, artic.run_closed_loop(kin, log, vehicle).frame)
+    >>> bool(scores["eps_p"] < 1e-6), bool(scores["s_max"] > 5.0)  # [m], [m]
+    (True, True)
     """
     n = len(model)
     meas = measured.iloc[:n]

@@ -328,6 +328,19 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
         ``delta_saturated`` (and the plant's ``extras()`` columns).
         ``meta["status"]`` is ``"ok"``, or says where and why the run stopped
         early; the rows after that are not written.
+
+    Examples
+    --------
+    A model driven from its own simulated log reproduces it:
+
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> kin = artic.build_model("kin", vehicle)
+    >>> log = artic.simulate(kin, vehicle, artic.make_profile("ramp-steer-reverse",
+    ...                                                       duration=10.0))
+    >>> run = artic.run_closed_loop(kin, log, vehicle)
+    >>> bool(abs(run.frame["gamma"] - log.frame["gamma"]).max() < 1e-6)  # [rad]
+    True
     """
     steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
     inputs = loop_inputs(run, vehicle, steering)

@@ -42,6 +42,16 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
     -------
     Run
         Signal schema plus ``delta``; ``meta["status"]`` reports an early stop.
+
+    Examples
+    --------
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> profile = artic.make_profile("constant-steer", amplitude_deg=90, speed_kph=5,
+    ...                              duration=8.0)
+    >>> run = artic.simulate(artic.build_model("kin", vehicle), vehicle, profile)
+    >>> run.frame.shape[0], bool(run.frame["gamma"].abs().max() > 0.01)  # it turned [rad]
+    (801, True)
     """
     steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
     steering.check_range(profile.delta_h, f"manoeuvre {profile.kind}")

@@ -88,6 +88,18 @@ def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Ru
     ------
     LogError
         For an unreadable file or the first finding not accepted.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> log = artic.simulate(artic.build_model("kin", vehicle), vehicle,
+    ...                      artic.make_profile("constant-steer", duration=8.0))
+    >>> path = artic.write_run(log, Path(tempfile.mkdtemp()) / "run.parquet")
+    >>> artic.read_log(path, vehicle=vehicle).frame.shape
+    (801, 17)
     """
     path = Path(path)
     if path.suffix != ".parquet":

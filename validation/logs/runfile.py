@@ -43,7 +43,17 @@ MAX_TIME = 1e10
 
 
 class LogError(ValueError):
-    """A log cannot be used as it is; the message names the file, the column and the fix."""
+    """A log cannot be used as it is; the message names the file, the column and the fix.
+
+    Examples
+    --------
+    >>> import artic
+    >>> try:
+    ...     artic.read_run("no-such-run.parquet")
+    ... except artic.LogError as error:
+    ...     print(type(error).__name__)
+    LogError
+    """
 
 
 @dataclass
@@ -56,6 +66,14 @@ class Run:
         One row per sample; at least the schema's columns.
     meta : dict
         JSON-serialisable metadata.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> import artic
+    >>> run = artic.Run(pd.DataFrame({"t": [0.0, 0.01]}), {"name": "two samples"})
+    >>> run.meta["name"], len(run.frame)
+    ('two samples', 2)
     """
 
     frame: pd.DataFrame
@@ -108,6 +126,18 @@ def write_run(run: Run, path: Path | str) -> Path:
         Frame and metadata.
     path : Path or str
         Target ``.parquet`` file.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> log = artic.simulate(artic.build_model("kin", vehicle), vehicle,
+    ...                      artic.make_profile("constant-steer", duration=8.0))
+    >>> path = artic.write_run(log, Path(tempfile.mkdtemp()) / "run.parquet")
+    >>> artic.read_run(path).frame.equals(log.frame)
+    True
     """
     table = pa.Table.from_pandas(run.frame, preserve_index=False)
     meta = dict(table.schema.metadata or {})
@@ -144,6 +174,19 @@ def read_run(path: Path | str, check: bool = True,
     ------
     LogError
         If the file is missing, not Parquet, or fails the checks.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import artic
+    >>> bad = Path(tempfile.mkdtemp()) / "bad.parquet"
+    >>> _ = bad.write_text("not parquet")
+    >>> try:
+    ...     artic.read_run(bad)
+    ... except artic.LogError as error:
+    ...     print("refused:", "not a readable Parquet file" in str(error))
+    refused: True
     """
     path = Path(path)
     if not path.is_file():

@@ -37,6 +37,13 @@ class Profile:
         Time [s], steering-wheel angle [rad], tractor speed [m/s].
     meta : dict
         Manoeuvre parameters, for the run's metadata.
+
+    Examples
+    --------
+    >>> import artic
+    >>> profile = artic.make_profile("ramp-steer-reverse", duration=10.0)
+    >>> bool((profile.u1 <= 0).all()), profile.kind
+    (True, 'ramp-steer-reverse')
     """
 
     kind: str
@@ -91,6 +98,14 @@ def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: fl
     ------
     ValueError
         For an unknown kind or side, or a non-positive speed or duration.
+
+    Examples
+    --------
+    >>> import artic
+    >>> profile = artic.make_profile("constant-steer", amplitude_deg=90, speed_kph=5,
+    ...                              duration=8.0)
+    >>> profile.t.size, profile.meta["direction"]  # 100 Hz for 8 s
+    (801, 'forward')
     """
     if kind not in KINDS:
         raise ValueError(f"unknown manoeuvre {kind!r}; choose one of {', '.join(KINDS)}")

@@ -1,0 +1,28 @@
+"""Every public name's Examples section runs, as a doctest, and says what it shows.
+
+The API reference renders these sections; running them here keeps them true.
+"""
+
+from __future__ import annotations
+
+import doctest
+
+import pytest
+
+import artic
+
+PUBLIC = [n for n in artic.__all__ if n != "__version__"]
+
+
+@pytest.mark.parametrize("name", PUBLIC)
+def test_the_examples_of_a_public_name_run(name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # an example that writes does so here
+    obj = getattr(artic, name)
+    tests = [t for t in doctest.DocTestFinder(recurse=False).find(obj, name)
+             if t.examples]
+    assert tests, f"artic.{name} has no Examples section"
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    for test in tests:
+        runner.run(test)
+    result = runner.summarize(verbose=False)
+    assert result.failed == 0, f"{result.failed} of artic.{name}'s examples failed (above)"
