@@ -163,8 +163,9 @@ def of_runs(logs: Sequence[Run], metrics: pd.DataFrame, runs_dir: Path, vehicle:
     Returns
     -------
     DataFrame
-        One row per (log, model, criterion): ``floor``, ``sd``, ``p5``, ``p95``,
-        ``n`` (:func:`summarise`) and ``score``, the model's own value in ``metrics``.
+        One row per (log, model, criterion), with the log's ``direction``:
+        ``floor``, ``sd``, ``p5``, ``p95``, ``n`` (:func:`summarise`) and
+        ``score``, the model's own value in ``metrics``.
     """
     from artic.validation.criteria.direction import direction_of
     from artic.validation.logs.runfile import read_run
@@ -185,46 +186,51 @@ def of_runs(logs: Sequence[Run], metrics: pd.DataFrame, runs_dir: Path, vehicle:
             table = summarise(floor_draws(log, run, noise, vehicle, s, seed)).reset_index()
             table["score"] = [float(getattr(r, c, math.nan)) for c in table["criterion"]]
             table.insert(0, "model", r.model)
+            table.insert(0, "direction", direction_of(log))
             table.insert(0, "log", log.name)
             parts.append(table)
-    cols = ["log", "model", "criterion", "floor", "sd", "p5", "p95", "n", "score"]
+    cols = ["log", "direction", "model", "criterion", "floor", "sd", "p5", "p95", "n", "score"]
     return pd.concat(parts, ignore_index=True)[cols] if parts else pd.DataFrame(columns=cols)
 
 
 def text(table: pd.DataFrame, source: str) -> str:
-    """The floor per criterion as ``artic validate`` prints it, beside each model's mean score.
+    """The floor per criterion and direction as ``artic validate`` prints it, beside the scores.
 
-    ``floor`` is the mean over the (log, model) runs of their floors; ``one
-    log`` the range of their 5 and 95 % points; a model's column its mean score
-    over the same logs.
+    Per direction of travel: ``floor`` is the mean over that direction's
+    (log, model) runs of their floors; ``one log (5-95 %)`` the lowest 5 % and
+    highest 95 % point of single draws among them; a model's column its mean
+    score over the same logs; the last column the floor over the lowest of
+    those scores.
     """
     from artic.validation.criteria.metrics import UNITS
 
     units = {**UNITS, **extra.UNITS}
     models = list(dict.fromkeys(table["model"]))
     runs = len(table[["log", "model"]].drop_duplicates())
-    head = ["criterion", "floor", "one log (5-95 %)", *models, "floor / lowest score"]
     lines = [f"Noise floor: the score a perfect model would get from the sensor noise declared "
              f"in {source} alone (each model's run measured through it, {DRAWS} seeded draws "
              f"per run, {runs} runs); where a model scores near it, the criterion measures "
-             "the sensors",
-             "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+             "the sensors"]
 
     def num(x: float) -> str:
         return "-" if not math.isfinite(x) else f"{x:.3g}"
 
-    for c in FLOORED:
-        g = table[table["criterion"] == c]
-        if g.empty or not np.isfinite(g["floor"]).any():
-            continue
-        floor = float(g["floor"].mean())
-        scores = [float(g[g["model"] == m]["score"].mean()) for m in models]
-        best = min((s for s in scores if math.isfinite(s)), default=math.nan)
-        ratio = floor / best if math.isfinite(best) and best > 0 else math.nan
-        lines.append(f"| {c} [{units[c]}] | {num(floor)} | {num(float(g['p5'].min()))}-"
-                     f"{num(float(g['p95'].max()))} | "
-                     + " | ".join(num(s) for s in scores)
-                     + f" | {'-' if not math.isfinite(ratio) else f'{100 * ratio:.0f} %'} |")
+    for direction, part in table.groupby("direction", sort=False):
+        head = ["criterion", "floor", "one log (5-95 %)", *models, "floor / lowest score"]
+        lines += ["", f"{str(direction).capitalize()} ({part['log'].nunique()} logs)", "",
+                  "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+        for c in FLOORED:
+            g = part[part["criterion"] == c]
+            if g.empty or not np.isfinite(g["floor"]).any():
+                continue
+            floor = float(g["floor"].mean())
+            scores = [float(g[g["model"] == m]["score"].mean()) for m in models]
+            best = min((s for s in scores if math.isfinite(s)), default=math.nan)
+            ratio = floor / best if math.isfinite(best) and best > 0 else math.nan
+            lines.append(f"| {c} [{units[c]}] | {num(floor)} | {num(float(g['p5'].min()))}-"
+                         f"{num(float(g['p95'].max()))} | "
+                         + " | ".join(num(s) for s in scores)
+                         + f" | {'-' if not math.isfinite(ratio) else f'{100 * ratio:.0f} %'} |")
     shown = sorted({"J_steer" if c == "J_steer" else "pred_*" for c in NOT_ESTIMATED})
     lines.append("")
     lines.append(f"No floor for {', '.join(shown)}: they exist only for a model driven by the "
