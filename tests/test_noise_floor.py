@@ -261,3 +261,17 @@ def test_the_floor_is_the_same_for_the_same_inputs(twins):
     other = floor_draws(noisy, dataclasses.replace(run, meta={"model": "stm"}), noise, v,
                         draws=3)
     assert not a["eps_y1"].equals(other["eps_y1"])  # another model: another draw
+
+
+def test_a_channel_maps_noise_table_is_checked_with_the_map(tmp_path):
+    from artic.validation.logs.channelmap import read_map
+
+    path = tmp_path / "map.toml"
+    head = ('[time]\ncolumn = "t"\nunit = "s"\n[channels]\nx_1 = { column = "X", unit = "m" }\n'
+            'y_1 = { column = "Y", unit = "m" }\npsi_1 = { column = "h", unit = "rad" }\n'
+            'gamma = { column = "g", unit = "deg" }\n')
+    path.write_text(head + "[noise]\ngamma = { sigma = 0.1, unit = \"deg\" }\n")
+    assert read_map(path).noise == {"gamma": ChannelNoise(math.radians(0.1))}
+    path.write_text(head + "[noise]\nhitch = { sigma = 0.1 }\n")
+    with pytest.raises(LogError, match=r"map.toml: noise.hitch: not a channel"):
+        read_map(path)
