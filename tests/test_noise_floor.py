@@ -275,3 +275,18 @@ def test_a_channel_maps_noise_table_is_checked_with_the_map(tmp_path):
     path.write_text(head + "[noise]\nhitch = { sigma = 0.1 }\n")
     with pytest.raises(LogError, match=r"map.toml: noise.hitch: not a channel"):
         read_map(path)
+
+
+def test_the_dock_errors_floor_is_a_magnitude():
+    # A run that ends at the dock: the floor of the signed dock errors is the
+    # mean magnitude of the end pose's noise. White lateral position noise of
+    # sigma on the semitrailer's sensor: |N(0, sigma)| has mean sigma sqrt(2 / pi)
+    # (0.8 sigma), and 16 draws give it to about 0.15 sigma; 0.4-1.2 sigma is
+    # over two and a half standard errors either side.
+    log = straight_log(1000, u=-1.0)
+    log.meta["manoeuvre"] = "docking"
+    noise = parse_noise({"y_2": {"sigma": 0.05}}, "t")
+    v = load_vehicle("gosar2022-unloaded")
+    draws = floor_draws(log, Run(log.frame.copy(), {"model": "kin"}), noise, v)
+    assert (draws["dock_lat"] >= 0).all() and (draws["dock_lon"] < 1e-12).all()
+    assert 0.4 * 0.05 < draws["dock_lat"].mean() < 1.2 * 0.05

@@ -15,7 +15,8 @@ changes how noise scores):
    log and a run get (:func:`artic.validation.criteria.metrics.run_metrics`
    and the rows of :data:`artic.validation.criteria.columns.TABLE` computed
    from a log and a run: ``eps_gamma``, ``eps_cover``, the dock errors), and
-   ``eps_n_fixed`` on the set's scale.
+   ``eps_n_fixed`` on the set's scale; of the signed dock errors, their
+   magnitudes (:data:`SIGNED`).
 
 The floor is the mean over the draws, with the 5-95 % range of single draws
 beside it: one log is one draw, so a criterion whose range is wide (a
@@ -45,6 +46,7 @@ import pandas as pd
 
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria import columns as extra
+from artic.validation.criteria import dock
 from artic.validation.criteria.fixedscale import eps_n_fixed
 from artic.validation.criteria.metrics import CRITERIA, run_metrics
 from artic.validation.logs.noise import ChannelNoise, add_noise
@@ -64,6 +66,10 @@ NOT_ESTIMATED = {
 
 FLOORED = tuple(c for c in (*CRITERIA, *extra.COLUMNS) if c not in NOT_ESTIMATED)
 """Criteria with a floor, in ``metrics.csv`` order."""
+
+SIGNED = dock.COLUMNS
+"""Signed criteria: their floor is the magnitude a perfect model gets (a mean of signed
+noise would be about zero, and a model is ranked by the magnitudes of these errors)."""
 
 
 def seed_of(log: str, model: str, seed: int = 0) -> list[int]:
@@ -111,7 +117,8 @@ def floor_draws(log: Run, run: Run, noise: Mapping[str, ChannelNoise], vehicle: 
         crit = run_metrics(measured.frame, truck)
         crit |= extra.of_run(measured, Run(truck, meta), vehicle)
         crit["eps_n_fixed"] = eps_n_fixed(crit["eps_a"], crit["eps_v"], scale)
-        rows.append({c: float(crit.get(c, math.nan)) for c in FLOORED})
+        rows.append({c: abs(float(crit.get(c, math.nan))) if c in SIGNED
+                     else float(crit.get(c, math.nan)) for c in FLOORED})
     return pd.DataFrame(rows, columns=list(FLOORED))
 
 
@@ -165,7 +172,8 @@ def of_runs(logs: Sequence[Run], metrics: pd.DataFrame, runs_dir: Path, vehicle:
     DataFrame
         One row per (log, model, criterion), with the log's ``direction``:
         ``floor``, ``sd``, ``p5``, ``p95``, ``n`` (:func:`summarise`) and
-        ``score``, the model's own value in ``metrics``.
+        ``score``, the model's own value in ``metrics`` (its magnitude for
+        :data:`SIGNED`).
     """
     from artic.validation.criteria.direction import direction_of
     from artic.validation.logs.runfile import read_run
@@ -184,7 +192,8 @@ def of_runs(logs: Sequence[Run], metrics: pd.DataFrame, runs_dir: Path, vehicle:
             run.meta.setdefault("model", r.model)
             s = (scale or {}).get(direction_of(log))
             table = summarise(floor_draws(log, run, noise, vehicle, s, seed)).reset_index()
-            table["score"] = [float(getattr(r, c, math.nan)) for c in table["criterion"]]
+            table["score"] = [abs(float(getattr(r, c, math.nan))) if c in SIGNED
+                              else float(getattr(r, c, math.nan)) for c in table["criterion"]]
             table.insert(0, "model", r.model)
             table.insert(0, "direction", direction_of(log))
             table.insert(0, "log", log.name)
