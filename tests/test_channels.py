@@ -67,6 +67,9 @@ def test_tractor_and_hitch_log_through_a_channel_map(tmp_path, unloaded, plant_r
     csv = _dataset_csv(truth, tmp_path / "dataset.csv")
     run, report = import_source(csv, channels=EXAMPLE, vehicle=unloaded)
     assert run.meta["derived"]["channels"] == ["x_2", "y_2", "psi_2", "v_x_2", "v_y_2", "r_2"]
+    # The map's [noise] table travels with the log, in SI, for artic validate's floor.
+    assert run.meta["sensor_noise"]["gamma"] == {"sigma": HITCH_SIGMA, "tau": 0.0, "bias": 0.0}
+    assert run.meta["sensor_noise"]["psi_1"]["sigma"] == pytest.approx(math.radians(0.05))
     assert run.meta["derived"]["vehicle"] == unloaded.name
     assert any("img_left, img_right not in the channel map" in line for line in report)
     assert any("interpolated linearly onto 100 Hz" in line for line in report)

@@ -66,15 +66,20 @@ def test_a_users_tests_pass_for_a_right_model_and_fail_with_the_table_for_a_wron
     result = pytester.runpytest_subprocess("-q")
     result.assert_outcomes(passed=2, failed=2)
     # The table: every criterion of every manoeuvre with its value, limit and
-    # verdict. Reversing, the harness's feedback holds even the wrong KIN.
+    # verdict, and the progress term the check adds. Forward, the wrong KIN's
+    # circle is metres off the measured one (eps_p), so the measured path is
+    # metres from its path too (eps_cover, beyond a lane per unit). Reversing,
+    # the harness's feedback holds even the wrong KIN.
     result.stdout.fnmatch_lines([
-        "E*AssertionError: kin does not track the log(s) within the criteria (2 failure(s), "
+        "E*AssertionError: kin does not track the log(s) within the criteria (3 failure(s), "
         "K = 3):",
         "E*manoeuvre*criterion*value*limit*result",
         "E*00-constant-steer-unloaded-200deg-5kph-left*eps_p*m*4 m*FAIL",
         "E*eps_a*rad/s*0.015 rad/s*FAIL",
+        "E*eps_cover*m*7 m (default)*FAIL",
         "E*28-ramp-steer-reverse-unloaded-30deg-6kph-right*eps_p*m*4 m*pass",
         "E*eps_a*rad/s*0.015 rad/s*pass",
+        "E*eps_cover*m*7 m (default)*pass",
     ])
     result.stdout.fnmatch_lines([
         "E*AssertionError: kin does not agree with mbd within the criteria*",

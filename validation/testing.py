@@ -33,12 +33,19 @@ Both drive the models through artic's closed-loop harness
 (:func:`artic.validation.harness.loop.run_closed_loop`) and compare with the
 criteria of eqs. (8)-(10) (:func:`artic.validation.criteria.metrics.run_metrics`).
 ``within`` maps criterion names (:data:`artic.validation.criteria.metrics.CRITERIA`,
-and the articulation error ``eps_gamma`` of
-:mod:`artic.validation.criteria.articulation`) to upper limits in their units
-(``eps_p`` [m], ``eps_a`` [rad/s], ``eps_v`` [m/s], ``eps_n`` and ``J_steer``
-[%], ``eps_gamma`` [rad]). A failure's message is the
-criteria table: manoeuvre, criterion, value, limit and pass or FAIL, with
-the status of any run that stopped early. A model is given as a registry
+the articulation error ``eps_gamma`` of
+:mod:`artic.validation.criteria.articulation` and the progress term
+``eps_cover`` of :mod:`artic.validation.criteria.coverage`) to upper limits in
+their units (``eps_p`` and ``eps_cover`` [m], ``eps_a`` [rad/s], ``eps_v``
+[m/s], ``eps_n`` and ``J_steer`` [%], ``eps_gamma`` [rad]).
+
+The progress term is always checked: a model that stays at its start sits on
+the measured path and passes any limit on ``eps_p``, so unless ``within``
+limits ``eps_cover`` itself, its limit is :data:`COVER_LIMIT` or the limit
+given for ``eps_p``, whichever is larger (see :func:`default_limits`). A
+failure's message is the criteria table: manoeuvre, criterion, value, limit
+(``(default)`` beside one the check added) and pass or FAIL, with the status
+of any run that stopped early. A model is given as a registry
 name (``"kin"``, or one of :func:`artic.validation.models.register_model`),
 a model object (:class:`artic.validation.models.Model`), or a function
 building one from a vehicle (a model class is one).
@@ -69,6 +76,19 @@ if TYPE_CHECKING:
 
 DEFAULT_VEHICLE = "gosar2022-unloaded"
 """The ``artic_vehicle`` fixture's vehicle when the ini option names none."""
+
+COVER_LIMIT = 7.0
+"""Default limit of the progress term ``eps_cover`` [m]: a lane's width, 3.5 m, per sensor point.
+
+``eps_cover`` sums the tractor's and the semitrailer's distances from the
+measured path to the model's. A model that drives the run stays, for each of
+the two points, within its lateral error of where the truck went, which the
+harness keeps to metres (KIN on the ``artic_logs``: 2.8 m on the constant
+steer, 1.4 m reversing, both units together); a model that stops, or turns
+off, leaves places of the run farther than a traffic lane (3.5 m, the usual
+width of a road's lane) from anything it drove. Standing still at the start
+of a straight run of ``L`` scores ``2 L / sqrt(3)``, which this limit fails
+from ``L`` = 6.1 m on (57 m on the 56 m constant steer)."""
 
 DEFAULT_LOGS = ("00-constant-steer-unloaded-200deg-5kph-left",
                 "28-ramp-steer-reverse-unloaded-30deg-6kph-right")
@@ -228,17 +248,43 @@ def _known() -> dict[str, str]:
     """The criteria a check may limit, with their units."""
     from artic.validation.criteria.metrics import CRITERIA, UNITS
 
-    return {**{c: UNITS[c] for c in CRITERIA}, "eps_gamma": "rad"}
+    return {**{c: UNITS[c] for c in CRITERIA}, "eps_gamma": "rad", "eps_cover": "m"}
 
 
 def _criteria(log: Run, run: Run) -> dict[str, float]:
-    """The criteria of ``run`` against ``log``: eqs. (8)-(10) and ``eps_gamma``."""
+    """The criteria of ``run`` against ``log``: eqs. (8)-(10), ``eps_gamma`` and ``eps_cover``."""
     from artic.validation.criteria.articulation import eps_gamma
+    from artic.validation.criteria.coverage import eps_cover
     from artic.validation.criteria.metrics import run_metrics
 
     out = run_metrics(log.frame, run.frame)
     out["eps_gamma"] = eps_gamma(log.frame, run.frame) if len(run.frame) else math.nan
+    out["eps_cover"] = eps_cover(log.frame, run.frame)
     return out
+
+
+def default_limits(within: Mapping[str, float]) -> dict[str, float]:
+    """The limits a check adds to ``within``: the progress term's, unless it is given.
+
+    ``eps_cover`` <= the larger of :data:`COVER_LIMIT` and ``within["eps_p"]``:
+    for a model that follows the run, each measured point's nearest model
+    point is the model's point at that place, so its ``eps_cover`` is about its
+    ``eps_p`` (equal for a constant lateral offset), and a position limit the
+    user accepts in one direction of the path distance holds in the other.
+
+    Parameters
+    ----------
+    within : mapping of str to float
+        The limits given [criterion's unit].
+
+    Returns
+    -------
+    dict
+        The limits added [m]; empty when ``within`` limits ``eps_cover``.
+    """
+    if "eps_cover" in within:
+        return {}
+    return {"eps_cover": max(COVER_LIMIT, float(within.get("eps_p", 0.0)))}
 
 
 def _limits(within: Mapping[str, float]) -> dict[str, float]:
@@ -256,7 +302,8 @@ def _limits(within: Mapping[str, float]) -> dict[str, float]:
 
 
 def criteria_table(rows: list[tuple[str, dict[str, float], str]],
-                   limits: Mapping[str, float]) -> tuple[str, int]:
+                   limits: Mapping[str, float],
+                   defaults: Iterable[str] = ()) -> tuple[str, int]:
     """The criteria table of a check, and its number of failures.
 
     Parameters
@@ -267,8 +314,12 @@ def criteria_table(rows: list[tuple[str, dict[str, float], str]],
         run(s), ``"ok"`` or why it stopped early.
     limits : mapping of str to float
         Upper limit per criterion, in its unit.
+    defaults : iterable of str
+        The criteria whose limit the check added (:func:`default_limits`); their
+        limit reads ``(default)``.
     """
     units = _known()
+    added = set(defaults)
 
     def num(x: float, unit: str) -> str:
         return "nan" if not math.isfinite(x) else f"{x:.4g} {unit}"
@@ -280,7 +331,8 @@ def criteria_table(rows: list[tuple[str, dict[str, float], str]],
             v = float(crit.get(k, math.nan))
             ok = math.isfinite(v) and v <= lim
             failed += not ok
-            lines.append((name if i == 0 else "", k, num(v, units[k]), num(lim, units[k]),
+            limit = num(lim, units[k]) + (" (default)" if k in added else "")
+            lines.append((name if i == 0 else "", k, num(v, units[k]), limit,
                           "pass" if ok else "FAIL"))
         if status != "ok":
             failed += 1
@@ -308,7 +360,8 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
     log : Run, or a sequence or mapping of Run
         The measured log(s), such as ``artic_logs`` or one of its values.
     within : mapping of str to float
-        Upper limit per criterion, in the criterion's unit.
+        Upper limit per criterion, in the criterion's unit; ``eps_cover`` is
+        limited by default (:func:`default_limits`) when not given.
     vehicle : Vehicle or str, optional
         The vehicle the model is built from, and whose steering map and limits
         the harness uses; by default the model object's own (``model.vehicle``)
@@ -333,6 +386,8 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
 
     gain = DEFAULT_GAIN if gain is None else gain
     limits = _limits(within)
+    added = default_limits(limits)
+    limits |= added
     rows, out = [], {}
     for one in _logs(log):
         v = _vehicle(vehicle, model, one)
@@ -341,7 +396,7 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
         crit = _criteria(one, run)
         rows.append((one.name, crit, run.meta["status"]))
         out[one.name] = crit
-    table, failed = criteria_table(rows, limits)
+    table, failed = criteria_table(rows, limits, added)
     if failed:
         raise AssertionError(f"{_name(model)} does not track the log(s) within the criteria "
                              f"({failed} failure(s), K = {gain:g}):\n{table}")
@@ -369,7 +424,8 @@ def assert_agree(model_a: Any, model_b: Any,
     manoeuvres : Run, or a sequence or mapping of Run
         The logs whose inputs drive both, such as ``artic_logs``.
     within : mapping of str to float
-        Upper limit per criterion, in the criterion's unit.
+        Upper limit per criterion, in the criterion's unit; ``eps_cover`` as
+        in :func:`assert_tracks`.
     vehicle : Vehicle or str, optional
         As in :func:`assert_tracks`, for both models.
     gain : float, optional
@@ -393,6 +449,8 @@ def assert_agree(model_a: Any, model_b: Any,
 
     gain = DEFAULT_GAIN if gain is None else gain
     limits = _limits(within)
+    added = default_limits(limits)
+    limits |= added
     a_name, b_name = _name(model_a), _name(model_b)
     rows, out = [], {}
     for log in _logs(manoeuvres):
@@ -410,7 +468,7 @@ def assert_agree(model_a: Any, model_b: Any,
                            ((a_name, run_a), (b_name, run_b)) if run.meta["status"] != "ok")
         rows.append((log.name, crit, status or "ok"))
         out[log.name] = crit
-    table, failed = criteria_table(rows, limits)
+    table, failed = criteria_table(rows, limits, added)
     if failed:
         raise AssertionError(f"{b_name} does not agree with {a_name} within the criteria "
                              f"({failed} failure(s), K = {gain:g}):\n{table}")

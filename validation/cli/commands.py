@@ -6,9 +6,10 @@ Subcommands:
 - ``artic vehicle keys``: the parameter file format;
 - ``artic simulate --model kin|stm --vehicle V --manoeuvre KIND ... --out RUN.parquet``;
 - ``artic validate LOG.parquet ... --vehicle V --models kin,stm,mbd [--gain K]
-  [--gain-sweep] [--no-recordings] [--steer-from log|yaw-rate] --out-dir DIR``:
-  metrics (a log split at gaps pooled over its segments), the Table 2/3
-  summaries and one Rerun recording per log;
+  [--gain-sweep] [--no-recordings] [--steer-from log|yaw-rate] [--noise N.toml]
+  --out-dir DIR``: metrics (a log split at gaps pooled over its segments), the
+  Table 2/3 summaries, one Rerun recording per log, and each criterion's noise
+  floor from the sensor noise declared (:mod:`artic.validation.criteria.noisefloor`);
 - ``artic tune LOG.parquet ... --vehicle V --models kin,stm,mbd --out PARAMS.toml``;
 - ``artic mjcf --vehicle V -o MODEL.xml``: the multibody model as MJCF;
 - ``artic logs import SRC... [--channels MAP.toml] [--vehicle V] --out-dir DIR``:
@@ -48,6 +49,7 @@ from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.harness.steering import SteeringRangeError
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import SOURCES, read_log
+from artic.validation.logs.noise import from_meta, read_noise
 from artic.validation.logs.runfile import LogError, atomic_write, write_run
 from artic.validation.runs.outputs import (
     OutDirLock,
@@ -172,7 +174,10 @@ def _validate(args: argparse.Namespace) -> int:
     models = parse_models(args.models)
     _check_tyre_data(v, models)
     out = check_output_dir(args.out_dir)
+    declared_file = read_noise(args.noise) if args.noise is not None else None
     logs = _read_logs(args, v)
+    declared = {log.name: declared_file if declared_file is not None else from_meta(log.meta)
+                for log in logs}
     for log in logs:
         if log.meta.get("derived"):
             print(f"note: {log.name}: {log.meta['derived']['note']}")
@@ -192,6 +197,7 @@ def _validate(args: argparse.Namespace) -> int:
               f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
                                    "status in metrics.csv" if len(failed) else ""))
         print("\n" + per_run_lines(metrics))
+        print("\n" + _noise_floor(logs, metrics, out, v, declared, args.noise))
         if args.recordings:
             _validate_recordings(out, logs, v, models, metrics)
         for direction, stem, title in (("forward", "table2_forward", "Forward (Table 2 columns)"),
@@ -221,6 +227,26 @@ def _validate(args: argparse.Namespace) -> int:
             print(f"\nGain sweep (stability bound K_min: {bounds_text(sweep.attrs['K_min'])}; "
                   f"{out / 'gain_sweep.png'})\n\n{markdown(sweep_table(sweep))}")
     return 1 if len(failed) else 0
+
+
+def _noise_floor(logs, metrics, out: Path, vehicle, declared: dict,
+                 noise_file: Path | None) -> str:
+    """The noise floor's text, ``OUT/noise_floor.csv`` written; one line without declared noise."""
+    from artic.validation.criteria import noisefloor
+
+    have = [name for name, n in declared.items() if n]
+    if not have:
+        return ("Noise floor: no sensor noise declared, so what the sensors alone make of each "
+                "criterion is unknown; declare it with --noise FILE.toml or in the [noise] "
+                "table of the channel map the logs were imported with (the logs guide)")
+    table = noisefloor.of_runs(logs, metrics, out / "runs", vehicle, declared,
+                               metrics.attrs.get("scale"))
+    path = atomic_write(out / "noise_floor.csv",
+                        lambda p: table.to_csv(p, index=False, float_format="%.6g"))
+    source = str(noise_file) if noise_file is not None else "the logs' channel maps"
+    missing = len(declared) - len(have)
+    tail = (f"\n{missing} log(s) declare no noise and have no floor" if missing else "")
+    return f"{noisefloor.text(table, source)}{tail}\nwrote {path}"
 
 
 def per_run_lines(metrics) -> str:
@@ -487,6 +513,12 @@ def build_parser() -> argparse.ArgumentParser:
                           "one is steered from its yaw rate) or from the measured yaw rate "
                           "(yaw-rate: the tractors follow it, and the comparison is about the "
                           "semitrailer) (default: %(default)s)")
+    val.add_argument("--noise", type=Path, default=None, metavar="FILE.toml",
+                     help="the logs' sensor noise: a [noise] table (standard deviation, "
+                          "correlation time, bias per channel), alone or in a channel map; "
+                          "prints each criterion's floor, what a perfect model would score "
+                          "from that noise alone (default: the [noise] table of the channel "
+                          "map each log was imported with, if any)")
     _add_accept(val)
     val.set_defaults(func=_validate)
 

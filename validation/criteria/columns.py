@@ -5,6 +5,7 @@ criteria (:data:`artic.validation.criteria.metrics.CRITERIA`), in the order of
 :data:`TABLE`:
 
 - ``eps_gamma`` [rad]: :mod:`artic.validation.criteria.articulation`;
+- ``eps_cover`` [m], the progress term: :mod:`artic.validation.criteria.coverage`;
 - ``eps_n_fixed`` [%]: :mod:`artic.validation.criteria.fixedscale`;
 - ``pred_p_2m``, ``pred_p_5m``, ``pred_p_10m`` [m] and ``pred_gamma_2m``,
   ``pred_gamma_5m``, ``pred_gamma_10m`` [rad]:
@@ -78,6 +79,7 @@ class Criterion:
 
 TABLE: tuple[Criterion, ...] = (
     Criterion({"eps_gamma": "rad"}, "artic.validation.criteria.articulation:of_run", "rms"),
+    Criterion({"eps_cover": "m"}, "artic.validation.criteria.coverage:of_run", "rms"),
     Criterion({"eps_n_fixed": "%"}, "set", "set"),
     Criterion({c: prediction.UNITS[c] for c in prediction.COLUMNS}, "model", "mean"),
     Criterion({c: dock.UNITS[c] for c in dock.COLUMNS}, "artic.validation.criteria.dock:of_run",

@@ -41,7 +41,7 @@ import pandas as pd
 
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.logs import consistency
+from artic.validation.logs import consistency, noise
 from artic.validation.logs.channelmap import GEODETIC, POSE, RATES, ChannelMap, Entry
 from artic.validation.logs.checks import MAX_JUMP, Report, check_jumps, clean_time, fill_nan_runs
 from artic.validation.logs.consistency import CANONICAL, Context
@@ -244,6 +244,8 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
                       "import": {"file": source, "channels": chmap.path}}
         if derived:
             meta["derived"] = derived
+        if chmap.noise:
+            meta[noise.META_KEY] = noise.to_meta(chmap.noise)
         if len(spans) > 1:
             # from the log's first sample [s]: where the segment lies in the source
             meta["segment"] = {"index": k, "of": len(spans), "t0": a - origin,

@@ -40,6 +40,12 @@ the pose (:mod:`artic.validation.logs.differentiate`); ``gamma_rate`` is
 optional; without ``delta_h`` the models are steered from the measured yaw
 rate (:mod:`artic.validation.harness.yawsteer`). Everything derived is marked as
 derived in the run's metadata, the import report and ``artic validate``.
+
+A map may also declare its sensors' noise in a ``[noise]`` table (standard
+deviation, correlation time and bias per channel,
+:mod:`artic.validation.logs.noise`); the logs imported through it carry the
+declaration in their metadata, and ``artic validate`` prints the score a
+perfect model would get from that noise alone.
 """
 
 from __future__ import annotations
@@ -135,6 +141,8 @@ class ChannelMap:
     window: float = WINDOW
     bag: bool = False
     notes: list[str] = field(default_factory=list)
+    noise: dict = field(default_factory=dict)
+    """The declared sensor noise per channel (:class:`artic.validation.logs.noise.ChannelNoise`)."""
 
     def units(self) -> tuple[int, ...]:
         """The units (1, 2) whose pose the map names."""
@@ -207,10 +215,15 @@ def read_map(path: Path | dict) -> ChannelMap:
             raise LogError(f"{path}: no such channel map") from exc
         except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
             raise LogError(f"{path}: cannot read as TOML ({exc})") from exc
-    unknown = sorted(set(data) - {"time", "channels", "derive"})
+    unknown = sorted(set(data) - {"time", "channels", "derive", "noise"})
     if unknown:
         raise LogError(f"{path}: unknown section(s) {', '.join(unknown)}; a channel map has "
-                       "[time], [channels] and optionally [derive]")
+                       "[time], [channels] and optionally [derive] and [noise]")
+    noise = {}
+    if "noise" in data:
+        from artic.validation.logs.noise import parse_noise  # it reads this module's units
+
+        noise = parse_noise(data["noise"], str(path))
     time = data.get("time")
     if not isinstance(time, dict):
         raise LogError(f'{path}: missing [time]; add column = "..." and unit = "s" for a CSV, '
@@ -251,7 +264,7 @@ def read_map(path: Path | dict) -> ChannelMap:
     entries = {c: _entry(path, f"channels.{c}", spec, bag) for c, spec in channels.items()}
     _check_coverage(path, entries)
     return ChannelMap(str(path), entries, t_col, t_factor, source,
-                      None if max_gap is None else float(max_gap), window, bag)
+                      None if max_gap is None else float(max_gap), window, bag, noise=noise)
 
 
 def _time_entry(path, spec: dict) -> Entry:
