@@ -85,6 +85,16 @@ class Command:
         The plan's points the controller tracks, rows ``(x, y)`` [m]: first
         the one it compares itself with now, then those its horizon aims at,
         for the recording.
+
+    Examples
+    --------
+    Reverse at 1 m/s with the steering wheel a quarter turn to the left:
+
+    >>> import math
+    >>> import artic
+    >>> command = artic.Command(delta_h=math.radians(90.0), u1=-1.0)
+    >>> command.u1 < 0, command.done
+    (True, False)
     """
 
     delta_h: float
@@ -129,7 +139,31 @@ class Task:
 
 
 class Controller:
-    """Base of the docking controllers; subclasses write :meth:`command`."""
+    """Base of the docking controllers; subclasses write :meth:`command`.
+
+    Examples
+    --------
+    A controller that reverses straight back, with the helpers of the base class
+    (``artic dock --controller my_module:Straight`` runs it):
+
+    >>> import artic
+    >>> class Straight(artic.Controller):
+    ...     name = "straight"
+    ...     def command(self, obs):
+    ...         distance, lateral, heading = self.dock_errors(obs)
+    ...         return artic.Command(self.steering_wheel(0.0), u1=-1.0, done=distance < 0.1)
+    >>> from artic.validation.docking.controllers.base import Observation, Task
+    >>> from artic.validation.docking.scenarios import make_yard
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> controller = Straight()
+    >>> controller.reset(Task(vehicle, make_yard(vehicle), None, dt=0.1, speed=1.0,
+    ...                       speed_max=2.0, accel_max=0.5, steer_rate=1.0))
+    >>> import numpy as np
+    >>> signals = np.zeros(13)  # both units at the origin, heading 0 [m, rad]
+    >>> command = controller.command(Observation(t=0.0, signals=signals, delta_h=0.0))
+    >>> command.u1, command.done
+    (-1.0, False)
+    """
 
     name = "controller"
 
