@@ -334,7 +334,8 @@ def prediction_errors(model: Model, log: Run, vehicle: Vehicle, spacing: float =
             short.append(f"{h:g} m")
     notes = []
     if left_out:
-        notes.append(f"{left_out} of {len(starts)} start points left out: the log holds no "
+        usable = int((ends >= 0).any(axis=1).sum())
+        notes.append(f"{left_out} of {usable} start points left out: the log holds no "
                      "state of the truth there (generate it again)")
     if short:
         notes.append(f"no start point has {' or '.join(short)} of reverse travel after it "

@@ -242,6 +242,11 @@ class TruthPlant(Plant):
                              "written for it (a coefficient out of range?)")
 
     # ------------------------------------------------------------ state
+    reset_steady = None
+    """None: the plant's steady start (:meth:`artic.plant.Plant.reset_steady`) knows
+    PAC2002's treads and the plant's tie rod, not this truth's; the truth starts
+    from its own recorded state (:meth:`set_full_state`) instead."""
+
     def full_state(self) -> np.ndarray:
         """Everything the truth's motion from now on depends on, as one float64 vector.
 
