@@ -145,13 +145,13 @@ def test_the_plant_predicts_through_its_compiled_loop(log, unloaded):
 def test_truth_states_come_back_exactly_from_the_metadata(log):
     import json
 
+    from artic.validation.criteria.metrics import travelled
     from artic.validation.criteria.prediction import (
         STATE_KEY,
         candidates,
         record_states,
         truth_states,
     )
-    from artic.validation.criteria.metrics import travelled
 
     rng = np.random.default_rng(0)
     states = [rng.normal(size=7) * 10.0 ** rng.integers(-12, 6, 7) for _ in range(len(log.frame))]
