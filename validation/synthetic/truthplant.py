@@ -259,8 +259,10 @@ class TruthPlant(Plant):
         (0 unless the speed is followed: the truth's driver on the pedals has
         no follower). The column's drift is the driver's side
         (:class:`artic.validation.synthetic.actuation.SteeringColumn`), not the
-        vehicle's. :meth:`set_full_state` restores it; stepping on from it
-        continues the run to the bit.
+        vehicle's. :meth:`set_full_state` restores it, and stepping on from it
+        continues the run to rounding (1e-10 m and rad over a second: MuJoCo's
+        data after a step hold what its last integrator stage computed, which
+        a restored state has computed afresh).
         """
         m, d = self.model, self.data
         x = np.empty(mujoco.mj_stateSize(m, STATE) + 3)
