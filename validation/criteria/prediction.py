@@ -63,8 +63,8 @@ by degrees. So each model starts from what it would be in at that sample:
 
 Left-out start points are counted in ``meta["prediction"]["left_out"]`` and
 named in its note; the means are over the start points used. On the truth's
-noise-free logs of seed 0 the floor so started predicts itself within 2.3 mm
-and 0.004 deg on the ramp steers and 12 mm and 0.15 deg on docking and
+noise-free logs of seed 0 the floor so started predicts itself within 2.6 mm
+and 0.011 deg on the ramp steers and 12 mm and 0.15 deg on docking and
 parking (34 cm and 7 deg with its hidden states zeroed); the rest is the
 harness's speed follower, which spreads drive and braking over the wheels
 otherwise than the truth's pedals did (``tests/test_floor_prediction.py``).
