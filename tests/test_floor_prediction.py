@@ -61,7 +61,7 @@ def check_every_start(got: dict) -> None:
     per = got["per_start"]
     assert got["left_out"] == 0 and got["stopped"] == 0, got["note"]
     scored = np.isfinite(per["p"])
-    assert scored[:, 0].all()
+    assert scored[:-1, 0].all()  # only the last start point may lack 2 m of log after it
     # Every horizon, every start point scored (not only the 10 m ones).
     assert np.all(per["p"][scored] <= P_MAX), per["p"]
     assert np.all(per["gamma"][scored] <= GAMMA_MAX), np.degrees(per["gamma"])
