@@ -65,6 +65,7 @@ from artic.plant.tyre import (
     deflection_rates,
     longitudinal_tread,
     rolling_resistance,
+    steady_deflections,
     transient_forces,
 )
 
@@ -96,6 +97,14 @@ BRAKE_DECEL_MAX = 0.6
 SPEED_MODES = ("follow", "drive", "pedals")
 """How the plant's tractor speed is controlled (see the module docstring)."""
 
+
+SLIP_KNOWN = 0.5
+"""Wheel speed above which :meth:`Plant.reset_steady` takes a start's slip as known [m/s].
+
+The slip follows from velocities a log measures with about 1 cm/s of noise:
+its angle is uncertain by 45 deg at 1 cm/s and by 1 deg at 0.5 m/s. Below
+this speed the steady deflections are scaled by ``|V| / SLIP_KNOWN`` (as the
+STM scales its lagged slips), so a start at rest has relaxed tyres."""
 
 BACKENDS = ("auto", "c", "numpy")
 """Tyre callback implementations: compiled (:mod:`artic.plant.ctyre`) or the numpy reference."""
@@ -399,6 +408,7 @@ class Plant:
         static = np.array([a.static_load / 2.0 for a, _ in ends])
         self._brake_share = static / static.sum()
         steered = [a.axle.name for a in lay.axles if a.axle.steered]
+        self._steered = steered
         self._servo = [m.actuator(nm.servo(n)).id for n in steered]
         self._servo_range = linkage(v)[2]
         self._steer_L = [m.jnt_qposadr[m.joint(nm.steer(n, "L")).id] for n in steered]
@@ -689,6 +699,53 @@ class Plant:
         self.steer_limited = 0
         mujoco.mj_forward(m, d)
         self._psi[:] = (psi, psi - gamma)
+
+    def reset_steady(self, initial: InitialState) -> None:
+        """Place the combination at ``initial`` in the steady state of that motion.
+
+        :meth:`reset`, and then what a vehicle in that motion carries that the
+        signals do not show, instead of zero:
+
+        - the steered wheels at ``initial.delta`` (the left one, within the
+          linkage's range; the right one through the tie-rod linkage);
+        - every wheel spinning at its rolling speed ``V_x / R_e`` (no
+          longitudinal slip: the wheels roll free under the speed follower);
+        - every tread deflection at its steady state for the wheel's motion
+          (:func:`artic.plant.tyre.steady_deflections`: the slip angle and
+          turn slip the motion gives, held as if the wheel had rolled there
+          for a while), scaled by ``min(1, |V| / SLIP_KNOWN)``
+          (:data:`SLIP_KNOWN`).
+
+        The suspension stays at rest on its springs. The open-loop predictions
+        start the plant so (:mod:`artic.validation.criteria.prediction`): a
+        zeroed start would first build the slip the measured motion already has.
+        """
+        self.reset(initial)
+        m, d = self.model, self.data
+        lo, hi = self._servo_range
+        delta = min(max(float(initial.delta), lo), hi)
+        for name, left, right in zip(self._steered, self._steer_L, self._steer_R, strict=True):
+            poly = m.eq_data[m.equality(nm.tie_rod(name)).id, :5]  # right = poly(left)
+            d.qpos[left] = delta
+            d.qpos[right] = np.polynomial.polynomial.polyval(delta, poly)
+        mujoco.mj_forward(m, d)
+        pos, hx, hy, vel, flat = self._wheel_kinematics(d)
+        rho = self.R0_w - pos[:, 2]
+        Fz = np.maximum(np.where(rho > 0.0, self.k_t_w * rho - self.c_t_w * vel[:, 2], 0.0), 0.0)
+        Vx = np.einsum("ij,ij->i", vel, hx)
+        Vy = np.einsum("ij,ij->i", vel, hy)
+        Re = self.R0_w - np.maximum(rho, 0.0) / 3.0
+        omega_z = d.cvel[self._hub_body][:, 2]
+        d.qvel[self._spin_dof] = Vx / Re
+        gate = np.minimum(1.0, np.hypot(Vx, Vy) / SLIP_KNOWN)
+        for k, p in enumerate(self._tyres):
+            w = (self._tyre_set == k) & ~flat
+            u, v, phi = steady_deflections(p, Fz[w], Vx[w], np.zeros(w.sum()), Vy[w],
+                                           omega_z[w])
+            d.act[self._act_u[w]] = gate[w] * u
+            d.act[self._act_v[w]] = gate[w] * v
+            d.act[self._act_w[w]] = gate[w] * phi
+        mujoco.mj_forward(m, d)
 
     def _speed(self) -> float:
         """Tractor speed along its x-axis [m/s].

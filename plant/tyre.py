@@ -467,6 +467,30 @@ def deflection_rates(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndar
             twist_rate(p, Fz, Vx, omega_z, phi))
 
 
+def steady_deflections(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, Vsx: np.ndarray,
+                       Vy: np.ndarray,
+                       omega_z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The tread deflections ``(u, v, phi)`` at which :func:`deflection_rates` are zero.
+
+    Each rate is linear in its deflection (the twist's piecewise so, in
+    ``|omega_z|`` and ``|V_x|``): ``u = -V_sx sigma_kappa / |V_x|``,
+    ``v = -V_y sigma_alpha / |V_x|`` and ``phi = -omega_z / (|omega_z| / phi_lim
+    + |V_x| / a)``, ``a`` the patch's half length: the tyre that has rolled
+    long enough at this motion. A wheel standing still (``V_x = 0``) has no
+    steady deflection but relaxes none either: 0 there, as for ``phi`` when
+    it neither rolls nor turns. Arguments as :func:`deflection_rates` [N, m/s, rad/s].
+    """
+    Fz = np.maximum(Fz, p.FZMIN)
+    ax = np.abs(Vx)
+    rolls = ax > 0.0
+    safe = np.where(rolls, ax, 1.0)
+    u = np.where(rolls, -Vsx * p.sigma_kappa(Fz) / safe, 0.0)
+    v = np.where(rolls, -Vy * p.sigma_alpha(Fz) / safe, 0.0)
+    rate = np.abs(omega_z) / (TWIST_LIMIT * p.twist_scale(Fz)) + ax / p.patch_half_length(Fz)
+    phi = np.where(rate > 0.0, -omega_z / np.where(rate > 0.0, rate, 1.0), 0.0)
+    return u, v, phi
+
+
 def twist_rate(p: TyreParams, Fz: np.ndarray, Vx: np.ndarray, omega_z: np.ndarray,
                phi: np.ndarray) -> np.ndarray:
     """``dphi/dt`` [rad/s]: yaw, sliding beyond ``phi_lim`` and rolling relaxation."""

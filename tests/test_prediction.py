@@ -140,3 +140,108 @@ def test_the_plant_predicts_through_its_compiled_loop(log, unloaded):
     assert got["starts"] == 6 and got["stopped"] == 0
     assert 1e-4 < got["pred_gamma_10m"] < 0.1
     assert got["pred_p_2m"] < got["pred_p_10m"] < 1.0
+
+
+def test_truth_states_come_back_exactly_from_the_metadata(log):
+    import json
+
+    from artic.validation.criteria.metrics import travelled
+    from artic.validation.criteria.prediction import (
+        STATE_KEY,
+        candidates,
+        record_states,
+        truth_states,
+    )
+
+    rng = np.random.default_rng(0)
+    states = [rng.normal(size=7) * 10.0 ** rng.integers(-12, 6, 7) for _ in range(len(log.frame))]
+    rec = json.loads(json.dumps(record_states(log.frame, states)))  # as meta.json holds it
+    got = truth_states({STATE_KEY: rec})
+    k = candidates(travelled(log.frame))
+    kept = np.unique(np.clip(np.concatenate([k - 1, k, k + 1]), 0, len(states) - 1))
+    np.testing.assert_array_equal(got.t, log.frame["t"].to_numpy()[kept])
+    for i in kept:  # float64, bit for bit
+        assert np.array_equal(got.at(float(log.frame["t"].iloc[i])), states[i])
+    assert got.at(float(log.frame["t"].iloc[kept[0] + 3])) is None
+    rec["size"] = 6
+    with pytest.raises(ValueError, match="damaged"):
+        truth_states({STATE_KEY: rec})
+    assert truth_states({}) is None
+
+
+def test_a_start_point_without_a_truth_state_is_left_out(log, unloaded):
+    from artic.validation.criteria.prediction import TruthStates
+
+    got = prediction_errors(KinematicModel(unloaded, wheelbase="paper"), log, unloaded,
+                            states=TruthStates(np.zeros(0), np.zeros((0, 4))))
+    assert all(math.isnan(got[c]) for c in COLUMNS)
+    assert got["left_out"] == 6 and got["starts"] == 0
+    assert "6 of 6 start points left out" in got["note"]
+
+
+def test_the_reduced_models_start_as_the_harness_starts_them(log, unloaded):
+    from artic.reduced import SingleTrackModel
+    from artic.validation.criteria.prediction import starter
+    from artic.validation.harness.loop import loop_inputs, run_inputs, window
+    from artic.validation.harness.steering import SteeringMap
+
+    for model in (KinematicModel(unloaded), SingleTrackModel(unloaded)):
+        assert starter(model, None, 0.0) == model.reset  # their own reset, unchanged
+        inputs = loop_inputs(log, unloaded, SteeringMap.from_steering(unloaded.steering))
+        part = window(inputs, log.frame, 1500, 2500)
+        a = run_inputs(model, part, unloaded, gain=0.0)[0]
+        b = run_inputs(model, part, unloaded, gain=0.0, start=model.reset)[0]
+        np.testing.assert_array_equal(a, b)
+
+
+def plant_log(plant, log, vehicle) -> Run:
+    """The plant's own closed-loop run of ``log``, with the steering wheel it applied."""
+    from artic.validation.harness.loop import run_closed_loop
+    from artic.validation.harness.steering import SteeringMap
+
+    run = run_closed_loop(plant, log, vehicle, extras=False)
+    frame = run.frame[list(log.frame.columns)].copy()
+    steering = SteeringMap.from_steering(vehicle.steering_for("mbd"))
+    frame["delta_h"] = np.asarray(steering.steering_wheel(run.frame["delta"].to_numpy()))
+    return Run(frame, {"name": "own", "direction": "reverse", "manoeuvre": "test"})
+
+
+def test_the_plants_steady_start_is_closer_to_its_own_run(log, unloaded):
+    from artic.plant import Plant
+
+    with Plant(unloaded) as plant:
+        own = plant_log(plant, log, unloaded)
+        steady = prediction_errors(plant, own, unloaded)
+        plant.reset_steady = None  # the start as it was: hidden states zeroed
+        zeroed = prediction_errors(plant, own, unloaded)
+    # Its own run, restarted every 10 m from its own signals: what is left is
+    # what the signals do not carry. Zeroed, the tyres first build the slip the
+    # swinging semitrailer already has, and the steering wheel turns to it.
+    for c in ("pred_gamma_2m", "pred_gamma_10m", "pred_p_10m"):
+        assert steady[c] < zeroed[c], (c, steady[c], zeroed[c])
+    assert steady["pred_gamma_10m"] < 0.5 * zeroed["pred_gamma_10m"]
+
+
+def test_the_plants_steady_start_holds_its_tyres_where_they_are(unloaded):
+    import dataclasses
+
+    from artic.mjcf.interface import InitialState
+    from artic.plant import Plant
+
+    initial = InitialState(3.0, -2.0, 0.4, math.radians(12.0), v_y_1=0.05, r_1=-0.06,
+                           r_2=-0.02, u1=-1.5, delta=math.radians(8.0))
+    with Plant(unloaded) as plant:
+        plant.reset_steady(initial)
+        obs = plant.observe()
+        # The signals are the initial state's, as reset() gives them.
+        np.testing.assert_allclose(obs[[0, 1, 2, 12]], [3.0, -2.0, 0.4, math.radians(12.0)],
+                                   atol=1e-12)
+        np.testing.assert_allclose(obs[[4, 5, 11]], [0.05, -0.06, -0.02], atol=1e-12)
+        assert plant.data.qpos[plant._steer_L[0]] == pytest.approx(math.radians(8.0))
+        # The lateral treads' rates, which the callback wrote at the forward:
+        # zero at the steady deflections (every wheel rolls above SLIP_KNOWN).
+        steady = np.abs(plant.data.ctrl[plant._tread_v]).max()
+        plant.reset(dataclasses.replace(initial))
+        zeroed = np.abs(plant.data.ctrl[plant._tread_v]).max()
+    assert zeroed > 0.01  # m/s: the lateral slip velocities of a turning, swinging combination
+    assert steady < 1e-9 * zeroed / 0.01

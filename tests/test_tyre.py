@@ -16,6 +16,7 @@ from artic.plant.tyre import (
     deflection_rates,
     forces,
     rolling_resistance,
+    steady_deflections,
     transient_forces,
 )
 from shared_data import REFERENCE_TYRE, needs
@@ -134,6 +135,28 @@ def test_relaxation_time_constant(p):
         v = v + dt * deflection_rates(p, Fz, Vx, 0 * Vx, Vy, 0 * Vx, 0 * v, v, 0 * v)[1]
     v_ss = -Vy * sigma / Vx
     assert v[0] / v_ss[0] == pytest.approx(1 - math.exp(-1), abs=1e-3)
+
+
+def test_steady_deflections_zero_every_rate(p):
+    # Forward and reverse, turning either way, sliding and twisting: each
+    # deflection rate is linear in its deflection (the twist's in |omega_z|
+    # and |V_x|), so the steady state zeroes it to rounding.
+    rng = np.random.default_rng(3)
+    n = 200
+    Fz = rng.uniform(5e3, 60e3, n)
+    Vx = rng.uniform(-3.0, 3.0, n)
+    Vsx, Vy = rng.normal(0.0, 0.05, n), rng.normal(0.0, 0.2, n)
+    wz = rng.normal(0.0, 0.3, n)
+    u, v, phi = steady_deflections(p, Fz, Vx, Vsx, Vy, wz)
+    rates = deflection_rates(p, Fz, Vx, Vsx, Vy, wz, u, v, phi)
+    scale = (np.abs(Vsx), np.abs(Vy), np.abs(wz))  # each rate's terms are of this size
+    for r, s in zip(rates, scale, strict=True):
+        np.testing.assert_allclose(r, 0.0, atol=1e-12 * max(float(s.max()), 1.0))
+    # v is the slip angle's: tan(alpha) = -v / sigma_alpha = V_y / |V_x|.
+    np.testing.assert_allclose(-v / p.sigma_alpha(Fz), Vy / np.abs(Vx), rtol=1e-12)
+    # Standing still, nothing is steady but nothing relaxes either: zero, finite.
+    still = steady_deflections(p, Fz[:3], np.zeros(3), Vsx[:3], Vy[:3], np.zeros(3))
+    assert all(np.all(x == 0.0) for x in still)
 
 
 def test_finite_and_smooth_through_zero_speed(p):

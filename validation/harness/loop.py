@@ -49,6 +49,7 @@ reference the plant's C loop is tested against.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -231,11 +232,15 @@ def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) 
 
 def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
                gain: float = DEFAULT_GAIN,
-               extras: dict[str, np.ndarray] | None = None) -> tuple[np.ndarray, ...]:
+               extras: dict[str, np.ndarray] | None = None,
+               start: Callable[[InitialState], None] | None = None) -> tuple[np.ndarray, ...]:
     """Drive a model through prepared inputs.
 
     With ``extras`` (a dict), a model with ``extras()`` (the plant) has its
     per-sample outputs beyond the schema stored there by column name, as float32.
+    ``start`` puts the model into its first state, given ``inputs.initial``;
+    ``model.reset`` by default (the open-loop predictions start models in
+    other ways, :func:`artic.validation.criteria.prediction.starter`).
 
     Returns
     -------
@@ -245,7 +250,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         Rows computed; fewer than the inputs when the model left the
         plausible range (see :func:`artic.validation.harness.reducedloop.compiled_loop`).
     """
-    model.reset(inputs.initial)
+    (model.reset if start is None else start)(inputs.initial)
     args = loop_args(inputs, vehicle, gain)
     form = model.compiled()
     if form is not None:

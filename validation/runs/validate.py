@@ -33,7 +33,7 @@ from artic.validation.criteria import columns as extra
 from artic.validation.criteria.direction import direction_of
 from artic.validation.criteria.fixedscale import Scale, campaign_scale, eps_n_fixed
 from artic.validation.criteria.metrics import CRITERIA, run_metrics
-from artic.validation.criteria.prediction import prediction_errors
+from artic.validation.criteria.prediction import TruthStates, prediction_errors, truth_states
 from artic.validation.harness.loop import DEFAULT_GAIN, run_closed_loop
 from artic.validation.logs.runfile import (
     META_KEY,
@@ -44,7 +44,7 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.models import build
+from artic.validation.models import build, spec
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -290,7 +290,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
                 build_s = t0 - t_build
                 run = run_closed_loop(model, log, vehicle, gain)
                 wall = time.perf_counter() - t0
-                run.meta["prediction"] = _predict(model, log, vehicle)
+                run.meta["prediction"] = _predict(model, log, vehicle, name)
             finally:
                 model.close()
     except (MemoryError, RecursionError):
@@ -316,10 +316,19 @@ def _simulate_counted(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Ve
     return run, wall, counted
 
 
-def _predict(model, log: Run, vehicle: Vehicle) -> dict:
-    """:func:`prediction_errors`, or NaN with the reason when the model fails in one."""
+def _predict(model, log: Run, vehicle: Vehicle, name: str) -> dict:
+    """:func:`prediction_errors`, or NaN with the reason when the model fails in one.
+
+    The floor (the reference row) starts from the truth's states the log
+    holds (:func:`artic.validation.criteria.prediction.truth_states`); a truth
+    that has states (``set_full_state``) but whose log holds none leaves
+    every start point out rather than start with its hidden states zeroed.
+    """
     try:
-        return prediction_errors(model, log, vehicle)
+        states = truth_states(log.meta) if spec(name).reference else None
+        if states is None and spec(name).reference and hasattr(model, "set_full_state"):
+            states = TruthStates(np.zeros(0), np.zeros((0, 0)))
+        return prediction_errors(model, log, vehicle, states=states)
     except (MemoryError, RecursionError):
         raise
     except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point

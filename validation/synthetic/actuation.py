@@ -157,18 +157,23 @@ class TruthActuation:
         Free play and drift.
     pedals : PedalDriver, optional
         Without one, the plant's own ``speed`` mode takes the speed command.
+    record : bool
+        Keep the plant's full state (``plant.full_state()``) at every
+        :meth:`observe`, in :attr:`states`: the state each sample was taken in.
     """
 
     name = "mbd"
 
     def __init__(self, plant, steering: SteeringMap, column: SteeringColumn,
-                 pedals: PedalDriver | None = None) -> None:
+                 pedals: PedalDriver | None = None, record: bool = False) -> None:
         self.plant = plant
         self.steering = steering
         self.column = column
         self.pedals = pedals
         self.delta_h: list[float] = []
         self.t = 0.0
+        self.states: list[np.ndarray] | None = [] if record else None
+        """The plant's full state at every :meth:`observe` since :meth:`reset` (``record``)."""
 
     def reset(self, initial: InitialState) -> None:
         """Reset the plant, the column and the driver."""
@@ -178,6 +183,8 @@ class TruthActuation:
             self.pedals.reset(initial.u1)
         self.delta_h = []
         self.t = 0.0
+        if self.states is not None:
+            self.states = []
 
     def step_steering_wheel(self, dt: float, delta_h: float, u1: float, u1_dot: float) -> None:
         """Advance ``dt`` [s]: steering wheel at ``delta_h`` [rad], target speed ``u1``."""
@@ -195,7 +202,9 @@ class TruthActuation:
         self.step_steering_wheel(dt, float(self.steering.steering_wheel(delta)), u1, u1_dot)
 
     def observe(self, delta: float | None = None) -> np.ndarray:
-        """The plant's signals."""
+        """The plant's signals (and, recording, its full state now)."""
+        if self.states is not None:
+            self.states.append(self.plant.full_state())
         return self.plant.observe(delta)
 
     @property

@@ -54,6 +54,7 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import PlantWarning
 from artic.validation.cli.progress import BUDGET, Counter
+from artic.validation.criteria.prediction import STATE_KEY, record_states
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
@@ -185,7 +186,10 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
                          gain=truth["driver_gain"]) if structural else None
     h = timestep_for(m.kind) if timestep is None else timestep
     with truth_model(vt, truth, "pedals" if structural else "drive", h) as p:
-        plant = TruthActuation(p, steering, column, pedals)
+        # The truth's own state at every sample of a reverse run, for the floor's
+        # open-loop predictions (kept at their start points only, below).
+        plant = TruthActuation(p, steering, column, pedals,
+                               record=m.direction == "reverse" and hasattr(p, "full_state"))
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
         # The driver may ask for more wheel angle than the linkage gives at
         # lock, as a real driver turns the wheel against its stop; the plant
@@ -201,6 +205,8 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
             "seed": seed, "truth": truth, "slope": where, "source": "synthetic",
             "peak_articulation": float(np.max(np.abs(obs[:, 12]))),
             "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
+    if plant.states:
+        meta[STATE_KEY] = record_states(measured, plant.states)
     return Run(measured, meta)
 
 

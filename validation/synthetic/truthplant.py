@@ -83,6 +83,9 @@ DUAL_SPACING = 0.35
 ASSIST = "column.assist"
 """The integrator actuator whose activation is the assist torque [N m]."""
 
+STATE = int(mujoco.mjtState.mjSTATE_FULLPHYSICS | mujoco.mjtState.mjSTATE_WARMSTART)
+"""The parts of MuJoCo's state :meth:`TruthPlant.full_state` holds (``mj_getState``)."""
+
 
 def second_tread(axle: str, side: str, direction: str) -> str:
     """The tread actuators of a twin's second tyre."""
@@ -237,6 +240,56 @@ class TruthPlant(Plant):
         if not truthc.block_ok(m):
             raise ValueError(f"{self.vehicle.name}: the compiled truth refuses the block "
                              "written for it (a coefficient out of range?)")
+
+    # ------------------------------------------------------------ state
+    reset_steady = None
+    """None: the plant's steady start (:meth:`artic.plant.Plant.reset_steady`) knows
+    PAC2002's treads and the plant's tie rod, not this truth's; the truth starts
+    from its own recorded state (:meth:`set_full_state`) instead."""
+
+    def full_state(self) -> np.ndarray:
+        """Everything the truth's motion from now on depends on, as one float64 vector.
+
+        MuJoCo's :data:`STATE` (time, ``qpos``, ``qvel``, ``act`` and the
+        solver's warm start): the bodies, the steered wheels, the column's
+        torsion bar (the steering joints' angles; its play is a dead zone of
+        them, without memory), the assist (an activation), and every tyre's
+        deflections, the twin's second tyres' too (activations). Then the two
+        unwrapped headings [rad] and the speed follower's integral [m]
+        (0 unless the speed is followed: the truth's driver on the pedals has
+        no follower). The column's drift is the driver's side
+        (:class:`artic.validation.synthetic.actuation.SteeringColumn`), not the
+        vehicle's. :meth:`set_full_state` restores it, and stepping on from it
+        continues the run to rounding (1e-10 m and rad over a second: MuJoCo's
+        data after a step hold what its last integrator stage computed, which
+        a restored state has computed afresh).
+        """
+        m, d = self.model, self.data
+        x = np.empty(mujoco.mj_stateSize(m, STATE) + 3)
+        mujoco.mj_getState(m, d, x[:-3], STATE)
+        x[-3:-1] = self._psi
+        x[-1] = self._integral if self.speed_mode == "follow" else 0.0
+        return x
+
+    def set_full_state(self, x: np.ndarray) -> None:
+        """Put the truth in the state :meth:`full_state` returned (of a truth of this vehicle).
+
+        Raises
+        ------
+        ValueError
+            For a vector of another length (another vehicle's state).
+        """
+        m, d = self.model, self.data
+        x = np.asarray(x, dtype=float)
+        n = mujoco.mj_stateSize(m, STATE) + 3
+        if x.shape != (n,):
+            raise ValueError(f"{self.vehicle.name}: a full state has {n} numbers, got "
+                             f"{x.size}: it is another vehicle's")
+        mujoco.mj_setState(m, d, x[:-3], STATE)
+        self._psi[:] = x[-3:-1]
+        self._integral = float(x[-1])
+        self.steer_limited = 0
+        mujoco.mj_forward(m, d)
 
     # ------------------------------------------------------------ outputs
     @property
