@@ -603,7 +603,7 @@ void artic_truth_passive(const mjModel* m, mjData* d) {
  * numbers arrive as plain arrays the Python side builds (no block in the model):
  *
  *   par: [n_sets, n_ends, n_z, follow, kv_mass, tau, fifth_roll_dof, lash, lash_w,
- *         k_roll, c_roll, drive_site, drive_body, has_column]
+ *         k_roll, c_roll, drive_site, drive_body, has_column, z_follow]
  *        then the tyre sets (TYRE_PARAMS order), the column (COLUMN_PARAMS order:
  *        its ids slot .. assist_ctrl are read as steer_l/r qpos and dofs, and
  *        assist_act as the index of the assist torque in z), then the ends (Y_END).
@@ -611,11 +611,11 @@ void artic_truth_passive(const mjModel* m, mjData* d) {
  *         u_dot [m/s^2], t0 [s] (the ramp's start), drive torque [N m] (pedals)]
  *   z:   the hidden states, read and written.
  *   out: per end the sum of its tyres' forces (3), then the column's box,
- *        torsion-bar and tie-rod torques.
+ *        torsion-bar and tie-rod torques and the fifth wheel's roll torque.
  */
-#define Y_PAR 14
+#define Y_PAR 15
 enum { YP_NSETS, YP_NENDS, YP_NZ, YP_FOLLOW, YP_KV, YP_TAU, YP_FROLL, YP_LASH, YP_LASHW,
-       YP_KROLL, YP_CROLL, YP_DSITE, YP_DBODY, YP_COLUMN };
+       YP_KROLL, YP_CROLL, YP_DSITE, YP_DBODY, YP_COLUMN, YP_ZFOLLOW };
 
 #define Y_END_FIELDS(X) \
   X(hub_site) X(hub_body) X(wheel_body) X(spin_dof) X(n_tyres) X(tyre_set) X(half_spacing) \
@@ -673,16 +673,20 @@ static void yard_end(const mjModel* m, const mjData* d, const double* p, const d
   }
 }
 
-/* The follower's force [N]: the combination's mass over tau times the speed error,
- * plus the mass times the wanted acceleration, at the drive axle's site. */
+/* The follower's force [N]: the combination's mass times the wanted acceleration,
+ * plus a critically damped proportional and integral answer to the speed error at
+ * the drive axle's site over the time constant tau; the error's integral is a
+ * hidden state (z[z_follow]), whose rate this writes. */
 static double yard_follow_force(const mjModel* m, const mjData* d, const double* par,
-                                double u, double u_dot) {
-  int site = (int)par[YP_DSITE], body = (int)par[YP_DBODY];
+                                double u, double u_dot, const double* z, double* zdot) {
+  int site = (int)par[YP_DSITE], body = (int)par[YP_DBODY], zi = (int)par[YP_ZFOLLOW];
   const mjtNum* R = d->site_xmat + 9 * site;
   double v[3];
   point_velocity(d, body, m->body_rootid[body], d->site_xpos + 3 * site, v);
   double along = (v[0] * R[0] + v[1] * R[3]) / fmax(hypot(R[0], R[3]), 1e-9);
-  return par[YP_KV] * (u_dot + (u - along) / par[YP_TAU]);
+  double tau = par[YP_TAU], e = u - along;
+  zdot[zi] = e;
+  return par[YP_KV] * (u_dot + 2.0 * e / tau + z[zi] / (tau * tau));
 }
 
 static void yard_forces(const mjModel* m, const mjData* d, const double* par, const double* ctl,
@@ -696,7 +700,7 @@ static void yard_forces(const mjModel* m, const mjData* d, const double* par, co
   double F = 0.0, gear = 1.0;
   if (par[YP_FOLLOW] != 0.0) {
     double u = ctl[1] + ctl[2] * (d->time - ctl[3]);
-    F = yard_follow_force(m, d, par, u, ctl[2]);
+    F = yard_follow_force(m, d, par, u, ctl[2], z, zdot);
     gear = u >= 0.0 ? 1.0 : -1.0;
   }
   for (int i = 0; i < ne; i++, e += N_YEND) {
@@ -711,13 +715,14 @@ static void yard_forces(const mjModel* m, const mjData* d, const double* par, co
   }
   /* the fifth wheel's roll: free within its lash, then its rubber bushes */
   int fr = (int)par[YP_FROLL];
+  double* diag = out + 3 * ne;
+  diag[0] = diag[1] = diag[2] = diag[3] = 0.0;
   if (fr >= 0) {
     int qa = m->jnt_qposadr[m->dof_jntid[fr]];
-    qfrc[fr] -= par[YP_KROLL] * dead_zone(d->qpos[qa], 0.5 * par[YP_LASH], par[YP_LASHW])
-                + par[YP_CROLL] * d->qvel[fr];
+    diag[3] = -par[YP_KROLL] * dead_zone(d->qpos[qa], 0.5 * par[YP_LASH], par[YP_LASHW])
+              - par[YP_CROLL] * d->qvel[fr];
+    qfrc[fr] += diag[3];
   }
-  double* diag = out + 3 * ne;
-  diag[0] = diag[1] = diag[2] = 0.0;
   if (nc) {
     int ql = (int)col[C_steer_l_qpos], qr = (int)col[C_steer_r_qpos];
     int vl = (int)col[C_steer_l_dof], vr = (int)col[C_steer_r_dof];

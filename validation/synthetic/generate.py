@@ -73,7 +73,7 @@ from artic.validation.synthetic.truth import (
     truth_vehicle,
     write_truth_files,
 )
-from artic.validation.synthetic.truthplant import timestep_for, truth_model
+from artic.validation.synthetic.truthplant import timestep_for, truth_actuation, truth_model
 
 META_FILE = "meta.json"
 
@@ -185,7 +185,7 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
                          gain=truth["driver_gain"]) if structural else None
     h = timestep_for(m.kind) if timestep is None else timestep
     with truth_model(vt, truth, "pedals" if structural else "drive", h) as p:
-        plant = TruthActuation(p, steering, column, pedals)
+        plant = truth_actuation(p, steering, column, pedals)
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
         # The driver may ask for more wheel angle than the linkage gives at
         # lock, as a real driver turns the wheel against its stop; the plant

@@ -80,10 +80,11 @@ ROLL_STEER = {"front": 0.10, "drive": 0.06, "trailer": 0.03}
 frame], understeering: the front axle on leaf springs, the drive axle on trailing
 links, the semitrailer's axles on trailing arms."""
 
-ANTI_ROLL = {"front": 2.0e5, "drive": 3.0e5, "trailer": 2.5e5}
-"""Roll stiffness per axle from its springs' spread and anti-roll bar [N m/rad]."""
+ANTI_ROLL = {"front": 6.0e5, "drive": 1.2e6, "trailer": 7.0e5}
+"""Roll stiffness per axle against its frame, from its springs' spread and anti-roll
+bar [N m/rad]: heavy-truck axles have 0.5-2 MN m/rad."""
 
-ROLL_DAMPING = 2.0e4
+ROLL_DAMPING = 3.0e4
 """Roll damping of each axle against its frame [N m s/rad]."""
 
 KNUCKLE_INERTIA = 18.0
@@ -92,6 +93,11 @@ of the steering gear it drives [kg m^2]."""
 
 KINGPIN_LIMIT = 0.95
 """The knuckles' stops [rad]: past any lock the column reaches."""
+
+BRAKE_SOLIMP = [0.999, 0.9999, 0.001, 0.5, 2.0]
+"""The brakes' (the spin joints' friction) constraint impedance: near 1, a dry
+friction that holds (MuJoCo's default 0.9-0.95 lets a braked wheel creep at a
+speed proportional to its torque)."""
 
 TWIN_SPACING = 0.35
 """Centre distance of twin tyres [m]."""
@@ -309,8 +315,10 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
                 hub_pos = [0.0, sy * 0.5 * a.track, 0.0]
             hub_parent.add_site(name=f"hub.{a.name}.{side}", pos=hub_pos)
             wheel = hub_parent.add_body(name=f"wheel.{a.name}.{side}", pos=hub_pos)
+            # the brakes are dry friction on the spin (set as the pedal asks); near-hard,
+            # so that a braked truck stands instead of creeping on the solver's softness
             wheel.add_joint(name=f"spin.{a.name}.{side}", type=mujoco.mjtJoint.mjJNT_HINGE,
-                            axis=[0, 1, 0])
+                            axis=[0, 1, 0], solimp_friction=BRAKE_SOLIMP)
             wheel.mass = wheel_mass
             wheel.inertia = [0.6 * a.wheel_inertia, a.wheel_inertia, 0.6 * a.wheel_inertia]
             ends.append({"axle": a.name, "side": side, "dual": a.dual, "steered": a.steered,

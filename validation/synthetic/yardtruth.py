@@ -63,8 +63,9 @@ BRAKE_DECEL_MAX = 0.55
 PARKING_GRADE = 0.2
 """The grade the parking brake holds [-]."""
 
-FOLLOW_TAU = 0.05
-"""The floor's speed follower: its speed error's time constant [s]."""
+FOLLOW_TAU = 0.1
+"""The floor's speed follower: the time constant of its critically damped
+proportional and integral answer to the speed error [s]."""
 
 TORSION_BAR = math.degrees(1.8)
 """The column's torsion bar [N m/rad at the steering wheel]: 1.8 N m/deg."""
@@ -211,7 +212,7 @@ class YardTruth:
         self._par, self.n_z, self._assist = self._parameters()
         self.z = np.zeros(self.n_z)
         self._zdot = np.zeros(self.n_z)
-        self._out = np.zeros(3 * len(self.layout.ends) + 3)
+        self._out = np.zeros(3 * len(self.layout.ends) + 4)
         self._ctl = np.zeros(5)
         self.pedals = (0.0, 0.0)
         """Throttle and brake in [0, 1], with ``speed="pedals"``."""
@@ -258,12 +259,13 @@ class YardTruth:
                   "steer_r_qpos": m.jnt_qposadr[lay.steer_r],
                   "steer_r_dof": m.jnt_dofadr[lay.steer_r], "assist_act": nz, "assist_ctrl": 0}
         assist = nz
-        nz += 1
+        nz += 2  # the assist's torque, the follower's integral
         col = [float(column[k]) for k in _names("artic_truth_column_names")]
         head = [len(sets), len(lay.ends), nz, 1.0 if self.speed_mode == "follow" else 0.0,
                 lay.mass, FOLLOW_TAU, lay.fifth_roll, yardbuild.FIFTH_WHEEL_LASH,
                 0.02 * yardbuild.FIFTH_WHEEL_LASH, yardbuild.FIFTH_WHEEL_ROLL,
-                yardbuild.FIFTH_WHEEL_ROLL_DAMPING, lay.drive_site, lay.drive_body, 1.0]
+                yardbuild.FIFTH_WHEEL_ROLL_DAMPING, lay.drive_site, lay.drive_body, 1.0,
+                assist + 1]
         if len(head) != int(library().artic_yard_header()):
             raise YardUnavailable("the compiled yard truth's header differs; reinstall artic")
         par = np.concatenate([head, *[self.tyres[a].vector() for a in sets], col,
@@ -448,6 +450,11 @@ class YardTruth:
         return {"box": float(self._out[k]), "torsion_bar": float(self._out[k + 1]),
                 "tie_rod": float(self._out[k + 2])}
 
+    @property
+    def fifth_wheel_torque(self) -> float:
+        """The fifth wheel's bushes' roll torque on the plate of the last step [N m]."""
+        return float(self._out[3 * len(self.layout.ends) + 3])
+
     def wheel_loads(self) -> np.ndarray:
         """Each wheel end's vertical tyre force of the last step [N]."""
         return self._out[2:3 * len(self.layout.ends):3].copy()
@@ -536,6 +543,8 @@ class YardSeat:
         self.pedals = pedals
         s = truth.vehicle.steering_for("mbd")
         self.i_s, self.offset = s.i_s, s.delta_h_offset
+        self.steering = self
+        """The gear as a steering map (``steering_wheel``, ``road_wheel``), for the docking run."""
         self.delta_h: list[float] = []
         self.t = 0.0
 
@@ -546,6 +555,8 @@ class YardSeat:
     def steering_wheel(self, delta: float) -> float:
         """The steering-wheel angle that stands for left-wheel angle ``delta`` [rad]."""
         return delta * self.i_s + self.offset
+
+    road_wheel = gear
 
     def reset(self, initial: InitialState) -> None:
         """Reset the truth, the column's play and drift, and the driver."""
