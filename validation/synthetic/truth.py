@@ -2,17 +2,16 @@
 
 A campaign's truth is drawn once from its seed. Three kinds:
 
-- ``"independent"`` (the default): a vehicle that shares neither the tyre
-  formula nor the steering model of the plant under validation. It is its own
-  MuJoCo model (:class:`artic.validation.synthetic.truthplant.TruthPlant`, whose
-  docstring tabulates every difference): TMeasy tyres (another family than the
-  plant's PAC2002, :mod:`artic.validation.synthetic.tmeasy`) fitted to the same
-  shipped tyre files, twin tyres as two tyres, caster, and a compliant steering
-  column with free play and a lagged hydraulic assist, whose right wheel
-  follows the left through a compliant tie rod on the exact trapezoid
-  (:mod:`artic.validation.synthetic.column`). It takes every draw of the
-  structural truth below as well: the play is the column's, the drift of its
-  zero stays the random process it was.
+- ``"independent"`` (the default): a vehicle with its own skeleton, sharing no
+  code with the plant under validation
+  (:class:`artic.validation.synthetic.yardtruth.YardTruth`, whose docstring
+  tabulates every difference): its own MuJoCo model with frame torsion, a cab
+  on mounts, a fifth wheel with roll lash and roll steer, TMeasy tyres from a
+  published truck-tyre set, a compliant column with play and assist, its own
+  loop. It takes every draw of the structural truth below, and then its own
+  masses, inertias, centres of gravity, fifth-wheel setting and tyres, drawn
+  around values offset from the presets (:data:`OFFSETS`): the presets are a
+  specification sheet, not the truck's mean.
 - ``"structural"``: the plant itself, differing from the validated presets
   in structure, not only in scale. Each effect below is one that the
   presets leave out, drawn within a stated range:
