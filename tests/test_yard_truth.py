@@ -279,3 +279,25 @@ def test_the_fifth_wheel_rolls_free_within_its_lash(unloaded):
     # past it by 1 mrad: the bushes' stiffness (the edge's smoothing and one
     # step's motion change it by a few per cent)
     assert torques[1] == pytest.approx(-k * 1e-3, rel=0.1)
+
+
+def test_the_follower_asks_no_more_than_the_drive_gives(unloaded):
+    # The floor's follower under a demand far past the drive (5 m/s^2 in reverse):
+    # its force is held at what the driven tyres carry without spinning up and its
+    # integral stops, so the driven wheels roll with the ground instead of
+    # spinning up without end (a noisy log's speed once asked for that).
+    from artic.validation.synthetic.yardtruth import FOLLOW_TRACTION
+
+    loads = yardbuild.static_loads(unloaded)
+    limit = FOLLOW_TRACTION * sum(loads[a.name] for a in unloaded.axles if a.driven)
+    a_max = limit / (unloaded.m1 + unloaded.m2)
+    with YardTruth(unloaded) as t:
+        t.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=0.0))
+        for k in range(100):
+            t.step(0.01, 0.0, -0.05 * k, -5.0)
+        v = t.observe()[3]
+        spin = t.data.qvel[t._spin] * np.array([t.tyres[e["axle"]].r0 for e in t.layout.ends])
+    # 1 s at the limit, less the rolling resistance (0.06 m/s^2) and the start
+    assert -a_max * 1.02 < v < -a_max * 0.85, (v, a_max)
+    # every wheel rolls within the tyres' traction slip of the ground (a tenth)
+    assert np.max(np.abs(spin - v)) < 0.1 * abs(v)

@@ -603,7 +603,7 @@ void artic_truth_passive(const mjModel* m, mjData* d) {
  * numbers arrive as plain arrays the Python side builds (no block in the model):
  *
  *   par: [n_sets, n_ends, n_z, follow, kv_mass, tau, fifth_roll_dof, lash, lash_w,
- *         k_roll, c_roll, drive_site, drive_body, has_column, z_follow]
+ *         k_roll, c_roll, drive_site, drive_body, has_column, z_follow, f_drive, f_brake]
  *        then the tyre sets (TYRE_PARAMS order), the column (COLUMN_PARAMS order:
  *        its ids slot .. assist_ctrl are read as steer_l/r qpos and dofs, and
  *        assist_act as the index of the assist torque in z), then the ends (Y_END).
@@ -613,9 +613,9 @@ void artic_truth_passive(const mjModel* m, mjData* d) {
  *   out: per end the sum of its tyres' forces (3), then the column's box,
  *        torsion-bar and tie-rod torques and the fifth wheel's roll torque.
  */
-#define Y_PAR 15
+#define Y_PAR 17
 enum { YP_NSETS, YP_NENDS, YP_NZ, YP_FOLLOW, YP_KV, YP_TAU, YP_FROLL, YP_LASH, YP_LASHW,
-       YP_KROLL, YP_CROLL, YP_DSITE, YP_DBODY, YP_COLUMN, YP_ZFOLLOW };
+       YP_KROLL, YP_CROLL, YP_DSITE, YP_DBODY, YP_COLUMN, YP_ZFOLLOW, YP_FDRIVE, YP_FBRAKE };
 
 #define Y_END_FIELDS(X) \
   X(hub_site) X(hub_body) X(wheel_body) X(spin_dof) X(n_tyres) X(tyre_set) X(half_spacing) \
@@ -676,17 +676,27 @@ static void yard_end(const mjModel* m, const mjData* d, const double* p, const d
 /* The follower's force [N]: the combination's mass times the wanted acceleration,
  * plus a critically damped proportional and integral answer to the speed error at
  * the drive axle's site over the time constant tau; the error's integral is a
- * hidden state (z[z_follow]), whose rate this writes. */
+ * hidden state (z[z_follow]), whose rate this writes. The force is what the
+ * truck's drive (f_drive, the way of travel) and brakes (f_brake) can give; while
+ * it is held at either, the integral stops (no wind-up: a demand past the drive
+ * would spin the driven wheels up without end). */
 static double yard_follow_force(const mjModel* m, const mjData* d, const double* par,
-                                double u, double u_dot, const double* z, double* zdot) {
+                                double u, double u_dot, double gear, const double* z,
+                                double* zdot) {
   int site = (int)par[YP_DSITE], body = (int)par[YP_DBODY], zi = (int)par[YP_ZFOLLOW];
   const mjtNum* R = d->site_xmat + 9 * site;
   double v[3];
   point_velocity(d, body, m->body_rootid[body], d->site_xpos + 3 * site, v);
   double along = (v[0] * R[0] + v[1] * R[3]) / fmax(hypot(R[0], R[3]), 1e-9);
   double tau = par[YP_TAU], e = u - along;
+  double F = par[YP_KV] * (u_dot + 2.0 * e / tau + z[zi] / (tau * tau));
+  double push = F * gear, lim = push >= 0.0 ? par[YP_FDRIVE] : par[YP_FBRAKE];
   zdot[zi] = e;
-  return par[YP_KV] * (u_dot + 2.0 * e / tau + z[zi] / (tau * tau));
+  if (fabs(F) > lim) {
+    F = copysign(lim, F);
+    if (e * F > 0.0) zdot[zi] = 0.0; /* held at the limit and asked for more */
+  }
+  return F;
 }
 
 static void yard_forces(const mjModel* m, const mjData* d, const double* par, const double* ctl,
@@ -700,8 +710,8 @@ static void yard_forces(const mjModel* m, const mjData* d, const double* par, co
   double F = 0.0, gear = 1.0;
   if (par[YP_FOLLOW] != 0.0) {
     double u = ctl[1] + ctl[2] * (d->time - ctl[3]);
-    F = yard_follow_force(m, d, par, u, ctl[2], z, zdot);
     gear = u >= 0.0 ? 1.0 : -1.0;
+    F = yard_follow_force(m, d, par, u, ctl[2], gear, z, zdot);
   }
   for (int i = 0; i < ne; i++, e += N_YEND) {
     const double* p = sets + (int)e[Y_tyre_set] * N_TYRE;

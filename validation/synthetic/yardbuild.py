@@ -120,7 +120,7 @@ class Layout:
     weight_shares: tuple[float, ...]
 
 
-def _static_loads(v: Vehicle) -> dict[str, float]:
+def static_loads(v: Vehicle) -> dict[str, float]:
     """Each axle's static load [N] on level ground (trailer axles share their group's evenly)."""
     trailer = v.trailer_axles
     # kingpin load: moment of the semitrailer about its axle group's centre
@@ -181,7 +181,7 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
     th, ph = v.plant.grade, v.plant.crossfall
     spec.option.gravity = [-G * math.sin(th), -G * math.cos(th) * math.sin(ph),
                            -G * math.cos(th) * math.cos(ph)]
-    loads = _static_loads(v)
+    loads = static_loads(v)
     front = next(a for a in v.tractor_axles if a.steered)
     tractor_unsprung = sum(a.unsprung_mass for a in v.tractor_axles)
     trailer_unsprung = sum(a.unsprung_mass for a in v.trailer_axles)
@@ -229,13 +229,14 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
     fr.mass = m_front
     fr.ipos = [x_front - hinge_x, 0.0, 0.0]
     fr.inertia = _box(m_front, m_front * 0.45 ** 2, j_front, j_front)
-    cab = fr.add_body(name="cab", pos=[cab_x - 0.9 - hinge_x, 0.0, 1.4 - rest_z])
+    # the cab on its mounts: roll and pitch hinges under its centre of gravity
+    cab = fr.add_body(name="cab", pos=[cab_x - hinge_x, 0.0, 1.4 - rest_z])
     for name, axis, k in (("cab_roll", [1, 0, 0], CAB_ROLL_STIFFNESS),
                           ("cab_pitch", [0, 1, 0], CAB_PITCH_STIFFNESS)):
         cab.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=axis, stiffness=k,
                       damping=CAB_DAMPING)
     cab.mass = CAB_MASS
-    cab.ipos = [0.9, 0.0, cab_z - 1.4]
+    cab.ipos = [0.0, 0.0, cab_z - 1.4]
     cab.inertia = _box(CAB_MASS, CAB_MASS * (2.5 ** 2 + 2.2 ** 2) / 12.0,
                        CAB_MASS * (2.3 ** 2 + 2.2 ** 2) / 12.0, j_cab)
     fr.add_site(name="sensor1", pos=[v.sensor1[0] - hinge_x, v.sensor1[1],
@@ -281,11 +282,13 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
                       r0 - (rest_z if a.steered else 0.0)]
         else:
             parent, origin = trailer, [a.x, 0.0, r0 - v.h5]
+        # the spring's free length: at the design height (q = 0) it carries the
+        # axle's static sprung load, pushing the axle down and the frame up
         sprung = loads[a.name] - a.unsprung_mass * G
         body = parent.add_body(name=f"axle.{a.name}", pos=origin)
         body.add_joint(name=f"heave.{a.name}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1],
                        stiffness=a.suspension_stiffness, damping=a.suspension_damping,
-                       springref=sprung / a.suspension_stiffness)
+                       springref=-sprung / a.suspension_stiffness)
         body.add_joint(name=f"roll.{a.name}", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[1, 0, 0],
                        stiffness=ANTI_ROLL[kind], damping=ROLL_DAMPING)
         body.add_joint(name=f"yaw.{a.name}", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1],
@@ -324,6 +327,10 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
             ends.append({"axle": a.name, "side": side, "dual": a.dual, "steered": a.steered,
                          "drive_share": (1.0 / (2 * len(driven))) if a.driven else 0.0,
                          "brake_share": loads[a.name] / (2.0 * total_w)})
+    for b in spec.bodies:  # every inertia about its body's origin unless set above
+        if b.name not in ("rear", "front", "cab", "trailer") and b.name != "world":
+            b.ipos = [0.0, 0.0, 0.0]
+            b.iquat = [1.0, 0.0, 0.0, 0.0]
     model = spec.compile()
     for e in ends:
         e["hub_site"] = model.site(f"hub.{e['axle']}.{e['side']}").id

@@ -65,7 +65,9 @@ PARKING_GRADE = 0.2
 
 FOLLOW_TAU = 0.1
 """The floor's speed follower: the time constant of its critically damped
-proportional and integral answer to the speed error [s]."""
+proportional and integral answer to the speed error [s]. Its force is held to
+what the drive (:data:`DRIVE_FORCE_MAX`) and the brakes (:data:`BRAKE_DECEL_MAX`)
+give, as the truth's driver's pedals are."""
 
 TORSION_BAR = math.degrees(1.8)
 """The column's torsion bar [N m/rad at the steering wheel]: 1.8 N m/deg."""
@@ -87,6 +89,13 @@ TIE_ROD = (4.0e5, 400.0)
 
 CASTER = math.radians(3.5)
 """Caster of the steered axle [rad]: the kingpin leads the contact by ``r0 tan``."""
+
+FOLLOW_TRACTION = 0.4
+"""The floor's follower drives with at most this share of the driven axles' static
+load [-]: below the tyres' sliding force (0.42-0.46 of the load in the pattern at
+the yard's friction), so that it cannot spin the driven wheels up without end when
+a log's speed asks for more than the truck can (as a driver backs off a spinning
+wheel). With the unladen semitrailer it is about 0.9 m/s^2; a yard asks for 0.5."""
 
 SETTLE_TIME = 1.5
 """How long a new truth settles on its tyres before its first reset [s]."""
@@ -193,6 +202,7 @@ class YardTruth:
             raise ValueError(f"speed {speed!r}: the yard truth follows or takes pedals")
         lib = library()
         self.vehicle = vehicle
+        self._weight = (vehicle.m1 + vehicle.m2) * yardbuild.G
         self.setup = setup or YardSetup()
         self.speed_mode = speed
         self.tyres = {}
@@ -261,11 +271,14 @@ class YardTruth:
         assist = nz
         nz += 2  # the assist's torque, the follower's integral
         col = [float(column[k]) for k in _names("artic_truth_column_names")]
+        static = yardbuild.static_loads(v)
+        driven = sum(static[a.name] for a in v.axles if a.driven)
         head = [len(sets), len(lay.ends), nz, 1.0 if self.speed_mode == "follow" else 0.0,
                 lay.mass, FOLLOW_TAU, lay.fifth_roll, yardbuild.FIFTH_WHEEL_LASH,
                 0.02 * yardbuild.FIFTH_WHEEL_LASH, yardbuild.FIFTH_WHEEL_ROLL,
                 yardbuild.FIFTH_WHEEL_ROLL_DAMPING, lay.drive_site, lay.drive_body, 1.0,
-                assist + 1]
+                assist + 1, min(DRIVE_FORCE_MAX * self._weight, FOLLOW_TRACTION * driven),
+                BRAKE_DECEL_MAX * self._weight]
         if len(head) != int(library().artic_yard_header()):
             raise YardUnavailable("the compiled yard truth's header differs; reinstall artic")
         par = np.concatenate([head, *[self.tyres[a].vector() for a in sets], col,
