@@ -145,9 +145,13 @@ def discussion(r: CampaignResults) -> list[str]:
         f_fit = [p["fitted"]["stm"]["f"] for p in r.tuned.values() if "stm" in p["fitted"]]
         truth = next((p["truth"] for p in r.tuned.values() if p["truth"]), None)
         if "mbd" in fwd.index and lowest(pf, "eps_n") != "mbd" and f_fit and truth:
+            tyres = (f"lateral stiffness is {truth['LKY']:.2f} times the tyre file's"
+                     if truth.get("kind") != "independent" else
+                     "tyres are another make (a published TMeasy truck-tyre set, their "
+                     "cornering stiffness about 1.25 times the tyre file's at its nominal "
+                     "load; docs/design/truth.md)")
             text += (" The multibody model's tyres are not tuned (the paper, too, tuned its "
-                     "MBD only a little), while the truth's lateral stiffness is "
-                     f"{truth['LKY']:.2f} times the tyre file's; the STM's fitted f ("
+                     f"MBD only a little), while the truth's {tyres}; the STM's fitted f ("
                      + " and ".join(f"{f:.3g}" for f in f_fit) + " /rad against the "
                      "presets' 6) absorbs such a difference, the plant's steering ratio only "
                      "partly.")
