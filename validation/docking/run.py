@@ -304,7 +304,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                     else:
                         plant.step(PLANT_DT, float(mbd.road_wheel(wheel)), u,
                                    (u_next - u) / PLANT_DT)
-                except PlantError as exc:
+                except (PlantError, FloatingPointError) as exc:  # the plant or the yard truth
                     _fail(trace, f"plant diverged: {_one_line(exc)}")
                     return
                 u = u_next

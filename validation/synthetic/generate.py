@@ -7,8 +7,8 @@ that it comes back in through the same importer as real logs.
 
 The truth configuration, drawn once per campaign from its random seed, is
 :mod:`artic.validation.synthetic.truth`'s: by default a vehicle with its own
-tyre and steering models (TMeasy tyres, a compliant steering column with play
-and assist, twin tyres as two; :mod:`artic.validation.synthetic.truthplant`),
+skeleton, tyres, steering and loop, sharing no code with the plant
+(:mod:`artic.validation.synthetic.yardtruth`),
 which also differs from the validated presets in structure (another trailer
 tyre, fifth-wheel friction, payload, sensor installation, a drifting column, a
 driver on the pedals, a sloped yard); with ``--truth structural`` the same
