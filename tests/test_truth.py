@@ -13,6 +13,7 @@ from artic.mjcf import load_vehicle
 from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn
 from artic.validation.synthetic.truth import (
     TRAILER_TYRE,
+    body_values,
     slope,
     truth_configuration,
     truth_vehicle,
@@ -28,10 +29,12 @@ def test_the_truth_is_drawn_from_the_seed_and_legacy_is_a_part_of_it():
     # Every kind shares the first draws: the steering and the tyres' scaling.
     assert {k: a[k] for k in legacy if k != "kind"} == {k: v for k, v in legacy.items()
                                                         if k != "kind"}
-    # The independent truth draws what the structural one does.
+    # The independent truth draws what the structural one does, and then its
+    # own body and tyres (tests/test_yard_truth.py).
     structural = truth_configuration(0, "structural")
-    assert {k: v for k, v in a.items() if k != "kind"} == {
+    assert {k: v for k, v in a.items() if k not in ("kind", "body", "tyres")} == {
         k: v for k, v in structural.items() if k != "kind"}
+    assert set(a) - set(structural) == {"body", "tyres"}
     assert 1000.0 <= a["fifth_wheel_friction"] <= 4000.0
     assert math.radians(1.0) <= a["backlash"] <= math.radians(3.0)
     # Without drift, only the drift changes.
@@ -62,7 +65,14 @@ def test_truth_files_carry_the_structure(tmp_path):
     assert all(a.tyre_file == "" for a in v.tractor_axles)
     assert v.plant.fifth_wheel_friction == pytest.approx(truth["fifth_wheel_friction"])
     assert v.plant.tyre_moments
-    assert v.plant.payload_offset[0] == pytest.approx(truth["payload"]["loaded"]["offset"][0])
+    # The independent truth's payload sits in its drawn a2, h2 and J2 (off the
+    # presets by the stated offsets); only its lateral offset stays a payload's.
+    assert v.plant.payload_offset[0] == 0.0
+    assert v.plant.payload_offset[1] == pytest.approx(truth["payload"]["loaded"]["offset"][1])
+    drawn = body_values(preset, "loaded", truth)
+    for key in ("m1", "J1", "a1", "b1", "h1", "L1c", "m2", "J2", "a2", "h2"):
+        assert getattr(v, key) == pytest.approx(drawn[key]), key
+    assert v.a2 != preset.a2 and v.m1 != preset.m1
     assert v.sensor1_yaw == pytest.approx(truth["sensor1_yaw"])
     np.testing.assert_allclose(np.subtract(v.sensor2, preset.sensor2), truth["sensor2_offset"])
     # The file is the truth: it equals the vehicle the generator drives.

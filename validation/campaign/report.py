@@ -145,9 +145,13 @@ def discussion(r: CampaignResults) -> list[str]:
         f_fit = [p["fitted"]["stm"]["f"] for p in r.tuned.values() if "stm" in p["fitted"]]
         truth = next((p["truth"] for p in r.tuned.values() if p["truth"]), None)
         if "mbd" in fwd.index and lowest(pf, "eps_n") != "mbd" and f_fit and truth:
+            tyres = (f"lateral stiffness is {truth['LKY']:.2f} times the tyre file's"
+                     if truth.get("kind") != "independent" else
+                     "tyres are another make (a published TMeasy truck-tyre set, their "
+                     "cornering stiffness about 1.25 times the tyre file's at its nominal "
+                     "load; docs/design/truth.md)")
             text += (" The multibody model's tyres are not tuned (the paper, too, tuned its "
-                     "MBD only a little), while the truth's lateral stiffness is "
-                     f"{truth['LKY']:.2f} times the tyre file's; the STM's fitted f ("
+                     f"MBD only a little), while the truth's {tyres}; the STM's fitted f ("
                      + " and ".join(f"{f:.3g}" for f in f_fit) + " /rad against the "
                      "presets' 6) absorbs such a difference, the plant's steering ratio only "
                      "partly.")
@@ -170,8 +174,10 @@ def discussion(r: CampaignResults) -> list[str]:
             "**Against the paper's Table 2.** Our forward means over the paper's, "
             f"{_ratio_range(versus_paper(fwd, PAPER_FORWARD))}. The measurement here is "
             f"synthetic: the {r.truth} truth (see `validation/synthetic/truth.py`"
-            + ("; a model of its own, with TMeasy tyres and a compliant steering column, "
-               "not artic's plant" if r.truth == "independent" else "; artic's plant")
+            + ("; a vehicle of its own, sharing no code with artic's plant: its own "
+               "skeleton with frame torsion, a cab on mounts, fifth-wheel lash and roll "
+               "steer, TMeasy tyres from a published set and a compliant steering column"
+               if r.truth == "independent" else "; artic's plant")
             + ") with modelled sensors. What real logs add and these lack: a real tyre's "
             "temperature dependence, frame compliance, grip variation and GNSS multipath. The "
             "position error eps_p of open-loop forward runs grows with the drift of heading, "
@@ -286,11 +292,14 @@ def _tuning_text(r: CampaignResults) -> list[str]:
             "slip in KIN, linear tyres in STM) into i_s and the offset.")
     elif r.truth == "independent":
         lines.append(
-            "The independent truth is not artic's plant: its tyres are TMeasy, another family "
-            "than the plant's PAC2002, fitted to the same tyre files (and its trailer tyres "
-            "another construction, 5 /rad against 6), its twin tyres are two tyres, and its "
-            "steering is a torsion bar with free play and a lagged hydraulic assist, whose "
-            "right wheel follows through a compliant tie rod; its zero drifts, and its "
+            "The independent truth is not artic's plant and shares no code with it: its "
+            "skeleton is its own (the tractor's frame twists, the cab sits on mounts, the "
+            "fifth wheel has lash, every axle steers with its roll), its tyres are TMeasy "
+            "with a published truck-tyre set, not the plant's PAC2002 files, its twin tyres "
+            "are two tyres, its masses and centres of gravity are off the presets by stated "
+            "amounts, and its steering is a torsion bar with free play and a lagged "
+            "hydraulic assist, whose right wheel follows through a compliant tie rod on its "
+            "own trapezoid; its zero drifts, and its "
             "driver works the pedals on a sloped yard. The fits absorb what they can into "
             "i_s and the offset: the column's compliance and play show as a larger "
             "effective ratio, its drift as an offset bias. These are the biases of the "

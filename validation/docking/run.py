@@ -304,7 +304,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                     else:
                         plant.step(PLANT_DT, float(mbd.road_wheel(wheel)), u,
                                    (u_next - u) / PLANT_DT)
-                except PlantError as exc:
+                except (PlantError, FloatingPointError) as exc:  # the plant or the yard truth
                     _fail(trace, f"plant diverged: {_one_line(exc)}")
                     return
                 u = u_next
@@ -377,9 +377,9 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
     ValueError
         For a vehicle other than the gosar2022 presets, the only ones with a truth.
     """
-    from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
+    from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn
     from artic.validation.synthetic.truth import slope, truth_configuration, truth_vehicle
-    from artic.validation.synthetic.truthplant import truth_model
+    from artic.validation.synthetic.truthplant import truth_actuation, truth_model
 
     load = {"gosar2022-unloaded": "unloaded", "gosar2022-loaded": "loaded"}.get(vehicle.name)
     if load is None:
@@ -396,7 +396,7 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
         pedals = PedalDriver(vt.m1 + vt.m2, delay=truth["driver_delay"],
                              gain=truth["driver_gain"])
         model = truth_model(vt, truth, "pedals")
-        return model, TruthActuation(model, steering, column, pedals)
+        return model, truth_actuation(model, steering, column, pedals)
 
     return vt, build
 

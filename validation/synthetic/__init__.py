@@ -5,10 +5,13 @@
 - :mod:`~artic.validation.synthetic.driver`: the docking and parking driver;
 - :mod:`~artic.validation.synthetic.sensors`: RTK GNSS, inertial unit and CAN models;
 - :mod:`~artic.validation.synthetic.truth`: the truth configurations, drawn from the seed;
-- :mod:`~artic.validation.synthetic.truthplant`: the independent truth's own model, with
-  :mod:`~artic.validation.synthetic.tmeasy` tyres (compiled in ``_truth_c.c``, loaded by
-  :mod:`~artic.validation.synthetic.truthc`) and :mod:`~artic.validation.synthetic.column`,
-  its steering;
+- :mod:`~artic.validation.synthetic.yardtruth`: the independent truth, a vehicle with its
+  own skeleton (:mod:`~artic.validation.synthetic.yardbuild`), tyres
+  (:mod:`~artic.validation.synthetic.yardtyres`) and loop (``_truth_c.c``), sharing no
+  code with the plant;
+- :mod:`~artic.validation.synthetic.truthplant`: the truths on the plant's skeleton (the
+  structural and legacy ones, and the independent truth of the release before with
+  :mod:`~artic.validation.synthetic.tmeasy` tyres and :mod:`~artic.validation.synthetic.column`);
 - :mod:`~artic.validation.synthetic.actuation`: the truth's driver on the steering wheel
   and the pedals;
 - :mod:`~artic.validation.synthetic.generate`: ``artic logs generate``, the matrix

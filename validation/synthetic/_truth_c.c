@@ -589,3 +589,187 @@ void artic_truth_passive(const mjModel* m, mjData* d) {
     diag[0] = diag[1] = diag[2] = 0.0;
   }
 }
+
+/* ====================================================================== the yard truth
+ *
+ * The independent truth's own stepping loop (validation/synthetic/yardtruth.py). It
+ * shares nothing with the plant under validation and installs no MuJoCo callback:
+ * one call advances the truth's own MuJoCo model n steps of its own timestep,
+ *
+ *   mj_step1 -> tyre, steering, fifth-wheel and drive forces into qfrc_applied
+ *            -> mj_step2 -> the hidden states (tyre deflections, assist) by Euler,
+ *
+ * and leaves the model's kinematics at the new state (for observing it). Its
+ * numbers arrive as plain arrays the Python side builds (no block in the model):
+ *
+ *   par: [n_sets, n_ends, n_z, follow, kv_mass, tau, fifth_roll_dof, lash, lash_w,
+ *         k_roll, c_roll, drive_site, drive_body, has_column, z_follow, f_drive, f_brake]
+ *        then the tyre sets (TYRE_PARAMS order), the column (COLUMN_PARAMS order:
+ *        its ids slot .. assist_ctrl are read as steer_l/r qpos and dofs, and
+ *        assist_act as the index of the assist torque in z), then the ends (Y_END).
+ *   ctl: [ref (the left-wheel angle the steering wheel stands for) [rad], u0 [m/s],
+ *         u_dot [m/s^2], t0 [s] (the ramp's start), drive torque [N m] (pedals)]
+ *   z:   the hidden states, read and written.
+ *   out: per end the sum of its tyres' forces (3), then the column's box,
+ *        torsion-bar and tie-rod torques and the fifth wheel's roll torque.
+ */
+#define Y_PAR 17
+enum { YP_NSETS, YP_NENDS, YP_NZ, YP_FOLLOW, YP_KV, YP_TAU, YP_FROLL, YP_LASH, YP_LASHW,
+       YP_KROLL, YP_CROLL, YP_DSITE, YP_DBODY, YP_COLUMN, YP_ZFOLLOW, YP_FDRIVE, YP_FBRAKE };
+
+#define Y_END_FIELDS(X) \
+  X(hub_site) X(hub_body) X(wheel_body) X(spin_dof) X(n_tyres) X(tyre_set) X(half_spacing) \
+  X(trail) X(steer_dof) X(drive_share) X(brake_share) X(z_first)
+#define ENUM_Y(name) Y_##name,
+enum { Y_END_FIELDS(ENUM_Y) N_YEND };
+static const char yard_end_names[] = Y_END_FIELDS(STR);
+
+const char* artic_yard_end_names(void) { return yard_end_names; }
+
+int artic_yard_header(void) { return Y_PAR; }
+
+/* The forces of one wheel end on qfrc, its tyres' deflection rates into zdot. */
+static void yard_end(const mjModel* m, const mjData* d, const double* p, const double* e,
+                     const double* z, double* zdot, double* qfrc, double* sum) {
+  int hub = (int)e[Y_hub_site], hub_body = (int)e[Y_hub_body];
+  int wheel_body = (int)e[Y_wheel_body], spin = (int)e[Y_spin_dof], n = (int)e[Y_n_tyres];
+  int z0 = (int)e[Y_z_first];
+  double trail = e[Y_trail];
+  const mjtNum* R = d->site_xmat + 9 * hub;
+  double hx[2] = {R[0], R[3]};
+  double norm = hypot(hx[0], hx[1]);
+  sum[0] = sum[1] = sum[2] = 0.0;
+  for (int k = 0; k < 3 * n; k++) zdot[z0 + k] = 0.0;
+  if (norm < 1e-9) return;
+  hx[0] /= norm;
+  hx[1] /= norm;
+  double hy[2] = {-hx[1], hx[0]};
+  double omega_n = d->cvel[6 * hub_body + 2];
+  int root = m->body_rootid[hub_body];
+  for (int k = 0; k < n; k++) {
+    double off = n == 2 ? (k == 0 ? e[Y_half_spacing] : -e[Y_half_spacing]) : 0.0;
+    const mjtNum* h = d->site_xpos + 3 * hub;
+    double centre[3] = {h[0] + off * R[1], h[1] + off * R[4], h[2] + off * R[7]};
+    double contact[3] = {centre[0], centre[1], 0.0};
+    double vc[3], vg[3];
+    point_velocity(d, hub_body, root, centre, vc);
+    point_velocity(d, hub_body, root, contact, vg);
+    double rho = p[T_r0] - centre[2];
+    double Fz = rho > 0.0 ? fmax(p[T_cz] * rho - p[T_dz] * vc[2], 0.0) : 0.0;
+    double rD = p[T_r0] - fmax(rho, 0.0) / 3.0;
+    double vx = vg[0] * hx[0] + vg[1] * hx[1], vy = vg[0] * hy[0] + vg[1] * hy[1];
+    if (trail != 0.0) vy -= trail * d->qvel[(int)e[Y_steer_dof]];
+    double Fx, Fy, Mz, My;
+    tyre(p, Fz, vx, vy, rD * d->qvel[spin], omega_n, z[z0 + 3 * k], z[z0 + 3 * k + 1],
+         z[z0 + 3 * k + 2], &Fx, &Fy, &Mz, &My, zdot + z0 + 3 * k, zdot + z0 + 3 * k + 1,
+         zdot + z0 + 3 * k + 2);
+    double F[3] = {Fx * hx[0] + Fy * hy[0], Fx * hx[1] + Fy * hy[1], Fz};
+    double T[3] = {My * hy[0], My * hy[1], Mz};
+    sum[0] += F[0];
+    sum[1] += F[1];
+    sum[2] += F[2];
+    apply_ft(m, d, F, T, contact, wheel_body, qfrc);
+    if (trail != 0.0) qfrc[(int)e[Y_steer_dof]] -= trail * Fy;
+  }
+}
+
+/* The follower's force [N]: the combination's mass times the wanted acceleration,
+ * plus a critically damped proportional and integral answer to the speed error at
+ * the drive axle's site over the time constant tau; the error's integral is a
+ * hidden state (z[z_follow]), whose rate this writes. The force is what the
+ * truck's drive (f_drive, the way of travel) and brakes (f_brake) can give; while
+ * it is held at either, the integral stops (no wind-up: a demand past the drive
+ * would spin the driven wheels up without end). */
+static double yard_follow_force(const mjModel* m, const mjData* d, const double* par,
+                                double u, double u_dot, double gear, const double* z,
+                                double* zdot) {
+  int site = (int)par[YP_DSITE], body = (int)par[YP_DBODY], zi = (int)par[YP_ZFOLLOW];
+  const mjtNum* R = d->site_xmat + 9 * site;
+  double v[3];
+  point_velocity(d, body, m->body_rootid[body], d->site_xpos + 3 * site, v);
+  double along = (v[0] * R[0] + v[1] * R[3]) / fmax(hypot(R[0], R[3]), 1e-9);
+  double tau = par[YP_TAU], e = u - along;
+  double F = par[YP_KV] * (u_dot + 2.0 * e / tau + z[zi] / (tau * tau));
+  double push = F * gear, lim = push >= 0.0 ? par[YP_FDRIVE] : par[YP_FBRAKE];
+  zdot[zi] = e;
+  if (fabs(F) > lim) {
+    F = copysign(lim, F);
+    if (e * F > 0.0) zdot[zi] = 0.0; /* held at the limit and asked for more */
+  }
+  return F;
+}
+
+static void yard_forces(const mjModel* m, const mjData* d, const double* par, const double* ctl,
+                        const double* z, double* zdot, double* out) {
+  int ns = (int)par[YP_NSETS], ne = (int)par[YP_NENDS], nc = (int)par[YP_COLUMN];
+  const double* sets = par + Y_PAR;
+  const double* col = sets + ns * N_TYRE;
+  const double* e = col + nc * N_COLUMN;
+  double* qfrc = d->qfrc_applied;
+  memset(qfrc, 0, sizeof(mjtNum) * m->nv);
+  double F = 0.0, gear = 1.0;
+  if (par[YP_FOLLOW] != 0.0) {
+    double u = ctl[1] + ctl[2] * (d->time - ctl[3]);
+    gear = u >= 0.0 ? 1.0 : -1.0;
+    F = yard_follow_force(m, d, par, u, ctl[2], gear, z, zdot);
+  }
+  for (int i = 0; i < ne; i++, e += N_YEND) {
+    const double* p = sets + (int)e[Y_tyre_set] * N_TYRE;
+    yard_end(m, d, p, e, z, zdot, qfrc, out + 3 * i);
+    int spin = (int)e[Y_spin_dof];
+    if (F != 0.0) { /* drive while pushing the way of travel, brakes while holding back */
+      double share = F * gear >= 0.0 ? e[Y_drive_share] : e[Y_brake_share];
+      qfrc[spin] += F * share * p[T_r0];
+    }
+    qfrc[spin] += ctl[4] * e[Y_drive_share];
+  }
+  /* the fifth wheel's roll: free within its lash, then its rubber bushes */
+  int fr = (int)par[YP_FROLL];
+  double* diag = out + 3 * ne;
+  diag[0] = diag[1] = diag[2] = diag[3] = 0.0;
+  if (fr >= 0) {
+    int qa = m->jnt_qposadr[m->dof_jntid[fr]];
+    diag[3] = -par[YP_KROLL] * dead_zone(d->qpos[qa], 0.5 * par[YP_LASH], par[YP_LASHW])
+              - par[YP_CROLL] * d->qvel[fr];
+    qfrc[fr] += diag[3];
+  }
+  if (nc) {
+    int ql = (int)col[C_steer_l_qpos], qr = (int)col[C_steer_r_qpos];
+    int vl = (int)col[C_steer_l_dof], vr = (int)col[C_steer_r_dof];
+    int za = (int)col[C_assist_act];
+    double TL, TR, dTa;
+    column_law(col, ctl[0], d->qpos[ql], d->qpos[qr], d->qvel[vl], d->qvel[vr], z[za], &TL, &TR,
+               &dTa, diag);
+    zdot[za] = dTa;
+    qfrc[vl] += TL;
+    qfrc[vr] += TR;
+  }
+}
+
+/* Advance n steps; returns 0, or 1 when the state stopped being finite. */
+int artic_yard_advance(const mjModel* m, mjData* d, const double* par, const double* ctl,
+                       double* z, double* zdot, int n, double* out) {
+  int nz = (int)par[YP_NZ];
+  double h = m->opt.timestep;
+  for (int k = 0; k < n; k++) {
+    mj_step1(m, d);
+    yard_forces(m, d, par, ctl, z, zdot, out);
+    mj_step2(m, d);
+    for (int j = 0; j < nz; j++) z[j] += h * zdot[j];
+  }
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  mj_comVel(m, d);
+  for (int j = 0; j < m->nq; j++)
+    if (!isfinite(d->qpos[j])) return 1;
+  for (int j = 0; j < nz; j++)
+    if (!isfinite(z[j])) return 1;
+  return 0;
+}
+
+/* The kinematics of the current state (after a restore). */
+void artic_yard_kinematics(const mjModel* m, mjData* d) {
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  mj_comVel(m, d);
+}

@@ -7,8 +7,8 @@ that it comes back in through the same importer as real logs.
 
 The truth configuration, drawn once per campaign from its random seed, is
 :mod:`artic.validation.synthetic.truth`'s: by default a vehicle with its own
-tyre and steering models (TMeasy tyres, a compliant steering column with play
-and assist, twin tyres as two; :mod:`artic.validation.synthetic.truthplant`),
+skeleton, tyres, steering and loop, sharing no code with the plant
+(:mod:`artic.validation.synthetic.yardtruth`),
 which also differs from the validated presets in structure (another trailer
 tyre, fifth-wheel friction, payload, sensor installation, a drifting column, a
 driver on the pedals, a sloped yard); with ``--truth structural`` the same
@@ -74,7 +74,7 @@ from artic.validation.synthetic.truth import (
     truth_vehicle,
     write_truth_files,
 )
-from artic.validation.synthetic.truthplant import timestep_for, truth_model
+from artic.validation.synthetic.truthplant import timestep_for, truth_actuation, truth_model
 
 META_FILE = "meta.json"
 
@@ -188,8 +188,8 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     with truth_model(vt, truth, "pedals" if structural else "drive", h) as p:
         # The truth's own state at every sample of a reverse run, for the floor's
         # open-loop predictions (kept at their start points only, below).
-        plant = TruthActuation(p, steering, column, pedals,
-                               record=m.direction == "reverse" and hasattr(p, "full_state"))
+        plant = truth_actuation(p, steering, column, pedals,
+                                record=m.direction == "reverse" and hasattr(p, "full_state"))
         drive = _drive_dock if m.kind in ("docking", "parking") else _drive_profile
         # The driver may ask for more wheel angle than the linkage gives at
         # lock, as a real driver turns the wheel against its stop; the plant

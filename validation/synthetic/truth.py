@@ -2,17 +2,16 @@
 
 A campaign's truth is drawn once from its seed. Three kinds:
 
-- ``"independent"`` (the default): a vehicle that shares neither the tyre
-  formula nor the steering model of the plant under validation. It is its own
-  MuJoCo model (:class:`artic.validation.synthetic.truthplant.TruthPlant`, whose
-  docstring tabulates every difference): TMeasy tyres (another family than the
-  plant's PAC2002, :mod:`artic.validation.synthetic.tmeasy`) fitted to the same
-  shipped tyre files, twin tyres as two tyres, caster, and a compliant steering
-  column with free play and a lagged hydraulic assist, whose right wheel
-  follows the left through a compliant tie rod on the exact trapezoid
-  (:mod:`artic.validation.synthetic.column`). It takes every draw of the
-  structural truth below as well: the play is the column's, the drift of its
-  zero stays the random process it was.
+- ``"independent"`` (the default): a vehicle with its own skeleton, sharing no
+  code with the plant under validation
+  (:class:`artic.validation.synthetic.yardtruth.YardTruth`, whose docstring
+  tabulates every difference): its own MuJoCo model with frame torsion, a cab
+  on mounts, a fifth wheel with roll lash and roll steer, TMeasy tyres from a
+  published truck-tyre set, a compliant column with play and assist, its own
+  loop. It takes every draw of the structural truth below, and then its own
+  masses, inertias, centres of gravity, fifth-wheel setting and tyres, drawn
+  around values offset from the presets (:data:`OFFSETS`): the presets are a
+  specification sheet, not the truck's mean.
 - ``"structural"``: the plant itself, differing from the validated presets
   in structure, not only in scale. Each effect below is one that the
   presets leave out, drawn within a stated range:
@@ -83,6 +82,39 @@ LOADS = ("unloaded", "loaded")
 TRAILER_TYRE = "artic-trailer-385-65R22.5.tir"
 """The structural truth's semitrailer tyre, shipped with artic."""
 
+OFFSETS = {
+    # name: (offset of the truth's mean from the preset, spread (sd), why)
+    "m1": (0.035, 0.01, "relative: fuel, AdBlue, driver and tools over the spec sheet's "
+           "kerb weight (90 % fuel, no driver): about 280 kg on 8 t"),
+    "J1": (0.08, 0.04, "relative: a spec sheet's yaw inertia is an estimate from masses "
+           "and lengths; measured ones differ by 5-15 %"),
+    "a1": (-0.05, 0.03, "[m]: full tanks and the driver sit ahead of the centre of "
+           "gravity and move it forward"),
+    "h1": (0.06, 0.03, "[m]: the kerb-weight height is quoted at nominal ride height, "
+           "without the cab's equipment"),
+    "L1c": (0.04, 0.02, "[m]: the fifth wheel set a notch forward on its slide for the "
+            "axle loads (the kingpin setting)"),
+    "m2.loaded": (0.04, 0.02, "relative: pallets weigh more than the waybill says, "
+                  "and the tautliner carries its equipment"),
+    "m2.unloaded": (0.03, 0.01, "relative: spare wheel, pallet box and straps"),
+    "J2.loaded": (0.06, 0.04, "relative: the load spread longer than the model's"),
+    "J2.unloaded": (0.04, 0.03, "relative: as J1"),
+    "a2.loaded": (-0.20, 0.10, "[m]: the pallets pushed against the headboard"),
+    "a2.unloaded": (0.05, 0.03, "[m]: the spare wheel and pallet box under the rear"),
+    "h2.loaded": (0.08, 0.05, "[m]: the pallets stacked higher than the model's"),
+    "h2.unloaded": (0.02, 0.02, "[m]: ride height"),
+    "pressure": (-0.10, 0.04, "relative to the rated inflation: fleet surveys find "
+                 "truck tyres about 10 % under-inflated on average"),
+    "friction": (-0.05, 0.04, "relative to the tyre pattern's road (0.8): a dusty "
+                 "yard's asphalt"),
+    "cornering": (-0.05, 0.04, "relative to the pattern's cornering slope: mixed wear "
+                  "and retreads"),
+}
+"""How the independent truth differs from the presets on average, and how much it
+spreads: every drawn quantity is ``preset x (1 + offset + N(0, sd))`` (relative)
+or ``preset + offset + N(0, sd)`` ([m]). The presets stay what a specification
+sheet says; real trucks differ from it, by these stated amounts."""
+
 
 def truth_configuration(seed: int, kind: str = DEFAULT, drift: bool = True) -> dict:
     """The truth of a campaign: every drawn number, JSON-serialisable.
@@ -132,6 +164,11 @@ def truth_configuration(seed: int, kind: str = DEFAULT, drift: bool = True) -> d
         "driver_delay": float(rng.uniform(0.3, 0.6)),
         "driver_gain": float(rng.uniform(0.4, 0.8)),
     })
+    if kind == "independent":  # after the structural draws, which stay as they were
+        body = {k: float(o + rng.normal(0.0, sd)) for k, (o, sd, _) in OFFSETS.items()}
+        out["body"] = {k: body[k] for k in OFFSETS if k not in ("pressure", "friction",
+                                                                 "cornering")}
+        out["tyres"] = {k: 1.0 + body[k] for k in ("pressure", "friction", "cornering")}
     if not drift:
         out["drift_rate"] = 0.0
     return out
@@ -167,7 +204,33 @@ def _changes(v: Vehicle, load: str, truth: dict) -> dict[str, dict]:
     out["trailer"] = {"sensor": [a + b for a, b in zip(v.sensor2, truth["sensor2_offset"],
                                                        strict=True)],
                       "sensor_yaw": truth["sensor2_yaw"]}
+    if "body" in truth:  # the independent truth: its own masses and positions, in the file
+        out["tractor"].update(body_values(v, load, truth))
+        out["trailer"].update({k: out["tractor"].pop(k) for k in ("m2", "J2", "a2", "h2")})
+        # the payload's lateral offset stays; its length and yaw are in a2 and J2
+        out["plant"]["payload_offset"] = [0.0, p["offset"][1], 0.0]
+        out["plant"]["payload_yaw_inertia"] = 0.0
     return out
+
+
+def body_values(v: Vehicle, load: str, truth: dict) -> dict[str, float]:
+    """The independent truth's masses, inertias and positions of one load (see :data:`OFFSETS`).
+
+    Parameters
+    ----------
+    v : Vehicle
+        The preset of the load condition.
+    load : str
+        One of :data:`LOADS`.
+    truth : dict
+        The configuration (its ``body`` draws).
+    """
+    b = truth["body"]
+    a1 = v.a1 + b["a1"]
+    return {"m1": v.m1 * (1.0 + b["m1"]), "J1": v.J1 * (1.0 + b["J1"]), "a1": a1,
+            "b1": v.a1 + v.b1 - a1, "h1": v.h1 + b["h1"], "L1c": v.L1c + b["L1c"],
+            "m2": v.m2 * (1.0 + b[f"m2.{load}"]), "J2": v.J2 * (1.0 + b[f"J2.{load}"]),
+            "a2": v.a2 + b[f"a2.{load}"], "h2": v.h2 + b[f"h2.{load}"]}
 
 
 def truth_data(load: str, truth: dict, seed: int) -> dict:

@@ -361,12 +361,15 @@ def timestep_for(kind: str | None) -> float:
 
 
 def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow",
-                timestep: float | None = None) -> Plant:
+                timestep: float | None = None):
     """The vehicle of a truth configuration (see :mod:`artic.validation.synthetic.truth`).
 
-    The independent truth is a :class:`TruthPlant` with its column's play; the
-    structural and legacy truths are the plant itself, at their own step
-    :data:`PLANT_TRUTH_TIMESTEP`.
+    The independent truth is the yard truth
+    (:class:`artic.validation.synthetic.yardtruth.YardTruth`: its own model,
+    tyres, column and loop, at its own step; ``timestep`` does not apply to
+    it); the structural and legacy truths are the plant itself, at their own
+    step :data:`PLANT_TRUTH_TIMESTEP`. :class:`TruthPlant`, the independent
+    truth of the release before, stays for its tests and benchmarks.
 
     Parameters
     ----------
@@ -378,10 +381,27 @@ def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow",
         ``"pedals"`` for the truth's driver, ``"drive"`` for the legacy
         truth's, ``"follow"`` for the harness.
     timestep : float, optional
-        The independent truth's MuJoCo timestep [s]: :func:`timestep_for` the
-        manoeuvre's kind; :data:`TIMESTEP` by default.
+        Unused by the truths built here (kept for the callers' signature).
     """
     if truth.get("kind") == "independent":
-        return TruthPlant(vehicle, Column.of(vehicle, play=float(truth["backlash"])), speed,
-                          timestep=timestep)
+        from artic.validation.synthetic.yardtruth import YardSetup, YardTruth
+
+        return YardTruth(vehicle, YardSetup.of(truth), speed)
     return Plant(vehicle, speed=speed, timestep=PLANT_TRUTH_TIMESTEP, spin_fit=False)
+
+
+def truth_actuation(model, steering, column, pedals=None, record: bool = False):
+    """The driver's seat of a truth's model: what the generators drive.
+
+    The yard truth has its own (:class:`artic.validation.synthetic.yardtruth.YardSeat`,
+    its own steering gear; ``steering`` is not used); the plant's truths sit
+    behind :class:`artic.validation.synthetic.actuation.TruthActuation` with the
+    truth file's steering map. ``record``: keep the model's full state at every
+    observation, in the seat's ``states`` (for the floor's open-loop predictions).
+    """
+    from artic.validation.synthetic.actuation import TruthActuation
+    from artic.validation.synthetic.yardtruth import YardSeat, YardTruth
+
+    if isinstance(model, YardTruth):
+        return YardSeat(model, column, pedals, record=record)
+    return TruthActuation(model, steering, column, pedals, record=record)
