@@ -7,6 +7,13 @@ Where numba caches the compiled models is the entry point's choice
 """
 
 from artic.mjcf.interface import OBSERVATION, InitialState, wrap_angle
-from artic.reduced.models import KinematicModel, SingleTrackModel
+from artic.reduced.control import KIN, STM
+from artic.reduced.models import Driven
 
-__all__ = ["OBSERVATION", "InitialState", "KinematicModel", "SingleTrackModel", "wrap_angle"]
+__all__ = ["KIN", "OBSERVATION", "STM", "Driven", "InitialState", "wrap_angle"]
+
+
+def __getattr__(name: str):
+    from artic.reduced import models
+
+    return getattr(models, name)  # the former names KinematicModel, SingleTrackModel warn

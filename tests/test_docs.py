@@ -45,9 +45,9 @@ def _pages() -> list[Path]:
 
 def _my_model():
     """The reader's own model of the models guide and the README: KIN under its own name."""
-    from artic.reduced.models import KinematicModel
+    from artic import KIN
 
-    class MyModel(KinematicModel):
+    class MyModel(KIN):
         name = "mine"
 
     return MyModel

@@ -165,14 +165,15 @@ def session_logs(config: pytest.Config, tmp_path_factory: pytest.TempPathFactory
 @contextlib.contextmanager
 def _model(model: Any, vehicle: Vehicle) -> Iterator[Any]:
     """A model to drive: built from ``vehicle`` (and closed after) unless it is one already."""
-    from artic.validation.models import ModelSpec, build
+    from artic.validation.models import ModelSpec, build, close, is_state_space
 
     if isinstance(model, str):
         built = build(model, vehicle)
     elif isinstance(model, ModelSpec):
         built = model.build(vehicle)
-    elif not isinstance(model, type) and hasattr(model, "reset") and hasattr(model, "step"):
-        yield model  # a model already: a class has reset and step too, but builds one
+    elif not isinstance(model, type) and (is_state_space(model) or (
+            hasattr(model, "reset") and hasattr(model, "step"))):
+        yield model  # a model already: a class has these methods too, but builds one
         return
     elif callable(model):
         built = model(vehicle)
@@ -182,7 +183,7 @@ def _model(model: Any, vehicle: Vehicle) -> Iterator[Any]:
     try:
         yield built
     finally:
-        built.close()
+        close(built)
 
 
 def _name(model: Any) -> str:

@@ -105,7 +105,7 @@ def _load_vehicle(name: str):
 
 def _simulate(args: argparse.Namespace) -> int:
     from artic.validation.harness.simulate import simulate
-    from artic.validation.models import build
+    from artic.validation.models import build, close
 
     out = check_output_file(args.out)
     v = _load_vehicle(args.vehicle)
@@ -127,7 +127,7 @@ def _simulate(args: argparse.Namespace) -> int:
     try:
         run = simulate(model, v, profile)
     finally:
-        model.close()
+        close(model)
     write_run(run, out)
     status = run.meta["status"]
     end = f", {run.frame.t.iloc[-1]:.2f} s" if len(run.frame) else ""

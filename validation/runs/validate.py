@@ -44,7 +44,7 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.models import build
+from artic.validation.models import build, close
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -292,7 +292,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
                 wall = time.perf_counter() - t0
                 run.meta["prediction"] = _predict(model, log, vehicle)
             finally:
-                model.close()
+                close(model)
     except (MemoryError, RecursionError):
         raise
     except ValueError as exc:  # the model refuses its input: vehicle, tyre, steering range
