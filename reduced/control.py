@@ -227,8 +227,9 @@ class ReducedModel:
         return np.array([delta, u1, u1_dot][:self.ninputs], dtype=float)
 
     def _rhs3(self, X: np.ndarray, U: np.ndarray) -> np.ndarray:
-        """:meth:`rhs` of rows ``X`` and ``U`` (batch, 3: delta, u1, u1_dot), compiled unless
-        a subclass replaced it.
+        """:meth:`rhs` of rows ``X`` and ``U`` (batch, 3: delta, u1, u1_dot).
+
+        Compiled unless a subclass replaced it.
         """
         if self.replaced("rhs"):
             return np.atleast_2d(np.asarray(self.rhs(X, U[:, :self.ninputs]), dtype=float))
