@@ -460,6 +460,9 @@ class ReducedModel:
         return integrate.rk4_step(self.kind, x, float(dt), float(u1), float(u1_dot),
                                   float(delta), self.P)
 
+    def close(self) -> None:
+        """Nothing to release: a reduced model holds only arrays (the plant's ``close`` does)."""
+
     def compiled(self) -> tuple | None:
         """``(kind, P, s1, s2)`` for the harness's compiled loop, or ``None``.
 
