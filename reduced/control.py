@@ -53,6 +53,7 @@ import math
 import numpy as np
 from numba import njit
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState, rotate, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced import integrate
@@ -171,7 +172,7 @@ class ReducedModel:
         try:
             return labels.index(name)
         except ValueError:
-            raise ValueError(f"{type(self).__name__} has no {what} {name!r}: its {what}s are "
+            raise UserError(f"{type(self).__name__} has no {what} {name!r}: its {what}s are "
                              f"{', '.join(labels)}") from None
 
     def __repr__(self) -> str:
@@ -187,7 +188,7 @@ class ReducedModel:
         u = np.asarray(u, dtype=float)
         for name, a, labels in (("x", x, self.state_labels), ("u", u, self.input_labels)):
             if a.ndim not in (1, 2) or a.shape[-1] != len(labels):
-                raise ValueError(f"{type(self).__name__}: {name} has shape {a.shape}; expected "
+                raise UserError(f"{type(self).__name__}: {name} has shape {a.shape}; expected "
                                  f"({len(labels)},) or (batch, {len(labels)}) for "
                                  f"{', '.join(labels)}")
         single = x.ndim == 1 and u.ndim == 1
@@ -195,7 +196,7 @@ class ReducedModel:
         try:
             b = np.broadcast_shapes(x2.shape[:1], u2.shape[:1])[0]
         except ValueError:
-            raise ValueError(f"{type(self).__name__}: a batch of {x2.shape[0]} states and one "
+            raise UserError(f"{type(self).__name__}: a batch of {x2.shape[0]} states and one "
                              f"of {u2.shape[0]} inputs: give equal batches, or one of either"
                              ) from None
         X = np.ascontiguousarray(np.broadcast_to(x2, (b, x2.shape[1])))
@@ -320,7 +321,7 @@ class ReducedModel:
         x0 = np.asarray(x0, dtype=float)
         u = np.asarray(u, dtype=float)
         if x0.ndim != 1 or u.ndim != 2:
-            raise ValueError(f"{type(self).__name__}.rollout: x0 has shape {x0.shape} and u "
+            raise UserError(f"{type(self).__name__}.rollout: x0 has shape {x0.shape} and u "
                              f"{u.shape}; expected ({self.nstates},) and (steps, "
                              f"{self.ninputs})")
         X, U, _ = self._batch(x0, u)
@@ -719,7 +720,7 @@ class KIN(ReducedModel):
         t = math.tan(delta)
         rho = math.hypot(self.L1, self.L1c * t)
         if abs(self.L2 * t) > rho:
-            raise ValueError(f"KIN.steady_turn: delta = {delta} rad turns the tractor tighter "
+            raise UserError(f"KIN.steady_turn: delta = {delta} rad turns the tractor tighter "
                              f"than the semitrailer can follow (|L2 tan(delta)| > "
                              f"hypot(L1, L1c tan(delta))): no steady articulation; use a "
                              f"smaller |delta|")
@@ -904,13 +905,13 @@ class STM(ReducedModel):
             ``[delta, u, 0]``.
         """
         if u == 0.0:
-            raise ValueError("STM.steady_turn: u = 0: at standstill the tyres' slip angles "
+            raise UserError("STM.steady_turn: u = 0: at standstill the tyres' slip angles "
                              "are frozen and every articulation is a trim; give u != 0")
         L1, _, x_n = wheelbases(self.vehicle)
         try:
             kin_trim = KIN(self.vehicle).steady_turn(delta, u)[0]
         except ValueError:
-            raise ValueError(f"STM.steady_turn: delta = {delta} rad turns the tractor tighter "
+            raise UserError(f"STM.steady_turn: delta = {delta} rad turns the tractor tighter "
                              f"than the semitrailer can follow even without tyre slip: no "
                              f"steady articulation; use a smaller |delta|") from None
         r = u * math.tan(delta) / L1
@@ -928,7 +929,7 @@ class STM(ReducedModel):
             x[idx] += dz
             if np.max(np.abs(dz)) < tol:
                 return x, u0
-        raise ValueError(f"STM.steady_turn: no trim found at delta = {delta} rad, u = {u} m/s "
+        raise UserError(f"STM.steady_turn: no trim found at delta = {delta} rad, u = {u} m/s "
                          f"in {max_iter} Newton steps (last step {np.max(np.abs(dz)):.3g}); "
                          f"the turn may be past the tyres' or the hitch's reach: try a smaller "
                          f"|delta| or |u|")

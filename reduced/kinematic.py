@@ -51,6 +51,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from artic.mjcf.errors import UnsupportedVehicleError, UserError
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.sensors import sensor_signals
 
@@ -193,10 +194,8 @@ def kin_params(vehicle: Vehicle, wheelbase: str = "equivalent") -> KinParameters
     UnsupportedVehicleError
         When a length is not positive and finite: KIN cannot represent the vehicle.
     """
-    from artic.mjcf.errors import UnsupportedVehicleError
-
     if wheelbase not in WHEELBASES:
-        raise ValueError(f"wheelbase {wheelbase!r}: expected one of {', '.join(WHEELBASES)}")
+        raise UserError(f"wheelbase {wheelbase!r}: expected one of {', '.join(WHEELBASES)}")
     L1, L1c, _ = wheelbases(vehicle, wheelbase)
     if wheelbase == "paper":
         L2 = vehicle.L2

@@ -53,6 +53,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 
@@ -343,26 +344,26 @@ def _has(model: object, member: str) -> bool:
 def _check_spec(s: ModelSpec) -> ModelSpec:
     """``s`` with its build checked, or a ``ValueError``/``TypeError`` naming what is wrong."""
     if not isinstance(s.name, str) or not _NAME.fullmatch(s.name):
-        raise ValueError(f"model name {s.name!r}: use 1-32 lower-case letters, digits or _, "
+        raise UserError(f"model name {s.name!r}: use 1-32 lower-case letters, digits or _, "
                          "starting with a letter (it names files and --models entries)")
     if s.name in _BUILTIN:
-        raise ValueError(f"model name {s.name!r} is artic's built-in "
+        raise UserError(f"model name {s.name!r} is artic's built-in "
                          f"{_BUILTIN[s.name].label}; choose another name")
     if not callable(s.build):
         raise TypeError(f"model {s.name!r}: build must be a function of the vehicle returning "
                         f"a model, got {type(s.build).__name__}")
     if not isinstance(s.label, str) or not s.label.strip():
-        raise ValueError(f"model {s.name!r}: label must be a non-empty string")
+        raise UserError(f"model {s.name!r}: label must be a non-empty string")
     if not (isinstance(s.colour, tuple) and len(s.colour) == 3
             and all(isinstance(c, int) and 0 <= c <= 255 for c in s.colour)):
-        raise ValueError(f"model {s.name!r}: colour {s.colour!r}: expected three integers "
+        raise UserError(f"model {s.name!r}: colour {s.colour!r}: expected three integers "
                          "0-255 (red, green, blue)")
     bad = [t for t in s.tuned if t not in TUNABLE]
     if bad or len(set(s.tuned)) != len(s.tuned):
-        raise ValueError(f"model {s.name!r}: tuned {s.tuned!r}: a registered model tunes its "
+        raise UserError(f"model {s.name!r}: tuned {s.tuned!r}: a registered model tunes its "
                          f"steering map only, without repeats: choose from {', '.join(TUNABLE)}")
     if not isinstance(s.batched, bool) or s.reference:
-        raise ValueError(f"model {s.name!r}: batched must be True or False, and a registered "
+        raise UserError(f"model {s.name!r}: batched must be True or False, and a registered "
                          "model is not a reference row")
     if getattr(s.build, "__artic_checked__", False):
         return s
@@ -374,7 +375,7 @@ def _add(s: ModelSpec) -> ModelSpec:
     s = _check_spec(s)
     with _lock:
         if s.name in _ADDED:
-            raise ValueError(f"model {s.name!r} is registered already (as "
+            raise UserError(f"model {s.name!r} is registered already (as "
                              f"{_ADDED[s.name].label}); choose another name, or "
                              "unregister_model it first")
         _ADDED[s.name] = s
@@ -458,7 +459,7 @@ def unregister_model(name: str) -> None:
     """
     with _lock:
         if name not in _ADDED:
-            raise ValueError(f"model {name!r} is not a registered model; registered: "
+            raise UserError(f"model {name!r} is not a registered model; registered: "
                              f"{', '.join(_ADDED) or 'none'}")
         del _ADDED[name]
 
@@ -482,7 +483,7 @@ def _discover() -> None:
                     raise TypeError(f"it gives a {type(s).__name__}, not a ModelSpec or a "
                                     "function returning one")
                 if s.name != ep.name:
-                    raise ValueError(f"its ModelSpec is named {s.name!r}; name the entry "
+                    raise UserError(f"its ModelSpec is named {s.name!r}; name the entry "
                                      "point after the model")
                 _add(s)
             except Exception as exc:  # noqa: BLE001 - one broken distribution leaves the rest
@@ -506,7 +507,7 @@ def spec(name: str) -> ModelSpec:
     if s is None:
         near = difflib.get_close_matches(name.strip().lower(), names(), n=1)
         hint = f" (did you mean {near[0]}?)" if near else ""
-        raise ValueError(f"unknown model {name!r}; choose from {', '.join(names())}{hint}")
+        raise UserError(f"unknown model {name!r}; choose from {', '.join(names())}{hint}")
     return s
 
 
@@ -580,7 +581,7 @@ def check_vehicle(vehicle: Vehicle) -> Vehicle:
     """
     unknown = _unknown_tables(vehicle)
     if unknown:
-        raise ValueError(f"{unknown[0]}; correct the table's name, or register the model "
+        raise UserError(f"{unknown[0]}; correct the table's name, or register the model "
                          "(artic.register_model)")
     return vehicle
 
@@ -616,12 +617,12 @@ def parse_models(text: str, option: str = "--models") -> list[str]:
     try:
         names_ = [spec(m).name for m in text.split(",") if m.strip()]
     except ValueError as exc:
-        raise ValueError(f"{where}{exc}") from None
+        raise UserError(f"{where}{exc}") from None
     refs = [n for n in names_ if REGISTRY[n].reference]
     if refs:
-        raise ValueError(f"{where}{', '.join(refs)} is a reference row the campaign adds, not "
+        raise UserError(f"{where}{', '.join(refs)} is a reference row the campaign adds, not "
                          f"a model to validate; choose from {', '.join(names())}")
     if not names_:
-        raise ValueError(f"{where}no model given; use for example {option or '--models'} "
+        raise UserError(f"{where}no model given; use for example {option or '--models'} "
                          f"{','.join(NAMES)}")
     return names_

@@ -63,6 +63,8 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
+from artic.mjcf.errors import UserError
+
 if TYPE_CHECKING:
     from artic.mjcf.vehicle import Vehicle
     from artic.validation.logs.runfile import Run
@@ -208,7 +210,7 @@ def _vehicle(vehicle: Vehicle | str | None, model: Any, log: Run) -> Vehicle:
         return own
     named = log.meta.get("vehicle_path") or log.meta.get("vehicle")
     if not named:
-        raise ValueError(f"log {log.name}: its metadata names no vehicle; pass vehicle=")
+        raise UserError(f"log {log.name}: its metadata names no vehicle; pass vehicle=")
     return load_vehicle(named)
 
 
@@ -245,13 +247,13 @@ def _criteria(log: Run, run: Run) -> dict[str, float]:
 def _limits(within: Mapping[str, float]) -> dict[str, float]:
     known = _known()
     if not within:
-        raise ValueError(f"within: give at least one criterion, from {', '.join(known)}")
+        raise UserError(f"within: give at least one criterion, from {', '.join(known)}")
     out = {}
     for k, v in within.items():
         if k not in known:
-            raise ValueError(f"within: unknown criterion {k!r}; choose from {', '.join(known)}")
+            raise UserError(f"within: unknown criterion {k!r}; choose from {', '.join(known)}")
         if not isinstance(v, int | float) or not math.isfinite(v) or v < 0:
-            raise ValueError(f"within: {k} = {v!r}: a limit is a finite number >= 0")
+            raise UserError(f"within: {k} = {v!r}: a limit is a finite number >= 0")
         out[k] = float(v)
     return out
 

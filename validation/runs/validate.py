@@ -27,6 +27,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
@@ -110,7 +111,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     names = [log.name for log in logs]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
-        raise ValueError(f"logs share the name(s) {', '.join(dupes)}; their results would "
+        raise UserError(f"logs share the name(s) {', '.join(dupes)}; their results would "
                          "overwrite each other: rename the files")
     tasks = [(log, name) for log in logs for name in models]
     if scale is None:

@@ -52,6 +52,7 @@ import sys
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.validation.docking.controllers.base import Command, Observation, Task
 from artic.validation.docking.controllers.reference import ReferenceController
@@ -98,7 +99,7 @@ def _casadi():
     try:
         import casadi
     except ImportError:  # pragma: no cover - depends on the install
-        raise ValueError("the MPC controllers need CasADi: pip install \"artic[mpc]\"") from None
+        raise UserError("the MPC controllers need CasADi: pip install \"artic[mpc]\"") from None
     return casadi
 
 
