@@ -280,7 +280,7 @@ class Plant:
         self.use_compiled_step = True
         """Whether :meth:`step` and :meth:`observe` run in compiled code where they can
         (``False``: in Python, the reference they are tested against)."""
-        self._stepper = None if closedloop.step_available(self) else closedloop.Stepper(self)
+        self._stepper = closedloop.Stepper(self) if closedloop.step_available(self) else None
         if self._stepper is not None:  # the unwrapped headings [rad], shared with it
             self._psi = self._stepper.psi
 
@@ -898,7 +898,7 @@ class Plant:
         if closedloop.unavailable_reason():  # not built: say so once, run in Python
             _warn_loop_fallback()
             return None
-        if closedloop.available(self):  # this plant's mode: the Python loop, silently
+        if not closedloop.available(self):  # this plant's mode: the Python loop, silently
             return None
         return functools.partial(closedloop.run, self)
 
