@@ -625,6 +625,8 @@ class KIN(ReducedModel):
     kind = integrate.KIN
     name = "kin"
     state_labels = ("X_1", "Y_1", "psi_1", "gamma")
+    """``X_1, Y_1`` [m]: the tractor's (equivalent) rear axle, not its sensor (a log's
+    ``x_1, y_1``) nor its centre of gravity (the STM's); ``psi_1``, ``gamma`` [rad]."""
     input_labels = ("delta", "u_1")
 
     def __init__(self, vehicle: Vehicle, wheelbase: str = "equivalent") -> None:
@@ -787,7 +789,11 @@ class STM(ReducedModel):
 
     @property
     def state_labels(self) -> tuple[str, ...]:
-        """``X_1, Y_1, psi_1, gamma, v_1, r_1, gamma_dot`` and ``alpha_i`` per axle."""
+        """``X_1, Y_1, psi_1, gamma, v_1, r_1, gamma_dot`` and ``alpha_i`` per axle.
+
+        ``X_1, Y_1`` [m] is the tractor's centre of gravity, not its sensor (a
+        log's ``x_1, y_1``) nor its rear axle (KIN's).
+        """
         return ("X_1", "Y_1", "psi_1", "gamma", "v_1", "r_1", "gamma_dot",
                 *(f"alpha_{i + 1}" for i in range(self.params.n_axles)))
 

@@ -227,3 +227,23 @@ def test_the_former_names_warn_and_are_the_same_classes():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert artic.reduced.control.ControlModel is artic.reduced.control.ReducedModel
+
+
+def test_kin_refuses_a_vehicle_whose_semitrailer_axles_lead_its_kingpin(unloaded):
+    # Axles ahead of the kingpin: the semitrailer's no-slip point is ahead of
+    # the hitch, L2 < 0, which eq. (1) cannot describe (its articulation
+    # dynamics divide by L2 and their sign turns). One line, at construction.
+    import dataclasses
+
+    from artic.mjcf.errors import UnsupportedVehicleError
+
+    axles = list(unloaded.axles)
+    n1 = len(unloaded.tractor_axles)
+    axles[n1:] = [dataclasses.replace(a, x=-a.x) for a in axles[n1:]]
+    bad = dataclasses.replace(unloaded, axles=tuple(axles))
+    assert np.all(bad.trailer_axle_distances < 0)
+    with pytest.raises(UnsupportedVehicleError, match=r"KIN cannot represent .* L2 = -") as e:
+        artic.KIN(bad)
+    assert "\n" not in str(e.value)
+    with pytest.raises(UnsupportedVehicleError):
+        artic.build_model("kin", bad)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from artic.reduced import KIN
+from artic.reduced import KIN, Driven
 from artic.validation.criteria.prediction import (
     COLUMNS,
     horizon_ends,
@@ -38,7 +38,7 @@ class SteeringFlipped:
     name = "kin"
 
     def __init__(self, vehicle):
-        self.inner = KIN(vehicle, wheelbase="paper")
+        self.inner = Driven(KIN(vehicle, wheelbase="paper"))
 
     def reset(self, initial):
         self.inner.reset(initial)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from artic.mjcf import load_vehicle
-from artic.reduced import KIN, STM
+from artic.reduced import KIN, STM, Driven
 from artic.validation.harness.loop import run_closed_loop, unsteered_inputs
 from artic.validation.harness.reversing import (
     DEAD_BAND,
@@ -238,7 +238,7 @@ def test_the_feedback_is_handed_over_without_a_step(unloaded, cls):
 
     steering = SteeringMap.from_steering(v.steering_for(cls.name))
     inp = steered(inputs, steering, "test")
-    model = cls(v)
+    model = Driven(cls(v))
     model.reset(inp.initial)
     py = _python_loop(model, *loop_args(inp, v, 3.0))
     np.testing.assert_allclose(py[2], fb, rtol=0.0, atol=1e-12)
