@@ -14,6 +14,8 @@ __all__ = ["KIN", "OBSERVATION", "STM", "Driven", "InitialState", "wrap_angle"]
 
 
 def __getattr__(name: str):
-    from artic.reduced import models
+    if name in ("KinematicModel", "SingleTrackModel"):  # former names: they warn
+        from artic.reduced import models
 
-    return getattr(models, name)  # the former names KinematicModel, SingleTrackModel warn
+        return getattr(models, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

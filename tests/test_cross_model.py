@@ -51,12 +51,12 @@ def linear(unloaded):
     n = np.array([2.0 * (2 if a.dual else 1) for a in unloaded.axles])
     C = n * tyre.cornering_stiffness(unloaded.static_loads / n)
     stm = STM(unloaded)
-    stm.P[-len(C):] = C
+    stm.params = stm.params._replace(C=C)
     # The same with the trailer's axles merged into one at L2, where KIN puts
     # the trailer's no-slip point: the STM then departs from KIN by slip alone.
     n_tr = len(unloaded.trailer_axles)
     stm1 = STM(unloaded, trailer_axles=np.array([unloaded.L2]))
-    stm1.P[-(len(C) - n_tr + 1):] = np.append(C[:-n_tr], C[-n_tr:].sum())
+    stm1.params = stm1.params._replace(C=np.append(C[:-n_tr], C[-n_tr:].sum()))
     with Plant(unloaded) as plant:
         mbd = steady(plant, math.radians(100.0) / unloaded.steering_for("mbd").i_s)
         qL = plant.data.qpos[plant._steer_L[0]]

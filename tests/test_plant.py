@@ -104,7 +104,7 @@ def stm_with_tyre_file_stiffness(v):
     n = np.array([2.0 * (2 if a.dual else 1) for a in v.axles])
     C = n * tyre.cornering_stiffness(v.static_loads / n)
     m = STM(v)
-    m.P[-len(C):] = C  # the cornering stiffnesses close the parameter array
+    m.params = m.params._replace(C=C)  # the tyre file's cornering stiffnesses
     return m
 
 

@@ -24,14 +24,14 @@ from conftest import straight_log
 pytest_plugins = ["pytester"]
 
 USER_TESTS = """
-from artic.reduced import KIN
+import artic
 from artic.validation.testing import assert_agree, assert_tracks
 
 
 def kin(vehicle):
     \"\"\"The user's model: KIN, with its tractor wheelbase scaled by WHEELBASE.\"\"\"
-    model = KIN(vehicle)
-    model.P[0] *= WHEELBASE
+    model = artic.KIN(vehicle)
+    model.params = model.params._replace(L1=WHEELBASE * model.params.L1)
     return model
 
 

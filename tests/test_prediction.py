@@ -76,8 +76,7 @@ def test_the_logs_own_generator_predicts_it_exactly(log, unloaded):
 
 def test_a_wrong_wheelbase_grows_with_the_horizon(log, unloaded):
     model = KIN(unloaded, wheelbase="paper")
-    model.P = model.P.copy()
-    model.P[2] *= 1.2  # the semitrailer's wheelbase L2, 20 % long
+    model.params = model.params._replace(L2=1.2 * model.params.L2)  # 20 % long
     got = prediction_errors(model, log, unloaded)
     p = [got[f"pred_p_{h}m"] for h in (2, 5, 10)]
     g = [got[f"pred_gamma_{h}m"] for h in (2, 5, 10)]
