@@ -29,7 +29,7 @@ import tempfile
 import time
 
 from artic.mjcf import load_vehicle
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_inputs, run_inputs
 from artic.validation.harness.simulate import simulate
@@ -54,11 +54,11 @@ def _wall(fn) -> float:
 def _compile_from_nothing() -> float:
     """Wall time of the first KIN run in a fresh process with an empty numba cache [s]."""
     code = ("import time, sys; sys.path.insert(0, 'benchmarks');"
-            "from artic.mjcf import load_vehicle; from artic.reduced import KinematicModel;"
+            "from artic.mjcf import load_vehicle; from artic.reduced import KIN;"
             "from bench_closedloop import _inputs; "
             "from artic.validation.harness.loop import run_inputs;"
             "v = load_vehicle('gosar2022-unloaded'); i = _inputs(v);"
-            "t0 = time.perf_counter(); run_inputs(KinematicModel(v), i, v, 3.0);"
+            "t0 = time.perf_counter(); run_inputs(KIN(v), i, v, 3.0);"
             "print(time.perf_counter() - t0)")
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache}
@@ -79,11 +79,11 @@ def main() -> dict[str, list[float]]:
         for side in ("left", "right"):
             p = make_profile("constant-steer", amplitude_deg=amp, speed_kph=kph, side=side,
                              duration=40.0, delta_h_offset=s.delta_h_offset)
-            run = simulate(SingleTrackModel(v), v, p)
+            run = simulate(STM(v), v, p)
             logs.append(Run(run.frame[list(COLUMNS)], {"name": f"{amp}-{kph}-{side}"}))
     sim = sum(float(log.frame.t.iloc[-1]) for log in logs)
     out: dict[str, list[float]] = {}
-    for cls in (KinematicModel, SingleTrackModel):
+    for cls in (KIN, STM):
         steering = SteeringMap.from_steering(v.steering_for(cls.name))
         inputs = [loop_inputs(log, v, steering) for log in logs]
         variants = {

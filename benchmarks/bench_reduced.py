@@ -19,7 +19,7 @@ import numpy as np
 
 from _timing import REPEATS, best_wall
 from artic.mjcf import load_vehicle
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.validation.criteria.pathdist import distance_to_polyline
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation, simulate
@@ -33,9 +33,9 @@ def _logs(v):
     s = v.steering_for("stm")
     prof = make_profile("slalom", amplitude_deg=200, speed_kph=5, duration=60.0,
                         delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
-    fwd = simulate(SingleTrackModel(v), v, prof)
+    fwd = simulate(STM(v), v, prof)
     t = np.arange(0.0, 60.0, 0.01)
-    rev = drive_articulation(SingleTrackModel(v), v, t, np.full_like(t, -3 / 3.6),
+    rev = drive_articulation(STM(v), v, t, np.full_like(t, -3 / 3.6),
                              math.radians(30) * np.clip(t / 30, 0, 1),
                              steering=SteeringMap.from_steering(s))
     return [Run(r.frame[list(COLUMNS)], {"name": n}) for r, n in ((fwd, "fwd"), (rev, "rev"))]
@@ -47,7 +47,7 @@ def main() -> dict[str, float]:
     out = {}
     for log in logs:
         sim_time = float(log.frame.t.iloc[-1])
-        for cls in (KinematicModel, SingleTrackModel):
+        for cls in (KIN, STM):
             wall = best_wall(lambda cls=cls, log=log: run_closed_loop(cls(v), log, v))
             out[f"{cls.name}_{log.name}_rtf"] = sim_time / wall
     out["stm_over_kin_cost"] = out["kin_fwd_rtf"] / out["stm_fwd_rtf"]

@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
+
 
 @dataclass(frozen=True)
 class Trapezoid:
@@ -87,7 +89,7 @@ class Trapezoid:
         h2 = self.arm ** 2 - e ** 2
         if np.any(h2 < 0.0):
             bad = np.atleast_1d(d_left)[np.atleast_1d(h2 < 0.0)][0]
-            raise ValueError(f"the trapezoid cannot reach a left-wheel angle of {bad} rad")
+            raise UserError(f"the trapezoid cannot reach a left-wheel angle of {bad} rad")
         h = np.sqrt(h2)
         ux, uy = ax / dist, ay / dist
         base = np.arctan2(ly, lx)  # the arm's angle straight ahead
@@ -156,7 +158,7 @@ def left_range(right: Callable[[float], float], delta_max: float) -> tuple[float
             try:
                 c = centre(float(d))
             except ValueError as exc:
-                raise ValueError(f"the linkage locks at a left-wheel angle of {d:.2f} rad, "
+                raise UserError(f"the linkage locks at a left-wheel angle of {d:.2f} rad, "
                                  f"before a centre angle of {sign * delta_max:.2f} rad; "
                                  "lengthen the steering arm or lower delta_max") from exc
             if sign * c < sign * c_prev:
@@ -164,7 +166,7 @@ def left_range(right: Callable[[float], float], delta_max: float) -> tuple[float
             if sign * c >= delta_max:
                 return _bisect(lambda x: sign * centre(x) - delta_max, prev, float(d))
             prev, c_prev = float(d), c
-        raise ValueError(f"the linkage does not reach a centre angle of {sign * delta_max} rad")
+        raise UserError(f"the linkage does not reach a centre angle of {sign * delta_max} rad")
 
     return reach(-1.0), reach(1.0)
 

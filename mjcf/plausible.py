@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.schema import VehicleFileError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -74,9 +75,9 @@ class Range:
             Outside the possible range (the caller turns it into its file error).
         """
         if not math.isfinite(value):
-            raise ValueError(f"{where}: {value!r} is not a finite number")
+            raise UserError(f"{where}: {value!r} is not a finite number")
         if not self.possible(value):
-            raise ValueError(f"{where}: {value:g}{self._u} is impossible for a "
+            raise UserError(f"{where}: {value:g}{self._u} is impossible for a "
                              f"tractor-semitrailer (possible: {self.span}); check the value "
                              "and its unit")
         self.warn(value, where, stacklevel=4)

@@ -17,8 +17,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from artic.mjcf.errors import UserError
 
-class VehicleFileError(ValueError):
+
+class VehicleFileError(UserError):
     """A vehicle parameter file is malformed; the message names file and key.
 
     Examples

@@ -20,13 +20,14 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.plausible import Range
 
 _SECTION = re.compile(r"^\[(?P<name>[A-Z0-9_]+)\]\s*$")
 _ENTRY = re.compile(r"^(?P<key>[A-Za-z_][A-Za-z0-9_]*)\s*=\s*(?P<value>.+?)\s*$")
 
 
-class TirError(ValueError):
+class TirError(UserError):
     """A tyre property file cannot be used; the message names the file and key or line."""
 
 

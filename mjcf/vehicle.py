@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from artic.mjcf import schema
+from artic.mjcf.errors import UserError
 from artic.mjcf.plausible import check_plausible, check_tir_file
 from artic.mjcf.schema import VehicleFileError
 
@@ -283,7 +284,7 @@ class Vehicle:
             artic; a model without a ``[steering.NAME]`` table gets ``[steering]``.
         """
         if not isinstance(model, str) or not re.fullmatch(schema.MODEL_NAME, model):
-            raise ValueError(f"model name {model!r}: expected one of {schema.MODELS} or a "
+            raise UserError(f"model name {model!r}: expected one of {schema.MODELS} or a "
                              "registered model's name (lower-case letters, digits, _)")
         return replace(self.steering, **self.steering_overrides.get(model, {}))
 

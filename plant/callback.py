@@ -21,6 +21,7 @@ from collections.abc import Callable
 
 import mujoco
 
+from artic.mjcf.errors import UserError
 from artic.plant import ctyre
 
 Handler = Callable[[mujoco.MjModel, mujoco.MjData], None]
@@ -73,7 +74,7 @@ def install(model: mujoco.MjModel, handler: Handler | str) -> None:
     global _previous
     with _lock:
         if model._address in _handlers:
-            raise ValueError("this MjModel already has a passive-force handler")
+            raise UserError("this MjModel already has a passive-force handler")
         if not _handlers:
             current = mujoco.get_mjcb_passive()
             _previous = None if current is None or _is_ours(current) else current

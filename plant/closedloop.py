@@ -109,7 +109,12 @@ def unavailable_reason() -> str:
     return _loaded()[1]
 
 
-def step_available(plant: Plant) -> str:
+def step_available(plant: Plant) -> bool:
+    """Whether ``plant`` can take its single steps in compiled code (:func:`why_no_step`)."""
+    return not why_no_step(plant)
+
+
+def why_no_step(plant: Plant) -> str:
     """Why ``plant`` cannot take its single steps in compiled code; empty when it can."""
     lib, why = _loaded()
     if lib is None:
@@ -122,12 +127,17 @@ def step_available(plant: Plant) -> str:
     return ""
 
 
-def available(plant: Plant) -> str:
+def available(plant: Plant) -> bool:
+    """Whether ``plant`` can use the compiled loop (:func:`why_no_loop` says why not)."""
+    return not why_no_loop(plant)
+
+
+def why_no_loop(plant: Plant) -> str:
     """Why ``plant`` cannot use the compiled loop; empty when it can.
 
     The loop needs what the single step needs, and a followed speed.
     """
-    why = step_available(plant)
+    why = why_no_step(plant)
     if why:
         return why
     if plant.speed_mode != "follow":
@@ -147,7 +157,7 @@ class Stepper:
     Parameters
     ----------
     plant : Plant
-        :func:`step_available` must be empty for it.
+        :func:`step_available` must be true of it.
     """
 
     def __init__(self, plant: Plant) -> None:
@@ -218,7 +228,7 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
     plant.PlantError
         When the simulation diverged, naming the time and the wheel.
     """
-    why = available(plant)
+    why = why_no_loop(plant)
     if why:
         raise RuntimeError(f"the compiled closed loop is unavailable: {why}")
     lib = _loaded()[0]

@@ -32,6 +32,7 @@ from typing import NamedTuple
 import mujoco
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.plant.spinmode import FIT_SCALE
 from artic.plant.tyre import TyreParams
 
@@ -64,7 +65,7 @@ MAX_TYRES_PER_END = 4
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
 
-class TyreBlockError(ValueError):
+class TyreBlockError(UserError):
     """An ``artic.tyre`` block is malformed; the message names what is wrong."""
 
 
@@ -358,7 +359,7 @@ def register_kind(name: str, function) -> None:
     """
     address = ctypes.cast(function, ctypes.c_void_p).value
     if _lib().artic_register_kind(name.encode(), address) < 0:
-        raise ValueError(f"cannot register the callback kind {name!r} (the plant's own name, "
+        raise UserError(f"cannot register the callback kind {name!r} (the plant's own name, "
                          "too long, or 8 kinds already)")
 
 

@@ -54,6 +54,7 @@ import numpy as np
 
 from artic.mjcf import naming as nm
 from artic.mjcf.builder import build_model, linkage
+from artic.mjcf.errors import PlantError, UserError
 from artic.mjcf.interface import InitialState, rotate, wrap_angle
 from artic.mjcf.masses import layout
 from artic.mjcf.plausible import check_tyre_data
@@ -186,7 +187,7 @@ def with_tyre_files(vehicle: Vehicle, tyre_files: Mapping[int, str | Path]) -> V
     axles = list(vehicle.axles)
     for i, name in tyre_files.items():
         if not (isinstance(i, (int, np.integer)) and 0 <= i < len(axles)):
-            raise ValueError(f"tyre_files: axle {i!r} does not exist; {vehicle.name} has axles "
+            raise UserError(f"tyre_files: axle {i!r} does not exist; {vehicle.name} has axles "
                              f"0 to {len(axles) - 1} ({', '.join(a.name for a in axles)})")
         path = Path(name)
         if not path.is_file():
@@ -194,10 +195,6 @@ def with_tyre_files(vehicle: Vehicle, tyre_files: Mapping[int, str | Path]) -> V
                                      f"tyre_files[{i}]")
         axles[i] = dataclasses.replace(axles[i], tyre_file=str(path))
     return dataclasses.replace(vehicle, axles=tuple(axles))
-
-
-class PlantError(RuntimeError):
-    """The simulation diverged; the message names the time and the wheel."""
 
 
 class PlantWarning(UserWarning):
@@ -238,9 +235,9 @@ class Plant:
                  tyre_files: Mapping[int, str | Path] | None = None,
                  spin_fit: bool = True) -> None:
         if backend not in BACKENDS:
-            raise ValueError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+            raise UserError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
         if speed not in SPEED_MODES:
-            raise ValueError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)}")
+            raise UserError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)}")
         self.speed_mode = speed
         self.spin_fit = spinmode.FIT_SCALE if spin_fit else 0.0
         """The scale of the spin mode's fit to the step (0: none; :mod:`artic.plant.spinmode`)."""
@@ -268,7 +265,7 @@ class Plant:
         n_wheels = 2 * len(vehicle.axles)
         if self.backend == "c":
             if spec.numerics:
-                raise ValueError("the plant's spec must not carry numerics of its own")
+                raise UserError("the plant's spec must not carry numerics of its own")
             self._add_block(spec, n_wheels, len(files))
         self.model = callback.compile_spec(spec)
         if timestep is not None:
@@ -292,7 +289,7 @@ class Plant:
         self.use_compiled_step = True
         """Whether :meth:`step` and :meth:`observe` run in compiled code where they can
         (``False``: in Python, the reference they are tested against)."""
-        self._stepper = None if closedloop.step_available(self) else closedloop.Stepper(self)
+        self._stepper = closedloop.Stepper(self) if closedloop.step_available(self) else None
         if self._stepper is not None:  # the unwrapped headings [rad], shared with it
             self._psi = self._stepper.psi
 
@@ -332,7 +329,7 @@ class Plant:
     @tyres.setter
     def tyres(self, sets: list[TyreParams]) -> None:
         if len(sets) != len(self._tyres):
-            raise ValueError(f"the plant has {len(self._tyres)} tyre sets, got {len(sets)}")
+            raise UserError(f"the plant has {len(self._tyres)} tyre sets, got {len(sets)}")
         self._tyres = list(sets)
         self._per_wheel_tyre()
         if self.backend == "c":
@@ -958,7 +955,7 @@ class Plant:
         if closedloop.unavailable_reason():  # not built: say so once, run in Python
             _warn_loop_fallback()
             return None
-        if closedloop.available(self):  # this plant's mode: the Python loop, silently
+        if not closedloop.available(self):  # this plant's mode: the Python loop, silently
             return None
         return functools.partial(closedloop.run, self)
 

@@ -7,9 +7,19 @@ Where numba caches the compiled models is the entry point's choice
 """
 
 from artic.mjcf.interface import OBSERVATION, InitialState, wrap_angle
-from artic.reduced.models import KinematicModel, SingleTrackModel
+from artic.reduced.control import KIN, STM
+from artic.reduced.models import Driven
 
-__all__ = ["OBSERVATION", "InitialState", "KinematicModel", "SingleTrackModel", "wrap_angle"]
+__all__ = ["KIN", "OBSERVATION", "STM", "Driven", "InitialState", "wrap_angle"]
+
+
+def __getattr__(name: str):
+    if name in ("KinematicModel", "SingleTrackModel"):  # former names: they warn
+        from artic.reduced import models
+
+        return getattr(models, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 if __name__ != "artic.reduced":  # a bare `import reduced` from the repository root
     raise ImportError(f"{__file__} is artic.reduced: import artic.reduced, not {__name__} (a "

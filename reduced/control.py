@@ -1,4 +1,9 @@
-"""KIN and STM for planners and controllers: named signals, a discrete step, linearisations.
+"""KIN and STM: one class per model, for the harness, planners and controllers alike.
+
+:class:`KIN` and :class:`STM` are what artic means by KIN and the STM
+everywhere: the registry builds them (``artic.build_model("kin", v)``), the
+harness drives them (``artic.run_closed_loop(artic.KIN(v), log, v)``), and a
+planner calls their named signals, discrete step and linearisations.
 
 The classes follow python-control's conventions for nonlinear input/output
 systems: named states, inputs and outputs (``state_labels``, ``input_labels``,
@@ -22,6 +27,23 @@ A planner writes::
     kin = artic.KIN(vehicle)
     x1 = kin.step(x, u, dt)
     A, B = kin.linearise(x0, u0)
+
+**Which point the states describe.** ``X_1, Y_1`` is the tractor's
+(equivalent) rear axle in KIN, its centre of gravity in the STM, and the
+tractor's sensor in logs and in the harness's observations (``x_1, y_1``).
+:meth:`~KIN.initial_state` and :meth:`~KIN.signals` convert between them.
+
+**Subclasses.** The harness runs a model through a compiled loop
+(:mod:`artic.validation.harness.reducedloop`), and :meth:`~KIN.step` and
+:meth:`~KIN.rollout` run compiled too. A subclass that replaces what a
+compiled path computes is never bypassed: a replaced :meth:`~KIN.rhs` makes
+:meth:`~KIN.step`, :meth:`~KIN.advance`, :meth:`~KIN.rollout` and the harness
+integrate it in Python (the same fourth-order Runge-Kutta), and the
+Jacobians become finite differences of it; a replaced :meth:`~KIN.step` is
+what :meth:`~KIN.rollout` and the harness take; a replaced
+:meth:`~KIN.signals` is what the harness observes. A subclass whose
+replacements compute what the built-in does (a wrapper that counts calls,
+say) sets ``compiled_equivalent = True`` to keep the compiled paths.
 """
 
 from __future__ import annotations
@@ -31,12 +53,20 @@ import math
 import numpy as np
 from numba import njit
 
+from artic.mjcf.errors import UserError
+from artic.mjcf.interface import InitialState, rotate, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced import integrate
 from artic.reduced.jacobians import kin_jacobian, stm_jacobian_batch
-from artic.reduced.kinematic import equivalent_length, kin_parameters, wheelbases
-from artic.reduced.single_track import N_BODY, axle_velocities, stm_parameters, stm_unpack
+from artic.reduced.kinematic import KinParameters, equivalent_length, kin_params, wheelbases
+from artic.reduced.single_track import N_BODY, StmParameters, axle_velocities, stm_params
 from artic.reduced.tyre_linear import slip_angle
+
+U_SLIP_KNOWN = 0.5
+"""Axle speed above which a log's initial slip angle is taken as known [m/s]."""
+
+_COMPILED = ("rhs", "step", "advance", "signals")
+"""What the harness's compiled loop computes: a class replacing any of them runs in Python."""
 
 
 @njit(cache=True)
@@ -70,22 +100,46 @@ def rollout_steps(kind, x0, u, dt, P):
     return out
 
 
-class ControlModel:
-    """What KIN and STM share: signals, batches, the step and its Jacobians.
+class ReducedModel:
+    """What KIN and STM share: signals, batches, the step, its Jacobians, the harness's calls.
 
     A subclass sets ``kind`` (:data:`artic.reduced.integrate.KIN` or ``STM``),
-    ``P``, the labels, the output geometry ``_x_hitch`` (kingpin ahead of the
-    state's point [m]) and ``_l2`` (semitrailer axle behind the kingpin [m]),
-    and implements :meth:`_jacobians3`.
+    ``name``, :attr:`params`, the labels, the sensors ``_s1`` (tractor sensor
+    from the state's point, tractor axes [m]) and ``_s2`` (semitrailer sensor
+    from the kingpin [m]), the output geometry ``_x_hitch`` (kingpin ahead of
+    the state's point [m]) and ``_l2`` (semitrailer axle behind the kingpin
+    [m]), and implements :meth:`initial_state` and :meth:`_jacobians3`.
     """
 
     kind: int
-    P: np.ndarray
+    name: str
+    compiled_equivalent: bool = False
+    """Set ``True`` in a subclass whose replaced methods compute what the built-in's
+    do, to keep the compiled paths (see the module docstring)."""
+    _s1: np.ndarray
+    _s2: np.ndarray
     state_labels: tuple[str, ...]
     input_labels: tuple[str, ...]
     output_labels: tuple[str, ...] = ("X_1", "Y_1", "psi_1", "X_2", "Y_2", "psi_2")
     _x_hitch: float
     _l2: float
+
+    @property
+    def params(self) -> KinParameters | StmParameters:
+        """The model's parameters, by name (a ``NamedTuple``).
+
+        Assign a changed copy to study a parameter, e.g.
+        ``kin.params = kin.params._replace(L1=1.4 * kin.params.L1)``.
+        """
+        return self._params
+
+    @params.setter
+    def params(self, value: KinParameters | StmParameters) -> None:
+        self._params = value
+        self.P = value.packed()
+
+    P: np.ndarray
+    """:attr:`params` packed as the compiled functions take them (internal)."""
 
     @property
     def nstates(self) -> int:
@@ -118,7 +172,7 @@ class ControlModel:
         try:
             return labels.index(name)
         except ValueError:
-            raise ValueError(f"{type(self).__name__} has no {what} {name!r}: its {what}s are "
+            raise UserError(f"{type(self).__name__} has no {what} {name!r}: its {what}s are "
                              f"{', '.join(labels)}") from None
 
     def __repr__(self) -> str:
@@ -134,7 +188,7 @@ class ControlModel:
         u = np.asarray(u, dtype=float)
         for name, a, labels in (("x", x, self.state_labels), ("u", u, self.input_labels)):
             if a.ndim not in (1, 2) or a.shape[-1] != len(labels):
-                raise ValueError(f"{type(self).__name__}: {name} has shape {a.shape}; expected "
+                raise UserError(f"{type(self).__name__}: {name} has shape {a.shape}; expected "
                                  f"({len(labels)},) or (batch, {len(labels)}) for "
                                  f"{', '.join(labels)}")
         single = x.ndim == 1 and u.ndim == 1
@@ -142,7 +196,7 @@ class ControlModel:
         try:
             b = np.broadcast_shapes(x2.shape[:1], u2.shape[:1])[0]
         except ValueError:
-            raise ValueError(f"{type(self).__name__}: a batch of {x2.shape[0]} states and one "
+            raise UserError(f"{type(self).__name__}: a batch of {x2.shape[0]} states and one "
                              f"of {u2.shape[0]} inputs: give equal batches, or one of either"
                              ) from None
         X = np.ascontiguousarray(np.broadcast_to(x2, (b, x2.shape[1])))
@@ -153,6 +207,51 @@ class ControlModel:
     @staticmethod
     def _out(a: np.ndarray, single: bool) -> np.ndarray:
         return a[0] if single else a
+
+    # -- what a subclass replaced --------------------------------------------
+
+    def replaced(self, *names: str) -> tuple[str, ...]:
+        """Which of the methods ``names`` this object's class (or the object) replaced.
+
+        Compared with the built-in model it derives from (:class:`KIN` or
+        :class:`STM`); nothing counts as replaced where the class sets
+        ``compiled_equivalent = True``.
+        """
+        if type(self).compiled_equivalent:
+            return ()
+        base = next((c for c in type(self).__mro__ if c in _BUILT_IN), ReducedModel)
+        return tuple(n for n in names if n in vars(self)
+                     or getattr(type(self), n) is not getattr(base, n))
+
+    def _inputs(self, delta: float, u1: float, u1_dot: float) -> np.ndarray:
+        """The inputs ``(delta, u_1[, u_1_dot])`` by this model's ``input_labels``."""
+        return np.array([delta, u1, u1_dot][:self.ninputs], dtype=float)
+
+    def _rhs3(self, X: np.ndarray, U: np.ndarray) -> np.ndarray:
+        """:meth:`rhs` of rows ``X`` and ``U`` (batch, 3: delta, u1, u1_dot).
+
+        Compiled unless a subclass replaced it.
+        """
+        if self.replaced("rhs"):
+            return np.atleast_2d(np.asarray(self.rhs(X, U[:, :self.ninputs]), dtype=float))
+        return rhs_batch(self.kind, X, U, self.P)
+
+    def _rk4(self, X: np.ndarray, U: np.ndarray, dt: float) -> np.ndarray:
+        """One fourth-order Runge-Kutta step of :meth:`rhs` (in Python, a subclass's).
+
+        The same stages as :func:`artic.reduced.integrate.rk4_step`: ``delta``
+        and ``u1_dot`` held, the speed ``u1 + u1_dot t`` over the step.
+        """
+        h2 = 0.5 * dt
+        Um = U.copy()
+        Um[:, 1] = U[:, 1] + h2 * U[:, 2]
+        Ue = U.copy()
+        Ue[:, 1] = U[:, 1] + dt * U[:, 2]
+        k1 = self._rhs3(X, U)
+        k2 = self._rhs3(X + h2 * k1, Um)
+        k3 = self._rhs3(X + h2 * k2, Um)
+        k4 = self._rhs3(X + dt * k3, Ue)
+        return X + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
     # -- the system ----------------------------------------------------------
 
@@ -195,6 +294,8 @@ class ControlModel:
         ndarray, shape (n,) or (batch, n)
         """
         X, U, single = self._batch(x, u)
+        if self.replaced("rhs"):
+            return self._out(self._rk4(X, U, float(dt)), single)
         return self._out(step_batch(self.kind, X, U, float(dt), self.P), single)
 
     def rollout(self, x0, u, dt: float) -> np.ndarray:
@@ -220,10 +321,16 @@ class ControlModel:
         x0 = np.asarray(x0, dtype=float)
         u = np.asarray(u, dtype=float)
         if x0.ndim != 1 or u.ndim != 2:
-            raise ValueError(f"{type(self).__name__}.rollout: x0 has shape {x0.shape} and u "
+            raise UserError(f"{type(self).__name__}.rollout: x0 has shape {x0.shape} and u "
                              f"{u.shape}; expected ({self.nstates},) and (steps, "
                              f"{self.ninputs})")
         X, U, _ = self._batch(x0, u)
+        if self.replaced("rhs", "step"):
+            out = np.empty((U.shape[0] + 1, X.shape[1]))
+            out[0] = X[0]
+            for k in range(U.shape[0]):
+                out[k + 1] = self.step(out[k], u[k], dt)
+            return out
         return rollout_steps(self.kind, X[0], U, float(dt), self.P)
 
     def output(self, x, u=None) -> np.ndarray:
@@ -289,6 +396,86 @@ class ControlModel:
         """:meth:`output` with python-control's signature; ``t`` and ``params`` are unused."""
         return self.output(x, u)
 
+    # -- the harness's calls ---------------------------------------------------
+
+    def initial_state(self, initial: InitialState) -> np.ndarray:
+        """The state of a log's first sample: its pose and motion at the tractor's sensor.
+
+        Parameters
+        ----------
+        initial : InitialState
+            The tractor sensor's position ``(x_1, y_1)`` [m], the yaw, the
+            articulation and the rates, as a log gives them.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            The state, whose ``X_1, Y_1`` is this model's point (see the class).
+        """
+        raise NotImplementedError
+
+    def signals(self, x, u) -> np.ndarray:
+        """What a log measures, at the sensor points, in ``OBSERVATION`` order.
+
+        ``x_1, y_1`` is the tractor's sensor, not the state's point: the
+        signals of :data:`artic.mjcf.interface.OBSERVATION` (SI, ISO 8855).
+
+        Parameters
+        ----------
+        x : array_like, shape (n,)
+            State.
+        u : array_like, shape (m,)
+            Inputs; KIN's yaw rates follow ``delta`` at once (the STM's
+            velocities are states and do not jump).
+
+        Returns
+        -------
+        ndarray, shape (13,)
+        """
+        x = np.asarray(x, dtype=float)
+        u = np.asarray(u, dtype=float)
+        y = integrate.observe(self.kind, x, float(u[1]), float(u[0]), self.P, self._s1,
+                              self._s2)
+        y[12] = wrap_angle(y[12])
+        return y
+
+    def advance(self, x, dt: float, delta: float, u1: float, u1_dot: float) -> np.ndarray:
+        """The harness's step: the state ``dt`` [s] later, ``delta`` held, the speed ramping.
+
+        The speed rises linearly from ``u1`` [m/s] at ``u1_dot`` [m/s^2] over
+        the step, as the harness feeds a log. Compiled
+        (:func:`artic.reduced.integrate.rk4_step`) unless a subclass replaced
+        :meth:`step` (then its ``step`` with the inputs at the step's start,
+        held) or :meth:`rhs` (then the same Runge-Kutta step of its ``rhs``).
+
+        Returns
+        -------
+        ndarray, shape (n,)
+        """
+        if self.replaced("step"):
+            return np.asarray(self.step(x, self._inputs(delta, u1, u1_dot), dt), dtype=float)
+        x = np.asarray(x, dtype=float)
+        if self.replaced("rhs"):
+            U = np.array([[delta, u1, u1_dot]], dtype=float)
+            return self._rk4(x[None, :], U, float(dt))[0]
+        return integrate.rk4_step(self.kind, x, float(dt), float(u1), float(u1_dot),
+                                  float(delta), self.P)
+
+    def close(self) -> None:
+        """Nothing to release: a reduced model holds only arrays (the plant's ``close`` does)."""
+
+    def compiled(self) -> tuple | None:
+        """``(kind, P, s1, s2)`` for the harness's compiled loop, or ``None``.
+
+        ``None`` where a subclass replaced what that loop computes
+        (:meth:`rhs`, :meth:`step`, :meth:`advance`, :meth:`signals`) and did
+        not declare ``compiled_equivalent``: the harness then drives the
+        model through those methods.
+        """
+        if self.replaced(*_COMPILED):
+            return None
+        return self.kind, self.P, self._s1, self._s2
+
     # -- Jacobians -----------------------------------------------------------
 
     def _jacobians3(self, X: np.ndarray, U: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -306,8 +493,35 @@ class ControlModel:
         B : ndarray, shape (n, m) or (batch, n, m)
         """
         X, U, single = self._batch(x, u)
-        A, B = self._jacobians3(X, U)
+        A, B = self._jacobians_of_rhs(X, U)
         return self._out(A, single), self._out(B[:, :, :self.ninputs], single)
+
+    def _jacobians_of_rhs(self, X: np.ndarray, U: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`_jacobians3`, or central differences of a subclass's own :meth:`rhs`.
+
+        The analytic Jacobians are the built-in equations'; a replaced ``rhs``
+        that does not replace them too gets differences, with steps of
+        ``eps^(1/3)`` relative (the central difference's truncation and
+        round-off errors balance there, about ``eps^(2/3)`` ~ 4e-11 relative).
+        """
+        if not self.replaced("rhs") or self.replaced("_jacobians3"):
+            return self._jacobians3(X, U)
+        b, n = X.shape
+        A = np.empty((b, n, n))
+        B = np.zeros((b, n, 3))
+        for j in range(n):
+            h = np.finfo(float).eps ** (1 / 3) * np.maximum(1.0, np.abs(X[:, j]))
+            Xp, Xm = X.copy(), X.copy()
+            Xp[:, j] += h
+            Xm[:, j] -= h
+            A[:, :, j] = (self._rhs3(Xp, U) - self._rhs3(Xm, U)) / (2.0 * h[:, None])
+        for j in range(self.ninputs):
+            h = np.finfo(float).eps ** (1 / 3) * np.maximum(1.0, np.abs(U[:, j]))
+            Up, Um = U.copy(), U.copy()
+            Up[:, j] += h
+            Um[:, j] -= h
+            B[:, :, j] = (self._rhs3(X, Up) - self._rhs3(X, Um)) / (2.0 * h[:, None])
+        return A, B
 
     def step_jacobians(self, x, u, dt: float) -> tuple[np.ndarray, np.ndarray]:
         """``A_d = dx_next/dx`` and ``B_d = dx_next/du`` of :meth:`step`.
@@ -325,6 +539,10 @@ class ControlModel:
         A_d : ndarray, shape (n, n) or (batch, n, n)
         B_d : ndarray, shape (n, m) or (batch, n, m)
         """
+        if self.replaced("step"):
+            raise NotImplementedError(
+                f"{type(self).__name__} replaces step: its Jacobians are not the Runge-Kutta "
+                "step's; give the subclass a step_jacobians of its own")
         X, U, single = self._batch(x, u)
         h = float(dt)
         b, n = X.shape
@@ -338,13 +556,13 @@ class ControlModel:
             Us[:, 1] += c_in * h * U[:, 2]
             E = np.eye(3)
             E[1, 2] = c_in * h  # d(stage speed)/d(u1_dot)
-            A, B = self._jacobians3(xs, Us)
+            A, B = self._jacobians_of_rhs(xs, Us)
             dk_dx = A @ dxs_dx
             dk_du = A @ dxs_du + B @ E
             Ad += (h / 6.0) * w * dk_dx
             Bd += (h / 6.0) * w * dk_du
             if c_next is not None:
-                k = rhs_batch(self.kind, xs, Us, self.P)
+                k = self._rhs3(xs, Us)
                 xs = X + c_next * h * k
                 dxs_dx = eye + c_next * h * dk_dx
                 dxs_du = c_next * h * dk_du
@@ -373,35 +591,92 @@ class ControlModel:
         return self.step_jacobians(x0, u0, dt)
 
 
-class KIN(ControlModel):
-    """KIN, eq. (1), for planning and control.
+class KIN(ReducedModel):
+    """KIN, eq. (1): the kinematic model, for the harness, planners and controllers.
 
-    States ``X_1, Y_1`` [m] (the tractor's (equivalent) rear axle, the
-    drive axle for ``wheelbase="paper"``), ``psi_1`` [rad] (tractor yaw) and
-    ``gamma`` [rad] (articulation, ``psi_1 - psi_2``). Inputs ``delta`` [rad]
-    (road-wheel angle) and ``u_1`` [m/s] (tractor longitudinal speed, negative
-    in reverse). Outputs ``X_1, Y_1, psi_1`` and the semitrailer's equivalent
+    States ``X_1, Y_1`` [m]: **the tractor's (equivalent) rear axle**, its
+    no-slip point (the drive axle for ``wheelbase="paper"``), not the
+    centre of gravity (the STM's ``X_1, Y_1``) nor the sensor (a log's
+    ``x_1, y_1``); ``psi_1`` [rad] (tractor yaw) and ``gamma`` [rad]
+    (articulation, ``psi_1 - psi_2``). Inputs ``delta`` [rad] (road-wheel
+    angle) and ``u_1`` [m/s] (tractor longitudinal speed, negative in
+    reverse). Outputs ``X_1, Y_1, psi_1`` and the semitrailer's equivalent
     axle ``X_2, Y_2`` [m] with its yaw ``psi_2`` [rad].
+
+    The harness drives it as it is (``artic.run_closed_loop(artic.KIN(v),
+    log, v)``), and :meth:`signals` gives what a log measures at the sensors.
 
     Parameters
     ----------
     vehicle : Vehicle
-        Geometry and static axle loads.
+        Geometry, static axle loads and sensor positions.
     wheelbase : str
-        ``"equivalent"`` (default) or ``"paper"``, see
+        ``"equivalent"`` (default): each unit's axle group enters through its
+        no-slip point, so a tag axle or a tridem counts; ``"paper"``: the
+        drive axle and the middle trailer axle, as the paper has it. See
         :mod:`artic.reduced.kinematic`.
+
+    Raises
+    ------
+    UnsupportedVehicleError
+        When a wheelbase of the vehicle is not positive and finite.
     """
 
     kind = integrate.KIN
+    name = "kin"
     state_labels = ("X_1", "Y_1", "psi_1", "gamma")
+    """``X_1, Y_1`` [m]: the tractor's (equivalent) rear axle, not its sensor (a log's
+    ``x_1, y_1``) nor its centre of gravity (the STM's); ``psi_1``, ``gamma`` [rad]."""
     input_labels = ("delta", "u_1")
 
     def __init__(self, vehicle: Vehicle, wheelbase: str = "equivalent") -> None:
         self.vehicle = vehicle
         self.wheelbase = wheelbase
-        self.P = kin_parameters(vehicle, wheelbase)
-        self.L1, self.L1c, self.L2 = (float(p) for p in self.P)
-        self._x_hitch, self._l2 = self.L1c, self.L2
+        self.params = kin_params(vehicle, wheelbase)
+        x_rear = wheelbases(vehicle, wheelbase)[2]
+        # The state's point is the (equivalent) rear axle: the sensor from there.
+        self._s1 = np.array([vehicle.sensor1[0] - x_rear, vehicle.sensor1[1]])
+        self._s2 = np.array(vehicle.sensor2[:2])
+
+    @property
+    def L1(self) -> float:
+        """Tractor wheelbase [m] (:attr:`params`)."""
+        return float(self.params.L1)
+
+    @property
+    def L1c(self) -> float:
+        """Fifth wheel ahead of the (equivalent) rear axle [m]."""
+        return float(self.params.L1c)
+
+    @property
+    def L2(self) -> float:
+        """Semitrailer's (equivalent) axle behind the kingpin [m]."""
+        return float(self.params.L2)
+
+    @property
+    def _x_hitch(self) -> float:
+        return self.L1c
+
+    @property
+    def _l2(self) -> float:
+        return self.L2
+
+    def initial_state(self, initial: InitialState) -> np.ndarray:
+        """The rear axle placed so that the tractor sensor is at ``(x_1, y_1)``.
+
+        Parameters
+        ----------
+        initial : InitialState
+            A log's first sample.
+
+        Returns
+        -------
+        ndarray, shape (4,)
+            ``[X_1, Y_1, psi_1, gamma]``, ``X_1, Y_1`` the rear axle [m].
+        """
+        dx, dy = rotate(initial.psi_1, self._s1[0], self._s1[1])
+        return np.array([initial.x_1 - dx, initial.y_1 - dy, initial.psi_1,
+                         wrap_angle(initial.gamma)])
 
     def _jacobians3(self, X, U):
         A, B2 = kin_jacobian(X, U, self.P)
@@ -447,7 +722,7 @@ class KIN(ControlModel):
         t = math.tan(delta)
         rho = math.hypot(self.L1, self.L1c * t)
         if abs(self.L2 * t) > rho:
-            raise ValueError(f"KIN.steady_turn: delta = {delta} rad turns the tractor tighter "
+            raise UserError(f"KIN.steady_turn: delta = {delta} rad turns the tractor tighter "
                              f"than the semitrailer can follow (|L2 tan(delta)| > "
                              f"hypot(L1, L1c tan(delta))): no steady articulation; use a "
                              f"smaller |delta|")
@@ -455,10 +730,11 @@ class KIN(ControlModel):
         return np.array([0.0, 0.0, 0.0, gamma]), np.array([float(delta), float(u)])
 
 
-class STM(ControlModel):
-    """STM, eq. (2), for planning and control.
+class STM(ReducedModel):
+    """STM, eq. (2): the single-track model, for the harness, planners and controllers.
 
-    States ``X_1, Y_1`` [m] (the tractor's centre of gravity), ``psi_1``
+    States ``X_1, Y_1`` [m]: **the tractor's centre of gravity** (not KIN's
+    rear axle nor a log's sensor, ``x_1, y_1``), ``psi_1``
     [rad], ``gamma`` [rad], ``v_1`` [m/s] (the centre of gravity's lateral
     velocity in tractor axes), ``r_1`` [rad/s] (tractor yaw rate),
     ``gamma_dot`` [rad/s] and the lagged slip angle ``alpha_i`` [rad] of
@@ -478,6 +754,9 @@ class STM(ControlModel):
     ``X_2, Y_2`` [m], ``sum C l^2 / sum C l`` behind the kingpin (its
     low-speed no-slip point, KIN's ``L2``), with its yaw ``psi_2`` [rad].
 
+    The harness drives it as it is (``artic.run_closed_loop(artic.STM(v),
+    log, v)``), and :meth:`signals` gives what a log measures at the sensors.
+
     Parameters
     ----------
     vehicle : Vehicle
@@ -486,21 +765,106 @@ class STM(ControlModel):
         Override of the normalised cornering stiffness [1/rad].
     trailer_axles : ndarray, optional
         Override of the trailer axle distances behind the kingpin [m].
+
+    Raises
+    ------
+    VehicleFileError
+        For a vehicle without the tyre data the STM needs (a scale model's
+        file may leave ``[tyre] f`` out): one line naming the file and the key.
     """
 
     kind = integrate.STM
+    name = "stm"
     input_labels = ("delta", "u_1", "u_1_dot")
 
     def __init__(self, vehicle: Vehicle, f: float | None = None,
                  trailer_axles: np.ndarray | None = None) -> None:
+        from artic.mjcf.plausible import check_tyre_data
+
+        check_tyre_data(vehicle, "stm")  # a scale model may have none: refused, by key
         self.vehicle = vehicle
-        self.P = stm_parameters(vehicle, f, trailer_axles)
-        _, _, _, _, Lc, _, _, ax_x, _, tr_l, C = stm_unpack(self.P)
-        n_axles = C.size
-        self.state_labels = ("X_1", "Y_1", "psi_1", "gamma", "v_1", "r_1", "gamma_dot",
-                             *(f"alpha_{i + 1}" for i in range(n_axles)))
-        self._x_hitch = -float(Lc)
-        self._l2 = equivalent_length(tr_l, C[ax_x.size:])
+        self.params = stm_params(vehicle, f, trailer_axles)
+        self._s1 = np.array([vehicle.sensor1[0] - vehicle.b1, vehicle.sensor1[1]])
+        self._s2 = np.array(vehicle.sensor2[:2])
+
+    @property
+    def state_labels(self) -> tuple[str, ...]:
+        """``X_1, Y_1, psi_1, gamma, v_1, r_1, gamma_dot`` and ``alpha_i`` per axle.
+
+        ``X_1, Y_1`` [m] is the tractor's centre of gravity, not its sensor (a
+        log's ``x_1, y_1``) nor its rear axle (KIN's).
+        """
+        return ("X_1", "Y_1", "psi_1", "gamma", "v_1", "r_1", "gamma_dot",
+                *(f"alpha_{i + 1}" for i in range(self.params.n_axles)))
+
+    @property
+    def n_axles(self) -> int:
+        """Number of axles, both units."""
+        return self.params.n_axles
+
+    @property
+    def _x_hitch(self) -> float:
+        return -float(self.params.Lc)
+
+    @property
+    def _l2(self) -> float:
+        p = self.params
+        return equivalent_length(p.tr_l, p.C[p.ax_x.size:])
+
+    def initial_state(self, initial: InitialState) -> np.ndarray:
+        """The combination at ``initial``, tyres at steady-state slip.
+
+        The steady-state slip angle is the travel direction's, which a
+        measured velocity only gives when the axle moves well above the
+        sensors' noise: with 1 cm/s of noise it is uncertain by 45 deg at
+        1 cm/s and by 1 deg at 0.5 m/s. So the initial lagged slip is the
+        steady-state one scaled by ``min(1, |v| / U_SLIP_KNOWN)``: relaxed
+        tyres for a log that starts at rest, steady state for one that starts
+        rolling. (Steady-state slip from a noisy 1 cm/s start gives slip
+        angles near 90 deg and an oscillation of metres per second.) The
+        steered axles' slip is at ``initial.delta``: a log that starts in a
+        turn would otherwise start with its slip off by that angle.
+
+        Parameters
+        ----------
+        initial : InitialState
+            A log's first sample.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            ``X_1, Y_1`` the centre of gravity [m].
+        """
+        s1x, s1y = self._s1
+        dx, dy = rotate(initial.psi_1, s1x, s1y)
+        v = initial.v_y_1 - initial.r_1 * s1x
+        x = np.zeros(self.nstates)
+        x[:N_BODY] = [initial.x_1 - dx, initial.y_1 - dy, initial.psi_1,
+                      wrap_angle(initial.gamma), v, initial.r_1, initial.r_1 - initial.r_2]
+        v_long, v_lat = self.axle_velocities(x, initial.u1, initial.delta)
+        x[N_BODY:] = [slip_angle(a, b) * min(1.0, math.hypot(a, b) / U_SLIP_KNOWN)
+                      for a, b in zip(v_long, v_lat, strict=True)]
+        return x
+
+    def axle_velocities(self, x, u1: float, delta: float) -> tuple[np.ndarray, np.ndarray]:
+        """Axle-centre velocities ``(v_long, v_lat)`` in wheel frames [m/s], tractor first.
+
+        Parameters
+        ----------
+        x : array_like, shape (n,)
+            State.
+        u1 : float
+            Tractor speed [m/s].
+        delta : float
+            Road-wheel angle [rad].
+        """
+        p = self.params
+        return axle_velocities(u1, x[4], x[5], x[3], x[6], delta, p.ax_x, p.ax_steer, p.tr_l,
+                               p.Lc)
+
+    def tyre_forces(self, x) -> np.ndarray:
+        """Lateral force of every axle at state ``x``, tractor first [N]."""
+        return self.params.C * np.asarray(x, dtype=float)[N_BODY:]
 
     def _jacobians3(self, X, U):
         return stm_jacobian_batch(X, U, self.P)
@@ -547,13 +911,13 @@ class STM(ControlModel):
             ``[delta, u, 0]``.
         """
         if u == 0.0:
-            raise ValueError("STM.steady_turn: u = 0: at standstill the tyres' slip angles "
+            raise UserError("STM.steady_turn: u = 0: at standstill the tyres' slip angles "
                              "are frozen and every articulation is a trim; give u != 0")
         L1, _, x_n = wheelbases(self.vehicle)
         try:
             kin_trim = KIN(self.vehicle).steady_turn(delta, u)[0]
         except ValueError:
-            raise ValueError(f"STM.steady_turn: delta = {delta} rad turns the tractor tighter "
+            raise UserError(f"STM.steady_turn: delta = {delta} rad turns the tractor tighter "
                              f"than the semitrailer can follow even without tyre slip: no "
                              f"steady articulation; use a smaller |delta|") from None
         r = u * math.tan(delta) / L1
@@ -571,14 +935,19 @@ class STM(ControlModel):
             x[idx] += dz
             if np.max(np.abs(dz)) < tol:
                 return x, u0
-        raise ValueError(f"STM.steady_turn: no trim found at delta = {delta} rad, u = {u} m/s "
+        raise UserError(f"STM.steady_turn: no trim found at delta = {delta} rad, u = {u} m/s "
                          f"in {max_iter} Newton steps (last step {np.max(np.abs(dz)):.3g}); "
                          f"the turn may be past the tyres' or the hitch's reach: try a smaller "
                          f"|delta| or |u|")
 
     def _steady_slips(self, x: np.ndarray, u1: float, delta: float) -> np.ndarray:
         """Every axle's steady-state slip angle at state ``x`` [rad]."""
-        _, _, _, _, Lc, _, _, ax_x, ax_steer, tr_l, _ = stm_unpack(self.P)
-        v_long, v_lat = axle_velocities(u1, x[4], x[5], x[3], x[6], delta, ax_x, ax_steer,
-                                        tr_l, Lc)
+        v_long, v_lat = self.axle_velocities(x, u1, delta)
         return np.array([slip_angle(a, b) for a, b in zip(v_long, v_lat, strict=True)])
+
+
+_BUILT_IN = (KIN, STM)
+"""The built-in models a subclass's replaced methods are compared with."""
+
+ControlModel = ReducedModel
+"""The former name of :class:`ReducedModel`."""

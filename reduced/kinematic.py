@@ -13,7 +13,9 @@ trailer, ``u1 sin(gamma) + r1 L1c cos(gamma)``, over ``L2``; and
 ``gamma_dot = r1 - r2``.
 
 State: ``[X, Y, psi_1, gamma]`` with ``(X, Y)`` the centre of the tractor's
-(equivalent) rear axle [m].
+(equivalent) rear axle [m] (not its centre of gravity, as in the STM, nor the
+sensor, as in logs: :class:`artic.KIN` says which point each model's states
+describe).
 
 **Equivalent wheelbases.** A unit with several unsteered axles has no axle
 that does not slip: at low speed its axles scrub. The semitrailer's tridem
@@ -44,10 +46,12 @@ and ``L2``.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from artic.mjcf.errors import UnsupportedVehicleError, UserError
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.sensors import sensor_signals
 
@@ -152,8 +156,30 @@ def wheelbases(vehicle: Vehicle, wheelbase: str = "equivalent") -> tuple[float, 
     return float(1.0 / rho), float(x_h - x_n), float(x_n)
 
 
-def kin_parameters(vehicle: Vehicle, wheelbase: str = "equivalent") -> np.ndarray:
-    """Pack a vehicle into KIN's parameter array ``[L1, L1c, L2]`` [m].
+class KinParameters(NamedTuple):
+    """KIN's parameters, by name [m].
+
+    Attributes
+    ----------
+    L1 : float
+        Tractor wheelbase: front axle to the (equivalent) rear axle [m].
+    L1c : float
+        Fifth wheel ahead of the (equivalent) rear axle [m].
+    L2 : float
+        Semitrailer's (equivalent) axle behind the kingpin [m].
+    """
+
+    L1: float
+    L1c: float
+    L2: float
+
+    def packed(self) -> np.ndarray:
+        """The flat array the compiled functions take, ``[L1, L1c, L2]`` [m]."""
+        return np.array([self.L1, self.L1c, self.L2], dtype=float)
+
+
+def kin_params(vehicle: Vehicle, wheelbase: str = "equivalent") -> KinParameters:
+    """KIN's parameters of a vehicle, by name.
 
     Parameters
     ----------
@@ -162,12 +188,33 @@ def kin_parameters(vehicle: Vehicle, wheelbase: str = "equivalent") -> np.ndarra
     wheelbase : str
         ``"equivalent"`` (default): the axle groups' no-slip points, see the
         module docstring; ``"paper"``: the drive axle and ``L2``.
+
+    Raises
+    ------
+    UnsupportedVehicleError
+        When a length is not positive and finite: KIN cannot represent the vehicle.
     """
     if wheelbase not in WHEELBASES:
-        raise ValueError(f"wheelbase {wheelbase!r}: expected one of {', '.join(WHEELBASES)}")
+        raise UserError(f"wheelbase {wheelbase!r}: expected one of {', '.join(WHEELBASES)}")
     L1, L1c, _ = wheelbases(vehicle, wheelbase)
     if wheelbase == "paper":
-        return np.array([L1, L1c, vehicle.L2])
-    n1 = len(vehicle.tractor_axles)
-    L2 = equivalent_length(vehicle.trailer_axle_distances, vehicle.static_loads[n1:])
-    return np.array([L1, L1c, L2])
+        L2 = vehicle.L2
+    else:
+        n1 = len(vehicle.tractor_axles)
+        L2 = equivalent_length(vehicle.trailer_axle_distances, vehicle.static_loads[n1:])
+    p = KinParameters(float(L1), float(L1c), float(L2))
+    if not (math.isfinite(p.L1c) and all(math.isfinite(q) and q > 0.0 for q in (p.L1, p.L2))):
+        raise UnsupportedVehicleError(
+            f"{vehicle.path or vehicle.name}: KIN cannot represent this vehicle: its "
+            f"({wheelbase}) wheelbases L1 = {p.L1:.4g} m, L2 = {p.L2:.4g} m must be positive "
+            "and finite; check the axle positions and loads")
+    return p
+
+
+def kin_parameters(vehicle: Vehicle, wheelbase: str = "equivalent") -> np.ndarray:
+    """KIN's parameters as the compiled functions take them, ``[L1, L1c, L2]`` [m].
+
+    :func:`kin_params` packed (:meth:`KinParameters.packed`); see there for
+    the parameters.
+    """
+    return kin_params(vehicle, wheelbase).packed()

@@ -29,13 +29,15 @@ Any number of axles per unit. Each axle's lateral force acts at its centre,
 and its generalised force is its partial velocity dotted with the force.
 
 State: ``[X, Y, psi_1, gamma, v, r, gamma_dot, alpha'_1 ... alpha'_n]``, with
-``(X, Y)`` the tractor centre of gravity [m] and ``alpha'`` the lagged slip
+``(X, Y)`` the tractor centre of gravity [m] (KIN's is its rear axle, a log's
+its sensor) and ``alpha'`` the lagged slip
 angle of every axle in file order (see :mod:`artic.reduced.tyre_linear`).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -203,7 +205,7 @@ def solve3(A, b):
 
 @njit(cache=True, inline="always")
 def stm_unpack(P):
-    """Split the STM's parameter array (see :func:`stm_parameters`).
+    """Split the STM's packed parameter array (:meth:`StmParameters.packed`), compiled.
 
     Returns
     -------
@@ -292,14 +294,71 @@ def stm_observe(x, u1, delta, P, s1, s2):
     return sensor_signals(x[0], x[1], x[2], x[3], u1, x[4], r, r - x[6], -P[STM_LC], s1, s2)
 
 
-def stm_parameters(vehicle: Vehicle, f: float | None = None,
-                   trailer_axles: np.ndarray | None = None) -> np.ndarray:
-    """Pack a vehicle into the STM's parameter array.
+class StmParameters(NamedTuple):
+    """The STM's parameters, by name.
 
-    Layout: ``[m1, J1, m2, J2, Lc, a2, sigma_alpha, n1, n2, ax_x (n1),
-    ax_steer (n1), tr_l (n2), C (n1 + n2)]``: tractor axle positions from the
-    centre of gravity [m], steered flags, trailer axle distances behind the
-    kingpin [m] and cornering stiffnesses [N/rad], tractor axles first.
+    Axles are listed tractor first, each unit's in the vehicle file's order.
+
+    Attributes
+    ----------
+    m1, m2 : float
+        Tractor and semitrailer masses [kg].
+    J1, J2 : float
+        Their yaw inertias about their centres of gravity [kg m^2].
+    Lc : float
+        Fifth wheel behind the tractor's centre of gravity [m].
+    a2 : float
+        Semitrailer's centre of gravity behind the kingpin [m].
+    sigma_alpha : float
+        Relaxation length of the lagged slip angles [m].
+    ax_x : ndarray
+        Tractor axle positions ahead of its centre of gravity [m].
+    ax_steer : ndarray
+        1.0 for a steered tractor axle, else 0.0.
+    tr_l : ndarray
+        Semitrailer axle distances behind the kingpin [m].
+    C : ndarray
+        Cornering stiffness of every axle, tractor first [N/rad].
+    """
+
+    m1: float
+    J1: float
+    m2: float
+    J2: float
+    Lc: float
+    a2: float
+    sigma_alpha: float
+    ax_x: np.ndarray
+    ax_steer: np.ndarray
+    tr_l: np.ndarray
+    C: np.ndarray
+
+    @property
+    def n_axles(self) -> int:
+        """Number of axles, both units."""
+        return int(self.C.size)
+
+    def packed(self) -> np.ndarray:
+        """The flat array the compiled functions take (:func:`stm_unpack` reads it).
+
+        Layout: ``[m1, J1, m2, J2, Lc, a2, sigma_alpha, n1, n2, ax_x (n1),
+        ax_steer (n1), tr_l (n2), C (n1 + n2)]``.
+        """
+        return np.concatenate([
+            [self.m1, self.J1, self.m2, self.J2, self.Lc, self.a2, self.sigma_alpha,
+             self.ax_x.size, self.tr_l.size], self.ax_x, self.ax_steer, self.tr_l, self.C])
+
+    @classmethod
+    def from_packed(cls, P: np.ndarray) -> StmParameters:
+        """The parameters of a packed array (:meth:`packed`)."""
+        m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C = stm_unpack(P)
+        return cls(float(m1), float(J1), float(m2), float(J2), float(Lc), float(a2),
+                   float(sigma), ax_x.copy(), ax_steer.copy(), tr_l.copy(), C.copy())
+
+
+def stm_params(vehicle: Vehicle, f: float | None = None,
+               trailer_axles: np.ndarray | None = None) -> StmParameters:
+    """The STM's parameters of a vehicle, by name.
 
     Parameters
     ----------
@@ -324,6 +383,15 @@ def stm_parameters(vehicle: Vehicle, f: float | None = None,
         tr_l = np.asarray(trailer_axles, dtype=float)
         tr_fz = np.full(tr_l.size, loads[n1:].sum() / tr_l.size)
     C = f * np.concatenate([loads[:n1], tr_fz])
-    return np.concatenate([
-        [vehicle.m1, vehicle.J1, vehicle.m2, vehicle.J2, vehicle.Lc, vehicle.a2,
-         vehicle.sigma_alpha, ax_x.size, tr_l.size], ax_x, ax_steer, tr_l, C])
+    return StmParameters(vehicle.m1, vehicle.J1, vehicle.m2, vehicle.J2, vehicle.Lc, vehicle.a2,
+                         vehicle.sigma_alpha, ax_x, ax_steer, tr_l, C)
+
+
+def stm_parameters(vehicle: Vehicle, f: float | None = None,
+                   trailer_axles: np.ndarray | None = None) -> np.ndarray:
+    """The STM's parameters as the compiled functions take them.
+
+    :func:`stm_params` packed (:meth:`StmParameters.packed`); see there for the
+    parameters and the layout.
+    """
+    return stm_params(vehicle, f, trailer_axles).packed()

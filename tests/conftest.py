@@ -74,7 +74,9 @@ def steady_turn(model, delta: float, u: float, seconds: float, tail: int) -> tup
     """Mean tractor yaw rate [rad/s] and articulation [rad] over the last ``tail`` samples
     of ``seconds`` at a fixed road-wheel angle ``delta`` and speed ``u``, from straight."""
     from artic.mjcf.interface import InitialState
+    from artic.validation.models import driven
 
+    model = driven(model)  # artic.KIN and artic.STM: the harness holds their state
     model.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
     out = []
     for _ in range(int(seconds / 0.01)):

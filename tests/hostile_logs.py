@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from artic.mjcf import load_vehicle
-from artic.reduced import InitialState, SingleTrackModel
+from artic.reduced import STM, InitialState
 from artic.validation.harness.simulate import simulate
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
@@ -28,7 +28,7 @@ def _slalom() -> Run:
     s = v.steering_for("stm")
     prof = make_profile("slalom", amplitude_deg=200, speed_kph=8, duration=30.0,
                         delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
-    run = simulate(SingleTrackModel(v), v, prof)
+    run = simulate(STM(v), v, prof)
     frame = measure(run.frame[list(new_frame(np.zeros(1), np.zeros(1),
                                              np.zeros((1, 13))).columns)],
                     np.random.default_rng(11))
@@ -41,7 +41,7 @@ def _docking() -> Run:
     v = load_vehicle("gosar2022-unloaded")
     drv = DockingDriver(v)
     t, obs, delta, _, docked = drive_to_dock(
-        SingleTrackModel(v), drv, InitialState(10.0, 3.0, math.radians(5.0), 0.0))
+        STM(v), drv, InitialState(10.0, 3.0, math.radians(5.0), 0.0))
     assert docked
     dh = SteeringMap.from_steering(v.steering_for("stm")).steering_wheel(delta)
     frame = measure(new_frame(t, dh, obs), np.random.default_rng(12))

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from artic.plant import Plant
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM, Driven
 from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_args, loop_inputs, run_inputs
 from artic.validation.harness.reducedloop import compiled_loop
@@ -21,7 +21,7 @@ def inputs_for(vehicle, name):
     return [loop_inputs(log, vehicle, steering) for log in logs]
 
 
-@pytest.mark.parametrize("cls", [KinematicModel, SingleTrackModel])
+@pytest.mark.parametrize("cls", [KIN, STM])
 @pytest.mark.parametrize("gain", [0.0, 3.0])
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_batch_equals_one_call_per_log(unloaded, cls, gain, jobs):
@@ -51,7 +51,7 @@ def test_the_reduced_loop_releases_the_gil(unloaded):
                                            ("delta_h", "delta_c", "u1", "u1_dot",
                                             "gamma_meas", "weight")},
                         "t": np.arange(inp.t.size * reps) * 0.01})
-    model = KinematicModel(unloaded)
+    model = Driven(KIN(unloaded))
     model.reset(long.initial)
     args = (*model.compiled(), *loop_args(long, unloaded, 3.0))
     compiled_loop(*model.compiled(), *loop_args(inp, unloaded, 3.0))  # compiled beforehand

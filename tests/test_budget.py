@@ -16,7 +16,7 @@ import pandas as pd
 import pytest
 
 from artic.plant import Plant
-from artic.reduced import KinematicModel
+from artic.reduced import KIN
 from artic.validation.campaign.efficiency import from_runs
 from artic.validation.campaign.report import budget_table
 from artic.validation.cli.progress import BUDGET, Budget, budget_text
@@ -35,8 +35,8 @@ def test_the_harness_counts_each_run_with_the_time_it_simulated(unloaded):
     logs = [straight_log(n=400, u=-0.8), straight_log(n=251, u=1.5, delta_h=2.0)]
     before = BUDGET.snapshot()
     # Two reduced runs in one batch, one through run_inputs, one plant run.
-    run_batch(KinematicModel, unloaded, [inputs(unloaded, "kin", log) for log in logs], 3.0, 2)
-    run_inputs(KinematicModel(unloaded), inputs(unloaded, "kin", logs[1]), unloaded)
+    run_batch(KIN, unloaded, [inputs(unloaded, "kin", log) for log in logs], 3.0, 2)
+    run_inputs(KIN(unloaded), inputs(unloaded, "kin", logs[1]), unloaded)
     with Plant(unloaded) as plant:
         run_inputs(plant, inputs(unloaded, "mbd", logs[1]), unloaded)
     got = BUDGET.since(before)
@@ -51,7 +51,7 @@ def test_a_run_stopped_early_counts_only_what_it_simulated(unloaded):
     # Open loop, a 0.3 rad start jackknifes before the end of the log (test_batch).
     inp = inputs(unloaded, "kin", straight_log(n=2000, u=-1.0, gamma0=0.3))
     before = BUDGET.snapshot()
-    *_, n = run_inputs(KinematicModel(unloaded), inp, unloaded, gain=0.0)
+    *_, n = run_inputs(KIN(unloaded), inp, unloaded, gain=0.0)
     assert 1 < n < inp.t.size
     assert BUDGET.since(before)["reduced"] == (1, pytest.approx(inp.t[n - 1] - inp.t[0]))
 

@@ -146,6 +146,15 @@ def test_plants_on_threads_give_the_serial_numbers(unloaded):
         np.testing.assert_array_equal(s, t)
 
 
+def test_the_predicates_are_booleans(unloaded):
+    # available() is True where the loop runs (a reason would be falsy there and
+    # truthy where it cannot: the inverted reading this replaced).
+    with Plant(unloaded) as p:
+        assert closedloop.available(p) is True and closedloop.step_available(p) is True
+        assert closedloop.why_no_loop(p) == "" and closedloop.why_no_step(p) == ""
+        assert p.closed_loop() is not None
+
+
 @pytest.mark.parametrize("kw, why", [({"backend": "numpy"}, "numpy tyre callback"),
                                      ({"speed": "drive"}, "speed mode is 'drive'")])
 def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
@@ -154,7 +163,7 @@ def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
         p = Plant(unloaded, **kw)
     with p:
         assert p.closed_loop() is None
-        assert why in closedloop.available(p)
+        assert why in closedloop.why_no_loop(p) and closedloop.available(p) is False
         with pytest.raises(RuntimeError, match=why):
             closedloop.run(p, np.full(1, 0.01), *np.zeros((4, 2)), np.zeros(2),
                            3.0, 0.5, 1.5)

@@ -19,7 +19,7 @@ from artic.mjcf.linkage import centre_angle
 from artic.mjcf.vehicle import G
 from artic.plant import Plant
 from artic.plant.tyre import TyreParams
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.reduced.kinematic import kin_parameters
 from artic.validation.testing import assert_agree, assert_tracks
 from conftest import steady_turn, straight_log
@@ -50,19 +50,19 @@ def linear(unloaded):
     tyre = TyreParams.from_tir(unloaded.tyre_file)
     n = np.array([2.0 * (2 if a.dual else 1) for a in unloaded.axles])
     C = n * tyre.cornering_stiffness(unloaded.static_loads / n)
-    stm = SingleTrackModel(unloaded)
-    stm.P[-len(C):] = C
+    stm = STM(unloaded)
+    stm.params = stm.params._replace(C=C)
     # The same with the trailer's axles merged into one at L2, where KIN puts
     # the trailer's no-slip point: the STM then departs from KIN by slip alone.
     n_tr = len(unloaded.trailer_axles)
-    stm1 = SingleTrackModel(unloaded, trailer_axles=np.array([unloaded.L2]))
-    stm1.P[-(len(C) - n_tr + 1):] = np.append(C[:-n_tr], C[-n_tr:].sum())
+    stm1 = STM(unloaded, trailer_axles=np.array([unloaded.L2]))
+    stm1.params = stm1.params._replace(C=np.append(C[:-n_tr], C[-n_tr:].sum()))
     with Plant(unloaded) as plant:
         mbd = steady(plant, math.radians(100.0) / unloaded.steering_for("mbd").i_s)
         qL = plant.data.qpos[plant._steer_L[0]]
         qR = plant.data.qpos[plant._steer_R[0]]
     dc = float(centre_angle(np.array(qL), np.array(qR)))
-    out = {"kin": steady(KinematicModel(unloaded, "paper"), dc), "stm1": steady(stm1, dc),
+    out = {"kin": steady(KIN(unloaded, "paper"), dc), "stm1": steady(stm1, dc),
            "stm": steady(stm, dc), "mbd": mbd}
     return out, float(np.min(C / unloaded.static_loads))
 

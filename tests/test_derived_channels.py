@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from artic.mjcf.interface import wrap_angle
-from artic.reduced import KinematicModel
+from artic.reduced import KIN
 from artic.validation.criteria.metrics import (
     CRITERIA,
     distance_mean_abs,
@@ -142,13 +142,13 @@ def test_yaw_rate_steering_is_kins_inverse_and_calm_at_standstill(unloaded):
 def test_kin_steered_from_its_own_yaw_rate_tracks_its_log(unloaded):
     """A KIN run steered by its yaw rate instead of its steering wheel: the same run."""
     p = make_profile("slalom", amplitude_deg=200.0, speed_kph=6.0, duration=20.0)
-    log = simulate(KinematicModel(unloaded), unloaded, p)
+    log = simulate(KIN(unloaded), unloaded, p)
     log = Run(log.frame[log.frame.columns[:15]].copy(), {"name": "kin", "steer_from": "yaw-rate"})
-    run = run_closed_loop(KinematicModel(unloaded), log, unloaded).frame
+    run = run_closed_loop(KIN(unloaded), log, unloaded).frame
     # the smoothing of r_1 and u_1 (0.5 s quadratic) is all that differs
     assert float(np.max(np.abs(run["r_1"] - log.frame["r_1"]))) < 2e-3
     assert float(np.max(np.abs(wrap_angle(run["gamma"] - log.frame["gamma"])))) < 2e-3
-    plain = run_closed_loop(KinematicModel(unloaded), Run(log.frame, {"name": "kin"}), unloaded)
+    plain = run_closed_loop(KIN(unloaded), Run(log.frame, {"name": "kin"}), unloaded)
     assert not np.allclose(plain.frame["delta_h"], run["delta_h"], atol=0.0)
 
 
@@ -251,13 +251,13 @@ def test_steer_from_yaw_rate_and_tune_refusal(tmp_path, unloaded):
 def test_a_segment_that_starts_in_a_turn_starts_without_a_transient(unloaded):
     """A segment after a gap starts mid-manoeuvre: the STM must start with its steered tyres at
     the first road-wheel angle's slip, or its yaw rate jumps by the angle's worth."""
-    from artic.reduced import SingleTrackModel
+    from artic.reduced import STM
 
     p = make_profile("constant-steer", amplitude_deg=200.0, speed_kph=8.0, duration=30.0)
-    log = simulate(SingleTrackModel(unloaded), unloaded, p)
+    log = simulate(STM(unloaded), unloaded, p)
     f = log.frame[log.frame.columns[:15]].iloc[2000:].reset_index(drop=True)  # in the turn
     f["t"] -= f["t"].iloc[0]
-    run = run_closed_loop(SingleTrackModel(unloaded), Run(f, {"name": "seg"}), unloaded).frame
+    run = run_closed_loop(STM(unloaded), Run(f, {"name": "seg"}), unloaded).frame
     # The STM replays its own steady turn: what is left is the harness's speed smoothing.
     first = slice(0, 100)
     assert abs(f["r_1"].iloc[0]) > 0.05  # it is a turn

@@ -10,7 +10,7 @@ import pytest
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.outline import outline
-from artic.reduced import KinematicModel
+from artic.reduced import KIN, Driven
 from artic.validation.criteria.dock import dock_errors, end_pose_error
 from artic.validation.criteria.points import rear_x, trailer_point
 from artic.validation.synthetic.driver import DockingDriver
@@ -55,7 +55,7 @@ def test_rear_point_is_the_docking_drivers(unloaded):
     # The driver finds the rear from the tractor's sensor and the articulation;
     # the criterion from the semitrailer's own sensor. On a model's (consistent)
     # observation they are one point.
-    model = KinematicModel(unloaded, wheelbase="paper")
+    model = Driven(KIN(unloaded, wheelbase="paper"))
     model.reset(InitialState(3.0, -2.0, 0.7, 0.35, u1=-1.0))
     obs = model.observe(0.0)
     want = DockingDriver(unloaded).rear_point(obs)

@@ -399,7 +399,7 @@ class BadHorizon(Controller):
 
 def test_a_malformed_horizon_is_a_failed_run_naming_the_field():
     r = drive(scenario("straight"), VEHICLE, BadHorizon, 0)
-    assert r.row["failure"].startswith("controller error: ValueError: Command.horizon must be "
+    assert r.row["failure"].startswith("controller error: UserError: Command.horizon must be "
                                        "finite rows (x, y)")
 
 

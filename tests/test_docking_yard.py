@@ -16,7 +16,7 @@ from artic.mjcf.outline import (
     DOOR_PITCH,
     outline,
 )
-from artic.reduced import KinematicModel
+from artic.reduced import KIN, Driven
 from artic.validation.docking.geometry import Box, Frames, box_array, first_hit, swept_cells
 from artic.validation.docking.scenarios import SCENARIOS, make_yard, scenario
 from conftest import PRESETS
@@ -98,7 +98,7 @@ def test_poses_from_the_signals_are_the_models_own(preset):
     """KIN's signals at its sensors give back its state, its rear and its axle."""
     v = load_vehicle(preset)
     fr = Frames.of(v)
-    kin = KinematicModel(v)
+    kin = Driven(KIN(v))
     kin.reset(InitialState(12.0, -3.0, 0.7, 0.35, u1=-1.0))
     for _ in range(100):
         kin.step(0.01, 0.2, -1.0, 0.0)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.reduced.kinematic import kin_rhs
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.harness.loop import run_closed_loop
@@ -50,7 +50,7 @@ def test_kin_linearised_loop_eigenvalue_is_eq6(unloaded):
 def test_open_loop_reversing_diverges_and_k3_recovers(unloaded):
     v = unloaded
     log = straight_reverse(v, 30.0)
-    for model in (KinematicModel(v, "paper"), SingleTrackModel(v)):
+    for model in (KIN(v, "paper"), STM(v)):
         g_open, _ = final_gamma(model, log, v, 0.0)
         # lambda ~ +0.11 /s: 30 s grows a 1 deg articulation more than 10-fold.
         assert g_open[-1] > 10 * G0, model.name
@@ -70,7 +70,7 @@ def test_gain_bound_and_growth_rate_match_eq6(unloaded):
     log = straight_reverse(v, 120.0)
     t = log.frame["t"].to_numpy()
     for K in (0.9 * Kc, 1.1 * Kc):
-        g, _ = final_gamma(KinematicModel(v, "paper"), log, v, K)
+        g, _ = final_gamma(KIN(v, "paper"), log, v, K)
         rate = math.log(g[-1] / g[2000]) / (t[-1] - t[2000])
         assert rate == pytest.approx(lam6(v, K), rel=0.01)
         assert (rate > 0) == (K < Kc)
@@ -80,7 +80,7 @@ def test_printed_sign_of_eq5_destabilises(unloaded):
     # delta = delta_center + K (gamma_measured - gamma_model), as printed, is
     # the harness with -K: it must grow for K = 3.
     v = unloaded
-    g, _ = final_gamma(KinematicModel(v, "paper"), straight_reverse(v, 10.0), v, -3.0)
+    g, _ = final_gamma(KIN(v, "paper"), straight_reverse(v, 10.0), v, -3.0)
     assert abs(g[-1]) > 5 * G0
 
 
@@ -88,9 +88,9 @@ def test_feedback_only_while_reversing(unloaded):
     v = unloaded
     s = v.steering_for("kin").delta_h_offset
     fwd = straight_log(n=500, u=1.4, gamma0=G0, delta_h=s)
-    _, run = final_gamma(KinematicModel(v, "paper"), fwd, v, 3.0)
+    _, run = final_gamma(KIN(v, "paper"), fwd, v, 3.0)
     assert np.all(run.frame["delta_fb"] == 0.0)
-    _, run = final_gamma(KinematicModel(v, "paper"), straight_reverse(v, 5.0), v, 3.0)
+    _, run = final_gamma(KIN(v, "paper"), straight_reverse(v, 5.0), v, 3.0)
     fb = run.frame["delta_fb"].to_numpy()
     g = run.frame["gamma"].to_numpy()
     # Row 0 is the log's own first sample (no error); from row 1 the measured
@@ -104,7 +104,7 @@ def test_saturation_is_reported(unloaded):
     v = unloaded
     s = v.steering_for("kin").delta_h_offset
     log = straight_log(n=300, u=U_REV, gamma0=math.radians(20.0), delta_h=s)
-    _, run = final_gamma(KinematicModel(v, "paper"), log, v, 3.0)
+    _, run = final_gamma(KIN(v, "paper"), log, v, 3.0)
     # 3 x 20 deg = 60 deg asked at row 1, 43 deg (delta_max) given, and said so.
     assert run.frame["delta_saturated"].iloc[1]
     assert run.frame["delta"].iloc[1] == pytest.approx(v.steering.delta_max)
@@ -115,18 +115,18 @@ def test_kin_validated_against_its_own_log_gives_zero(unloaded):
     s = v.steering_for("kin")
     prof = make_profile("constant-steer", amplitude_deg=360, speed_kph=5, side="right",
                         duration=40.0, delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
-    log = as_log(simulate(KinematicModel(v, "paper"), v, prof), "kin-fwd")
-    m = run_metrics(log.frame, run_closed_loop(KinematicModel(v, "paper"), log, v).frame)
+    log = as_log(simulate(KIN(v, "paper"), v, prof), "kin-fwd")
+    m = run_metrics(log.frame, run_closed_loop(KIN(v, "paper"), log, v).frame)
     for key in ("eps_y1", "eps_y2", "eps_r1", "eps_r2", "eps_vy1", "eps_vy2", "J_steer"):
         assert m[key] < 1e-9, (key, m[key])
     # Reverse, from a driver holding 25 deg of articulation: the feedback sees
     # no error, so the model replays the log.
     t = np.arange(0, 40, 0.01)
     gref = math.radians(25) * np.clip(t / 20, 0, 1)
-    drv = drive_articulation(KinematicModel(v, "paper"), v, t, np.full_like(t, U_REV), gref,
+    drv = drive_articulation(KIN(v, "paper"), v, t, np.full_like(t, U_REV), gref,
                              steering=SteeringMap.from_steering(s))
     rev = as_log(drv, "kin-rev")
-    m = run_metrics(rev.frame, run_closed_loop(KinematicModel(v, "paper"), rev, v).frame)
+    m = run_metrics(rev.frame, run_closed_loop(KIN(v, "paper"), rev, v).frame)
     assert abs(rev.frame["gamma"].iloc[-1]) > math.radians(20)
     for key in ("eps_y1", "eps_y2", "eps_r1", "eps_r2", "J_steer"):
         assert m[key] < 1e-6, (key, m[key])
@@ -148,7 +148,7 @@ def test_jackknife_stops_open_loop_reverse(unloaded):
     s = v.steering_for("kin")
     prof = make_profile("ramp-steer-reverse", amplitude_deg=90, speed_kph=6,
                         duration=200.0, delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
-    run = simulate(KinematicModel(v, "paper"), v, prof)
+    run = simulate(KIN(v, "paper"), v, prof)
     assert run.meta["status"].startswith("stopped at")
     assert "jackknife" in run.meta["status"]
     assert abs(run.frame["gamma"].iloc[-1]) > v.gamma_max

@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from artic.mjcf import load_vehicle
-from artic.reduced import SingleTrackModel
+from artic.reduced import STM
 from artic.validation.cli.commands import main
 from artic.validation.harness.simulate import simulate
 from artic.validation.logs.importers import import_source
@@ -30,7 +30,7 @@ def canonical():
                         delta_h_offset=s.delta_h_offset, L1=v.L1, i_s=s.i_s)
     held = np.radians(np.round(np.degrees(prof.delta_h[::10]) / 0.1) * 0.1)
     prof = type(prof)(prof.kind, prof.t, np.repeat(held, 10)[:prof.t.size], prof.u1, prof.meta)
-    run = simulate(SingleTrackModel(v), v, prof)
+    run = simulate(STM(v), v, prof)
     return Run(run.frame[list(COLUMNS)].copy(), {"name": "slalom"})
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from artic.mjcf import load_vehicle
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.reduced.kinematic import kin_parameters, wheelbases
 from conftest import steady_turn
 
@@ -66,12 +66,12 @@ def test_kin_is_the_stm_with_stiff_tyres_and_every_axle(preset):
     # (delta 0.24 rad here), which costs well under 1 %.
     v = load_vehicle(preset)
     delta = math.atan(v.L1 / 15.0)
-    kin = steady(KinematicModel(v), delta)
-    stm = steady(SingleTrackModel(v, f=1000.0), delta)
+    kin = steady(KIN(v), delta)
+    stm = steady(STM(v, f=1000.0), delta)
     assert kin[0] == pytest.approx(stm[0], rel=0.01)
     assert kin[1] == pytest.approx(stm[1], abs=math.radians(0.5))
     # The paper's choice misses the tag axle and the tridem by several per cent.
-    paper = steady(KinematicModel(v, "paper"), delta)
+    paper = steady(KIN(v, "paper"), delta)
     assert abs(paper[1] / stm[1] - 1) > 0.05
 
 
@@ -89,7 +89,7 @@ def test_kin_against_the_plant_in_steady_turns(preset, radius):
             mbd = steady(p, math.atan(v.L1 / radius))
             dc = float(centre_angle(np.array(p.data.qpos[p._steer_L[0]]),
                                     np.array(p.data.qpos[p._steer_R[0]])))
-    kin = steady(KinematicModel(v), dc)
+    kin = steady(KIN(v), dc)
     # 3 % and 2 deg, except where the linear theory behind the equivalent
     # lengths is stretched: at R = 10 m the gosar tridem scrubs at about
     # 7 deg of slip, where the plant's Magic Formula tyres give 10-15 % less

@@ -8,11 +8,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from artic.reduced import InitialState, KinematicModel
+from artic.reduced import KIN, Driven, InitialState
 from artic.reduced.kinematic import kin_rhs
 
 
 def steady(model, delta, u, seconds=300.0, dt=0.01):
+    model = Driven(model)
     model.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
     for _ in range(int(seconds / dt)):
         model.step(dt, delta, u, 0.0)
@@ -23,7 +24,7 @@ def steady(model, delta, u, seconds=300.0, dt=0.01):
 @pytest.mark.parametrize("delta", [0.05, 0.2, -0.35])
 def test_steady_circle_closed_form(unloaded, delta, wheelbase):
     u = 1.4
-    model = KinematicModel(unloaded, wheelbase)
+    model = KIN(unloaded, wheelbase)
     L1, L1c, L2 = model.P
     v = SimpleNamespace(L1=L1, L1c=L1c, L2=L2)  # eq. (1)'s lengths, whichever the choice
     y = steady(model, delta, u)

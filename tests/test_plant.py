@@ -12,7 +12,7 @@ from artic.mjcf import load_vehicle
 from artic.mjcf.linkage import centre_angle
 from artic.plant import Plant, PlantError, callback
 from artic.plant.tyre import TyreParams, TyreRangeWarning
-from artic.reduced import InitialState, SingleTrackModel
+from artic.reduced import STM, InitialState
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation
 from artic.validation.harness.steering import SteeringMap
@@ -103,8 +103,8 @@ def stm_with_tyre_file_stiffness(v):
     tyre = TyreParams.from_tir(v.tyre_file)
     n = np.array([2.0 * (2 if a.dual else 1) for a in v.axles])
     C = n * tyre.cornering_stiffness(v.static_loads / n)
-    m = SingleTrackModel(v)
-    m.P[-len(C):] = C  # the cornering stiffnesses close the parameter array
+    m = STM(v)
+    m.params = m.params._replace(C=C)  # the tyre file's cornering stiffnesses
     return m
 
 
@@ -253,7 +253,7 @@ def test_reverse_ramp_steer_is_held_by_the_harness(unloaded):
     t = np.arange(0.0, 35.0, 0.01)
     gref = math.radians(30.0) * np.clip((t - 3.0) / 20.0, 0.0, 1.0)
     s = SteeringMap.from_steering(v.steering_for("mbd"))
-    log = drive_articulation(SingleTrackModel(v), v, t, np.full_like(t, -3 / 3.6), gref,
+    log = drive_articulation(STM(v), v, t, np.full_like(t, -3 / 3.6), gref,
                              steering=s)
     log.meta["name"] = "ramp"
     from conftest import as_log

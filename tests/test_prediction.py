@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from artic.reduced import KinematicModel
+from artic.reduced import KIN, Driven
 from artic.validation.criteria.prediction import (
     COLUMNS,
     horizon_ends,
@@ -22,7 +22,7 @@ def reverse_log(vehicle, seconds: float = 60.0, u: float = -1.0) -> Run:
     """KIN reversing at constant speed while a driver swings the trailer +-10 deg."""
     t = np.arange(0.0, seconds, 0.01)
     gamma_ref = math.radians(10.0) * np.sin(2.0 * math.pi * t / 25.0)
-    run = drive_articulation(KinematicModel(vehicle, wheelbase="paper"), vehicle, t,
+    run = drive_articulation(KIN(vehicle, wheelbase="paper"), vehicle, t,
                              np.full(t.size, u), gamma_ref, gain=2.0)
     return Run(run.frame, {"name": "swing", "direction": "reverse", "manoeuvre": "test"})
 
@@ -38,7 +38,7 @@ class SteeringFlipped:
     name = "kin"
 
     def __init__(self, vehicle):
-        self.inner = KinematicModel(vehicle, wheelbase="paper")
+        self.inner = Driven(KIN(vehicle, wheelbase="paper"))
 
     def reset(self, initial):
         self.inner.reset(initial)
@@ -64,7 +64,7 @@ class SteeringFlipped:
 
 
 def test_the_logs_own_generator_predicts_it_exactly(log, unloaded):
-    got = prediction_errors(KinematicModel(unloaded, wheelbase="paper"), log, unloaded)
+    got = prediction_errors(KIN(unloaded, wheelbase="paper"), log, unloaded)
     # Same model, same inputs (the steering map's round trip and the speed
     # filter, exact on a constant speed, agree to rounding): only rounding
     # is left, amplified at most e-fold over 10 m of reversing (1/L2 per metre).
@@ -75,9 +75,8 @@ def test_the_logs_own_generator_predicts_it_exactly(log, unloaded):
 
 
 def test_a_wrong_wheelbase_grows_with_the_horizon(log, unloaded):
-    model = KinematicModel(unloaded, wheelbase="paper")
-    model.P = model.P.copy()
-    model.P[2] *= 1.2  # the semitrailer's wheelbase L2, 20 % long
+    model = KIN(unloaded, wheelbase="paper")
+    model.params = model.params._replace(L2=1.2 * model.params.L2)  # 20 % long
     got = prediction_errors(model, log, unloaded)
     p = [got[f"pred_p_{h}m"] for h in (2, 5, 10)]
     g = [got[f"pred_gamma_{h}m"] for h in (2, 5, 10)]
@@ -90,7 +89,7 @@ def test_a_wrong_wheelbase_grows_with_the_horizon(log, unloaded):
 
 def test_a_flipped_steering_sign_is_caught(log, unloaded):
     got = prediction_errors(SteeringFlipped(unloaded), log, unloaded)
-    exact = prediction_errors(KinematicModel(unloaded, wheelbase="paper"), log, unloaded)
+    exact = prediction_errors(KIN(unloaded, wheelbase="paper"), log, unloaded)
     assert got["pred_gamma_10m"] > 0.05 and got["pred_p_10m"] > 0.05
     assert got["pred_gamma_10m"] > 1e6 * max(exact["pred_gamma_10m"], 1e-15)
 
@@ -109,12 +108,12 @@ def test_start_points_follow_distance_and_reversing():
 
 def test_short_and_forward_logs_say_why_they_have_no_value(unloaded):
     short = reverse_log(unloaded, seconds=7.0)  # 7 m: no room for 10 m
-    got = prediction_errors(KinematicModel(unloaded), short, unloaded)
+    got = prediction_errors(KIN(unloaded), short, unloaded)
     assert np.isfinite(got["pred_p_2m"]) and np.isfinite(got["pred_gamma_5m"])
     assert math.isnan(got["pred_p_10m"]) and math.isnan(got["pred_gamma_10m"])
     assert "10 m" in got["note"] and "7.0 m" in got["note"]
     fwd = Run(short.frame.assign(v_x_1=-short.frame["v_x_1"]), {"name": "fwd"})
-    got = prediction_errors(KinematicModel(unloaded), fwd, unloaded)
+    got = prediction_errors(KIN(unloaded), fwd, unloaded)
     assert all(math.isnan(got[c]) for c in COLUMNS)
     assert got["note"] == "not a reverse log"
 
@@ -172,7 +171,7 @@ def test_truth_states_come_back_exactly_from_the_metadata(log):
 def test_a_start_point_without_a_truth_state_is_left_out(log, unloaded):
     from artic.validation.criteria.prediction import TruthStates
 
-    got = prediction_errors(KinematicModel(unloaded, wheelbase="paper"), log, unloaded,
+    got = prediction_errors(KIN(unloaded, wheelbase="paper"), log, unloaded,
                             states=TruthStates(np.zeros(0), np.zeros((0, 4))))
     assert all(math.isnan(got[c]) for c in COLUMNS)
     assert got["left_out"] == 6 and got["starts"] == 0
@@ -180,12 +179,12 @@ def test_a_start_point_without_a_truth_state_is_left_out(log, unloaded):
 
 
 def test_the_reduced_models_start_as_the_harness_starts_them(log, unloaded):
-    from artic.reduced import SingleTrackModel
+    from artic.reduced import STM
     from artic.validation.criteria.prediction import starter
     from artic.validation.harness.loop import loop_inputs, run_inputs, window
     from artic.validation.harness.steering import SteeringMap
 
-    for model in (KinematicModel(unloaded), SingleTrackModel(unloaded)):
+    for model in (Driven(KIN(unloaded)), Driven(STM(unloaded))):
         assert starter(model, None, 0.0) == model.reset  # their own reset, unchanged
         inputs = loop_inputs(log, unloaded, SteeringMap.from_steering(unloaded.steering))
         part = window(inputs, log.frame, 1500, 2500)

@@ -10,7 +10,7 @@ import pytest
 
 from artic.mjcf.interface import wrap_angle
 from artic.plant import Plant
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import simulate
 from artic.validation.review.plantshape import plant_shape, wheel_quat, xyzw
@@ -33,10 +33,10 @@ from conftest import as_log
 @pytest.fixture(scope="module")
 def manoeuvre(unloaded):
     p = make_profile("slalom", amplitude_deg=200.0, speed_kph=5.0, duration=10.0)
-    log = as_log(simulate(SingleTrackModel(unloaded), unloaded, p), "ramp")
+    log = as_log(simulate(STM(unloaded), unloaded, p), "ramp")
     log.meta["manoeuvre"] = "docking"  # so that the dock is drawn too
     runs = {cls.name: run_closed_loop(cls(unloaded), log, unloaded)
-            for cls in (KinematicModel, SingleTrackModel)}
+            for cls in (KIN, STM)}
     with Plant(unloaded) as plant:
         runs["mbd"] = run_closed_loop(plant, log, unloaded)
     return log, runs

@@ -22,7 +22,7 @@ import pytest
 import artic
 from artic.mjcf.vehicle import load_vehicle
 from artic.mjcf.writer import updated, write_vehicle
-from artic.reduced import KinematicModel
+from artic.reduced import KIN, Driven
 from artic.validation import models
 from artic.validation.cli.commands import main
 from artic.validation.criteria.metrics import CRITERIA
@@ -39,23 +39,24 @@ from artic.validation.models import (
 from test_cli import constant_steer_logs
 
 
-class KinBlue(KinematicModel):
+class KinBlue(KIN):
     """KIN itself under another name and colour: its results must be KIN's, digit for digit."""
 
     name = "kin_blue"
 
 
 class PythonKin:
-    """A model of the user's own: KIN's equations without a compiled form.
+    """A model of the user's own: KIN's equations behind the minimal protocol.
 
-    The harness then drives it through its Python loop, step by step, where
-    the built-in KIN runs the compiled loop: the same law, the same steps.
+    No compiled form, no loop of its own, nothing to close (all optional):
+    the harness drives it through its Python loop, step by step, where the
+    built-in KIN runs the compiled loop: the same law, the same steps.
     """
 
     name = "kin_py"
 
     def __init__(self, vehicle):
-        self._kin = KinematicModel(vehicle)
+        self._kin = Driven(KIN(vehicle))
 
     def reset(self, initial):
         self._kin.reset(initial)
@@ -65,15 +66,6 @@ class PythonKin:
 
     def observe(self, delta=None):
         return self._kin.observe(delta)
-
-    def compiled(self):
-        return None
-
-    def closed_loop(self):
-        return None
-
-    def close(self):
-        pass
 
     @property
     def gamma(self):
@@ -206,10 +198,11 @@ def test_registering_wrongly_says_what_is_wrong(registered):
 def test_a_build_that_breaks_the_protocol_is_a_failed_row(tmp_path, logs, capsys):
     v = load_vehicle("gosar2022-unloaded")
     register_model("not_a_model", lambda vehicle: object())
-    register_model("kin_misnamed", KinematicModel)
+    register_model("kin_misnamed", KIN)
     try:
-        with pytest.raises(TypeError, match=r"lacks name, reset, step, observe, compiled, "
-                                            r"closed_loop, close, gamma of the model protocol"):
+        # The minimal protocol: compiled(), closed_loop() and close() are optional.
+        with pytest.raises(TypeError, match=r"lacks name, reset, step, observe, gamma of the "
+                                            r"model protocol"):
             build("not_a_model", v)
         with pytest.raises(TypeError, match="a model named 'kin'; set its name to "
                                             "'kin_misnamed'"):
@@ -253,11 +246,11 @@ def test_a_misspelt_steering_table_is_refused_by_name(tmp_path, logs, capsys):
 
 
 ENTRY_MODULE = '''
-from artic.reduced import KinematicModel
+from artic.reduced import KIN
 from artic.validation.models import model_spec
 
 
-class KinEp(KinematicModel):
+class KinEp(KIN):
     name = "kin_ep"
 
 

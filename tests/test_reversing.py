@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from artic.mjcf import load_vehicle
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM, Driven
 from artic.validation.harness.loop import run_closed_loop, unsteered_inputs
 from artic.validation.harness.reversing import (
     DEAD_BAND,
@@ -44,7 +44,7 @@ def stop_and_go(v, noise: float, seed: int = 5) -> Run:
     s = v.steering_for("kin")
     road = 0.15 * np.sin(2 * math.pi * t / 6.0) * (ramp > 0)
     prof = Profile("slalom", t, s.i_s * road + s.delta_h_offset, u, {"direction": "forward"})
-    log = as_log(simulate(KinematicModel(v), v, prof), "stop-and-go")
+    log = as_log(simulate(KIN(v), v, prof), "stop-and-go")
     rng = np.random.default_rng(seed)
     log.frame["v_x_1"] = log.frame["v_x_1"] + rng.normal(0.0, noise, t.size)
     return log
@@ -61,7 +61,7 @@ def test_standstill_noise_gives_no_feedback_in_a_forward_run(preset, noise):
     assert (log.frame["v_x_1"] < 0).mean() > 0.15
     inputs = unsteered_inputs(log, v)
     assert not inputs.reversing.any() and np.all(inputs.weight == 0.0)
-    models = [KinematicModel(v)] + ([SingleTrackModel(v)] if v.has_tyre_data else [])
+    models = [KIN(v)] + ([STM(v)] if v.has_tyre_data else [])
     for model in models:
         run = run_closed_loop(model, log, v, gain=3.0)
         assert run.meta["status"] == "ok"
@@ -114,7 +114,7 @@ def test_a_real_reverse_gets_feedback_from_its_first_millimetres(unloaded, a):
     assert travelled <= v_off ** 2 / (2 * a) + 0.5 * a * 0.125 ** 2 + 1e-4, travelled
     assert inputs.reversing[first:].all()  # and on for the rest of the reverse
     # The feedback acts from there: the model starts 2 deg off the log's articulation.
-    run = run_closed_loop(KinematicModel(v), log, v, gain=3.0)
+    run = run_closed_loop(KIN(v), log, v, gain=3.0)
     fb = run.frame["delta_fb"].to_numpy()
     assert np.all(fb[:first] == 0.0) and np.all(np.abs(fb[first:]) > 0)
 
@@ -201,7 +201,7 @@ def test_a_stretch_at_the_logs_ends_starts_and_ends_at_full_weight():
     assert w[0] == 1.0 and w[299] == pytest.approx(DT / HANDOVER) and np.all(w[300:] == 0.0)
 
 
-@pytest.mark.parametrize("cls", [KinematicModel, SingleTrackModel])
+@pytest.mark.parametrize("cls", [KIN, STM])
 def test_the_feedback_is_handed_over_without_a_step(unloaded, cls):
     # A reverse that stops and drives on forward, with the model 2 deg off the log's
     # articulation at the start: the feedback term rises from 0 and falls back to 0
@@ -238,7 +238,7 @@ def test_the_feedback_is_handed_over_without_a_step(unloaded, cls):
 
     steering = SteeringMap.from_steering(v.steering_for(cls.name))
     inp = steered(inputs, steering, "test")
-    model = cls(v)
+    model = Driven(cls(v))
     model.reset(inp.initial)
     py = _python_loop(model, *loop_args(inp, v, 3.0))
     np.testing.assert_allclose(py[2], fb, rtol=0.0, atol=1e-12)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from artic.reduced import InitialState, KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM, Driven, InitialState
 
 
 def velocities_from_positions(obs, dt):
@@ -18,14 +18,14 @@ def velocities_from_positions(obs, dt):
     return out
 
 
-@pytest.mark.parametrize("cls", [KinematicModel, SingleTrackModel])
+@pytest.mark.parametrize("cls", [KIN, STM])
 def test_sensor_velocities_are_derivatives_of_sensor_positions(unloaded, cls):
     # Constant steering from an articulated start: a smooth path (no held-input
     # jumps) with a trailer transient of its own. The first 3 s are skipped:
     # the STM's tyre-lag mode (sigma / u ~ 0.4 s) is too fast there for a 10 ms
     # central difference to follow to 2e-4 m/s; after it, the difference's
     # error (dt^2 times the jerk) is far below that.
-    m = cls(unloaded)
+    m = Driven(cls(unloaded))
     m.reset(InitialState(0.0, 0.0, 0.0, 0.4, u1=1.2))
     dt, obs = 0.01, []
     for _ in range(1500):
@@ -41,13 +41,13 @@ def test_sensor_velocities_are_derivatives_of_sensor_positions(unloaded, cls):
     assert np.ptp(obs[:, 12]) > 0.05
 
 
-@pytest.mark.parametrize("cls", [KinematicModel, SingleTrackModel])
+@pytest.mark.parametrize("cls", [KIN, STM])
 def test_both_sensors_agree_on_the_kingpin(unloaded, cls):
     # The kingpin is one point of both units. Rebuilt from the tractor sensor
     # (s1 from the drive axle, kingpin L1c ahead of it) and from the trailer
     # sensor (s2 from the kingpin), it must be the same point to rounding.
     v = unloaded
-    m = cls(v)
+    m = Driven(cls(v))
     m.reset(InitialState(3.0, -2.0, 0.7, -0.5, u1=-1.0))
     s1 = np.array(v.sensor1[:2]) - [v.L1c, 0.0]
     s2 = np.array(v.sensor2[:2])

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from artic.mjcf import load_vehicle
-from artic.reduced import InitialState, KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM, Driven, InitialState
 from artic.reduced.single_track import N_BODY, generalised_forces, mass_and_bias, stm_rhs
 from artic.reduced.tyre_linear import slip_angle, slip_rate
 
@@ -119,6 +119,7 @@ def test_free_system_conserves_energy_and_momenta(unloaded):
 
 
 def steady(model, delta, u, seconds=300.0):
+    model = model if isinstance(model, Driven) else Driven(model)
     model.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
     for _ in range(int(seconds / 0.01)):
         model.step(0.01, delta, u, 0.0)
@@ -130,10 +131,10 @@ def test_stiff_tyres_approach_kin(unloaded):
     # are the lateral accelerations over the cornering stiffness, so the
     # difference to KIN falls as 1/f: a tenfold f cuts it tenfold.
     delta, u = 0.2, 0.5
-    kin = steady(KinematicModel(unloaded, "paper"), delta, u)
+    kin = steady(KIN(unloaded, "paper"), delta, u)
     err = {}
     for f in (6.0, 60.0, 600.0):
-        stm = steady(SingleTrackModel(unloaded, f=f, trailer_axles=np.array([unloaded.L2])),
+        stm = steady(STM(unloaded, f=f, trailer_axles=np.array([unloaded.L2])),
                      delta, u)
         err[f] = abs(stm[12] - kin[12]) + abs(stm[5] - kin[5])
     assert err[60.0] < 2e-6
@@ -148,9 +149,9 @@ def test_trailer_tridem_scrub(unloaded):
     # equivalent wheelbase makes the trailer cut in more: |gamma| > KIN's.
     v = unloaded
     delta, u = 0.2, 0.5
-    m = SingleTrackModel(v)
+    m = Driven(STM(v))
     y = steady(m, delta, u)
-    kin = steady(KinematicModel(v, "paper"), delta, u)
+    kin = steady(KIN(v, "paper"), delta, u)
     assert y[12] > kin[12] + math.radians(1.0)
     x = m.x
     r, gd, g, vv = x[5], x[6], x[3], x[4]
@@ -170,7 +171,7 @@ def test_reversing_eigenvalue_approaches_eq6(unloaded):
     v, u1 = unloaded, -3.0 / 3.6
 
     def eig(f, K):
-        model = SingleTrackModel(v, f=f, trailer_axles=np.array([v.L2]))
+        model = STM(v, f=f, trailer_axles=np.array([v.L2]))
         P = model.P
         n = N_BODY - 3 + model.n_axles
 
@@ -202,7 +203,7 @@ def test_forward_stop_reverse_is_smooth(unloaded):
     v = unloaded
     t = np.arange(0.0, 40.0, 0.01)
     u = np.interp(t, [0, 10, 14, 18, 22, 40], [1.4, 1.4, 0.0, 0.0, -0.8, -0.8])
-    m = SingleTrackModel(v)
+    m = Driven(STM(v))
     m.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u[0]))
     F, obs = [], []
     for k in range(t.size - 1):
@@ -235,7 +236,7 @@ def test_slip_angle_sign_and_reverse_mirror():
 
 def test_six_axle_runs_and_tag_axle_scrubs():
     v = load_vehicle("six-axle")
-    m = SingleTrackModel(v)
+    m = Driven(STM(v))
     assert m.n_axles == 6
     y = steady(m, 0.2, 0.5, seconds=200.0)
     assert np.all(np.isfinite(y))
@@ -247,7 +248,7 @@ def test_six_axle_runs_and_tag_axle_scrubs():
 def test_deterministic(unloaded):
     runs = []
     for _ in range(2):
-        m = SingleTrackModel(unloaded)
+        m = Driven(STM(unloaded))
         m.reset(InitialState(1.0, 2.0, 0.3, 0.1, u1=-0.8))
         for k in range(500):
             m.step(0.01, 0.05 * math.sin(k / 50), -0.8, 0.0)
@@ -258,9 +259,9 @@ def test_deterministic(unloaded):
 def test_start_from_rest_with_noisy_velocity_has_relaxed_tyres(unloaded):
     # A log that starts at rest reads 1 cm/s of sensor noise. Steady-state slip
     # from that would be near 90 deg; the tyres start relaxed in proportion to speed.
-    from artic.reduced.models import U_SLIP_KNOWN
+    from artic.reduced.control import U_SLIP_KNOWN
 
-    m = SingleTrackModel(unloaded)
+    m = Driven(STM(unloaded))
     m.reset(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.01, u1=0.005))
     assert np.abs(m.x[N_BODY:]).max() < (math.pi / 2) * (0.02 / U_SLIP_KNOWN)
     m.reset(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.05, u1=3.0))

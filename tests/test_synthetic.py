@@ -8,7 +8,7 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from artic.reduced import InitialState, KinematicModel
+from artic.reduced import KIN, InitialState
 from artic.validation.logs.importers import import_source
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.sensors import SensorModel, measure
@@ -43,7 +43,7 @@ def test_matrix_has_the_seed_counts_and_every_cell():
 def test_docking_driver_docks_kin(unloaded, y0, psi0):
     drv = DockingDriver(unloaded)
     t, obs, delta, u, docked = drive_to_dock(
-        KinematicModel(unloaded), drv, InitialState(10.0, y0, math.radians(psi0), 0.0))
+        KIN(unloaded), drv, InitialState(10.0, y0, math.radians(psi0), 0.0))
     dist, e_y, e_psi = drv.errors(obs[-1])
     assert docked
     assert abs(e_y) < 0.5 and abs(e_psi) < math.radians(3.0)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.validation.campaign.tuning import Objective, apply, bounds_for, tune_model
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.harness.loop import run_closed_loop
@@ -24,7 +24,7 @@ def own_logs(vehicle, model: str, truth: dict) -> list:
     """Constant steers of the model itself at its truth parameters: four, left and right."""
     v = apply(vehicle, model, truth)
     s = v.steering_for(model)
-    cls = {"kin": KinematicModel, "stm": SingleTrackModel}[model]
+    cls = {"kin": KIN, "stm": STM}[model]
     logs = []
     for amp in (200.0, 500.0):
         for side in ("left", "right"):
@@ -56,7 +56,7 @@ def test_objective_is_the_criterion(unloaded):
     obj = Objective("kin", unloaded, logs)
     x = np.array([b.nominal for b in obj.bounds])
     v = obj.vehicle_at(x)
-    direct = np.mean([run_metrics(log.frame, run_closed_loop(KinematicModel(v), log, v).frame)
+    direct = np.mean([run_metrics(log.frame, run_closed_loop(KIN(v), log, v).frame)
                       ["eps_n"] for log in logs])
     assert obj.eps_n(x) == pytest.approx(direct, rel=1e-9)
 

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf import load_vehicle
-from artic.reduced import KinematicModel
+from artic.reduced import KIN
 from artic.validation.cli.commands import main
 from artic.validation.criteria.columns import COLUMNS
 from artic.validation.criteria.fixedscale import SCALE_FILE
@@ -20,7 +20,7 @@ from artic.validation.logs.runfile import Run, write_run
 def test_validate_prints_eps_gamma_for_every_run(tmp_path, capsys):
     v = load_vehicle("gosar2022-unloaded")
     t = np.arange(0.0, 30.0, 0.01)
-    run = drive_articulation(KinematicModel(v), v, t, np.full(t.size, -1.0),
+    run = drive_articulation(KIN(v), v, t, np.full(t.size, -1.0),
                              math.radians(8.0) * np.sin(2 * math.pi * t / 20.0))
     path = write_run(Run(run.frame, {"name": "swing"}), tmp_path / "swing.parquet")
     out = tmp_path / "val"

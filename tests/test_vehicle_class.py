@@ -24,7 +24,7 @@ from artic.mjcf.plausible import (
 )
 from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import REFERENCE_LENGTH
-from artic.reduced import KinematicModel, SingleTrackModel
+from artic.reduced import KIN, STM
 from artic.validation.cli.commands import main
 from artic.validation.logs.runfile import read_run
 
@@ -135,10 +135,10 @@ def test_unknown_class_is_refused_naming_the_key(tmp_path):
 
 def test_stm_and_plant_refuse_a_scale_model_without_tyre_data(capsys, tmp_path):
     v = load_vehicle(SCALE)
-    KinematicModel(v)  # KIN needs none
+    KIN(v)  # KIN needs none
     with pytest.raises(VehicleFileError, match=r"key 'tyre.f': vehicle scale-model-1to14 "
                                                r"\(class scale-model\) has no tyre data"):
-        SingleTrackModel(v)
+        STM(v)
     from artic.plant import Plant
 
     with pytest.raises(VehicleFileError, match=r"key 'tyre.file': .* has no tyre file"):
@@ -161,7 +161,7 @@ def test_a_truck_tyre_does_not_fit_a_scale_model(tmp_path):
     p.write_text(SCALE_PATH.read_text() + TRUCK_TYRE)
     v = load_vehicle(p)
     assert v.has_tyre_data
-    stm = SingleTrackModel(v)
+    stm = STM(v)
     assert stm.P.size > 0
     from artic.plant import Plant
 

@@ -1,10 +1,16 @@
 """The models the harness drives: their protocol, and the one registry of them.
 
-Every model (KIN, STM and the multibody plant) offers the calls of
-:class:`Model`. The registry :data:`REGISTRY` is the one place that names
-them: the command line, tuning, validation, the efficiency study, the
-recordings, the plots and the report read their constructors, colours and
-tuned parameters from it, at the time they run.
+The harness drives two kinds of model. A state-space model, :class:`artic.KIN`,
+:class:`artic.STM` or a subclass of either, goes in as it is: the harness
+holds its state (:func:`driven`). Any other model, the multibody plant and
+models from outside artic, offers the calls of :class:`Model`: ``name``,
+``reset``, ``step``, ``observe`` and ``gamma``; ``compiled``, ``closed_loop``
+and ``close`` are optional fast paths and clean-up.
+
+The registry :data:`REGISTRY` is the one place that names them: the command
+line, tuning, validation, the efficiency study, the recordings, the plots and
+the report read their constructors, colours and tuned parameters from it, at
+the time they run.
 
 Models from outside artic join the registry in one of two ways:
 
@@ -47,6 +53,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 
@@ -55,21 +62,26 @@ if TYPE_CHECKING:
 
 
 class Model(Protocol):
-    """What the harness needs of a model.
+    """What the harness needs of a model that holds its own state.
 
-    - ``reset(initial)`` places the combination at an :class:`InitialState`,
-      taken from a log's first sample;
+    - ``name``: its name in runs and tables (lower case);
+    - ``reset(initial)`` places the combination at an
+      :class:`~artic.mjcf.interface.InitialState`, taken from a log's first sample;
     - ``step(dt, delta, u1, u1_dot)`` advances by ``dt`` [s] with the road-wheel
       angle ``delta`` [rad] held and the tractor's longitudinal speed rising
       linearly from ``u1`` [m/s] at rate ``u1_dot`` [m/s^2];
     - ``observe(delta)`` returns the signals a measured log has, in
-      :data:`artic.mjcf.interface.OBSERVATION` order;
-    - ``compiled()`` returns the model's compiled form for the harness's
-      compiled loop, or ``None`` when it has none (the plant);
-    - ``closed_loop()`` returns a loop of the model's own that runs a whole
-      log (the plant's, in C: :func:`artic.plant.closedloop.run`), or ``None``;
-    - ``close()`` releases what the model holds (the plant's callback);
+      :data:`artic.mjcf.interface.OBSERVATION` order (``x_1, y_1`` the
+      tractor's sensor), with ``delta`` [rad] the angle about to be held
+      (``None``: the last one);
     - ``gamma`` is the current articulation angle [rad].
+
+    Optional (:data:`OPTIONAL`): ``close()`` releases what the model holds
+    (the plant's callback); ``compiled()`` returns a compiled form for the
+    harness's compiled loop, or ``None``; ``closed_loop()`` returns a loop of
+    the model's own that runs a whole log (the plant's, in C:
+    :func:`artic.plant.closedloop.run`), or ``None``. A model without them is
+    stepped by the harness's Python loop.
     """
 
     name: str
@@ -83,30 +95,71 @@ class Model(Protocol):
     def observe(self, delta: float | None = None) -> np.ndarray:
         """Signals in ``OBSERVATION`` order."""
 
-    def compiled(self) -> tuple | None:
-        """The compiled form ``(kind, x, P, s1, s2)``, or ``None``."""
-
-    def closed_loop(self) -> Callable | None:
-        """The model's own whole-log loop, or ``None``."""
-
-    def close(self) -> None:
-        """Release held resources; the model is unusable afterwards."""
-
     @property
     def gamma(self) -> float:
         """Articulation angle [rad]."""
 
 
-def _kin(vehicle: Vehicle) -> Model:
-    from artic.reduced import KinematicModel
+OPTIONAL = ("close", "compiled", "closed_loop")
+"""The optional calls of :class:`Model`."""
 
-    return KinematicModel(vehicle)
+
+def is_state_space(model: object) -> bool:
+    """Whether ``model`` is a state-space model (``artic.KIN``, ``artic.STM``, a subclass).
+
+    Such a model keeps no state: its ``initial_state``, ``advance`` and
+    ``signals`` take it. The harness holds the state (:func:`driven`).
+    """
+    return (not callable(getattr(model, "reset", None))
+            and all(callable(getattr(model, m, None))
+                    for m in ("initial_state", "advance", "signals")))
+
+
+def driven(model: object) -> Model:
+    """``model`` as the harness drives it: a state-space model with its state, else itself.
+
+    Parameters
+    ----------
+    model : object
+        ``artic.KIN``, ``artic.STM`` (or a subclass), which get a state
+        holder (:class:`artic.reduced.models.Driven`); or a :class:`Model`.
+    """
+    if is_state_space(model):
+        from artic.reduced.models import Driven
+
+        return Driven(model)
+    return model
+
+
+def compiled_form(model: Model) -> tuple | None:
+    """The model's ``compiled()`` form, or ``None`` when it has none (an optional call)."""
+    f = getattr(model, "compiled", None)
+    return f() if callable(f) else None
+
+
+def own_loop(model: Model) -> Callable | None:
+    """The model's ``closed_loop()``, or ``None`` when it has none (an optional call)."""
+    f = getattr(model, "closed_loop", None)
+    return f() if callable(f) else None
+
+
+def close(model: Model) -> None:
+    """Call the model's ``close()``, if it has one (an optional call)."""
+    f = getattr(model, "close", None)
+    if callable(f):
+        f()
+
+
+def _kin(vehicle: Vehicle) -> Model:
+    from artic.reduced.control import KIN
+
+    return KIN(vehicle)
 
 
 def _stm(vehicle: Vehicle) -> Model:
-    from artic.reduced import SingleTrackModel
+    from artic.reduced.control import STM
 
-    return SingleTrackModel(vehicle)
+    return STM(vehicle)
 
 
 def _mbd(vehicle: Vehicle) -> Model:
@@ -208,8 +261,8 @@ The STM's ``f`` is the vehicle file's ``tyre.f``, shared, and stays the STM's.""
 
 _NAME = re.compile(r"[a-z][a-z0-9_]{0,31}")
 
-_PROTOCOL = ("name", "reset", "step", "observe", "compiled", "closed_loop", "close", "gamma")
-"""The members of :class:`Model`."""
+_PROTOCOL = ("name", "reset", "step", "observe", "gamma")
+"""The members every :class:`Model` has (:data:`OPTIONAL` are optional)."""
 
 _PALETTE = ((219, 68, 55), (171, 71, 188), (0, 172, 193), (124, 179, 66), (255, 112, 67),
             (92, 107, 192), (240, 98, 146), (0, 137, 123))
@@ -261,11 +314,12 @@ def _checked_build(name: str, build: Callable[[Vehicle], Model]) -> Callable[[Ve
     @functools.wraps(build)
     def checked(vehicle: Vehicle) -> Model:
         model = build(vehicle)
-        missing = [m for m in _PROTOCOL if not _has(model, m)]
+        missing = [] if is_state_space(model) else [m for m in _PROTOCOL if not _has(model, m)]
         if missing:
             raise TypeError(f"model {name!r}: its build returned a {type(model).__name__}, "
                             f"which lacks {', '.join(missing)} of the model protocol "
-                            "(artic.validation.models.Model)")
+                            "(artic.validation.models.Model; or subclass artic.KIN or "
+                            "artic.STM)")
         if model.name != name:
             raise TypeError(f"model {name!r}: its build returned a model named "
                             f"{model.name!r}; set its name to {name!r}, under which the runs "
@@ -290,26 +344,26 @@ def _has(model: object, member: str) -> bool:
 def _check_spec(s: ModelSpec) -> ModelSpec:
     """``s`` with its build checked, or a ``ValueError``/``TypeError`` naming what is wrong."""
     if not isinstance(s.name, str) or not _NAME.fullmatch(s.name):
-        raise ValueError(f"model name {s.name!r}: use 1-32 lower-case letters, digits or _, "
+        raise UserError(f"model name {s.name!r}: use 1-32 lower-case letters, digits or _, "
                          "starting with a letter (it names files and --models entries)")
     if s.name in _BUILTIN:
-        raise ValueError(f"model name {s.name!r} is artic's built-in "
+        raise UserError(f"model name {s.name!r} is artic's built-in "
                          f"{_BUILTIN[s.name].label}; choose another name")
     if not callable(s.build):
         raise TypeError(f"model {s.name!r}: build must be a function of the vehicle returning "
                         f"a model, got {type(s.build).__name__}")
     if not isinstance(s.label, str) or not s.label.strip():
-        raise ValueError(f"model {s.name!r}: label must be a non-empty string")
+        raise UserError(f"model {s.name!r}: label must be a non-empty string")
     if not (isinstance(s.colour, tuple) and len(s.colour) == 3
             and all(isinstance(c, int) and 0 <= c <= 255 for c in s.colour)):
-        raise ValueError(f"model {s.name!r}: colour {s.colour!r}: expected three integers "
+        raise UserError(f"model {s.name!r}: colour {s.colour!r}: expected three integers "
                          "0-255 (red, green, blue)")
     bad = [t for t in s.tuned if t not in TUNABLE]
     if bad or len(set(s.tuned)) != len(s.tuned):
-        raise ValueError(f"model {s.name!r}: tuned {s.tuned!r}: a registered model tunes its "
+        raise UserError(f"model {s.name!r}: tuned {s.tuned!r}: a registered model tunes its "
                          f"steering map only, without repeats: choose from {', '.join(TUNABLE)}")
     if not isinstance(s.batched, bool) or s.reference:
-        raise ValueError(f"model {s.name!r}: batched must be True or False, and a registered "
+        raise UserError(f"model {s.name!r}: batched must be True or False, and a registered "
                          "model is not a reference row")
     if getattr(s.build, "__artic_checked__", False):
         return s
@@ -321,7 +375,7 @@ def _add(s: ModelSpec) -> ModelSpec:
     s = _check_spec(s)
     with _lock:
         if s.name in _ADDED:
-            raise ValueError(f"model {s.name!r} is registered already (as "
+            raise UserError(f"model {s.name!r} is registered already (as "
                              f"{_ADDED[s.name].label}); choose another name, or "
                              "unregister_model it first")
         _ADDED[s.name] = s
@@ -376,7 +430,7 @@ def register_model(name: str, build: Callable[[Vehicle], Model], *, label: str |
         What tuning fits, of :data:`TUNABLE` (its ``[steering.NAME]`` map).
     batched : bool
         Whether tuning should run its logs as one batch (a model with a
-        compiled form, :meth:`Model.compiled`).
+        compiled form, such as a subclass of ``artic.KIN``).
 
     Returns
     -------
@@ -405,7 +459,7 @@ def unregister_model(name: str) -> None:
     """
     with _lock:
         if name not in _ADDED:
-            raise ValueError(f"model {name!r} is not a registered model; registered: "
+            raise UserError(f"model {name!r} is not a registered model; registered: "
                              f"{', '.join(_ADDED) or 'none'}")
         del _ADDED[name]
 
@@ -429,7 +483,7 @@ def _discover() -> None:
                     raise TypeError(f"it gives a {type(s).__name__}, not a ModelSpec or a "
                                     "function returning one")
                 if s.name != ep.name:
-                    raise ValueError(f"its ModelSpec is named {s.name!r}; name the entry "
+                    raise UserError(f"its ModelSpec is named {s.name!r}; name the entry "
                                      "point after the model")
                 _add(s)
             except Exception as exc:  # noqa: BLE001 - one broken distribution leaves the rest
@@ -453,7 +507,7 @@ def spec(name: str) -> ModelSpec:
     if s is None:
         near = difflib.get_close_matches(name.strip().lower(), names(), n=1)
         hint = f" (did you mean {near[0]}?)" if near else ""
-        raise ValueError(f"unknown model {name!r}; choose from {', '.join(names())}{hint}")
+        raise UserError(f"unknown model {name!r}; choose from {', '.join(names())}{hint}")
     return s
 
 
@@ -527,7 +581,7 @@ def check_vehicle(vehicle: Vehicle) -> Vehicle:
     """
     unknown = _unknown_tables(vehicle)
     if unknown:
-        raise ValueError(f"{unknown[0]}; correct the table's name, or register the model "
+        raise UserError(f"{unknown[0]}; correct the table's name, or register the model "
                          "(artic.register_model)")
     return vehicle
 
@@ -563,12 +617,12 @@ def parse_models(text: str, option: str = "--models") -> list[str]:
     try:
         names_ = [spec(m).name for m in text.split(",") if m.strip()]
     except ValueError as exc:
-        raise ValueError(f"{where}{exc}") from None
+        raise UserError(f"{where}{exc}") from None
     refs = [n for n in names_ if REGISTRY[n].reference]
     if refs:
-        raise ValueError(f"{where}{', '.join(refs)} is a reference row the campaign adds, not "
+        raise UserError(f"{where}{', '.join(refs)} is a reference row the campaign adds, not "
                          f"a model to validate; choose from {', '.join(names())}")
     if not names_:
-        raise ValueError(f"{where}no model given; use for example {option or '--models'} "
+        raise UserError(f"{where}no model given; use for example {option or '--models'} "
                          f"{','.join(NAMES)}")
     return names_

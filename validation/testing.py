@@ -70,6 +70,8 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
+from artic.mjcf.errors import UserError
+
 if TYPE_CHECKING:
     from artic.mjcf.vehicle import Vehicle
     from artic.validation.logs.runfile import Run
@@ -185,14 +187,15 @@ def session_logs(config: pytest.Config, tmp_path_factory: pytest.TempPathFactory
 @contextlib.contextmanager
 def _model(model: Any, vehicle: Vehicle) -> Iterator[Any]:
     """A model to drive: built from ``vehicle`` (and closed after) unless it is one already."""
-    from artic.validation.models import ModelSpec, build
+    from artic.validation.models import ModelSpec, build, close, is_state_space
 
     if isinstance(model, str):
         built = build(model, vehicle)
     elif isinstance(model, ModelSpec):
         built = model.build(vehicle)
-    elif not isinstance(model, type) and hasattr(model, "reset") and hasattr(model, "step"):
-        yield model  # a model already: a class has reset and step too, but builds one
+    elif not isinstance(model, type) and (is_state_space(model) or (
+            hasattr(model, "reset") and hasattr(model, "step"))):
+        yield model  # a model already: a class has these methods too, but builds one
         return
     elif callable(model):
         built = model(vehicle)
@@ -202,7 +205,7 @@ def _model(model: Any, vehicle: Vehicle) -> Iterator[Any]:
     try:
         yield built
     finally:
-        built.close()
+        close(built)
 
 
 def _name(model: Any) -> str:
@@ -227,7 +230,7 @@ def _vehicle(vehicle: Vehicle | str | None, model: Any, log: Run) -> Vehicle:
         return own
     named = log.meta.get("vehicle_path") or log.meta.get("vehicle")
     if not named:
-        raise ValueError(f"log {log.name}: its metadata names no vehicle; pass vehicle=")
+        raise UserError(f"log {log.name}: its metadata names no vehicle; pass vehicle=")
     return load_vehicle(named)
 
 
@@ -290,13 +293,13 @@ def default_limits(within: Mapping[str, float]) -> dict[str, float]:
 def _limits(within: Mapping[str, float]) -> dict[str, float]:
     known = _known()
     if not within:
-        raise ValueError(f"within: give at least one criterion, from {', '.join(known)}")
+        raise UserError(f"within: give at least one criterion, from {', '.join(known)}")
     out = {}
     for k, v in within.items():
         if k not in known:
-            raise ValueError(f"within: unknown criterion {k!r}; choose from {', '.join(known)}")
+            raise UserError(f"within: unknown criterion {k!r}; choose from {', '.join(known)}")
         if not isinstance(v, int | float) or not math.isfinite(v) or v < 0:
-            raise ValueError(f"within: {k} = {v!r}: a limit is a finite number >= 0")
+            raise UserError(f"within: {k} = {v!r}: a limit is a finite number >= 0")
         out[k] = float(v)
     return out
 

@@ -37,6 +37,8 @@ from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
 
+from artic.mjcf.errors import UserError
+
 EXECUTORS = ("local", "dask")
 
 
@@ -69,19 +71,19 @@ class DaskOptions:
         given = [p for p in self.tls if p is not None]
         scheme = (address or "").split("://", 1)[0] if address and "://" in address else "tcp"
         if address and scheme not in ("tcp", "tls"):
-            raise ValueError(f"--scheduler {address}: expected tcp://HOST:PORT or "
+            raise UserError(f"--scheduler {address}: expected tcp://HOST:PORT or "
                              "tls://HOST:PORT")
         if scheme == "tls" and len(given) != 3:
-            raise ValueError(f"--scheduler {address}: a tls:// scheduler needs --tls-ca-file, "
+            raise UserError(f"--scheduler {address}: a tls:// scheduler needs --tls-ca-file, "
                              "--tls-cert and --tls-key")
         if given and scheme != "tls":
-            raise ValueError("--tls-ca-file, --tls-cert and --tls-key need a tls:// "
+            raise UserError("--tls-ca-file, --tls-cert and --tls-key need a tls:// "
                              "--scheduler address")
         if address and kind != "dask":
-            raise ValueError("--scheduler needs --executor dask")
+            raise UserError("--scheduler needs --executor dask")
         for opt, p in zip(("--tls-ca-file", "--tls-cert", "--tls-key"), self.tls, strict=True):
             if p is not None and not Path(p).is_file():
-                raise ValueError(f"{opt} {p}: no such file")
+                raise UserError(f"{opt} {p}: no such file")
 
     def security(self):
         """A ``distributed.Security`` for the TLS files, or ``None`` without them."""
@@ -120,7 +122,7 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
     """
     dask = dask or DaskOptions()
     if kind not in EXECUTORS:
-        raise ValueError(f"executor {kind!r}: expected one of {', '.join(EXECUTORS)}")
+        raise UserError(f"executor {kind!r}: expected one of {', '.join(EXECUTORS)}")
     dask.check(kind, address)
     if kind == "local":
         yield None
@@ -128,7 +130,7 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
     try:
         from distributed import Client, LocalCluster
     except ImportError as exc:
-        raise ValueError("the dask executor needs the 'distributed' package: "
+        raise UserError("the dask executor needs the 'distributed' package: "
                          'pip install "artic[distributed]"') from exc
     cluster = None if address else LocalCluster(n_workers=max(1, jobs), threads_per_worker=1,
                                                 processes=True, dashboard_address=None)
@@ -137,7 +139,7 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
     except (OSError, TimeoutError) as exc:
         if cluster is not None:
             cluster.close()
-        raise ValueError(f"--scheduler {address or 'local'}: not reached within "
+        raise UserError(f"--scheduler {address or 'local'}: not reached within "
                          f"{dask.timeout:g} s ({type(exc).__name__}); check the address, or "
                          "raise --scheduler-timeout") from None
     try:

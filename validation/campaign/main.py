@@ -66,6 +66,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
 from artic.validation.campaign.executors import DaskOptions, cluster_executor
@@ -343,7 +344,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
         for t in todo:
             tune_load(*t, threads)
     if not out["loads"]:
-        raise ValueError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
+        raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
                          f"({', '.join(TUNING[:2])}, ...)")
     out["complete"] = True
     atomic_write_text(path, json.dumps(out, indent=1) + "\n")
@@ -421,7 +422,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
         Result files by name.
     """
     if seeds < 1:
-        raise ValueError(f"--seeds {seeds}: a campaign needs at least one truck")
+        raise UserError(f"--seeds {seeds}: a campaign needs at least one truck")
     jobs = jobs or os.cpu_count() or 1
     if seeds > 1:
         from artic.validation.campaign.seeds import run_seeds

@@ -61,6 +61,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import OBS_INDEX
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import duration
@@ -189,7 +190,7 @@ class Objective:
             w = distance_weights(f["t"].to_numpy(), np.hypot(f["v_x_1"], f["v_y_1"]))
             s_max = float(w.sum())
             if s_max <= 0:
-                raise ValueError(f"{log.name}: the tractor does not move; it cannot tune")
+                raise UserError(f"{log.name}: the tractor does not move; it cannot tune")
             sig = {c: f[c].to_numpy(dtype=float) for c, _ in SIGNALS}
             scale = {"r": distance_mean_abs(sig["r_1"], w) + distance_mean_abs(sig["r_2"], w),
                      "v_y": distance_mean_abs(sig["v_y_1"], w)
@@ -577,7 +578,7 @@ def tune(vehicle: Vehicle, logs: Sequence[Run], models: Sequence[str], jobs: int
          progress: Callable[[str], None] | None = None) -> tuple[Vehicle, list[Fit]]:
     """Tune every model in turn; returns the vehicle with all fits applied, and the fits."""
     if not logs:
-        raise ValueError("no tuning logs given")
+        raise UserError("no tuning logs given")
     fits = [tune_model(m, vehicle, logs, jobs, progress) for m in models]
     out = vehicle
     for fit in fits:

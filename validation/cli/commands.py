@@ -26,7 +26,10 @@ output locations (checked before the work starts; a read-only, full or
 wrong-type path is named with the system's reason), the input files
 (malformed CSV, Parquet, ``.mat``, JSON or TOML), a run too long for the
 memory, and an unreachable Dask scheduler. Warnings are one line each, too.
-A simulation that diverges ends with exit code 1.
+A simulation that diverges ends with exit code 1. These are the errors of
+:mod:`artic.mjcf.errors` (a :class:`~artic.mjcf.errors.UserError`, a
+:class:`~artic.mjcf.errors.PlantError`), caught by type; anything else is a
+bug in artic: its traceback, a line asking to report it, and exit code 3.
 """
 
 from __future__ import annotations
@@ -36,21 +39,21 @@ import json
 import math
 import os
 import sys
+import traceback
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
 from artic.mjcf import schema
-from artic.mjcf.schema import VehicleFileError
+from artic.mjcf.errors import PlantError, UserError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
 from artic.validation.harness.loop import DEFAULT_GAIN
-from artic.validation.harness.steering import SteeringRangeError
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import SOURCES, read_log
 from artic.validation.logs.noise import from_meta, read_noise
-from artic.validation.logs.runfile import LogError, atomic_write, write_run
+from artic.validation.logs.runfile import atomic_write, write_run
 from artic.validation.runs.outputs import (
     OutDirLock,
     check_output_dir,
@@ -63,7 +66,12 @@ from artic.validation.synthetic.truth import TRUTHS
 JOBS = os.cpu_count() or 1
 """Default of every ``--jobs``: the number of cores."""
 
-USER_ERRORS = (VehicleFileError, LogError, SteeringRangeError, ValueError, FileNotFoundError)
+USER_ERRORS = (UserError, FileNotFoundError)
+"""What the user can fix (:mod:`artic.mjcf.errors`): one line, exit code 2. Anything
+else that escapes a command is a bug: its traceback, and a request to report it."""
+
+REPORT = ("artic: this is a bug in artic, not in your input; please report it with the "
+          "command you ran and the traceback above")
 
 
 def finite_json(value):
@@ -107,7 +115,7 @@ def _load_vehicle(name: str):
 
 def _simulate(args: argparse.Namespace) -> int:
     from artic.validation.harness.simulate import simulate
-    from artic.validation.models import build
+    from artic.validation.models import build, close
 
     out = check_output_file(args.out)
     v = _load_vehicle(args.vehicle)
@@ -129,7 +137,7 @@ def _simulate(args: argparse.Namespace) -> int:
     try:
         run = simulate(model, v, profile)
     finally:
-        model.close()
+        close(model)
     write_run(run, out)
     status = run.meta["status"]
     end = f", {run.frame.t.iloc[-1]:.2f} s" if len(run.frame) else ""
@@ -217,7 +225,7 @@ def _validate(args: argparse.Namespace) -> int:
 
             rev = [log for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
             if not rev:
-                raise ValueError("--gain-sweep needs reverse logs (the tractor reversing for "
+                raise UserError("--gain-sweep needs reverse logs (the tractor reversing for "
                                  "most of the log); none of the given logs is one")
             sweep = gain_sweep({"logs": (v, rev)}, models, DEFAULT_GAINS, args.jobs,
                                stderr_progress)
@@ -301,12 +309,12 @@ def _tune(args: argparse.Namespace) -> int:
     logs = _read_logs(args, v)
     unsteered = [log.name for log in logs if wants_yaw_rate(log.meta)]
     if unsteered:
-        raise ValueError(f"{', '.join(unsteered)}: no steering channel (delta_h derived from the "
+        raise UserError(f"{', '.join(unsteered)}: no steering channel (delta_h derived from the "
                          "yaw rate); tuning fits the steering map and needs a measured steering "
                          "wheel: leave it out")
     reverse = [log.name for log in logs if (log.frame["v_x_1"] < 0).mean() > 0.5]
     if reverse:
-        raise ValueError(f"tuning uses forward manoeuvres; {', '.join(reverse)} reverse(s) "
+        raise UserError(f"tuning uses forward manoeuvres; {', '.join(reverse)} reverse(s) "
                          "for most of the log: leave it out")
     _, fits = tune(v, logs, models, args.jobs, stderr_progress)
     print("model  parameter        nominal      fitted       bounds")
@@ -384,13 +392,13 @@ def _tyre_curves(args: argparse.Namespace) -> int:
     try:
         loads = [float(x) for x in args.fz.split(",") if x.strip()]
     except ValueError:
-        raise ValueError(f"--fz {args.fz!r}: expected loads in newtons, such as "
+        raise UserError(f"--fz {args.fz!r}: expected loads in newtons, such as "
                          "10e3,30e3,50e3") from None
     if not loads or not all(math.isfinite(f) and f > 0.0 for f in loads):
-        raise ValueError(f"--fz {args.fz!r}: every load must be a positive number of newtons")
+        raise UserError(f"--fz {args.fz!r}: every load must be a positive number of newtons")
     given = Path(args.tyre)
     if given.parent != Path(".") and not given.is_file():  # a path, not a shipped name
-        raise ValueError(f"--tyre {args.tyre}: no such file; give a .tir file or the name of "
+        raise UserError(f"--tyre {args.tyre}: no such file; give a .tir file or the name of "
                          "a tyre shipped with artic")
     path = resolve_tyre_file(args.tyre, Path.cwd() / "command-line", "--tyre")
     p = TyreParams.from_tir(path)  # a TirError (a ValueError) names the file and key
@@ -674,11 +682,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except MemoryError:
         print("artic: error: out of memory; give a shorter run or fewer jobs", file=sys.stderr)
         return 2
-    except RuntimeError as exc:
-        if type(exc).__name__ != "PlantError":
-            raise
+    except PlantError as exc:
         print(f"artic: simulation failed: {_one_line(exc)}", file=sys.stderr)
         return 1
+    except Exception:
+        traceback.print_exc()
+        print(REPORT, file=sys.stderr)
+        return 3
     finally:
         warnings.formatwarning = previous
 

@@ -13,6 +13,8 @@ import math
 import os
 from collections.abc import Callable
 
+from artic.mjcf.errors import UserError
+
 BYTES_PER_SAMPLE = 1024
 """Memory a simulated sample needs at its peak [B]: inputs, the model's outputs, the run's
 frame and its Parquet copy, about 70 float64 values, with a margin of two."""
@@ -114,6 +116,6 @@ def check_memory(samples: int, what: str, rate: float = 100.0) -> None:
     have = available_memory()
     if need > MEMORY_SHARE * have:
         longest = MEMORY_SHARE * have / BYTES_PER_SAMPLE / rate
-        raise ValueError(f"{what}: {samples:.3g} samples at {rate:g} Hz need about "
+        raise UserError(f"{what}: {samples:.3g} samples at {rate:g} Hz need about "
                          f"{need / 2 ** 30:.3g} GiB of memory, and {have / 2 ** 30:.3g} GiB "
                          f"are available; make it at most {longest:.0f} s of simulated time")

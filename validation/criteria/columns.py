@@ -28,6 +28,7 @@ import importlib
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from artic.mjcf.errors import UserError
 from artic.validation.criteria import dock, prediction
 
 if TYPE_CHECKING:
@@ -70,10 +71,10 @@ class Criterion:
 
     def __post_init__(self) -> None:
         if self.pool not in POOLING:
-            raise ValueError(f"criterion {', '.join(self.units)}: pool {self.pool!r}; "
+            raise UserError(f"criterion {', '.join(self.units)}: pool {self.pool!r}; "
                              f"choose from {', '.join(POOLING)}")
         if self.compute not in ("model", "set") and ":" not in self.compute:
-            raise ValueError(f"criterion {', '.join(self.units)}: compute {self.compute!r}; "
+            raise UserError(f"criterion {', '.join(self.units)}: compute {self.compute!r}; "
                              "give 'package.module:function', 'model' or 'set'")
 
 

@@ -47,6 +47,8 @@ import math
 import numpy as np
 from numba import njit
 
+from artic.mjcf.errors import UserError
+
 LEAF = 8
 """Consecutive segments per leaf of the tree."""
 
@@ -180,9 +182,9 @@ def distance_to_polyline(points: np.ndarray, path: np.ndarray,
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     path = np.asarray(path, dtype=float)
     if path.ndim != 2 or path.shape[1] != 2 or len(path) == 0:
-        raise ValueError(f"path must have shape (M, 2) with M >= 1, got {path.shape}")
+        raise UserError(f"path must have shape (M, 2) with M >= 1, got {path.shape}")
     if not np.all(np.isfinite(path)):
-        raise ValueError("path has non-finite vertices")
+        raise UserError("path has non-finite vertices")
     if len(path) == 1:
         path = np.vstack([path, path])
     a, b = path[:-1], path[1:]

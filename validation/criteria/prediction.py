@@ -101,7 +101,7 @@ from artic.validation.criteria.points import axle_x, trailer_point
 from artic.validation.harness.loop import loop_inputs, run_inputs, window
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
-from artic.validation.models import Model
+from artic.validation.models import Model, driven
 
 HORIZONS = (2.0, 5.0, 10.0)
 """Travelled distances of the predictions [m]."""
@@ -302,6 +302,7 @@ def prediction_errors(model: Model, log: Run, vehicle: Vehicle, spacing: float =
         jackknife limit or stopped being finite), ``note`` (why a column is
         NaN or start points were left out, or ``""``) and ``wall_s`` [s].
     """
+    model = driven(model)  # KIN and the STM with a state the harness keeps
     t0 = time.perf_counter()
     names = columns(horizons)
     out: dict = dict.fromkeys(names, float("nan")) | {"starts": 0, "left_out": 0,

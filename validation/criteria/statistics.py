@@ -48,6 +48,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from artic.mjcf.errors import UserError
+
 CONFIDENCE = 0.95
 """Confidence level of every interval."""
 
@@ -200,7 +202,7 @@ def paired(a: Sequence[float] | np.ndarray, b: Sequence[float] | np.ndarray,
     """
     x, y = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     if x.shape != y.shape:
-        raise ValueError(f"paired comparison of {names[0]} and {names[1]}: {x.size} and "
+        raise UserError(f"paired comparison of {names[0]} and {names[1]}: {x.size} and "
                          f"{y.size} values; pass one value per manoeuvre for both")
     ok = np.isfinite(x) & np.isfinite(y)
     return Paired(names[0], names[1], mean_ci(x[ok] - y[ok], seed=seed))

@@ -24,6 +24,8 @@ import argparse
 import os
 from pathlib import Path
 
+from artic.mjcf.errors import UserError
+
 DEFAULT_VEHICLES = "gosar2022-unloaded,gosar2022-loaded,six-axle"
 
 PAIRED_METRICS = ("lateral_error_m", "heading_error_deg", "time_s")
@@ -71,7 +73,7 @@ def _cores() -> int:
 def _names(text: str, option: str) -> list[str]:
     names = [n.strip() for n in text.split(",") if n.strip()]
     if not names:
-        raise ValueError(f"{option}: no name given")
+        raise UserError(f"{option}: no name given")
     return names
 
 
@@ -97,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
         print(list_all())
         return 0
     if args.out_dir is None:
-        raise ValueError("artic dock: give --out-dir (or --list)")
+        raise UserError("artic dock: give --out-dir (or --list)")
     import pandas as pd
 
     from artic.mjcf.vehicle import load_vehicle

@@ -120,13 +120,13 @@ class Frames:
         xk = x_r + self.rear * np.cos(psi_2)
         yk = y_r + self.rear * np.sin(psi_2)
         psi_1 = psi_2 + gamma
-        L1c_eq = self.P[1]
+        L1c_eq = self.kin.params.L1c
         return np.array([xk - L1c_eq * np.cos(psi_1), yk - L1c_eq * np.sin(psi_1), psi_1, gamma])
 
     def kingpin(self, kin: np.ndarray) -> tuple:
         """Kingpin ``(x, y)`` of KIN states (..., 4) [m]."""
         kin = np.asarray(kin)
-        L1c_eq = self.P[1]
+        L1c_eq = self.kin.params.L1c
         return (kin[..., 0] + L1c_eq * np.cos(kin[..., 2]),
                 kin[..., 1] + L1c_eq * np.sin(kin[..., 2]))
 
@@ -135,7 +135,8 @@ class Frames:
         kin = np.asarray(kin)
         xk, yk = self.kingpin(kin)
         psi_2 = kin[..., 2] - kin[..., 3]
-        return np.stack([xk - self.P[2] * np.cos(psi_2), yk - self.P[2] * np.sin(psi_2), psi_2],
+        L2 = self.kin.params.L2
+        return np.stack([xk - L2 * np.cos(psi_2), yk - L2 * np.sin(psi_2), psi_2],
                         axis=-1)
 
     def rear_of_kin(self, kin: np.ndarray) -> np.ndarray:
@@ -196,8 +197,8 @@ class Frames:
         """KIN's semitrailer axle ``(x, y, psi_2)`` from one set of signals, by its own sensor."""
         _, trailer = self.unit_poses_of_signals(obs)
         xk, yk, psi_2 = trailer[0]
-        return np.array([xk - self.P[2] * math.cos(psi_2), yk - self.P[2] * math.sin(psi_2),
-                         psi_2])
+        L2 = self.kin.params.L2
+        return np.array([xk - L2 * math.cos(psi_2), yk - L2 * math.sin(psi_2), psi_2])
 
     def tractor_sensor_of_kin(self, kin: np.ndarray) -> tuple[float, float]:
         """The tractor sensor's position for a KIN state [m] (to place the plant)."""

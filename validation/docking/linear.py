@@ -50,8 +50,8 @@ def trailer_error_model(kin: KIN, direction: float) -> tuple[np.ndarray, np.ndar
         ``+1`` forward, ``-1`` reverse.
     """
     A, B = linearise(kin, direction)
-    P = kin.P
-    T = np.array([[1.0, P[1] - P[2], P[2]], [0.0, 1.0, -1.0], [0.0, 0.0, 1.0]])
+    p = kin.params
+    T = np.array([[1.0, p.L1c - p.L2, p.L2], [0.0, 1.0, -1.0], [0.0, 0.0, 1.0]])
     sub = [1, 2, 3]  # Y, psi_1, gamma: X enters nothing
     Ti = np.linalg.inv(T)
     return T @ A[np.ix_(sub, sub)] @ Ti, T @ B[sub]

@@ -463,12 +463,12 @@ class HybridAStar:
         t0, k0 = fr.unit_poses_of_kin(x0[:4])
         if first_hit(t0, k0, fr.tractor_box, fr.trailer_box, boxes)[0] >= 0:
             raise PlanningError("the start's outline overlaps an obstacle")
-        goal_axle = (yard.x_dock + fr.rear + APPROACH - P[2], yard.y_dock)
+        goal_axle = (yard.x_dock + fr.rear + APPROACH - fr.kin.params.L2, yard.y_dock)
         field_, gx0, gy0, gcell = _distance_field(yard, float(fr.trailer_box[2]), goal_axle)
         nx, ny = field_.shape
         largest = float(np.max(field_[np.isfinite(field_)]))
 
-        L1c_eq, L2 = float(P[1]), float(P[2])
+        L1c_eq, L2 = fr.kin.params.L1c, fr.kin.params.L2
 
         def h(x: np.ndarray) -> float:
             psi_2 = float(x[2] - x[3])

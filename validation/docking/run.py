@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
@@ -347,7 +348,7 @@ def _path(cmd, name: str) -> np.ndarray | None:
             or not np.all(np.isfinite(a[:, :2])):
         what = "not numbers" if a is None else f"shape {a.shape}" + (
             "" if a.ndim != 2 or np.all(np.isfinite(a)) else " with non-finite values")
-        raise ValueError(f"Command.{name} must be finite rows (x, y) [m], shape (n, 2), or "
+        raise UserError(f"Command.{name} must be finite rows (x, y) [m], shape (n, 2), or "
                          f"None; got {type(value).__name__}, {what}")
     return a[:, :2]
 
@@ -383,7 +384,7 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
 
     load = {"gosar2022-unloaded": "unloaded", "gosar2022-loaded": "loaded"}.get(vehicle.name)
     if load is None:
-        raise ValueError(f"--truth: the synthetic truth exists for gosar2022-unloaded and "
+        raise UserError(f"--truth: the synthetic truth exists for gosar2022-unloaded and "
                          f"gosar2022-loaded only, not {vehicle.name}; leave --truth out for it")
     truth = truth_configuration(truth_seed)
     vt = truth_vehicle(load, truth, truth_seed, slope(truth_seed, number * 1000 + seed, truth))

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.outline import (
     APRON_DEPTH,
     BUMPER_TRAVEL,
@@ -105,7 +106,7 @@ def make_yard(vehicle: Vehicle, neighbours: tuple[int, ...] = ()) -> Yard:
     length = o.trailer_front - o.trailer_rear
     for n in neighbours:
         if n == 0:
-            raise ValueError("a neighbour cannot park at the target door (0)")
+            raise UserError("a neighbour cannot park at the target door (0)")
         yc = y_d + n * DOOR_PITCH
         side = "left" if n > 0 else "right"
         obstacles.append(Box(f"neighbour-{side}-{abs(n)}", x_d, x_d + length,
@@ -183,7 +184,7 @@ class Scenario:
     def start(self, seed: int) -> Start:
         """The start of seeded run ``seed``: the same for every vehicle and controller."""
         if not isinstance(seed, int | np.integer) or seed < 0:
-            raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+            raise UserError(f"seed must be a non-negative integer, got {seed!r}")
         rng = np.random.default_rng([int(seed), self.number])
         side = 1.0 if rng.random() < 0.5 else -1.0
         dist = rng.uniform(*self.distance)
@@ -223,5 +224,5 @@ def scenario(name: str) -> Scenario:
     try:
         return SCENARIOS[name]
     except KeyError:
-        raise ValueError(f"--scenario {name!r}: no such scenario; choose one of "
+        raise UserError(f"--scenario {name!r}: no such scenario; choose one of "
                          f"{', '.join(SCENARIOS)}") from None

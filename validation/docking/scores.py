@@ -110,7 +110,7 @@ def score(trace, yard, vehicle: Vehicle, frames: Frames, start) -> dict:
     row["direction_changes"] = int(np.count_nonzero(np.diff(moving))) if moving.size else 0
     tractor, trailer = frames.unit_poses_of_signals(true)
     row["path_length_m"] = float(np.sum(np.hypot(*np.diff(tractor[:, :2], axis=0).T)))
-    axle = trailer[:, :2] - frames.P[2] * np.column_stack([np.cos(trailer[:, 2]),
+    axle = trailer[:, :2] - frames.kin.params.L2 * np.column_stack([np.cos(trailer[:, 2]),
                                                            np.sin(trailer[:, 2])])
     axle_travel = float(np.sum(np.hypot(*np.diff(axle, axis=0).T)))
     area, footprint = swept_area(tractor, trailer, frames)

@@ -29,6 +29,7 @@ from artic.validation.harness.loop import (
     run_inputs,
 )
 from artic.validation.harness.reducedloop import compiled_loop
+from artic.validation.models import close, compiled_form, driven
 
 
 @dataclass(frozen=True)
@@ -59,8 +60,8 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
     Parameters
     ----------
     model_factory : callable
-        Builds the model from ``vehicle`` (a reduced model class, ``Plant``,
-        or a ``functools.partial`` of one).
+        Builds the model from ``vehicle`` (``artic.KIN``, ``artic.STM``,
+        ``Plant``, a model of the protocol, or a ``functools.partial`` of one).
     vehicle : Vehicle
         For the limits ``delta_max`` and ``gamma_max``.
     inputs : sequence of LoopInputs
@@ -70,12 +71,12 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
     jobs : int
         Threads: logs run at once.
     """
-    probe = model_factory(vehicle)
-    if probe.compiled() is not None:
+    probe = driven(model_factory(vehicle))
+    if compiled_form(probe) is not None:
         forms = []
         for inp in inputs:
             probe.reset(inp.initial)
-            kind, x0, P, s1, s2 = probe.compiled()
+            kind, x0, P, s1, s2 = compiled_form(probe)
             forms.append((kind, x0.copy(), P, s1, s2))
 
         def one(i):
@@ -85,7 +86,7 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
         for inp, run in zip(inputs, runs, strict=True):
             count_run("reduced", inp.t, run[4])
         return _result(runs, [""] * len(inputs))
-    probe.close()
+    close(probe)
     return run_many(model_factory, [vehicle] * len(inputs), inputs, gain, jobs)
 
 
@@ -127,7 +128,7 @@ def run_many(model_factory, vehicles: Sequence[Vehicle], inputs: Sequence[LoopIn
             try:
                 return (*run_inputs(model, inp, v, gain), summary(notes))
             finally:
-                model.close()
+                close(model)
 
     out = _on_threads(one, inputs, jobs)
     return _result([o[:5] for o in out], [o[5] for o in out])

@@ -40,10 +40,11 @@ The applied road-wheel angle is limited to the vehicle's ``delta_max``; the
 run's ``delta_saturated`` column says where.
 
 Three loops run this law (:mod:`artic.validation.harness.feedback`): the numba loop of
-:mod:`artic.validation.harness.reducedloop` for KIN and the STM,
+:mod:`artic.validation.harness.reducedloop` for KIN and the STM (and subclasses
+that replace none of what it computes, see :mod:`artic.reduced.control`),
 the plant's own loop in C (:mod:`artic.plant.closedloop`, which ``closed_loop()``
-offers), and :func:`_python_loop` for any other model. The Python loop is the
-reference the plant's C loop is tested against.
+offers), and :func:`_python_loop` for any other model, through its ``step`` and
+``observe``. The Python loop is the reference the plant's C loop is tested against.
 """
 
 from __future__ import annotations
@@ -68,7 +69,7 @@ from artic.validation.harness.yawsteer import (
     wants_yaw_rate,
 )
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.models import Model
+from artic.validation.models import Model, compiled_form, driven, own_loop
 
 DEFAULT_GAIN = 3.0
 """The paper's feedback gain K [rad/rad]."""
@@ -250,9 +251,10 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         Rows computed; fewer than the inputs when the model left the
         plausible range (see :func:`artic.validation.harness.reducedloop.compiled_loop`).
     """
+    model = driven(model)
     (model.reset if start is None else start)(inputs.initial)
     args = loop_args(inputs, vehicle, gain)
-    form = model.compiled()
+    form = compiled_form(model)
     if form is not None:
         from artic.validation.harness.reducedloop import (
             compiled_loop,  # numba: only for KIN and the STM
@@ -261,7 +263,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         out = compiled_loop(*form, *args)
         count_run("reduced", inputs.t, out[4])
         return out
-    loop = model.closed_loop()
+    loop = own_loop(model)
     if loop is not None:  # the plant's loop in C (artic.plant.closedloop)
         res = loop(*args, extras=extras is not None)
         if res.raw is not None:
@@ -315,7 +317,8 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
     Parameters
     ----------
     model : Model
-        KIN, STM or the plant, built from ``vehicle``.
+        ``artic.KIN``, ``artic.STM``, the plant or any model of the protocol
+        (:class:`artic.validation.models.Model`), built from ``vehicle``.
     run : Run
         The measured log.
     vehicle : Vehicle

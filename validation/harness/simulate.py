@@ -22,7 +22,7 @@ from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.loop import LoopInputs, run_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.models import Model
+from artic.validation.models import Model, driven
 from artic.validation.synthetic.manoeuvres import Profile
 
 
@@ -121,6 +121,7 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
     """
     steering = steering or SteeringMap.from_steering(vehicle.steering_for(model.name))
     n = t.size
+    model = driven(model)
     model.reset(InitialState(0.0, 0.0, 0.0, float(gamma_ref[0]), u1=float(u1[0])))
     obs = np.empty((n, 13))
     delta = np.empty(n)

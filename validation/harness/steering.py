@@ -15,10 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Steering
 
 
-class SteeringRangeError(ValueError):
+class SteeringRangeError(UserError):
     """The steering-wheel angles in use reach the fold of the quadratic map."""
 
 

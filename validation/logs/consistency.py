@@ -69,6 +69,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from artic.mjcf.errors import UserError
 from artic.validation.logs.checks import MAX_GAP, MAX_JUMP
 from artic.validation.logs.runfile import LogError
 from artic.validation.logs.scale import FULL_SIZE, LogScale
@@ -781,7 +782,7 @@ def parse_accept(values: Collection[str] | None) -> tuple[str, ...]:
         names += [n.strip() for n in str(v).split(",") if n.strip()]
     unknown = [n for n in names if n not in CHECKS]
     if unknown:
-        raise ValueError(f"--accept {', '.join(unknown)}: unknown check; the checks are "
+        raise UserError(f"--accept {', '.join(unknown)}: unknown check; the checks are "
                          f"{', '.join(CHECKS)}")
     return tuple(dict.fromkeys(names))
 

@@ -31,6 +31,8 @@ import math
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
+
 WINDOW = 0.5
 """Default window of the differentiator [s]."""
 
@@ -47,7 +49,7 @@ def window_samples(dt: float, window: float, n: int) -> int:
         If the segment has fewer than :data:`MIN_SAMPLES` samples.
     """
     if n < MIN_SAMPLES:
-        raise ValueError(f"{n} samples are too few to differentiate (at least {MIN_SAMPLES})")
+        raise UserError(f"{n} samples are too few to differentiate (at least {MIN_SAMPLES})")
     k = max(MIN_SAMPLES, int(round(window / dt)))
     k = min(k, n)
     return k if k % 2 else k - 1

@@ -21,6 +21,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import wrap_angle
 from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS, UNIT_HINT
@@ -42,7 +43,7 @@ MAX_TIME = 1e10
 100 Hz samples."""
 
 
-class LogError(ValueError):
+class LogError(UserError):
     """A log cannot be used as it is; the message names the file, the column and the fix.
 
     Examples

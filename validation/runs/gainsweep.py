@@ -51,16 +51,16 @@ def model_lengths(vehicle: Vehicle, model: str = "kin") -> tuple[float, float, f
     """The lengths ``(L1, L1c, L2)`` [m] a model's reversing articulation runs on.
 
     ``"paper"``: the paper's (drive axle, middle trailer axle); ``"kin"``:
-    what :class:`artic.reduced.KinematicModel` is built with; any other model
+    what :class:`artic.KIN` is built with; any other model
     (STM, the plant, the floor): the equivalent lengths, their low-speed limit
     (see the module docstring).
     """
     if model == "paper":
         return vehicle.L1, vehicle.L1c, vehicle.L2
     if model == "kin":
-        from artic.reduced import KinematicModel
+        from artic.reduced.control import KIN
 
-        L1, L1c, L2 = KinematicModel(vehicle).P
+        L1, L1c, L2 = KIN(vehicle).params
     else:
         L1, L1c, L2 = kin_parameters(vehicle, "equivalent")
     return float(L1), float(L1c), float(L2)

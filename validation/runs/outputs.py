@@ -29,6 +29,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.files import TEMP_SUFFIX, public_mode, umask
 
 __all__ = ["LOCK_NAME", "TEMP_SUFFIX", "LockedError", "OutDirLock", "OutputError",
@@ -37,7 +38,7 @@ __all__ = ["LOCK_NAME", "TEMP_SUFFIX", "LockedError", "OutDirLock", "OutputError
 LOCK_NAME = ".artic.lock"
 """The lock file in an output folder."""
 
-class OutputError(ValueError):
+class OutputError(UserError):
     """An output location cannot be used; the message names it and the fix."""
 
 

@@ -27,6 +27,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
@@ -44,7 +45,7 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.models import build, spec
+from artic.validation.models import build, close, spec
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -110,7 +111,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     names = [log.name for log in logs]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
-        raise ValueError(f"logs share the name(s) {', '.join(dupes)}; their results would "
+        raise UserError(f"logs share the name(s) {', '.join(dupes)}; their results would "
                          "overwrite each other: rename the files")
     tasks = [(log, name) for log in logs for name in models]
     if scale is None:
@@ -292,7 +293,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
                 wall = time.perf_counter() - t0
                 run.meta["prediction"] = _predict(model, log, vehicle, name)
             finally:
-                model.close()
+                close(model)
     except (MemoryError, RecursionError):
         raise
     except ValueError as exc:  # the model refuses its input: vehicle, tyre, steering range

@@ -148,6 +148,9 @@ def drive_to_dock(model, driver: DockingDriver, initial, max_time: float = 240.0
     docked : bool
         Whether the driver finished.
     """
+    from artic.validation.models import driven
+
+    model = driven(model)
     model.reset(initial)
     dt = driver.dt
     t, obs, delta, speed = [], [], [], []

@@ -50,6 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import PlantWarning
@@ -236,7 +237,7 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     name = str(run.meta["name"] if name is None else name)
     if not name or name in (".", "..") or name.startswith(".") or any(
             c in name for c in "/\\\0"):
-        raise ValueError(f"export name {name!r}: not a plain folder name")
+        raise UserError(f"export name {name!r}: not a plain folder name")
     out_dir = Path(out_dir)
     final = out_dir / name
     tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=TEMP_SUFFIX, dir=out_dir))
@@ -338,11 +339,11 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     if truth not in TRUTHS:
-        raise ValueError(f"truth {truth!r}: expected one of {', '.join(TRUTHS)}")
+        raise UserError(f"truth {truth!r}: expected one of {', '.join(TRUTHS)}")
     write_truth_files(out_dir, seed, truth)
     unknown = [o for o in only or [] if not any(m.name.startswith(o) for m in MATRIX)]
     if unknown:
-        raise ValueError(f"no manoeuvre matches {', '.join(unknown)}; names look like "
+        raise UserError(f"no manoeuvre matches {', '.join(unknown)}; names look like "
                          f"{MATRIX[0].name}")
     todo = [m for m in MATRIX if not only or any(m.name.startswith(o) for o in only)]
     config = truth_configuration(seed, truth, drift)

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
+
 KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse")
 
 DT = 0.01
@@ -108,23 +110,23 @@ def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: fl
     (801, 'forward')
     """
     if kind not in KINDS:
-        raise ValueError(f"unknown manoeuvre {kind!r}; choose one of {', '.join(KINDS)}")
+        raise UserError(f"unknown manoeuvre {kind!r}; choose one of {', '.join(KINDS)}")
     if side not in ("left", "right"):
-        raise ValueError(f"side must be 'left' or 'right', got {side!r}")
+        raise UserError(f"side must be 'left' or 'right', got {side!r}")
     reverse = kind.endswith("reverse")
     speed = (3.0 if reverse else 5.0) if speed_kph is None else float(speed_kph)
     amp = (90.0 if reverse else 200.0) if amplitude_deg is None else float(amplitude_deg)
     if speed <= 0:
-        raise ValueError(f"speed must be positive [km/h] (the direction follows the "
+        raise UserError(f"speed must be positive [km/h] (the direction follows the "
                          f"manoeuvre), got {speed}")
     if abs(amp) > 1080:
-        raise ValueError(f"amplitude {amp} deg is beyond three steering-wheel turns")
+        raise UserError(f"amplitude {amp} deg is beyond three steering-wheel turns")
     u = speed / 3.6
     A = math.radians(amp) * (1.0 if side == "left" else -1.0)
     circle = _circle_time(amp, u, L1, i_s)
     T = default_duration(kind, amp, speed, L1, i_s) if duration is None else float(duration)
     if T <= 0:
-        raise ValueError(f"duration must be positive [s], got {T}")
+        raise UserError(f"duration must be positive [s], got {T}")
     t = np.arange(0.0, T + 0.5 * DT, DT)
     if kind == "straight":
         d = np.zeros_like(t)

@@ -68,6 +68,7 @@ from pathlib import Path
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import updated, write_vehicle
 
@@ -135,7 +136,7 @@ def truth_configuration(seed: int, kind: str = DEFAULT, drift: bool = True) -> d
         floor replays (the sensors' noise and clock skew are the sensor model's).
     """
     if kind not in TRUTHS:
-        raise ValueError(f"truth {kind!r}: expected one of {', '.join(TRUTHS)}")
+        raise UserError(f"truth {kind!r}: expected one of {', '.join(TRUTHS)}")
     rng = np.random.default_rng([seed, 10_000])
     out: dict = {"kind": kind,
                  "i_s_scale": float(1.0 + rng.normal(0.0, 0.02)),

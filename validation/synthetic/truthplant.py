@@ -49,6 +49,7 @@ import numpy as np
 
 from artic.mjcf import naming as nm
 from artic.mjcf.builder import build_model
+from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import G, Vehicle
 from artic.plant import Plant
 from artic.plant.plant import BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE
@@ -189,7 +190,7 @@ class TruthPlant(Plant):
     def _add_block(self, spec: mujoco.MjSpec, n_wheels: int, n_sets: int) -> None:
         steered = sum(a.steered for a in self.vehicle.axles)
         if steered > 1:
-            raise ValueError(f"{self.vehicle.name}: the independent truth steers one axle, "
+            raise UserError(f"{self.vehicle.name}: the independent truth steers one axle, "
                              f"this vehicle has {steered}")
         spec.add_numeric(name=truthc.BLOCK, size=truthc.block_size(n_wheels, n_sets, steered))
         spec.nuserdata = 3 * n_wheels + 1 + truthc.diagnostics()
@@ -238,7 +239,7 @@ class TruthPlant(Plant):
         m.numeric_data[:] = truthc.seal(follower, [t.vector() for t in self.tmeasy], column,
                                         ends)
         if not truthc.block_ok(m):
-            raise ValueError(f"{self.vehicle.name}: the compiled truth refuses the block "
+            raise UserError(f"{self.vehicle.name}: the compiled truth refuses the block "
                              "written for it (a coefficient out of range?)")
 
     # ------------------------------------------------------------ state

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import importlib
 
+from artic.mjcf.errors import UserError
 from artic.validation.docking.controllers.base import (
     Command,
     Controller,
@@ -44,17 +45,17 @@ def load(spec: str) -> type:
     """
     target = BUILTIN[spec][0] if spec in BUILTIN else spec
     if ":" not in target:
-        raise ValueError(f"--controller {spec!r}: not a built-in controller "
+        raise UserError(f"--controller {spec!r}: not a built-in controller "
                          f"({', '.join(BUILTIN)}) nor package.module:Class")
     module, _, name = target.partition(":")
     try:
         mod = importlib.import_module(module)
     except ImportError as exc:
-        raise ValueError(f"--controller {spec!r}: cannot import {module!r} ({exc}); put its "
+        raise UserError(f"--controller {spec!r}: cannot import {module!r} ({exc}); put its "
                          f"folder on PYTHONPATH") from None
     cls = getattr(mod, name, None)
     if not isinstance(cls, type) or not callable(getattr(cls, "command", None)) \
             or not callable(getattr(cls, "reset", None)):
-        raise ValueError(f"--controller {spec!r}: {module} has no class {name!r} with "
+        raise UserError(f"--controller {spec!r}: {module} has no class {name!r} with "
                          f"reset(task) and command(obs) methods")
     return cls

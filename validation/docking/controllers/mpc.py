@@ -32,12 +32,12 @@ Jacobians, composed into each prediction step's for all steps at once. The
 one-off costs of a process's first sample (numba's cache, qpOASES' plugin)
 are paid in ``reset``. None of it changes a number the controller computes.
 
-- ``mpc-kin`` predicts with KIN (4 states), its state from the tractor
-  sensor by :class:`artic.reduced.KinematicModel`'s ``reset``;
+- ``mpc-kin`` predicts with KIN (4 states), its state (the rear axle) from
+  the tractor sensor by :meth:`artic.KIN.initial_state`;
 - ``mpc-stm`` with the STM (7 body states and a lagged slip per axle), its
-  state from the sensors by :class:`artic.reduced.SingleTrackModel`'s
-  ``reset`` (lateral velocity and yaw rates measured, the slips at their
-  steady state).
+  state (the centre of gravity) from the sensors by
+  :meth:`artic.STM.initial_state` (lateral velocity and yaw rates measured,
+  the slips at their steady state).
 
 Forward segments, short and stable, are the reference controller's.
 CasADi is an optional extra: ``pip install "artic[mpc]"``.
@@ -52,6 +52,7 @@ import sys
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.validation.docking.controllers.base import Command, Observation, Task
 from artic.validation.docking.controllers.reference import ReferenceController
@@ -98,7 +99,7 @@ def _casadi():
     try:
         import casadi
     except ImportError:  # pragma: no cover - depends on the install
-        raise ValueError("the MPC controllers need CasADi: pip install \"artic[mpc]\"") from None
+        raise UserError("the MPC controllers need CasADi: pip install \"artic[mpc]\"") from None
     return casadi
 
 
@@ -112,15 +113,14 @@ class MPC(ReferenceController):
         """Build the design model, the QP solver, and the warm start."""
         super().reset(task)
         ca = _casadi()
-        from artic.reduced import KinematicModel, SingleTrackModel
         from artic.reduced.control import KIN, STM
 
         v = task.vehicle
         if self.design == "kin":
-            self.model, self.estimator = KIN(v), KinematicModel(v)
+            self.model = KIN(v)
             self.substeps = 1
         else:
-            self.model, self.estimator = STM(v), SingleTrackModel(v)
+            self.model = STM(v)
             self.substeps = STM_SUBSTEPS
         self.i_delta = self.model.find_input("delta")
         n = HORIZON
@@ -144,8 +144,8 @@ class MPC(ReferenceController):
         :attr:`qp` untouched, so that its first solve is the cold start it
         always was and the results do not change.
         """
-        self.estimator.reset(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.0, r_1=0.0, r_2=0.0,
-                                          u1=-1.0))
+        self.model.initial_state(InitialState(0.0, 0.0, 0.0, 0.0, v_y_1=0.0, r_1=0.0, r_2=0.0,
+                                              u1=-1.0))
         x, u = self.model.straight(-1.0)
         self.predict(np.asarray(x, dtype=float), np.zeros(n), float(u[1]))
         with _quiet_stdout():
@@ -160,12 +160,11 @@ class MPC(ReferenceController):
                         {"printLevel": "none", "nWSR": MAX_NWSR, "error_on_fail": False})
 
     def _state(self, obs: Observation) -> np.ndarray:
-        """The design model's state from the sensors (its own ``reset`` from measured signals)."""
+        """The design model's state from the sensors (its ``initial_state`` of measured signals)."""
         s = obs.signals
-        self.estimator.reset(InitialState(obs["x_1"], obs["y_1"], obs["psi_1"], obs["gamma"],
-                                          v_y_1=obs["v_y_1"], r_1=obs["r_1"], r_2=obs["r_2"],
-                                          u1=float(s[3])))
-        return np.array(self.estimator.x, dtype=float)
+        return np.array(self.model.initial_state(
+            InitialState(obs["x_1"], obs["y_1"], obs["psi_1"], obs["gamma"], v_y_1=obs["v_y_1"],
+                         r_1=obs["r_1"], r_2=obs["r_2"], u1=float(s[3]))), dtype=float)
 
     def _inputs(self, delta: np.ndarray, u: float) -> np.ndarray:
         U = np.zeros((delta.size, self.model.ninputs))

@@ -50,6 +50,7 @@ import math
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import wrap_angle
 from artic.validation.docking.controllers.base import Command, Controller, Observation, Task
 from artic.validation.docking.linear import GainSchedule
@@ -84,7 +85,7 @@ class ReferenceController(Controller):
         """Precompute each segment's reference: the tracked point's path, heading, articulation."""
         super().reset(task)
         if task.plan is None:
-            raise ValueError("the reference controller follows a plan; the run has none")
+            raise UserError("the reference controller follows a plan; the run has none")
         fr = self.frames
         self.refs = []
         for seg in task.plan.segments:
