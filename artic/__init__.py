@@ -17,8 +17,9 @@ Models
     :class:`KIN` and :class:`STM`, the reduced models for planners and
     controllers (named states and inputs, ``rhs``, a discrete ``step``,
     analytic Jacobians, ``linearise`` about a straight line or a steady turn,
-    over batches); :class:`KinematicModel` and :class:`SingleTrackModel`, the
-    same models as the harness drives them; :class:`Plant`, the MuJoCo
+    over batches), the same classes the harness drives and the registry
+    builds (:class:`KinematicModel` and :class:`SingleTrackModel` are their
+    former names, which warn); :class:`Plant`, the MuJoCo
     multibody reference (its errors raise :class:`PlantError`);
     :func:`build_model` builds any of the harness's by name.
     :func:`register_model` adds a model of your own (or :func:`model_spec`
@@ -31,6 +32,9 @@ Simulating and validating
     at once).
 The campaign
     :func:`run_campaign`.
+Errors
+    :mod:`errors`: the base of artic's errors, the user's (a wrong file, log,
+    option or vehicle) and the plant's, as the command line tells them apart.
 Docking controllers
     :class:`Controller`, the base of a controller of your own for
     ``artic dock --controller module:Class``, and the :class:`Command` it
@@ -78,6 +82,7 @@ _PUBLIC = {
     "STM": ("artic.reduced.control", "STM"),
     "KinematicModel": ("artic.reduced.models", "KinematicModel"),
     "SingleTrackModel": ("artic.reduced.models", "SingleTrackModel"),
+    "errors": ("artic.errors", ""),
     "Plant": ("artic.plant.plant", "Plant"),
     "PlantError": ("artic.plant.plant", "PlantError"),
     "build_model": ("artic.validation.models", "build"),
@@ -111,7 +116,8 @@ class _Artic(types.ModuleType):
             module, attr = _PUBLIC[name]
         except KeyError:
             raise AttributeError(f"module 'artic' has no attribute {name!r}") from None
-        value = getattr(importlib.import_module(module), attr)
+        value = importlib.import_module(module)
+        value = getattr(value, attr) if attr else value  # "": the module itself
         setattr(self, name, value)  # later look-ups skip this method
         return value
 

@@ -5,6 +5,7 @@ cannot follow; this stub names each one where it lives. A test checks that
 the two list the same names.
 """
 
+from artic import errors as errors
 from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import Vehicle, load_vehicle, preset_names
 from artic.plant.plant import Plant, PlantError
@@ -39,6 +40,7 @@ __all__ = [
     "Vehicle",
     "VehicleFileError",
     "build_model",
+    "errors",
     "load_vehicle",
     "make_profile",
     "model_names",

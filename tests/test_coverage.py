@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from artic.mjcf.vehicle import load_vehicle
-from artic.reduced import KinematicModel
+from artic.reduced import KIN, Driven
 from artic.validation.criteria import columns
 from artic.validation.criteria.coverage import eps_cover
 from artic.validation.criteria.metrics import run_metrics
@@ -36,7 +36,7 @@ class Still:
     name = "still"
 
     def __init__(self, vehicle):
-        self._kin = KinematicModel(vehicle)
+        self._kin = Driven(KIN(vehicle))  # KIN with the state the harness keeps
 
     def reset(self, initial):
         self._kin.reset(initial)
