@@ -394,7 +394,8 @@ def _campaign(args: argparse.Namespace) -> int:
     run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
                  sweep_models=sweep, only=only, recordings=args.recordings,
                  executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth,
-                 remeasure=args.remeasure, seeds=args.seeds)
+                 remeasure=args.remeasure, seeds=args.seeds, sensors=args.sensors,
+                 drift=args.drift)
     return 0
 
 
@@ -569,6 +570,13 @@ def build_parser() -> argparse.ArgumentParser:
                       help="the synthetic campaign's truth: one with its own tyre and steering "
                            "models; the plant differing from the presets in structure, or the "
                            "first near-identical one, for regression (default: %(default)s)")
+    camp.add_argument("--sensors", choices=("default", "ideal"), default="default",
+                      help="the logs' measurement chain: noisy RTK/INS/CAN models, each log "
+                           "with its noise-free twin for the noise share and the findings, or "
+                           "the truth itself (default: %(default)s)")
+    camp.add_argument("--drift", action=argparse.BooleanOptionalAction, default=True,
+                      help="let the steering column's zero drift; --sensors ideal --no-drift "
+                           "runs the campaign on the logs the floor replays (default: on)")
     camp.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                       help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     camp.add_argument("--sweep-models", default="kin,stm",
