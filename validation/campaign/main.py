@@ -465,6 +465,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     """
     if seeds < 1:
         raise ValueError(f"--seeds {seeds}: a campaign needs at least one truck")
+    _sensor_model(sensors)  # a bad name fails before anything is written
     jobs = jobs or os.cpu_count() or 1
     if seeds > 1:
         from artic.validation.campaign.seeds import run_seeds
@@ -479,7 +480,6 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     # A registered model's code is not artic's: its own fingerprint joins the key.
     outside = {m: c for m in models if (c := code_of(m))}
     chain = {} if (sensors, drift) == ("default", True) else {"sensors": sensors, "drift": drift}
-    _sensor_model(sensors)  # a bad name fails before anything is written
     key = fingerprint.key(seed, list(models), gain, only, truth, *([outside] if outside else []),
                           *([chain] if chain else []))
     state = _saved_timings(out_dir, key)

@@ -492,8 +492,10 @@ def render(r: CampaignResults) -> str:
         lines += [f"### {load}", "", markdown(table), ""]
     lines += ["## Tuning", "",
               "Each load condition fitted on its own 4 forward tuning manoeuvres (8 in "
-              "all, as in the paper) by the normalised criteria of eq. (9) (see "
-              "`validation/tuning.py`).", "", *_tuning_text(r), ""]
+              "all, as in the paper), of two kinds: constant steers at 200 deg and 5 km/h "
+              "and slaloms at 360 deg and 8 km/h, left and right, none of them validated "
+              "(`validation/synthetic/testmatrix.py`), by the normalised criteria of eq. "
+              "(9) (see `validation/campaign/tuning.py`).", "", *_tuning_text(r), ""]
     if r.efficiency is not None:
         lines += ["## Computational efficiency", "",
                   "The validation runs themselves, timed as they ran (every model on the "

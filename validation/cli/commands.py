@@ -585,7 +585,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="write the Rerun recordings (default: on)")
     camp.add_argument("--only", default="",
                       help="a part of the campaign: comma-separated manoeuvre names or prefixes "
-                           "(include tuning manoeuvres such as 00-,01-,06-,07- to tune)")
+                           "(include tuning manoeuvres such as 00-,01-,58-,59- to tune)")
     camp.add_argument("--remeasure", action="store_true",
                       help="compute the efficiency again from the validation runs' times on a "
                            "resumed run (it keeps the original run's figures otherwise)")
