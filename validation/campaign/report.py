@@ -172,6 +172,21 @@ def headline_section(r: CampaignResults) -> list[str]:
                 "sensors):", "", *others, ""]
     if not any_line and not others:
         out += ["No ranking between models is a finding.", ""]
+    paper = []
+    for d, cols in (("forward", PAPER_FORWARD.columns), ("reverse", PAPER_REVERSE.columns)):
+        share = r.noise_share.get(d)
+        if share is None or share.empty:
+            continue
+        for c in cols:
+            part = share[share["criterion"] == c]
+            if len(part):
+                paper.append(f"{d} {c}: " + ", ".join(
+                    f"{label(m)} {v:.0f} %" for m, v in zip(part["model"], part["share"],
+                                                           strict=True) if math.isfinite(v)))
+    if paper:
+        out += ["The paper's criteria, kept for comparison with the paper, with the share of "
+                "each score that the sensor noise makes (\"Noise share\" below): "
+                + "; ".join(paper) + ".", ""]
     return out
 
 
