@@ -22,9 +22,16 @@ Stages, each timed and each resumable:
    *the plant as reference*: KIN and STM against the plant's runs of the same
    manoeuvres (forward open loop, reverse under the harness), into
    ``metrics_vs_plant.csv`` and ``OUT/vs_plant/runs``;
+   **twins** (with noisy sensors): every model and the floor on the
+   noise-free twins of the validated logs, the same truth runs measured with
+   ideal sensors (made by the logs' own simulations), into
+   ``OUT/twins/metrics.csv``; no recordings;
 5. **tables**: the paper's Table 2 and Table 3 columns, overall and per load,
    with the floor row (``table2_forward``, ``table3_reverse``), and the same
    against the plant (``table2_vs_plant``, ``table3_vs_plant``), ``.csv`` and ``.md``;
+   the paired comparisons with Holm's correction and the findings
+   (:mod:`artic.validation.campaign.findings`), and the noise share of every
+   criterion (``noise_share_forward``, ``noise_share_reverse``);
 6. **efficiency**: wall time per simulated second of each model, from the
    validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
