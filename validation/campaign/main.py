@@ -196,8 +196,11 @@ runs (``runs``) and metrics, under the campaign's output folder."""
 def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
               only: list[str] | None = None, executor: Executor | None = None,
               truth: str = DEFAULT_TRUTH) -> list[Run]:
-    """Generate (or reuse) the synthetic campaign and import it (or reuse the import)."""
-    return _load_logs(out_dir, seed, jobs, only, executor, truth)[0]
+    """Generate (or reuse) the synthetic campaign and import it (or reuse the import).
+
+    The logs alone: no noise-free twins are made (the campaign makes them).
+    """
+    return _load_logs(out_dir, seed, jobs, only, executor, truth, twins=False)[0]
 
 
 def _sensor_model(sensors: str) -> SensorModel:
@@ -209,24 +212,25 @@ def _sensor_model(sensors: str) -> SensorModel:
 
 def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
                executor: Executor | None, truth: str = DEFAULT_TRUTH,
-               sensors: str = "default", drift: bool = True
+               sensors: str = "default", drift: bool = True, twins: bool = True
                ) -> tuple[list[Run], bool, list[Run] | None]:
     """:func:`load_logs`, whether every log was reused as it was, and the twins.
 
     With noisy sensors every log's noise-free twin (the same truth run
     measured with ideal sensors) is exported into ``OUT/twins/synthetic`` by
     the same simulation and imported into ``OUT/twins/logs``; with ideal
-    sensors the logs are noise-free themselves and there are no twins (``None``).
+    sensors the logs are noise-free themselves and there are no twins (``None``);
+    ``twins=False`` makes none either.
     """
     chain = _sensor_model(sensors)
-    twins = None if chain.is_ideal else out_dir / TWINS / "synthetic"
+    where = None if chain.is_ideal or not twins else out_dir / TWINS / "synthetic"
     exports = generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
                                 jobs=jobs, only=only, executor=executor, truth=truth,
-                                sensors=chain, drift=drift, twins=twins)
+                                sensors=chain, drift=drift, twins=where)
     logs, reused = _import(exports, out_dir / "logs")
-    if twins is None:
+    if where is None:
         return logs, reused, None
-    twin_logs, twins_reused = _import([twins / f.name for f in exports],
+    twin_logs, twins_reused = _import([where / f.name for f in exports],
                                       out_dir / TWINS / "logs")
     return logs, reused and twins_reused, twin_logs
 
