@@ -293,16 +293,26 @@ def test_two_trucks_pool_and_resume(tmp_path, capsys):
 
 
 # The floor on noise-free logs (ideal sensors, the column's drift stilled):
-# the truth replaying itself. Forward it replays to the integration's
-# precision (tests/test_floor.py: eps_n at most 0.09 %, eps_p 9 mm over all
-# logs); reverse the harness's feedback answers the speed it follows (the
-# log's, smoothed, where the truth's came from its pedals): J_steer at most
-# 1.2 % per log and eps_n 3.2 % on the 30 deg ramp (its v_y is small). The
-# sensors make 3-4 % of forward eps_n and about 25 % of reverse eps_n.
-IDEAL_FLOOR = {"forward": {"eps_a": 1e-4, "eps_v": 1e-3, "eps_p": 0.05, "eps_n": 0.5,
-                           "eps_gamma": 1e-4, "eps_n_fixed": 0.5},
-               "reverse": {"eps_a": 1e-3, "eps_v": 5e-3, "J_steer": 1.2, "eps_n": 5.0,
-                           "eps_gamma": 1e-3, "eps_n_fixed": 2.0}}
+# the truth replaying itself. Measured on all 62 logs of seed 0 (per-log
+# maximum / mean): forward eps_a 2.6e-4 / 6.6e-5 rad/s, eps_v 9.3e-4 / 2.3e-4
+# m/s, eps_p 9.0 / 3.0 mm, eps_n 0.091 / 0.041 %, eps_gamma 7.9e-5 / 2.3e-5
+# rad, eps_n_fixed 0.15 / 0.04 %: the integration's precision. Reverse eps_a
+# 1.5e-3 / 5.7e-4 rad/s, eps_v 7.3e-3 / 2.5e-3 m/s, J_steer 0.86 / 0.30 %,
+# eps_n 8.8 / 3.4 %, eps_gamma 5.1e-4 / 1.4e-4 rad, eps_n_fixed 3.2 / 1.1 %,
+# dock_lat 29 / 11 mm, dock_lon 11 / 3 mm, dock_psi 7.9e-4 / 3.3e-4 rad: the
+# harness's replay residual (its speed follows the log's, smoothed, where the
+# truth's came from its pedals, and the feedback answers the difference; eps_n
+# divides it by the small |v_y| of the slow laden ramps). Against the sensors'
+# share of the floor on the default logs (forward eps_n 3.4 of 3.5 %, reverse
+# 22 of 26 %, J_steer 6.5 of 7.2 %) these are near zero; the limits are the
+# per-log maxima with about 20 % to spare.
+IDEAL_FLOOR = {"forward": {"eps_a": 3e-4, "eps_v": 1.2e-3, "eps_p": 0.012, "eps_n": 0.12,
+                           "eps_gamma": 1e-4, "eps_n_fixed": 0.2},
+               "reverse": {"eps_a": 2e-3, "eps_v": 9e-3, "J_steer": 1.2, "eps_n": 11.0,
+                           "eps_gamma": 7e-4, "eps_n_fixed": 4.0, "dock_lat": 0.035,
+                           "dock_lon": 0.015, "dock_psi": 1e-3}}
+# The means over a whole direction, about twice the measured ones.
+IDEAL_FLOOR_MEAN = {"forward": {"eps_n": 0.1}, "reverse": {"eps_n": 7.0, "J_steer": 0.6}}
 
 
 def check_ideal_floor(out):
@@ -312,7 +322,7 @@ def check_ideal_floor(out):
     for direction, limits in IDEAL_FLOOR.items():
         rows = floor[floor.direction == direction]
         for c, limit in limits.items():
-            assert (rows[c].abs() <= limit).all(), (direction, c, rows[c].max())
+            assert (rows[c].dropna().abs() <= limit).all(), (direction, c, rows[c].max())
     return m
 
 
@@ -343,4 +353,9 @@ def test_whole_ideal_campaign_floor_is_near_zero(tmp_path):
     out = tmp_path / "ideal"
     run_campaign(out, jobs=os.cpu_count() or 1, sweep_models=(), recordings=False,
                  sensors="ideal", drift=False)
-    check_ideal_floor(out)
+    m = check_ideal_floor(out)
+    floor = m[m.model == "floor"]
+    for direction, limits in IDEAL_FLOOR_MEAN.items():
+        rows = floor[floor.direction == direction]
+        for c, limit in limits.items():
+            assert rows[c].mean() <= limit, (direction, c, rows[c].mean())
