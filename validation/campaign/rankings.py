@@ -113,8 +113,24 @@ def ranking_text(pairs: pd.DataFrame, criterion: str,
     return "; ".join(parts) + tail
 
 
-def excess_text(excess: pd.DataFrame, criterion: str) -> str:
-    """Each model's paired excess over the floor on ``criterion``, and whether it is above zero."""
+def _versus_floor(pairs: pd.DataFrame | None, model: str, criterion: str):
+    """The paired table's row of ``model`` against the floor on ``criterion``, if any."""
+    if pairs is None or pairs.empty:
+        return None
+    keep = (pairs["criterion"] == criterion) & (
+        ((pairs["a"] == model) & (pairs["b"] == FLOOR))
+        | ((pairs["a"] == FLOOR) & (pairs["b"] == model)))
+    rows = list(pairs[keep].itertuples(index=False))
+    return rows[0] if rows else None
+
+
+def excess_text(excess: pd.DataFrame, criterion: str, pairs: pd.DataFrame | None = None) -> str:
+    """Each model's paired excess over the floor on ``criterion``, and whether it is above zero.
+
+    With ``pairs`` (the paired table, marked), a model counts as above or
+    below the floor only where its comparison with the floor is a finding
+    (:func:`ranked`); without, where the excess's interval excludes zero.
+    """
     if excess is None or excess.empty or criterion not in excess:
         return ""
     unit = _unit(criterion)
@@ -124,7 +140,9 @@ def excess_text(excess: pd.DataFrame, criterion: str) -> str:
         iv = Interval(float(row[criterion]), float(row[f"{criterion}_lo"]),
                       float(row[f"{criterion}_hi"]), int(row["n"]), "")
         parts.append(f"{label(m)} {format_ci(iv)}{unit}")
-        side = "unresolved" if not iv.excludes(0.0) else "above" if iv.mean > 0 else "below"
+        versus = _versus_floor(pairs, m, criterion)
+        resolved = ranked(versus) if versus is not None else iv.excludes(0.0)
+        side = "unresolved" if not resolved else "above" if iv.mean > 0 else "below"
         groups[side].append(label(m))
     if len(groups["above"]) == len(parts):
         verdict = "each resolved above the floor"

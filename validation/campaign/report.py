@@ -249,7 +249,8 @@ def headline(r: CampaignResults) -> list[str]:
         if ex is None or ex.empty:
             continue
         crit = KEY_CRITERIA[name]
-        text = "; ".join(f"{c} {excess_text(ex, c)}" for c in crit if c in ex)
+        text = "; ".join(f"{c} {excess_text(ex, c, r.paired.get(name))}" for c in crit
+                         if c in ex)
         out += [f"**{name.capitalize()}**, above the floor: {text}.", "", markdown(ex), ""]
     if not out:
         return []
@@ -260,7 +261,9 @@ def headline(r: CampaignResults) -> list[str]:
         "the same logs: what those processes and the harness cost however good a model "
         "is. Each model's criteria "
         "minus the floor's on the same manoeuvre, averaged over the manoeuvres, with the "
-        "95 % interval of that mean: the headline figure of model-form error.", "", *out]
+        "95 % interval of that mean: the headline figure of model-form error. A model is "
+        "said to be above the floor where its paired comparison with the floor is a finding "
+        "(resolved after the correction, on the logs and on the twins).", "", *out]
 
 
 def discussion(r: CampaignResults) -> list[str]:

@@ -110,7 +110,8 @@ def render(r: SeedResults, metrics: pd.DataFrame) -> str:
                   "same harness) on the same manoeuvre of the same truck, averaged over trucks "
                   "and manoeuvres; the interval is over trucks.", ""]
         for direction, ex in r.excess.items():
-            text = "; ".join(f"{c} {excess_text(ex, c)}" for c in KEY_CRITERIA[direction]
+            text = "; ".join(f"{c} {excess_text(ex, c, r.paired.get(('logs', direction)))}"
+                             for c in KEY_CRITERIA[direction]
                              if c in ex)
             lines += [f"**{direction.capitalize()}**: {text}.", "", markdown(ex), "",
                       "Spread of the excess between trucks / between manoeuvres:", "",
