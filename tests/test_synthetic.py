@@ -12,18 +12,19 @@ from artic.reduced import KIN, InitialState
 from artic.validation.logs.importers import import_source
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.sensors import SensorModel, measure
-from artic.validation.synthetic.testmatrix import MATRIX, TUNING
+from artic.validation.synthetic.testmatrix import MATRIX, PAPER, TUNING
 from conftest import straight_log
 
 
 def test_matrix_has_the_seed_counts_and_every_cell():
-    kinds = Counter(m.direction for m in MATRIX)
+    paper = MATRIX[:PAPER]
+    kinds = Counter(m.direction for m in paper)
     assert kinds == {"forward": 25, "reverse": 33}
-    assert len({m.name for m in MATRIX}) == 58
+    assert len({m.name for m in MATRIX}) == 62
     for load in ("unloaded", "loaded"):
-        cs = {(m.amplitude_deg, m.speed_kph, m.side) for m in MATRIX
+        cs = {(m.amplitude_deg, m.speed_kph, m.side) for m in paper
               if m.kind == "constant-steer" and m.load == load}
-        ramps = {(m.amplitude_deg, m.speed_kph, m.side) for m in MATRIX
+        ramps = {(m.amplitude_deg, m.speed_kph, m.side) for m in paper
                  if m.kind == "ramp-steer-reverse" and m.load == load}
         assert len(ramps) == 8
         assert len(cs) == (12 if load == "unloaded" else 11)
@@ -34,9 +35,13 @@ def test_matrix_has_the_seed_counts_and_every_cell():
                                               for side in ("left", "right")}
     assert Counter(m.kind for m in MATRIX)["docking"] == 9
     assert Counter(m.kind for m in MATRIX)["parking"] == 8
+    # Tuning: 4 per load condition, of two kinds; the paper's matrix less them is validated.
     assert len(TUNING) == 8
     for load in ("unloaded", "loaded"):
-        assert sum(f"constant-steer-{load}-" in n for n in TUNING) == 4
+        assert sum(f"constant-steer-{load}-200deg-5kph" in n for n in TUNING) == 2
+        assert sum(f"slalom-{load}-360deg-8kph" in n for n in TUNING) == 2
+    assert all(m.name in TUNING for m in MATRIX[PAPER:])
+    assert sum(m.direction == "forward" and m.name not in TUNING for m in MATRIX) == 21
 
 
 @pytest.mark.parametrize("y0,psi0", [(3.0, 0.0), (-4.0, 8.0)])

@@ -22,9 +22,16 @@ Stages, each timed and each resumable:
    *the plant as reference*: KIN and STM against the plant's runs of the same
    manoeuvres (forward open loop, reverse under the harness), into
    ``metrics_vs_plant.csv`` and ``OUT/vs_plant/runs``;
+   **twins** (with noisy sensors): every model and the floor on the
+   noise-free twins of the validated logs, the same truth runs measured with
+   ideal sensors (made by the logs' own simulations), into
+   ``OUT/twins/metrics.csv``; no recordings;
 5. **tables**: the paper's Table 2 and Table 3 columns, overall and per load,
    with the floor row (``table2_forward``, ``table3_reverse``), and the same
    against the plant (``table2_vs_plant``, ``table3_vs_plant``), ``.csv`` and ``.md``;
+   the paired comparisons with Holm's correction and the findings
+   (:mod:`artic.validation.campaign.findings`), and the noise share of every
+   criterion (``noise_share_forward``, ``noise_share_reverse``);
 6. **efficiency**: wall time per simulated second of each model, from the
    validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
@@ -69,9 +76,11 @@ import pandas as pd
 from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
+from artic.validation.campaign import findings
 from artic.validation.campaign.executors import DaskOptions, cluster_executor
 from artic.validation.cli.progress import BUDGET, Counter, budget_text
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
+from artic.validation.criteria.multiplicity import CORRECTION
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
@@ -100,6 +109,7 @@ from artic.validation.runs.validate import (
 )
 from artic.validation.runs.workers import completed
 from artic.validation.synthetic.generate import generate_campaign
+from artic.validation.synthetic.sensors import SensorModel
 from artic.validation.synthetic.testmatrix import TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
@@ -179,22 +189,58 @@ class Stages:
             self.save(self.times, self.budget)
 
 
+TWINS = "twins"
+"""The folder of the noise-free twins' exports (``synthetic``), imports (``logs``),
+runs (``runs``) and metrics, under the campaign's output folder."""
+
+
 def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
               only: list[str] | None = None, executor: Executor | None = None,
               truth: str = DEFAULT_TRUTH) -> list[Run]:
-    """Generate (or reuse) the synthetic campaign and import it (or reuse the import)."""
-    return _load_logs(out_dir, seed, jobs, only, executor, truth)[0]
+    """Generate (or reuse) the synthetic campaign and import it (or reuse the import).
+
+    The logs alone: no noise-free twins are made (the campaign makes them).
+    """
+    return _load_logs(out_dir, seed, jobs, only, executor, truth, twins=False)[0]
+
+
+def _sensor_model(sensors: str) -> SensorModel:
+    """``--sensors``: the campaign's measurement chain by name (``default`` or ``ideal``)."""
+    if sensors not in ("default", "ideal"):
+        raise UserError(f"--sensors {sensors}: expected default or ideal")
+    return SensorModel.ideal() if sensors == "ideal" else SensorModel()
 
 
 def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
-               executor: Executor | None,
-               truth: str = DEFAULT_TRUTH) -> tuple[list[Run], bool]:
-    """:func:`load_logs`, and whether every log was reused as it was."""
+               executor: Executor | None, truth: str = DEFAULT_TRUTH,
+               sensors: str = "default", drift: bool = True, twins: bool = True
+               ) -> tuple[list[Run], bool, list[Run] | None]:
+    """:func:`load_logs`, whether every log was reused as it was, and the twins.
+
+    With noisy sensors every log's noise-free twin (the same truth run
+    measured with ideal sensors) is exported into ``OUT/twins/synthetic`` by
+    the same simulation and imported into ``OUT/twins/logs``; with ideal
+    sensors the logs are noise-free themselves and there are no twins (``None``);
+    ``twins=False`` makes none either.
+    """
+    chain = _sensor_model(sensors)
+    where = None if chain.is_ideal or not twins else out_dir / TWINS / "synthetic"
     exports = generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
-                                jobs=jobs, only=only, executor=executor, truth=truth)
+                                jobs=jobs, only=only, executor=executor, truth=truth,
+                                sensors=chain, drift=drift, twins=where)
+    logs, reused = _import(exports, out_dir / "logs")
+    if where is None:
+        return logs, reused, None
+    twin_logs, twins_reused = _import([where / f.name for f in exports],
+                                      out_dir / TWINS / "logs")
+    return logs, reused and twins_reused, twin_logs
+
+
+def _import(exports: list[Path], into: Path) -> tuple[list[Run], bool]:
+    """Import exports into ``into`` (or reuse the imports); and whether all were reused."""
     logs, imported = [], 0
     for folder in exports:
-        target = out_dir / "logs" / f"{folder.name}.parquet"
+        target = into / f"{folder.name}.parquet"
         if target.is_file() and target.stat().st_mtime >= (folder / "meta.json").stat().st_mtime:
             try:
                 logs.append(read_run(target))
@@ -209,7 +255,7 @@ def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
         imported += 1
     if imported < len(exports):
         stderr_progress(f"{len(exports) - imported} of {len(exports)} imported logs reused from "
-                        f"{out_dir / 'logs'}")
+                        f"{into}")
     return logs, imported == 0
 
 
@@ -374,7 +420,8 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
                  recordings: bool = True, executor: str = "local",
                  scheduler: str | None = None, dask: DaskOptions | None = None,
                  truth: str = DEFAULT_TRUTH, remeasure: bool = False, seeds: int = 1,
-                 closing: bool = True) -> dict[str, Path]:
+                 closing: bool = True, sensors: str = "default",
+                 drift: bool = True) -> dict[str, Path]:
     """Run the campaign; see the module docstring.
 
     Parameters
@@ -415,6 +462,13 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
         (:mod:`artic.validation.campaign.seeds`).
     closing : bool
         Print the closing tables and where the report is.
+    sensors : str
+        The logs' measurement chain: ``default`` (noisy RTK/INS/CAN models;
+        every log then has a noise-free twin, and the report the noise share
+        of every criterion) or ``ideal`` (the truth's own signals).
+    drift : bool
+        ``False`` stills the steering column's drifting zero; with ideal
+        sensors the logs are then what the floor replays.
 
     Returns
     -------
@@ -423,19 +477,23 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     """
     if seeds < 1:
         raise UserError(f"--seeds {seeds}: a campaign needs at least one truck")
+    _sensor_model(sensors)  # a bad name fails before anything is written
     jobs = jobs or os.cpu_count() or 1
     if seeds > 1:
         from artic.validation.campaign.seeds import run_seeds
 
         return run_seeds(out_dir, seeds, seed, models=models, jobs=jobs, only=only, gain=gain,
                          sweep_models=sweep_models, recordings=recordings, executor=executor,
-                         scheduler=scheduler, dask=dask, truth=truth, remeasure=remeasure)
+                         scheduler=scheduler, dask=dask, truth=truth, remeasure=remeasure,
+                         sensors=sensors, drift=drift)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     models = tuple(names() if models is None else models)
     # A registered model's code is not artic's: its own fingerprint joins the key.
     outside = {m: c for m in models if (c := code_of(m))}
-    key = fingerprint.key(seed, list(models), gain, only, truth, *([outside] if outside else []))
+    chain = {} if (sensors, drift) == ("default", True) else {"sensors": sensors, "drift": drift}
+    key = fingerprint.key(seed, list(models), gain, only, truth, *([outside] if outside else []),
+                          *([chain] if chain else []))
     state = _saved_timings(out_dir, key)
     if remeasure:
         state["efficiency"] = None
@@ -454,9 +512,11 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
         pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
         stage = Stages(stderr_progress, state["stages"], save, state.get("budget"))
         stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
-                        f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}")
+                        f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}"
+                        + (f", sensors {sensors}" if sensors != "default" else "")
+                        + ("" if drift else ", no drift"))
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
-                           key, stage, truth, state, closing)
+                           key, stage, truth, state, closing, sensors, drift)
 
 
 def _saved_timings(out_dir: Path, key: str) -> dict:
@@ -473,7 +533,8 @@ def _saved_timings(out_dir: Path, key: str) -> dict:
 
 
 def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
-                stage, truth, state, closing=True) -> dict[str, Path]:
+                stage, truth, state, closing=True, sensors="default",
+                drift=True) -> dict[str, Path]:
     from artic.validation.campaign import report as rep
     from artic.validation.campaign.efficiency import from_runs
     from artic.validation.runs.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
@@ -488,7 +549,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
             saved.get("key") == key and saved.get("complete")):
         warm = warmup.start()
     with stage("logs"):
-        logs, reused = _load_logs(out_dir, seed, jobs, only, pool, truth)
+        logs, reused, twin_logs = _load_logs(out_dir, seed, jobs, only, pool, truth, sensors,
+                                             drift)
         stage.reused(reused)
     with stage("tuning"):
         if warm is not None:  # a wait for it counts as tuning's, which needs it
@@ -535,6 +597,14 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
                 paths["metrics_vs_plant"] = write_metrics(vs_plant,
                                                           out_dir / "metrics_vs_plant.csv")
         stage.reused(all_reused)
+    twins = None
+    if twin_logs is not None:
+        with stage("twins"):
+            twins = _twins(out_dir, twin_logs, tuning_logs, vehicles, models, seed, truth, gain,
+                           key, jobs, pool, scale)
+            stage.reused(twins.attrs.get("reused") == len(twins))
+            twins["load"] = twins["log"].map(load_of)
+            paths["metrics_twins"] = write_metrics(twins, out_dir / TWINS / "metrics.csv")
     with stage("tables"):
         stage.reused(stage.all_reused())
         forward, reverse = summary(metrics, "forward"), summary(metrics, "reverse")
@@ -551,17 +621,31 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
             paths["table3_vs_plant"], _ = write_table(
                 reverse_p, out_dir / "table3_vs_plant",
                 "Reverse driving against the plant as reference (Table 3 columns)")
-        paired = {"forward": paired_table(metrics, "forward"),
-                  "reverse": paired_table(metrics, "reverse")}
+        paired, shares, headlines = {}, {}, {}
+        for d in ("forward", "reverse"):
+            twin_pairs = paired_table(twins, d) if twins is not None else None
+            paired[d] = findings.mark(paired_table(metrics, d), twin_pairs)
+            shares[d] = findings.noise_share(metrics, twins, d) if twins is not None else None
+            headlines[d] = findings.headline_criteria(paired[d], shares[d])
+            if shares[d] is not None and len(shares[d]):
+                paths[f"noise_share_{d}"], _ = write_table(
+                    shares[d].set_index("model"), out_dir / f"noise_share_{d}",
+                    f"Noise share, {d}: each criterion on the logs, on their noise-free twins, "
+                    "and the difference (paired per manoeuvre)",
+                    findings.share_markdown(shares[d]))
         if vs_plant is not None:
-            paired["forward_vs_plant"] = paired_table(vs_plant, "forward")
-            paired["reverse_vs_plant"] = paired_table(vs_plant, "reverse")
+            # The plant's runs carry no sensor noise: findings are the corrected rankings.
+            paired["forward_vs_plant"] = findings.mark(paired_table(vs_plant, "forward"), None)
+            paired["reverse_vs_plant"] = findings.mark(paired_table(vs_plant, "reverse"), None)
         for name, pairs in paired.items():
             if len(pairs):
                 paths[f"paired_{name}"], _ = write_table(
                     pairs.set_index("criterion"), out_dir / f"paired_{name}",
-                    f"Paired comparisons, {name.replace('_vs_plant', ', against the plant')}",
-                    paired_markdown(pairs))
+                    f"Paired comparisons, {name.replace('_vs_plant', ', against the plant')}; "
+                    f"{CORRECTION} over the table's {len(pairs)} comparisons, findings "
+                    + ("resolved after it on the logs and on their noise-free twins"
+                       if twins is not None and "_vs_plant" not in name else
+                       "resolved after it"), paired_markdown(pairs))
         per_load = {}
         for load in LOADS:
             part = metrics[metrics["load"] == load]
@@ -615,7 +699,8 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
         fingerprint=fingerprint.code(), version=_version(), per_load=per_load,
         files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
         forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth,
-        metrics_vs_plant=vs_plant, paired=paired)
+        metrics_vs_plant=vs_plant, paired=paired, twins=twins, noise_share=shares,
+        headline_criteria=headlines, sensors=sensors, drift=drift)
     with stage("report"):
         stage.reused(stage.all_reused())
         draft = rep.render(results)  # the summary recording's copy, before the last timing
@@ -650,6 +735,32 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
     return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
                          executor=pool, label="references, the truth", scale=scale)
+
+
+def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
+           vehicles: dict[str, Vehicle], models: Sequence[str], seed: int, truth: str,
+           gain: float, key: str, jobs: int, pool, scale: dict | None) -> pd.DataFrame:
+    """Every model and the floor on the noise-free twins of the validated logs.
+
+    The same tuned vehicles, gain and ``eps_n_fixed`` scale as on the logs,
+    so that a criterion's difference between a log and its twin is the
+    measurement's alone. Runs go to ``OUT/twins/runs``; no recordings.
+    """
+    twin_out = out_dir / TWINS
+    validated = [log for log in twin_logs if log.name not in tuning_logs]
+    parts = []
+    for load in LOADS:
+        group = [log for log in validated if log.meta.get("load") == load]
+        if group:
+            parts.append(validate_runs(group, vehicles[load], models, gain=gain,
+                                       out_dir=twin_out, progress=stderr_progress,
+                                       reuse_key=f"{key}.{load}.twins", jobs=jobs,
+                                       executor=pool, label=f"twins, {load}", scale=scale))
+    parts.append(_floor(twin_out, validated, seed, truth, gain, f"{key}.twins", jobs, pool,
+                        scale))
+    out = pd.concat(parts, ignore_index=True)
+    out.attrs["reused"] = sum(p.attrs.get("reused", 0) for p in parts)
+    return out
 
 
 def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],

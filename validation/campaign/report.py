@@ -17,11 +17,14 @@ from datetime import UTC, datetime
 import numpy as np
 import pandas as pd
 
+from artic.validation.campaign import findings
 from artic.validation.campaign.rankings import (
     excess_text,
     label,
     lowest,
+    ranked,
     ranking_text,
+    verdicts,
 )
 from artic.validation.criteria.statistics import Interval, format_ci
 from artic.validation.review.tables import (
@@ -67,11 +70,22 @@ class CampaignResults:
     paired: dict[str, pd.DataFrame] = field(default_factory=dict)
     excess: dict[str, pd.DataFrame] = field(default_factory=dict)
     budget: dict[str, dict] = field(default_factory=dict)
+    twins: pd.DataFrame | None = None
+    noise_share: dict[str, pd.DataFrame | None] = field(default_factory=dict)
+    headline_criteria: dict[str, pd.DataFrame] = field(default_factory=dict)
+    sensors: str = "default"
+    drift: bool = True
 
     def __post_init__(self) -> None:
         for d in ("forward", "reverse"):
             if d not in self.paired and len(self.metrics):
-                self.paired[d] = paired_table(self.metrics, d)
+                twin = paired_table(self.twins, d) if self.twins is not None else None
+                self.paired[d] = findings.mark(paired_table(self.metrics, d), twin)
+            if d not in self.noise_share and self.twins is not None and len(self.metrics):
+                self.noise_share[d] = findings.noise_share(self.metrics, self.twins, d)
+            if d not in self.headline_criteria and d in self.paired:
+                self.headline_criteria[d] = findings.headline_criteria(
+                    self.paired[d], self.noise_share.get(d))
             if d not in self.excess and len(self.metrics):
                 self.excess[d] = excess(self.metrics, d)
             key = f"{d}_vs_plant"
@@ -89,10 +103,126 @@ STATISTICS = (
     "(Student's t below 8 values; see `validation/criteria/statistics.py`), printed as "
     "value ± half-width, or [lo, hi] where the interval is skewed, with only the digits "
     "the interval supports. Two models are compared paired per manoeuvre: the mean of "
-    "their differences on the same logs, with its interval; a ranking is stated only "
-    "where that interval excludes zero, and \"not resolved\" otherwise. The `_lo` and "
-    "`_hi` columns of the CSV tables hold the exact bounds; `paired_*.csv` every pair "
-    "and criterion.")
+    "their differences on the same logs, with its interval and the p value it inverts. "
+    "A paired table holds some 40 (forward) to 90 (reverse) comparisons, so a few would "
+    "resolve by chance: the p values are adjusted by Holm's method over each table (the "
+    "family-wise error rate 5 % under any dependence; "
+    "`validation/criteria/multiplicity.py`), and a ranking is stated only where it is a "
+    "**finding**: resolved after the correction on the logs and, with the same sign, on "
+    "their noise-free twins. The `_lo` and `_hi` columns of the CSV tables hold the exact "
+    "bounds; `paired_*.csv` every pair and criterion with `p`, `p_adj` and `finding`.")
+
+
+def headline_section(r: CampaignResults) -> list[str]:
+    """The headline: the criteria that rank models, their findings, and the noise beside them.
+
+    Generated from the results alone, so that it can be copied as it stands.
+    """
+    out = ["## Headline", ""]
+    if r.twins is None:
+        chain = ("ideal sensors" + ("" if r.drift else " and the column's drift stilled"))
+        out += [f"The logs were made with {chain}: they are noise-free, so they are their "
+                "own twins and every criterion ranks models; the findings are the rankings "
+                "resolved after the correction.", ""]
+    else:
+        out += [
+            "The criteria that rank models rather than sensors: a finding between the models, "
+            "no ranking that the logs resolve after the correction and the noise-free twins "
+            "do not, and what the sensor noise adds to any model's score at most "
+            f"{findings.NOISE_FRACTION:g} of the smallest difference the findings state "
+            "(\"Which criteria rank models\" below). Their findings:", ""]
+    any_line = False
+    for d in ("forward", "reverse"):
+        crit = r.headline_criteria.get(d)
+        pairs = r.paired.get(d)
+        if crit is None or pairs is None or crit.empty:
+            continue
+        heads = [c for c in crit.index if crit.loc[c, "headline"]]
+        if not heads:
+            out += [f"- **{d.capitalize()}**: no criterion qualifies.", ""]
+            continue
+        for c in heads:
+            found = [v for v, row in zip(verdicts(pairs, c), _model_rows(pairs, c), strict=True)
+                     if ranked(row)]
+            share = r.noise_share.get(d)
+            noise = ""
+            if share is not None and len(share):
+                noise = (f"; the noise adds at most {crit.loc[c, 'noise']:.2g} to a model's "
+                         f"score, {crit.loc[c, 'ratio']:.2f} of the smallest finding")
+            out.append(f"- **{d.capitalize()}, {c}**: " + "; ".join(found) + noise + ".")
+            any_line = True
+        out.append("")
+    others = []
+    for d in ("forward", "reverse"):
+        crit, pairs = r.headline_criteria.get(d), r.paired.get(d)
+        if crit is None or pairs is None:
+            continue
+        for c in crit.index:
+            if crit.loc[c, "headline"] or not crit.loc[c, "findings"]:
+                continue
+            found = [v for v, row in zip(verdicts(pairs, c), _model_rows(pairs, c), strict=True)
+                     if ranked(row)]
+            why = (f"{int(crit.loc[c, 'noise_made'])} ranking(s) made by the noise"
+                   if crit.loc[c, "noise_made"] else
+                   f"noise addition {crit.loc[c, 'ratio']:.2f} of the smallest finding")
+            others.append(f"- {d}, {c} ({why}): " + "; ".join(found) + ".")
+    if others:
+        out += ["Findings on criteria that do not carry conclusions (they hold on the twins, "
+                "but the noise is not small against them, or the criterion also ranks "
+                "sensors):", "", *others, ""]
+    if not any_line and not others:
+        out += ["No ranking between models is a finding.", ""]
+    paper = []
+    for d, cols in (("forward", PAPER_FORWARD.columns), ("reverse", PAPER_REVERSE.columns)):
+        share = r.noise_share.get(d)
+        if share is None or share.empty:
+            continue
+        for c in cols:
+            part = share[share["criterion"] == c]
+            if len(part):
+                paper.append(f"{d} {c}: " + ", ".join(
+                    f"{label(m)} {v:.0f} %" for m, v in zip(part["model"], part["share"],
+                                                           strict=True) if math.isfinite(v)))
+    if paper:
+        out += ["The paper's criteria, kept for comparison with the paper, with the share of "
+                "each score that the sensor noise makes (\"Noise share\" below): "
+                + "; ".join(paper) + ".", ""]
+    return out
+
+
+def _model_rows(pairs: pd.DataFrame, criterion: str) -> list:
+    """The rows :func:`verdicts` speaks of, in its order."""
+    keep = (pairs["criterion"] == criterion) & ~pairs["a"].isin(("floor",)) \
+        & ~pairs["b"].isin(("floor",))
+    return list(pairs[keep].itertuples(index=False))
+
+
+def noise_sections(r: CampaignResults) -> list[str]:
+    """Which criteria rank models, and every criterion's noise share."""
+    out = ["## Which criteria rank models", "",
+           "Per criterion: the findings between models, the rankings resolved after the "
+           "correction on the logs that do not hold on the noise-free twins (made by the "
+           "noise), the smallest difference a finding states, the largest noise addition to "
+           "a model's score, their ratio, and whether the criterion carries conclusions "
+           f"(no ranking made by the noise, ratio at most {findings.NOISE_FRACTION:g}).", ""]
+    for d in ("forward", "reverse"):
+        crit = r.headline_criteria.get(d)
+        if crit is not None and len(crit):
+            out += [f"{d.capitalize()}:", "", findings.criteria_markdown(crit), ""]
+    if r.twins is None:
+        return out
+    out += ["## Noise share", "",
+            "Every criterion on the logs, on their noise-free twins (the same truth runs, the "
+            "column's drift included, measured with ideal sensors: no noise, no clock skew, "
+            "the steering wheel every sample) and the difference, paired per manoeuvre with "
+            "its 95 % interval: what the measurement chain adds to the floor's and to each "
+            "model's score, and its share of the score on the logs (`noise_share_*.csv`; the "
+            "dock errors as magnitudes).", ""]
+    for d in ("forward", "reverse"):
+        share = r.noise_share.get(d)
+        if share is not None and len(share):
+            out += [f"{d.capitalize()}:", "", findings.share_markdown(share), ""]
+    return out
 
 
 def _extras(pairs: pd.DataFrame | None) -> list[str]:
@@ -119,7 +249,8 @@ def headline(r: CampaignResults) -> list[str]:
         if ex is None or ex.empty:
             continue
         crit = KEY_CRITERIA[name]
-        text = "; ".join(f"{c} {excess_text(ex, c)}" for c in crit if c in ex)
+        text = "; ".join(f"{c} {excess_text(ex, c, r.paired.get(name))}" for c in crit
+                         if c in ex)
         out += [f"**{name.capitalize()}**, above the floor: {text}.", "", markdown(ex), ""]
     if not out:
         return []
@@ -130,7 +261,9 @@ def headline(r: CampaignResults) -> list[str]:
         "the same logs: what those processes and the harness cost however good a model "
         "is. Each model's criteria "
         "minus the floor's on the same manoeuvre, averaged over the manoeuvres, with the "
-        "95 % interval of that mean: the headline figure of model-form error.", "", *out]
+        "95 % interval of that mean: the headline figure of model-form error. A model is "
+        "said to be above the floor where its paired comparison with the floor is a finding "
+        "(resolved after the correction, on the logs and on the twins).", "", *out]
 
 
 def discussion(r: CampaignResults) -> list[str]:
@@ -242,9 +375,12 @@ def paired_sections(r: CampaignResults) -> list[str]:
     """The paired comparison tables of the key criteria, per reference and direction."""
     lines = ["## Paired comparisons", "",
              "Every two models on the same manoeuvres: the mean of a - b with its 95 % "
-             "interval, and whether the interval excludes zero (resolved). The key criteria "
+             "interval, whether the interval excludes zero (resolved), the p value adjusted "
+             "by Holm's method over the table and whether the ranking is resolved after it, "
+             "the same on the noise-free twins, and whether it is a finding. The key criteria "
              "here; every criterion in `paired_forward.csv`, `paired_reverse.csv` and their "
-             "`_vs_plant` counterparts.", ""]
+             "`_vs_plant` counterparts (against the plant, which has no sensor noise, the "
+             "findings are the rankings resolved after the correction).", ""]
     any_table = False
     for key, title in (("forward", "Forward, against the logs"),
                        ("reverse", "Reverse, against the logs"),
@@ -352,7 +488,10 @@ def render(r: CampaignResults) -> str:
         f"{stamp}; {platform.machine()}, {os.cpu_count()} cores, Python "
         f"{platform.python_version()}; artic {r.version} (code {r.fingerprint}); seed "
         f"{r.seed}; models {', '.join(r.models)}; reversing feedback K = {r.gain:g}; "
-        f"wall time {total:.0f} s.", "",
+        f"wall time {total:.0f} s"
+        + ("" if r.sensors == "default" else f"; sensors {r.sensors}")
+        + ("" if r.drift else "; the column's drift stilled") + ".", "",
+        *headline_section(r),
         *headline(r),
         "## Discussion", "", *[p + "\n" for p in discussion(r)],
         "## Forward driving (the paper's Table 2)", "",
@@ -373,14 +512,17 @@ def render(r: CampaignResults) -> str:
     if r.reverse_vs_plant is not None:
         lines += ["Reverse (Table 3 columns):", "", markdown(r.reverse_vs_plant), ""]
     lines += paired_sections(r)
+    lines += noise_sections(r)
     if r.per_load:
         lines += ["## Per load condition, against the logs", ""]
     for load, table in r.per_load.items():
         lines += [f"### {load}", "", markdown(table), ""]
     lines += ["## Tuning", "",
               "Each load condition fitted on its own 4 forward tuning manoeuvres (8 in "
-              "all, as in the paper) by the normalised criteria of eq. (9) (see "
-              "`validation/tuning.py`).", "", *_tuning_text(r), ""]
+              "all, as in the paper), of two kinds: constant steers at 200 deg and 5 km/h "
+              "and slaloms at 360 deg and 8 km/h, left and right, none of them validated "
+              "(`validation/synthetic/testmatrix.py`), by the normalised criteria of eq. "
+              "(9) (see `validation/campaign/tuning.py`).", "", *_tuning_text(r), ""]
     if r.efficiency is not None:
         lines += ["## Computational efficiency", "",
                   "The validation runs themselves, timed as they ran (every model on the "

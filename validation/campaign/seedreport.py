@@ -38,9 +38,11 @@ STATISTICS = (
     "is wide with few trucks. Beside it, the spread between trucks (the standard "
     "deviation of the per-seed means) and between manoeuvres (the pooled standard "
     "deviation within a seed). A paired comparison averages the per-manoeuvre difference "
-    "of two models per truck, and its interval is over those per-truck means; it ranks "
-    "the pair only where the interval excludes zero (\"not resolved\" otherwise), and "
-    "says how many trucks resolve it alone.")
+    "of two models per truck, and its interval and p value are over those per-truck means; "
+    "the p values are adjusted by Holm's method over each table, and a ranking is stated "
+    "only where it is a finding: resolved after the correction, pooled, on the logs and "
+    "on their noise-free twins. Each paired row says on how many trucks alone it is "
+    "resolved, and on how many trucks it is a finding of that truck's own campaign.")
 
 
 @dataclass
@@ -55,6 +57,8 @@ class SeedResults:
     paired: dict[tuple[str, str], pd.DataFrame] = field(default_factory=dict)
     excess: dict[str, pd.DataFrame] = field(default_factory=dict)
     stages: dict[int, dict] = field(default_factory=dict)
+    noise_share: dict[str, pd.DataFrame] = field(default_factory=dict)
+    headline_criteria: dict[str, pd.DataFrame] = field(default_factory=dict)
 
     def summed_stages(self) -> tuple[dict[str, float], dict[str, dict]]:
         """Stage wall times and simulated times, each summed over the trucks."""
@@ -106,11 +110,13 @@ def render(r: SeedResults, metrics: pd.DataFrame) -> str:
                   "same harness) on the same manoeuvre of the same truck, averaged over trucks "
                   "and manoeuvres; the interval is over trucks.", ""]
         for direction, ex in r.excess.items():
-            text = "; ".join(f"{c} {excess_text(ex, c)}" for c in KEY_CRITERIA[direction]
+            text = "; ".join(f"{c} {excess_text(ex, c, r.paired.get(('logs', direction)))}"
+                             for c in KEY_CRITERIA[direction]
                              if c in ex)
             lines += [f"**{direction.capitalize()}**: {text}.", "", markdown(ex), "",
                       "Spread of the excess between trucks / between manoeuvres:", "",
                       spread_markdown(ex), ""]
+    lines += _headline(r)
     lines += ["## Rankings", ""]
     for (ref, direction), pairs in r.paired.items():
         if len(pairs):
@@ -146,6 +152,44 @@ def render(r: SeedResults, metrics: pd.DataFrame) -> str:
     return "\n".join(lines)
 
 
+def _headline(r: SeedResults) -> list[str]:
+    """The pooled findings on the headline criteria, and on how many trucks each holds."""
+    from artic.validation.campaign import findings
+    from artic.validation.campaign.rankings import label, ranked
+
+    out = ["## Headline, pooled over trucks", "",
+           "The criteria that rank models rather than sensors (pooled: a finding, no ranking "
+           "made by the noise, noise addition at most "
+           f"{findings.NOISE_FRACTION:g} of the smallest finding), their pooled findings, and "
+           "on how many trucks each is a finding of that truck's own campaign.", ""]
+    n = len(r.walls)
+    for d in ("forward", "reverse"):
+        crit, pairs = r.headline_criteria.get(d), r.paired.get(("logs", d))
+        if crit is None or pairs is None or crit.empty:
+            continue
+        for c in crit.index:
+            rows = [p for p in pairs[pairs["criterion"] == c].itertuples(index=False)
+                    if "floor" not in (p.a, p.b) and ranked(p)]
+            if not rows:
+                continue
+            texts = [f"{label(p.a if p.diff < 0 else p.b)} below "
+                     f"{label(p.b if p.diff < 0 else p.a)} by {abs(p.diff):.3g} "
+                     f"({p.seeds_findings} of {n} trucks)" for p in rows]
+            tag = "headline" if crit.loc[c, "headline"] else "not a headline criterion"
+            out.append(f"- {d}, {c} ({tag}): " + "; ".join(texts) + ".")
+    out += ["", "Which criteria rank models, pooled:", ""]
+    for d in ("forward", "reverse"):
+        crit = r.headline_criteria.get(d)
+        if crit is not None and len(crit):
+            out += [f"{d.capitalize()}:", "", findings.criteria_markdown(crit), ""]
+    for d in ("forward", "reverse"):
+        share = r.noise_share.get(d)
+        if share is not None and len(share):
+            out += [f"Noise share, {d} (pooled over trucks and manoeuvres):", "",
+                    findings.share_markdown(share), ""]
+    return out
+
+
 def _command(r: SeedResults, seeds: list[int]) -> str:
     """The ``artic campaign`` options that chose these results (not the output folder)."""
     c = r.campaign
@@ -158,6 +202,10 @@ def _command(r: SeedResults, seeds: list[int]) -> str:
         parts.append(f"--gain {c['gain']:g}")
     if c.get("truth", "structural") != "structural":
         parts.append(f"--truth {c['truth']}")
+    if c.get("sensors", "default") != "default":
+        parts.append(f"--sensors {c['sensors']}")
+    if c.get("drift") is False:
+        parts.append("--no-drift")
     return " ".join(parts)
 
 

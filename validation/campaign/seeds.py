@@ -29,6 +29,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from artic.validation.cli.progress import Counter, stderr
@@ -91,7 +92,8 @@ def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
             progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
         counter = Counter(seeds, "trucks", progress, every=0.0)
-        metrics, vs_plant, walls, reports, stages = [], [], {}, {}, {}
+        metrics, vs_plant, walls, reports, stages, twins = [], [], {}, {}, {}, []
+        marked: dict[str, list[pd.DataFrame]] = {}
         for k in range(seeds):
             s = seed + k
             where = seed_dir(out_dir, s)
@@ -102,12 +104,19 @@ def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
             metrics.append(m)
             if "metrics_vs_plant" in paths:
                 vs_plant.append(pd.read_csv(paths["metrics_vs_plant"]).assign(seed=s))
+            if "metrics_twins" in paths:
+                twins.append(pd.read_csv(paths["metrics_twins"]).assign(seed=s))
+            for d in ("forward", "reverse"):
+                if f"paired_{d}" in paths:
+                    marked.setdefault(d, []).append(
+                        pd.read_csv(paths[f"paired_{d}"]).assign(seed=s))
             walls[s] = _wall(where, time.perf_counter() - t0)
             stages[s] = _stages(where)
             reports[s] = paths["report"].relative_to(out_dir)
             counter.step(f"seed {s} in {walls[s]:.0f} s; reverse eps_n {_eps_n_line(m)}",
                          always=True)
-        return write_pooled(out_dir, metrics, vs_plant, walls, reports, campaign, stages)
+        return write_pooled(out_dir, metrics, vs_plant, walls, reports, campaign, stages,
+                            twins, marked)
 
 
 def _wall(where: Path, measured: float) -> float:
@@ -135,16 +144,51 @@ def _eps_n_line(m: pd.DataFrame) -> str:
                      for model, g in part.groupby("model", sort=False)) + " %"
 
 
+def seeds_findings(pooled_pairs: pd.DataFrame, per_seed: list[pd.DataFrame]) -> pd.DataFrame:
+    """``pooled_pairs`` with ``seeds_findings``: the trucks whose own table marks it a finding.
+
+    A truck counts where its own paired table (``seed-K/paired_*.csv``, corrected
+    and checked on its twins) marks the pair a finding with the pooled sign.
+    """
+    out = pooled_pairs.copy()
+    if out.empty or not per_seed:
+        out["seeds_findings"] = 0
+        return out
+    each = pd.concat(per_seed, ignore_index=True)
+    each = each[each["finding"].astype(str).str.lower().isin(("true", "1"))]
+    counts = []
+    for r in out.itertuples(index=False):
+        mine = each[(each["criterion"] == r.criterion) & (each["a"] == r.a)
+                    & (each["b"] == r.b)]
+        counts.append(int((np.sign(mine["diff"].to_numpy(dtype=float))
+                           == np.sign(r.diff)).sum()))
+    out["seeds_findings"] = counts
+    return out
+
+
 def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.DataFrame],
                  walls: dict[int, float], reports: dict[int, Path],
-                 campaign: dict, stages: dict[int, dict] | None = None) -> dict[str, Path]:
-    """The pooled files and ``report.md`` from every truck's metrics (see the module docstring)."""
-    from artic.validation.campaign import seedreport
+                 campaign: dict, stages: dict[int, dict] | None = None,
+                 twins: list[pd.DataFrame] | None = None,
+                 marked: dict[str, list[pd.DataFrame]] | None = None) -> dict[str, Path]:
+    """The pooled files and ``report.md`` from every truck's metrics (see the module docstring).
+
+    With the trucks' twin metrics (``twins``) the pooled paired tables mark the
+    findings (resolved after Holm's correction pooled, on the logs and on the
+    twins) and count the trucks whose own table marks each (``marked``, their
+    ``paired_*.csv``); the noise share is pooled over trucks and manoeuvres.
+    """
+    from artic.validation.campaign import findings, seedreport
     from artic.validation.runs.validate import write_metrics
 
     paths: dict[str, Path] = {}
     logs = _first_columns(pd.concat(metrics, ignore_index=True))
     paths["metrics"] = write_metrics(logs, out_dir / "metrics.csv")
+    twin_frame = None
+    if twins:
+        twin_frame = _first_columns(pd.concat(twins, ignore_index=True))
+        (out_dir / "twins").mkdir(parents=True, exist_ok=True)
+        paths["metrics_twins"] = write_metrics(twin_frame, out_dir / "twins" / "metrics.csv")
     plant = None
     if vs_plant:
         plant = _first_columns(pd.concat(vs_plant, ignore_index=True))
@@ -161,6 +205,23 @@ def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.D
             stem, title, where = TABLES[ref, direction], TITLES[direction], f", against the {ref}"
             table, seeds = pooled(frame, direction), by_seed(frame, direction)
             pairs = pooled_paired(frame, direction)
+            if ref == "logs":
+                twin_pairs = pooled_paired(twin_frame, direction) \
+                    if twin_frame is not None else None
+                pairs = seeds_findings(findings.mark(pairs, twin_pairs),
+                                       (marked or {}).get(direction, []))
+                if twin_frame is not None:
+                    share = findings.noise_share(frame, twin_frame, direction)
+                    results.noise_share[direction] = share
+                    results.headline_criteria[direction] = findings.headline_criteria(
+                        pairs, share)
+                    if len(share):
+                        paths[f"noise_share_{direction}"], _ = write_table(
+                            share.set_index("model"), out_dir / f"noise_share_{direction}",
+                            f"Noise share, {direction}, pooled over {len(walls)} trucks",
+                            findings.share_markdown(share))
+            else:
+                pairs = findings.mark(pairs, None)
             text = (f"{markdown(table)}\n\nSpread between trucks / between manoeuvres (standard "
                     f"deviations):\n\n{spread_markdown(table)}")
             paths[stem], _ = write_table(table, out_dir / stem, f"{title}{where}, pooled over "

@@ -428,7 +428,8 @@ def _campaign(args: argparse.Namespace) -> int:
     run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
                  sweep_models=sweep, only=only, recordings=args.recordings,
                  executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth,
-                 remeasure=args.remeasure, seeds=args.seeds)
+                 remeasure=args.remeasure, seeds=args.seeds, sensors=args.sensors,
+                 drift=args.drift)
     return 0
 
 
@@ -609,6 +610,13 @@ def build_parser() -> argparse.ArgumentParser:
                       help="the synthetic campaign's truth: one with its own tyre and steering "
                            "models; the plant differing from the presets in structure, or the "
                            "first near-identical one, for regression (default: %(default)s)")
+    camp.add_argument("--sensors", choices=("default", "ideal"), default="default",
+                      help="the logs' measurement chain: noisy RTK/INS/CAN models, each log "
+                           "with its noise-free twin for the noise share and the findings, or "
+                           "the truth itself (default: %(default)s)")
+    camp.add_argument("--drift", action=argparse.BooleanOptionalAction, default=True,
+                      help="let the steering column's zero drift; --sensors ideal --no-drift "
+                           "runs the campaign on the logs the floor replays (default: on)")
     camp.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                       help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     camp.add_argument("--sweep-models", default="kin,stm",
@@ -617,7 +625,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="write the Rerun recordings (default: on)")
     camp.add_argument("--only", default="",
                       help="a part of the campaign: comma-separated manoeuvre names or prefixes "
-                           "(include tuning manoeuvres such as 00-,01-,06-,07- to tune)")
+                           "(include tuning manoeuvres such as 00-,01-,58-,59- to tune)")
     camp.add_argument("--remeasure", action="store_true",
                       help="compute the efficiency again from the validation runs' times on a "
                            "resumed run (it keeps the original run's figures otherwise)")

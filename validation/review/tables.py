@@ -33,6 +33,7 @@ import numpy as np
 import pandas as pd
 
 from artic.validation.criteria import columns as extra
+from artic.validation.criteria.multiplicity import ALPHA, CORRECTION, holm, paired_p
 from artic.validation.criteria.statistics import (
     Interval,
     format_ci,
@@ -247,6 +248,25 @@ def _model_pairs(metrics: pd.DataFrame, direction: str, criteria: list[str] | No
             yield c, a, b, table
 
 
+PAIRED_COLUMNS = ["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi", "resolved", "lower",
+                  "p", "p_adj", "resolved_adj"]
+"""The columns of :func:`paired_table`."""
+
+
+def corrected(rows: pd.DataFrame) -> pd.DataFrame:
+    """``rows`` with ``p_adj`` (Holm over all its rows, one family) and ``resolved_adj``.
+
+    The family is the whole table: every pair of models and every criterion
+    of one direction against one reference
+    (:mod:`artic.validation.criteria.multiplicity` says why Holm).
+    """
+    out = rows.copy()
+    out["p_adj"] = holm(out["p"].to_numpy(dtype=float)) if len(out) else []
+    out["resolved_adj"] = (out["p_adj"] < ALPHA) & out["resolved"].astype(bool) \
+        if len(out) else []
+    return out
+
+
 def paired_table(metrics: pd.DataFrame, direction: str,
                  criteria: list[str] | None = None) -> pd.DataFrame:
     """Every pair of models compared on the same manoeuvres, per criterion.
@@ -258,31 +278,69 @@ def paired_table(metrics: pd.DataFrame, direction: str,
         have), ``diff`` (mean of ``a - b``), ``diff_lo``, ``diff_hi`` (95 %
         interval), ``resolved`` (the interval excludes zero) and ``lower``:
         the model with the smaller error where resolved, ``not resolved``
-        otherwise. Smaller is better for every criterion.
+        otherwise. Smaller is better for every criterion. Then ``p`` (the
+        p value the interval inverts), ``p_adj`` (Holm over the rows of this
+        table, :func:`corrected`) and ``resolved_adj`` (resolved after the
+        correction). :func:`artic.validation.campaign.findings.mark` adds
+        whether each is a finding.
     """
     rows = []
     for c, a, b, table in _model_pairs(metrics, direction, criteria, ("log",)):
-        p = paired(table[a].to_numpy(), table[b].to_numpy(), (a, b))
+        x, y = table[a].to_numpy(dtype=float), table[b].to_numpy(dtype=float)
+        p = paired(x, y, (a, b))
         if p.diff.n == 0:
             continue
         rows.append({"criterion": c, "a": a, "b": b, "n": p.diff.n, "diff": p.diff.mean,
                      "diff_lo": p.diff.lo, "diff_hi": p.diff.hi, "resolved": p.resolved,
-                     "lower": p.lower or "not resolved"})
-    return pd.DataFrame(rows, columns=["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi",
-                                       "resolved", "lower"])
+                     "lower": p.lower or "not resolved", "p": paired_p(x - y)})
+    return corrected(pd.DataFrame(rows, columns=PAIRED_COLUMNS[:-2]))
+
+
+def _p_text(p: float) -> str:
+    """A p value in two significant digits; ``-`` without one."""
+    if not math.isfinite(p):
+        return "-"
+    return f"{p:.2g}" if p >= 1e-3 else f"{p:.1e}"
 
 
 def paired_markdown(table: pd.DataFrame) -> str:
-    """A paired table in Markdown: ``a - b`` as ``value ± half-width`` in the criterion's unit."""
-    lines = ["| criterion | a | b | a - b | n | resolved | lower |",
-             "|---|---|---|---|---|---|---|"]
+    """A paired table in Markdown: ``a - b`` as ``value ± half-width`` in the criterion's unit.
+
+    With ``p_adj`` the adjusted p value (:data:`CORRECTION` over the table's
+    rows) and whether the ranking is resolved after it; with ``finding``,
+    whether it is a finding (resolved after the correction on the logs and
+    on their noise-free twins), and the twins' difference.
+    """
+    adj = "p_adj" in table
+    twins = "finding" in table
+    head = ["criterion", "a", "b", "a - b", "n", "resolved"]
+    if adj:
+        head += [f"p ({CORRECTION})", "resolved after correction"]
+    if twins and "twin_diff" in table:
+        head += ["a - b on the twins", f"twins p ({CORRECTION})"]
+    if twins:
+        head.append("finding")
+    head.append("lower")
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in table.itertuples(index=False):
         unit = f" [{UNITS[r.criterion]}]" if r.criterion in UNITS else ""
         diff = format_ci(r.diff, r.diff_lo, r.diff_hi, int(r.n))
         extra = f" ({r.seeds_resolved} of {r.seeds} seeds alone)" \
             if hasattr(r, "seeds_resolved") else ""
-        lines.append(f"| {r.criterion}{unit} | {r.a} | {r.b} | {diff} | {int(r.n)} | "
-                     f"{'yes' if r.resolved else 'no'}{extra} | {r.lower} |")
+        cells = [f"{r.criterion}{unit}", r.a, r.b, diff, str(int(r.n)),
+                 f"{'yes' if r.resolved else 'no'}{extra}"]
+        if adj:
+            cells += [_p_text(r.p_adj), "yes" if r.resolved_adj else "no"]
+        if twins and "twin_diff" in table:
+            cells += [format_ci(r.twin_diff, r.twin_diff_lo, r.twin_diff_hi, int(r.n))
+                      if math.isfinite(r.twin_diff) else "-", _p_text(r.twin_p_adj)]
+        if twins:
+            mark = "**yes**" if r.finding else "no"
+            if hasattr(r, "seeds_findings"):
+                mark += f" ({r.seeds_findings} of {r.seeds} trucks)"
+            cells.append(mark)
+        cells.append(str(r.lower))
+        lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -408,9 +466,10 @@ def pooled_paired(metrics: pd.DataFrame, direction: str,
         rows.append({"criterion": c, "a": a, "b": b, "n": len(d), "diff": float(d.mean()),
                      "diff_lo": iv.lo, "diff_hi": iv.hi, "resolved": resolved,
                      "lower": (a if sign < 0 else b) if resolved else "not resolved",
+                     "p": paired_p(per_seed.to_numpy()),
                      "seeds_resolved": int(alone), "seeds": len(per_seed)})
-    return pd.DataFrame(rows, columns=["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi",
-                                       "resolved", "lower", "seeds_resolved", "seeds"])
+    cols = [*PAIRED_COLUMNS[:-2], "seeds_resolved", "seeds"]
+    return corrected(pd.DataFrame(rows, columns=cols))
 
 
 def write_table(df: pd.DataFrame, path_stem: Path, title: str,

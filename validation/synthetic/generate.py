@@ -163,14 +163,17 @@ def measurement_chain(sensors: SensorModel, truth: dict) -> SensorModel:
 
 def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
                        truth_kind: str = DEFAULT, drift: bool = True,
-                       timestep: float | None = None) -> Run:
+                       timestep: float | None = None, twin: bool = False
+                       ) -> Run | tuple[Run, Run]:
     """Drive and measure one manoeuvre; returns the measured run with its metadata.
 
     Pure computation, no files: it runs wherever an executor sends it.
     ``drift=False`` stills the column's drift (see the module docstring).
     The independent truth steps at its own step for the manoeuvre's kind
     (:func:`artic.validation.synthetic.truthplant.timestep_for`); ``timestep``
-    [s] overrides it, for the convergence study only.
+    [s] overrides it, for the convergence study only. ``twin=True`` returns
+    ``(measured, twin)``: the same truth run measured also with ideal sensors
+    (:func:`noise_free_twin`), no second simulation.
     """
     sensors = sensors or SensorModel()
     truth = truth_configuration(seed, truth_kind, drift)
@@ -208,7 +211,33 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
             "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
     if plant.states:
         meta[STATE_KEY] = record_states(measured, plant.states)
-    return Run(measured, meta)
+    run = Run(measured, meta)
+    return (run, noise_free_twin(true, meta)) if twin else run
+
+
+def noise_free_twin(true, meta: dict) -> Run:
+    """The noise-free twin of a measured run: the same truth run through ideal sensors.
+
+    Parameters
+    ----------
+    true : DataFrame
+        The truth's signals as :func:`artic.validation.logs.runfile.new_frame` makes them.
+    meta : dict
+        The measured run's metadata.
+
+    Returns
+    -------
+    Run
+        The truth's motion, its driver's steering wheel and its column's drift
+        as in the measured run (one simulation made both), measured without
+        noise or clock skew, the steering wheel every sample, unquantised. Its
+        ``meta["sensors"]`` is the ideal chain's, ``meta["twin_of"]`` the
+        measured run's chain.
+    """
+    ideal = SensorModel.ideal()
+    frame = measure(true, np.random.default_rng(0), ideal)  # ideal: draws nothing
+    return Run(frame, {**meta, "sensors": dataclasses.asdict(ideal),
+                       "twin_of": meta["sensors"]})
 
 
 def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
@@ -281,9 +310,10 @@ def generate_manoeuvre(m: Manoeuvre, seed: int, out_dir: Path,
 
 
 def _simulate_timed(m: Manoeuvre, seed: int, sensors: SensorModel | None = None,
-                    truth: str = DEFAULT, drift: bool = True) -> tuple[Run, float]:
+                    truth: str = DEFAULT, drift: bool = True, twin: bool = False
+                    ) -> tuple[Run | tuple[Run, Run], float]:
     t0 = time.perf_counter()
-    run = simulate_manoeuvre(m, seed, sensors, truth, drift)
+    run = simulate_manoeuvre(m, seed, sensors, truth, drift, twin=twin)
     return run, time.perf_counter() - t0
 
 
@@ -299,11 +329,20 @@ def _same(meta_file: Path, seed: int, sensors: SensorModel, truth: dict) -> bool
             and meta.get("truth") == truth)
 
 
+def _same_twin(meta_file: Path, seed: int, sensors: SensorModel, truth: dict) -> bool:
+    """Whether a twin export is the ideal measurement of the run ``sensors`` measured."""
+    if not _same(meta_file, seed, SensorModel.ideal(), truth):
+        return False
+    meta = json.loads(meta_file.read_text(encoding="utf-8"))
+    return meta.get("twin_of") == dataclasses.asdict(sensors)
+
+
 def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = None,
                       progress: Callable[[str], None] | None = None,
                       jobs: int = 1, executor: Executor | None = None,
                       sensors: SensorModel | None = None,
-                      truth: str = DEFAULT, drift: bool = True) -> list[Path]:
+                      truth: str = DEFAULT, drift: bool = True,
+                      twins: Path | None = None) -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -329,6 +368,11 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         One of :data:`artic.validation.synthetic.truth.TRUTHS`.
     drift : bool
         ``False``: the column's zero does not drift (see the module docstring).
+    twins : Path, optional
+        A folder for each manoeuvre's noise-free twin (:func:`noise_free_twin`),
+        exported there under the same name: the same truth run measured with
+        ideal sensors, made by the same simulation. A manoeuvre whose export or
+        twin is missing or stale is simulated again and both are written.
 
     Returns
     -------
@@ -351,19 +395,28 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     for m in todo:
         meta = out_dir / m.name / META_FILE
         # Reuse only what this seed and this code made (see artic.validation.runs.fingerprint).
-        if not (meta.is_file() and _same(meta, seed, sensors, config)):
+        twin = twins / m.name / META_FILE if twins is not None else None
+        if not (meta.is_file() and _same(meta, seed, sensors, config)) or (
+                twin is not None and not (twin.is_file()
+                                          and _same_twin(twin, seed, sensors, config))):
             missing.append(m)
     if progress and len(missing) < len(todo):
         progress(f"{len(todo) - len(missing)} of {len(todo)} manoeuvres already generated")
     # Each result is written under the name of the manoeuvre submitted for it.
     # The longest first, so that no worker is left with one long drive at the end.
     missing.sort(key=lambda m: LONGEST_FIRST.index(m.kind))
-    tasks = [(m, (m, seed, sensors, truth, drift)) for m in missing]
+    if twins is not None:
+        twins = Path(twins)
+        twins.mkdir(parents=True, exist_ok=True)
+    tasks = [(m, (m, seed, sensors, truth, drift, twins is not None)) for m in missing]
     counter = Counter(len(missing), "generated", progress)
     with contextlib.closing(completed(_simulate_timed, tasks, jobs, executor)) as done:
-        for m, (run, wall) in done:
+        for m, (result, wall) in done:
+            run, twin = result if twins is not None else (result, None)
             t = run.frame["t"]
             BUDGET.add("multibody", float(t.iloc[-1] - t.iloc[0]) if len(t) > 1 else 0.0)
+            if twin is not None:  # first: a complete export then implies its twin
+                write_export(twin, twins, name=m.name)
             write_export(run, out_dir, name=m.name)
             counter.step(f"{m.name} ({wall:.1f} s)")
     return [out_dir / m.name for m in todo]

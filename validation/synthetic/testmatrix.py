@@ -1,6 +1,6 @@
 """The paper's test matrix (section 2.3), spread over both load conditions.
 
-Forward, 25 manoeuvres:
+The paper's matrix, 58 manoeuvres. Forward, 25:
 
 - constant steer at 200, 360 and 500 deg of steering wheel, 5 and 10 km/h,
   left and right: all 12 cells unloaded, and the same 12 loaded except
@@ -16,14 +16,26 @@ Reverse, 33 manoeuvres:
   :class:`artic.validation.synthetic.driver.DockingDriver` from seeded start poses. Parking
   starts further off line and at a larger angle than docking.
 
+Tuning, 4 manoeuvres beyond the paper's matrix, appended after it (indices
+58-61): a slalom at 360 deg and 8 km/h per load condition, starting to the left
+and to the right. They are driven only for tuning.
+
 The forward tuning set has 8 manoeuvres, as in the paper, 4 per load
-condition so that each is tuned on its own: the constant steers at 200 deg
-and 5 km/h and at 360 deg and 10 km/h, left and right (:data:`TUNING`).
+condition so that each is tuned on its own, of two kinds (:data:`TUNING`):
+the constant steers at 200 deg and 5 km/h, left and right, and the two
+tuning slaloms at 360 deg and 8 km/h. None of them is validated: the
+validation keeps the paper's other 21 forward manoeuvres (the constant
+steers at 360 and 500 deg and at 200 deg and 10 km/h, the slalom and the
+figure-of-8) and all 33 reverse ones.
 """
 
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+
+TUNING_SLALOM = (360.0, 8.0)
+"""The tuning slaloms' steering-wheel amplitude [deg] and speed [km/h]: an
+amplitude and a speed the constant steers of the tuning set do not have."""
 
 
 @dataclass(frozen=True)
@@ -91,6 +103,9 @@ def _matrix() -> tuple[Manoeuvre, ...]:
     for i in range(8):
         cells.append(("parking", "unloaded" if i < 4 else "loaded", 0, 3,
                       "left" if i % 2 == 0 else "right"))
+    for load in ("unloaded", "loaded"):  # the tuning slaloms, beyond the paper's matrix
+        for side in ("left", "right"):
+            cells.append(("slalom", load, int(TUNING_SLALOM[0]), int(TUNING_SLALOM[1]), side))
     out = []
     for i, (kind, load, amp, speed, side) in enumerate(cells):
         name = f"{i:02d}-{kind}-{load}-{amp}deg-{speed}kph-{side}" if amp else \
@@ -100,11 +115,18 @@ def _matrix() -> tuple[Manoeuvre, ...]:
 
 
 MATRIX = _matrix()
-"""All 58 manoeuvres, in order."""
+"""All 62 manoeuvres, in order: the paper's 58, then the 4 tuning slaloms."""
 
-TUNING = tuple(m.name for m in MATRIX if m.kind == "constant-steer"
-               and (m.amplitude_deg, m.speed_kph) in ((200.0, 5.0), (360.0, 10.0)))
-"""The 8 forward tuning manoeuvres, 4 per load condition: constant steer at
-200 deg and 5 km/h and at 360 deg and 10 km/h, left and right. Two amplitudes
-separate the asymmetry q from the offset, and two speeds the cornering
-stiffness f (whose effect grows with the square of the speed) from i_s."""
+PAPER = 58
+"""The paper's manoeuvres: the first 58 of :data:`MATRIX`."""
+
+TUNING = tuple(m.name for m in MATRIX if (m.kind, m.amplitude_deg, m.speed_kph) in (
+    ("constant-steer", 200.0, 5.0), ("slalom", *TUNING_SLALOM)))
+"""The 8 forward tuning manoeuvres, 4 per load condition, of two kinds: the
+constant steers at 200 deg and 5 km/h, left and right, and the tuning slaloms
+at 360 deg and 8 km/h starting left and right. A steady state and a transient
+one: the constant steers fix the steering ratio and the offset at steady
+cornering (left against right separates the offset from the asymmetry q), the
+slaloms the yaw and lateral-velocity response to a changing steer, at another
+amplitude and speed, which separates the cornering stiffness f (whose effect
+grows with the square of the speed) from i_s."""

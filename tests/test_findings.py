@@ -1,0 +1,100 @@
+"""Findings: corrected on the logs and held on their noise-free twins; the noise share."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from artic.validation.campaign import findings
+from artic.validation.campaign.rankings import lowest, ranking_text
+from artic.validation.review.tables import paired_markdown, paired_table
+
+
+def metrics(values: dict[str, np.ndarray], criterion: str = "eps_n") -> pd.DataFrame:
+    """Reverse metrics rows: one per (manoeuvre, model)."""
+    rows = []
+    for model, v in values.items():
+        for i, x in enumerate(v):
+            rows.append({"log": f"{i:02d}", "model": model, "direction": "reverse",
+                         "status": "ok", criterion: x, "eps_a": 0.0, "eps_v": 0.0,
+                         "J_steer": 0.0})
+    return pd.DataFrame(rows)
+
+
+N = 20
+RNG = np.random.default_rng(4)
+BASE = RNG.normal(30.0, 5.0, N)  # the manoeuvres' own difficulty
+NOISE = RNG.normal(6.0, 1.0, N)  # what the sensors add, alike for every model
+
+
+def logs_and_twins(gap_logs: float, gap_twins: float):
+    """KIN above STM by ``gap_*`` on the logs and on the twins, per manoeuvre."""
+    jitter = RNG.normal(0.0, 0.5, N)
+    twins = {"kin": BASE + gap_twins + jitter, "stm": BASE.copy(), "floor": BASE - 10.0}
+    logs = {"kin": BASE + gap_logs + jitter + NOISE, "stm": BASE + NOISE,
+            "floor": BASE - 10.0 + NOISE}
+    return metrics(logs), metrics(twins)
+
+
+def test_a_ranking_that_holds_on_the_twins_is_a_finding():
+    logs, twins = logs_and_twins(3.0, 3.0)
+    pairs = findings.mark(paired_table(logs, "reverse"), paired_table(twins, "reverse"))
+    row = pairs.set_index(["criterion", "a", "b"]).loc[("eps_n", "kin", "stm")]
+    assert row["resolved_adj"] and row["twin_resolved_adj"] and row["finding"]
+    assert row["p_adj"] >= row["p"]  # Holm never lowers a p value
+    assert ranking_text(pairs, "eps_n").startswith("STM below KIN")
+    assert lowest(pairs, "eps_n") == "stm"
+    text = paired_markdown(pairs)
+    assert "p (Holm)" in text and "**yes**" in text and "on the twins" in text
+
+
+def test_a_ranking_the_noise_makes_is_not_a_finding():
+    # KIN worse only on the logs: on the twins the two are equal.
+    logs, twins = logs_and_twins(3.0, 0.0)
+    pairs = findings.mark(paired_table(logs, "reverse"), paired_table(twins, "reverse"))
+    row = pairs.set_index(["criterion", "a", "b"]).loc[("eps_n", "kin", "stm")]
+    assert row["resolved_adj"] and not row["finding"]
+    assert "noise-free twins do not hold it" in ranking_text(pairs, "eps_n")
+    assert lowest(pairs, "eps_n") is None
+    crit = findings.headline_criteria(pairs, findings.noise_share(logs, twins, "reverse"))
+    assert crit.loc["eps_n", "noise_made"] == 1 and not crit.loc["eps_n", "headline"]
+
+
+def test_a_ranking_of_the_opposite_sign_on_the_twins_is_not_a_finding():
+    logs, twins = logs_and_twins(3.0, -3.0)
+    pairs = findings.mark(paired_table(logs, "reverse"), paired_table(twins, "reverse"))
+    row = pairs.set_index(["criterion", "a", "b"]).loc[("eps_n", "kin", "stm")]
+    assert row["resolved_adj"] and row["twin_resolved_adj"] and not row["finding"]
+
+
+def test_without_twins_a_finding_is_a_corrected_ranking():
+    logs, _ = logs_and_twins(3.0, 3.0)
+    pairs = findings.mark(paired_table(logs, "reverse"), None)
+    assert (pairs["finding"] == pairs["resolved_adj"]).all()
+
+
+def test_noise_share_is_the_paired_difference_and_its_share():
+    logs, twins = logs_and_twins(3.0, 3.0)
+    share = findings.noise_share(logs, twins, "reverse").set_index(["model", "criterion"])
+    for model in ("kin", "stm", "floor"):
+        r = share.loc[(model, "eps_n")]
+        assert r["noise"] == pytest.approx(NOISE.mean(), abs=1e-9)
+        assert r["noise_lo"] < NOISE.mean() < r["noise_hi"]
+        assert r["share"] == pytest.approx(100.0 * r["noise"] / r["noisy"])
+        assert r["n"] == N
+    assert "kin: logs / twins / noise (share)" in findings.share_markdown(share.reset_index())
+
+
+def test_headline_needs_the_noise_small_against_the_smallest_finding():
+    # The noise adds 6 points to every model: against a 3-point finding that is
+    # 2 times the difference, against a 30-point one 0.2 times.
+    for gap, headline in ((3.0, False), (30.0, True)):
+        logs, twins = logs_and_twins(gap, gap)
+        pairs = findings.mark(paired_table(logs, "reverse"), paired_table(twins, "reverse"))
+        crit = findings.headline_criteria(pairs, findings.noise_share(logs, twins, "reverse"))
+        r = crit.loc["eps_n"]
+        assert r["findings"] == 1 and r["noise_made"] == 0
+        assert r["ratio"] == pytest.approx(NOISE.mean() / gap, rel=0.05)
+        assert bool(r["headline"]) is headline
+        assert ("**yes**" in findings.criteria_markdown(crit)) is headline

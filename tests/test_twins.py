@@ -1,0 +1,57 @@
+"""The noise-free twins: the same truth run as the measured log, measured with ideal sensors."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pandas as pd
+
+from artic.validation.synthetic.generate import generate_campaign, simulate_manoeuvre
+from artic.validation.synthetic.sensors import SensorModel
+from artic.validation.synthetic.testmatrix import MATRIX
+
+MOTION = ("x_1", "y_1", "psi_1", "v_x_1", "v_y_1", "r_1", "x_2", "y_2", "psi_2", "gamma")
+
+
+def test_the_twin_is_the_same_truth_run_measured_without_noise():
+    m = next(m for m in MATRIX if m.kind == "ramp-steer-reverse")
+    log, twin = simulate_manoeuvre(m, 0, twin=True)
+    # The logs are what they were without twins: the twin draws no random number.
+    alone = simulate_manoeuvre(m, 0)
+    pd.testing.assert_frame_equal(log.frame, alone.frame, check_exact=True)
+    # The twin is bit for bit the truth run that ideal sensors measure, the
+    # column's drift included (drift on in both): one simulation made both.
+    ideal = simulate_manoeuvre(m, 0, SensorModel.ideal())
+    pd.testing.assert_frame_equal(twin.frame, ideal.frame, check_exact=True)
+    assert twin.meta["truth"] == log.meta["truth"] and twin.meta["truth"]["drift_rate"] != 0
+    assert twin.meta["sensors"] == dataclasses.asdict(SensorModel.ideal())
+    assert twin.meta["twin_of"] == log.meta["sensors"]
+    # Same motion, another measurement: the logs differ from the twin by the
+    # sensors' noise (positions 10 mm, velocities 10 mm/s; the trailer's clock
+    # skew shifts its signals by a few samples of motion on top), not more.
+    assert np.array_equal(twin.frame["t"], log.frame["t"])
+    for c in ("x_1", "y_1", "v_y_1"):
+        d = (log.frame[c] - twin.frame[c]).to_numpy()
+        assert 0.002 < d.std() < 0.05, c  # 10 mm (or mm/s) sigma, within a factor of 5
+    assert not np.array_equal(log.frame["delta_h"], twin.frame["delta_h"])  # the CAN bus's
+
+
+def test_generate_exports_each_twin_and_reuses_both(tmp_path):
+    m = next(m for m in MATRIX if m.kind == "constant-steer")
+    out, twins = tmp_path / "synthetic", tmp_path / "twins"
+    [path] = generate_campaign(out, only=[m.name], twins=twins)
+    meta = json.loads((twins / m.name / "meta.json").read_text())
+    assert meta["sensors"]["pos_sigma"] == 0.0 and meta["twin_of"]["pos_sigma"] == 0.01
+    stamp = (path / "meta.json").stat().st_mtime_ns
+    lines = []
+    generate_campaign(out, only=[m.name], twins=twins, progress=lines.append)
+    assert (path / "meta.json").stat().st_mtime_ns == stamp  # reused, not made again
+    assert any("already generated" in line for line in lines)
+    # A missing twin makes the manoeuvre again, both exports.
+    for f in (twins / m.name).iterdir():
+        f.unlink()
+    (twins / m.name).rmdir()
+    generate_campaign(out, only=[m.name], twins=twins)
+    assert (twins / m.name / "meta.json").is_file()

@@ -1,0 +1,218 @@
+"""Findings, noise shares and the headline criteria.
+
+The default campaign validates every model twice: on the measured logs and
+on their noise-free twins, the same truth runs measured with ideal sensors
+(:func:`artic.validation.synthetic.generate.noise_free_twin`). From the two:
+
+- **the noise share** (:func:`noise_share`): per criterion, direction and
+  model (the floor included), the score on the logs minus the score on the
+  twins, paired per manoeuvre with its interval: the part of the score that
+  the sensor noise, the clock skew and the CAN bus make;
+- **findings** (:func:`mark`): a ranking of two models is a finding only
+  where it is resolved after Holm's correction over its table
+  (:func:`artic.validation.review.tables.corrected`) on the logs *and*
+  resolved after the correction, with the same sign, on the twins; a
+  ranking that the noise makes, or that it hides, is not one;
+- **the headline criteria** (:func:`headline_criteria`): those that rank
+  models rather than sensors. A criterion of one direction qualifies when it
+  has a finding between the models under validation, every ranking the logs
+  resolve after correction holds on the twins (so none is made by the
+  noise), and what the noise adds to any model's score is at most
+  :data:`NOISE_FRACTION` of the smallest difference its findings state.
+  The paper's criteria stay in the tables, with their noise share beside
+  them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from artic.validation.criteria.statistics import Interval, format_ci, mean_ci
+from artic.validation.review.tables import UNITS, _ok, columns
+
+FLOOR = "floor"
+
+NOISE_FRACTION = 0.25
+"""Largest noise addition to a model's score, as a share of the smallest
+model difference a headline criterion states [-]."""
+
+
+def mark(pairs: pd.DataFrame, twin_pairs: pd.DataFrame | None) -> pd.DataFrame:
+    """``pairs`` with the twins' verdicts and ``finding``.
+
+    Parameters
+    ----------
+    pairs : DataFrame
+        A paired table on the logs (:func:`artic.validation.review.tables.paired_table`).
+    twin_pairs : DataFrame or None
+        The same table on the noise-free twins; ``None`` where the logs have no
+        twins because they are noise-free themselves (``--sensors ideal``):
+        then a finding is a ranking resolved after the correction.
+
+    Returns
+    -------
+    DataFrame
+        ``pairs`` with ``twin_diff``, ``twin_diff_lo``, ``twin_diff_hi``,
+        ``twin_p_adj``, ``twin_resolved_adj`` (NaN or False where the twins
+        lack the pair) and ``finding``.
+    """
+    out = pairs.copy()
+    if out.empty:
+        out["finding"] = pd.Series(dtype=bool)
+        return out
+    if twin_pairs is None:
+        out["finding"] = out["resolved_adj"].astype(bool)
+        return out
+    keys = ["criterion", "a", "b"]
+    twin = twin_pairs.set_index(keys)
+    idx = pd.MultiIndex.from_frame(out[keys])
+    for src, dst in (("diff", "twin_diff"), ("diff_lo", "twin_diff_lo"),
+                     ("diff_hi", "twin_diff_hi"), ("p_adj", "twin_p_adj")):
+        out[dst] = twin[src].reindex(idx).to_numpy(dtype=float) if len(twin) else math.nan
+    resolved = twin["resolved_adj"].reindex(idx) if len(twin) else None
+    out["twin_resolved_adj"] = (resolved.fillna(False).astype(bool).to_numpy()
+                                if resolved is not None else False)
+    same_sign = np.sign(out["diff"].to_numpy(dtype=float)) == np.sign(
+        out["twin_diff"].to_numpy(dtype=float))
+    out["finding"] = out["resolved_adj"].astype(bool) & out["twin_resolved_adj"] & same_sign
+    return out
+
+
+def noise_share(metrics: pd.DataFrame, twins: pd.DataFrame, direction: str) -> pd.DataFrame:
+    """What the sensor noise adds to each model's score, per criterion, paired per manoeuvre.
+
+    Parameters
+    ----------
+    metrics, twins : DataFrame
+        ``metrics.csv`` rows on the logs and on their twins (same ``log`` names;
+        with a ``seed`` column, paired per seed and log).
+    direction : str
+        ``forward`` or ``reverse``.
+
+    Returns
+    -------
+    DataFrame
+        One row per (model, criterion): the mean on the logs ``noisy`` and on
+        the twins ``twin`` with their intervals (``_lo``, ``_hi``), the mean
+        of the per-manoeuvre difference ``noise`` (logs minus twins) with its
+        interval, ``share`` (``noise`` over ``noisy`` [%]) and ``n`` (the
+        manoeuvres both have). For the signed dock errors ``dock_*`` the
+        magnitudes are compared.
+    """
+    a, b = _ok(metrics), _ok(twins)
+    a, b = a[a["direction"] == direction], b[b["direction"] == direction]
+    keys = ["seed", "log"] if "seed" in a and "seed" in b else ["log"]
+    rows = []
+    for c in columns(metrics, direction):
+        if c not in b:
+            continue
+        for model, g in a.groupby("model", sort=False):
+            h = b[b["model"] == model]
+            x = pd.to_numeric(g.set_index(keys)[c], errors="coerce")
+            y = pd.to_numeric(h.set_index(keys)[c], errors="coerce")
+            if c.startswith("dock_"):
+                x, y = x.abs(), y.abs()
+            common = x.index.intersection(y.index)
+            x, y = x.loc[common].to_numpy(float), y.loc[common].to_numpy(float)
+            ok = np.isfinite(x) & np.isfinite(y)
+            if not ok.any():
+                continue
+            x, y = x[ok], y[ok]
+            row = {"model": model, "criterion": c, "n": int(ok.sum())}
+            for name, v in (("noisy", x), ("twin", y), ("noise", x - y)):
+                iv = mean_ci(v)
+                row[name], row[f"{name}_lo"], row[f"{name}_hi"] = iv.mean, iv.lo, iv.hi
+            row["share"] = 100.0 * row["noise"] / row["noisy"] if row["noisy"] else math.nan
+            rows.append(row)
+    cols = ["model", "criterion", "noisy", "noisy_lo", "noisy_hi", "twin", "twin_lo", "twin_hi",
+            "noise", "noise_lo", "noise_hi", "share", "n"]
+    return pd.DataFrame(rows, columns=cols)
+
+
+def share_markdown(table: pd.DataFrame) -> str:
+    """A noise-share table in Markdown: one row per criterion, one column per model."""
+    if table.empty:
+        return "(no criterion has values on both the logs and the twins)"
+    models = list(dict.fromkeys(table["model"]))
+    head = ["criterion", *[f"{m}: logs / twins / noise (share)" for m in models]]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for c, g in table.groupby("criterion", sort=False):
+        unit = f" [{UNITS[c]}]" if c in UNITS else ""
+        cells = [f"{c}{unit}"]
+        for m in models:
+            r = g[g["model"] == m]
+            if r.empty:
+                cells.append("-")
+                continue
+            r = r.iloc[0]
+            n = int(r["n"])
+            parts = [format_ci(Interval(r[k], r[f"{k}_lo"], r[f"{k}_hi"], n, ""))
+                     for k in ("noisy", "twin", "noise")]
+            share = f"{r['share']:.0f} %" if math.isfinite(r["share"]) else "-"
+            cells.append(f"{parts[0]} / {parts[1]} / {parts[2]} ({share})")
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def headline_criteria(pairs: pd.DataFrame, share: pd.DataFrame | None,
+                      exclude: tuple[str, ...] = (FLOOR,)) -> pd.DataFrame:
+    """Which criteria of one direction rank models rather than sensors (module docstring).
+
+    Parameters
+    ----------
+    pairs : DataFrame
+        The direction's paired table on the logs, marked by :func:`mark`.
+    share : DataFrame or None
+        Its :func:`noise_share`; ``None`` for noise-free logs (nothing to add).
+    exclude : tuple of str
+        Rows that are not models under validation (the floor).
+
+    Returns
+    -------
+    DataFrame
+        Indexed by criterion: ``findings`` (between models), ``noise_made``
+        (rankings resolved after correction on the logs that do not hold on
+        the twins), ``smallest`` (the smallest |difference| a finding states),
+        ``noise`` (the largest |noise addition| to a model's score), ``ratio``
+        (``noise / smallest``) and ``headline``.
+    """
+    rows = {}
+    if pairs is None or pairs.empty:
+        return pd.DataFrame(columns=["findings", "noise_made", "smallest", "noise", "ratio",
+                                     "headline"])
+    models = pairs[~pairs["a"].isin(exclude) & ~pairs["b"].isin(exclude)]
+    for c, g in models.groupby("criterion", sort=False):
+        found = g[g["finding"].astype(bool)]
+        noise_made = int((g["resolved_adj"].astype(bool) & ~g["finding"].astype(bool)).sum())
+        smallest = float(found["diff"].abs().min()) if len(found) else math.nan
+        if share is not None and len(share):
+            s = share[(share["criterion"] == c) & ~share["model"].isin(exclude)]
+            noise = float(s["noise"].abs().max()) if len(s) else math.nan
+        else:
+            noise = 0.0
+        ratio = noise / smallest if len(found) and smallest > 0 else math.nan
+        rows[c] = {"findings": len(found), "noise_made": noise_made, "smallest": smallest,
+                   "noise": noise, "ratio": ratio,
+                   "headline": bool(len(found) and noise_made == 0 and math.isfinite(ratio)
+                                    and ratio <= NOISE_FRACTION)}
+    out = pd.DataFrame.from_dict(rows, orient="index")
+    out.index.name = "criterion"
+    return out
+
+
+def criteria_markdown(table: pd.DataFrame) -> str:
+    """:func:`headline_criteria` as a Markdown table."""
+    lines = ["| criterion | findings | rankings the noise makes | smallest finding | largest "
+             "noise addition | ratio | headline |", "|---|---|---|---|---|---|---|"]
+    for c, r in table.iterrows():
+        unit = f" {UNITS[c]}" if c in UNITS and UNITS[c] != "%" else (
+            " points" if UNITS.get(c) == "%" else "")
+        smallest = f"{r['smallest']:.3g}{unit}" if math.isfinite(r["smallest"]) else "-"
+        noise = f"{r['noise']:.3g}{unit}" if math.isfinite(r["noise"]) else "-"
+        ratio = f"{r['ratio']:.2f}" if math.isfinite(r["ratio"]) else "-"
+        lines.append(f"| {c} | {int(r['findings'])} | {int(r['noise_made'])} | {smallest} | "
+                     f"{noise} | {ratio} | {'**yes**' if r['headline'] else 'no'} |")
+    return "\n".join(lines)
