@@ -93,6 +93,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.direction import direction_of
@@ -221,7 +222,7 @@ def truth_states(meta: dict) -> TruthStates | None:
     x = np.frombuffer(base64.b64decode(rec.get("x", "")), dtype="<f8")
     size = int(rec.get("size", 0))
     if size <= 0 or x.size != t.size * size:
-        raise ValueError(f"{meta.get('name', 'a log')}: metadata {STATE_KEY!r} is damaged "
+        raise UserError(f"{meta.get('name', 'a log')}: metadata {STATE_KEY!r} is damaged "
                          f"({x.size} numbers for {t.size} states of {size}); generate the log "
                          "again")
     return TruthStates(t, x.reshape(t.size, size).astype(float))

@@ -196,8 +196,8 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
     un = [(a.unsprung_mass, a.x, tyre_radius[a.name]) for a in v.tractor_axles]
     m_frames = v.m1 - tractor_unsprung - CAB_MASS - fifth_mass
     if m_frames <= 0.2 * v.m1:
-        raise UnsupportedVehicleError(f"{v.name}: tractor mass {v.m1:.0f} kg too small for its axles "
-                         "and cab in the yard truth's model")
+        raise UnsupportedVehicleError(f"{v.name}: tractor mass {v.m1:.0f} kg too small for its "
+                                      "axles and cab in the yard truth's model")
     rest_x = (v.m1 * x_cg - sum(m * x for m, x, _ in un) - CAB_MASS * cab_x
               - fifth_mass * v.L1c) / m_frames
     rest_z = (v.m1 * z_cg - sum(m * z for m, _, z in un) - CAB_MASS * cab_z
@@ -211,8 +211,9 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
                 + fifth_mass * (v.L1c - x_cg) ** 2 + m_frames * (rest_x - x_cg) ** 2)
     j_budget = v.J1 - j_points
     if j_budget <= 0.0:
-        raise UnsupportedVehicleError(f"{v.name}: tractor yaw inertia J1 = {v.J1:.0f} kg m^2 is below what "
-                         "its masses' positions carry in the yard truth's model")
+        raise UnsupportedVehicleError(f"{v.name}: tractor yaw inertia J1 = {v.J1:.0f} kg m^2 is "
+                                      "below what its masses' positions carry in the yard "
+                                      "truth's model")
     j_cab = min(CAB_MASS * (2.3 ** 2 + 2.5 ** 2) / 12.0, 0.4 * j_budget)
     j_rear = (j_budget - j_cab) * 0.55
     j_front = (j_budget - j_cab) * 0.45
@@ -264,7 +265,8 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
                  + mb * (bx + v.a2) ** 2)
     j2_own = v.J2 - j2_points
     if j2_own <= 0.0:
-        raise UnsupportedVehicleError(f"{v.name}: semitrailer yaw inertia J2 below what its axles carry")
+        raise UnsupportedVehicleError(f"{v.name}: semitrailer yaw inertia J2 below what its "
+                                      "axles carry")
     trailer.mass = mb
     trailer.ipos = [bx, dy * v.m2 / mb, bz - v.h5]
     trailer.inertia = _box(mb, mb * 0.8 ** 2, j2_own, j2_own)

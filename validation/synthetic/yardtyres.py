@@ -35,6 +35,8 @@ import re
 
 import numpy as np
 
+from artic.mjcf.errors import UnsupportedVehicleError, UserError
+
 G = 9.81
 """Gravity [m/s^2] (the load ratings are in kg)."""
 
@@ -119,7 +121,7 @@ def size_of(tyre_file: str) -> str:
     """The tyre size ``WWW/RRRDD.D`` in a tyre file's name (``artic-truck-315-80R22.5.tir``)."""
     m = _SIZE.search(str(tyre_file))
     if m is None:
-        raise ValueError(f"{tyre_file}: no tyre size such as 315-80R22.5 in the file's name; "
+        raise UserError(f"{tyre_file}: no tyre size such as 315-80R22.5 in the file's name; "
                          "the yard truth reads its tyres' size from it")
     return f"{m.group(1)}/{m.group(2)}R{m.group(3)}"
 
@@ -143,7 +145,8 @@ def yard_tyre(size: str, twin: bool = False, pressure: float = 1.0, friction: fl
         Scale of the lateral slope at zero slip [-] (tread wear, temperature).
     """
     if size not in LOAD_RATING:
-        raise ValueError(f"tyre size {size}: the yard truth knows {', '.join(LOAD_RATING)}")
+        raise UnsupportedVehicleError(f"tyre size {size}: the yard truth knows "
+                                      f"{', '.join(LOAD_RATING)}")
     m = re.fullmatch(r"(\d{3})/(\d{2})R(\d{2}(?:\.\d)?)", size)
     w, ratio, rim = float(m.group(1)) / 1000.0, float(m.group(2)) / 100.0, float(m.group(3))
     fmax = LOAD_RATING[size][1 if twin else 0] * G
