@@ -36,4 +36,13 @@ class UnsupportedVehicleError(UserError):
 
 
 class PlantError(ArticError, RuntimeError):
-    """The simulation diverged; the message names the time and the wheel."""
+    """The simulation diverged; the message names the time and the wheel.
+
+    Examples
+    --------
+    >>> import artic
+    >>> issubclass(artic.PlantError, artic.errors.ArticError)
+    True
+    >>> issubclass(artic.PlantError, artic.errors.UserError)  # not the user's fault
+    False
+    """

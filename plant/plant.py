@@ -226,6 +226,21 @@ class Plant:
         (:mod:`artic.plant.spinmode`), which keeps RK4 stable and accurate through
         standstill at 10 ms; ``False`` integrates it plainly, which RK4 holds
         only up to about 6 ms (the plain RK4 reference of the convergence study).
+
+    Examples
+    --------
+    One second at 1 m/s with the road wheels at 0.05 rad, in 10 ms steps:
+
+    >>> import artic
+    >>> from artic.mjcf.interface import InitialState
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> with artic.Plant(vehicle) as plant:
+    ...     plant.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=1.0))
+    ...     for _ in range(100):
+    ...         plant.step(0.01, 0.05, 1.0, 0.0)  # dt [s], delta [rad], u1 [m/s], u1_dot
+    ...     x_1 = plant.observe(0.05)[0]  # the tractor sensor's x [m]
+    >>> bool(0.9 < x_1 < 1.1), bool(plant.gamma > 0.0)  # it moved 1 m and turned left
+    (True, True)
     """
 
     name = "mbd"

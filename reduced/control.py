@@ -620,6 +620,22 @@ class KIN(ReducedModel):
     ------
     UnsupportedVehicleError
         When a wheelbase of the vehicle is not positive and finite.
+
+    Examples
+    --------
+    Reversing straight is open-loop unstable: linearised about a straight
+    reverse at 1 m/s and sampled at 0.1 s, one eigenvalue lies outside the unit
+    circle (the articulation's, growing by ``exp(u1 / L2 * dt)``):
+
+    >>> import numpy as np
+    >>> import artic
+    >>> kin = artic.KIN(artic.load_vehicle("gosar2022-unloaded"))
+    >>> x0, u0 = kin.straight(-1.0)  # states X_1, Y_1, psi_1, gamma; inputs delta, u_1
+    >>> A, B = kin.linearise(x0, u0, dt=0.1)
+    >>> round(float(np.abs(np.linalg.eigvals(A)).max()), 3)
+    1.013
+    >>> kin.rollout(x0, np.tile(u0, (50, 1)), 0.1).shape  # 50 steps of 0.1 s, from x0
+    (51, 4)
     """
 
     kind = integrate.KIN
@@ -771,6 +787,21 @@ class STM(ReducedModel):
     VehicleFileError
         For a vehicle without the tyre data the STM needs (a scale model's
         file may leave ``[tyre] f`` out): one line naming the file and the key.
+
+    Examples
+    --------
+    In a slow steady turn the STM's yaw rate is close to KIN's ``u_1 tan(delta) / L1``
+    (the tyres slip a little):
+
+    >>> import math
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> stm = artic.STM(vehicle)
+    >>> x, u = stm.steady_turn(0.1, 2.0)  # road-wheel angle [rad], speed [m/s]
+    >>> r_1 = x[stm.find_state("r_1")]
+    >>> kinematic = 2.0 * math.tan(0.1) / vehicle.L1
+    >>> bool(abs(r_1 - kinematic) / kinematic < 0.1)
+    True
     """
 
     kind = integrate.STM

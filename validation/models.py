@@ -300,7 +300,14 @@ the built-in ones first, then the registered ones in the order they were registe
 
 
 def names() -> tuple[str, ...]:
-    """The names of the models under validation, built-ins first, registered ones after."""
+    """The names of the models under validation, built-ins first, registered ones after.
+
+    Examples
+    --------
+    >>> import artic
+    >>> {"kin", "stm", "mbd"} <= set(artic.model_names())
+    True
+    """
     return tuple(n for n, s in REGISTRY.items() if not s.reference)
 
 
@@ -396,6 +403,16 @@ def model_spec(name: str, build: Callable[[Vehicle], Model], *, label: str | Non
         For a malformed name or a built-in's, or a bad label, colour or ``tuned``.
     TypeError
         For a ``build`` that is not callable.
+
+    Examples
+    --------
+    A spec for an ``artic.models`` entry point, without registering it:
+
+    >>> import artic
+    >>> spec = artic.model_spec("kin_paper", lambda v: artic.KIN(v, wheelbase="paper"),
+    ...                         label="KIN (drive axle)")
+    >>> spec.name, spec.label
+    ('kin_paper', 'KIN (drive axle)')
     """
     if colour is None:
         digest = hashlib.sha256(str(name).encode()).digest()
@@ -444,6 +461,18 @@ def register_model(name: str, build: Callable[[Vehicle], Model], *, label: str |
         label, colour or ``tuned``.
     TypeError
         For a ``build`` that is not callable.
+
+    Examples
+    --------
+    KIN with the paper's wheelbase (the drive axle) as a model of its own:
+
+    >>> import artic
+    >>> spec = artic.register_model("kin_paper", lambda v: artic.KIN(v, wheelbase="paper"),
+    ...                             label="KIN (drive axle)")
+    >>> "kin_paper" in artic.model_names()
+    True
+    >>> from artic.validation.models import unregister_model
+    >>> unregister_model("kin_paper")
     """
     return _add(model_spec(name, build, label=label, colour=colour, tuned=tuned,
                            batched=batched))
@@ -519,6 +548,14 @@ def build(name: str, vehicle: Vehicle, log: Run | None = None) -> Model:
     before models are registered, and the table may be for a model registered
     in another process, so it is not an error here (``artic`` commands refuse
     it, :func:`check_vehicle`).
+
+    Examples
+    --------
+    >>> import artic
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> model = artic.build_model("kin", vehicle)
+    >>> type(model).__name__, model.name
+    ('KIN', 'kin')
     """
     for line in _unknown_tables(vehicle):
         warnings.warn(f"{line}; it is unused: every model without a table of its own uses "

@@ -474,6 +474,20 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     -------
     dict
         Result files by name.
+
+    Examples
+    --------
+    A part of the campaign (a forward tuning log and a reverse ramp steer, KIN
+    alone, no recordings), in a few seconds:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import artic
+    >>> out = Path(tempfile.mkdtemp())
+    >>> paths = artic.run_campaign(out, models=("kin",), only=["00-", "28-"],
+    ...                            recordings=False, sweep_models=(), closing=False)
+    >>> paths["report"].name, paths["table3"].exists()
+    ('report.md', True)
     """
     if seeds < 1:
         raise UserError(f"--seeds {seeds}: a campaign needs at least one truck")
