@@ -12,11 +12,11 @@ the likely cause when they disagree:
 ``gap``
     No time step longer than :data:`artic.validation.logs.checks.MAX_GAP`.
 ``turning``
-    No unit turns tighter than its geometry allows: the tractor's heading
-    changes by at most ``tan(delta_max) / L1`` per metre its drive axle
-    travels, the semitrailer's by at most ``1 / L2`` per metre its kingpin
-    travels (its axle rolls along its heading, so the kingpin's sideways
-    speed is ``r_2 L2``), with :data:`TURN_MARGIN` for tyre slip. Positions
+    No unit turns tighter than its geometry allows: the tractor's sensor on a
+    radius of at least ``L1 / tan(delta_max)`` (less its lateral offset), the
+    semitrailer's on one of at least its distance from the axle (about which
+    the semitrailer may turn on the spot), judged per metre of the sensor's
+    own track with :data:`TURN_MARGIN` for tyre slip. Positions
     in too small a unit (millimetres declared as metres) turn the unit a
     hundred or a thousand times tighter. Larger units are refused by the
     structural limits on speed.
@@ -204,8 +204,14 @@ of heading noise alone (a unit standing still) leave it."""
 
 AXES_TOL = math.radians(30.0)
 """Largest median angle between a unit's axle travel and its heading [rad]: tyre slip
-at yard speeds is a few degrees, a chord over a window in a turn adds less; swapped or
-mirrored axes are off by tens of degrees in every turn."""
+at yard speeds is a few degrees, a chord over a window in a turn adds less; swapped
+axes are off by tens of degrees in every turn."""
+
+AXES_SLIP = math.radians(5.0)
+"""Median angle between axle travel and heading that tyre slip and a sensor placed a
+metre off the vehicle file's explain at yard speeds [rad]. Beyond it, a track that fits
+twice as well mirrored back is refused: a track mirrored while the heading stays ISO's
+is off by about twice the heading's swing, a few degrees on a log that keeps its course."""
 
 METADATA_SHARE = 0.25
 """Least share of the distance driven in the direction the metadata states: a docking
@@ -754,79 +760,120 @@ def check_turning(t: np.ndarray, df: pd.DataFrame, i: int, vehicle, ctx: Context
                   scale: LogScale = FULL_SIZE) -> Finding | None:
     """Unit ``i`` turns no tighter than its geometry allows (see the module docstring).
 
-    The tractor's heading changes by at most ``tan(delta_max) / L1`` per metre
-    of its drive axle's travel; the semitrailer's by at most ``1 / L2`` per
-    metre of its kingpin's. Summed over the :data:`YAW_WINDOW` windows that
-    turn by more than :data:`TURN_WINDOW_MIN`.
+    Judged on the sensor's own track (the positions as logged, no offset in
+    another unit added): the tractor's drive axle turns on a radius of at least
+    ``R = L1 / tan(delta_max)``, so its sensor, ``(x_s, y_s)`` from the axle, on
+    one of at least ``R - |y_s|``; the semitrailer's axle may turn on the spot,
+    so its sensor, ``d`` ahead of the axle, on a radius of at least ``|d|`` (not
+    judged within half a metre of the axle). Summed over the :data:`YAW_WINDOW`
+    windows that turn by more than :data:`TURN_WINDOW_MIN`.
     """
     v = _default_vehicle(vehicle)
     if i == 1:
-        track = _point(df, 1, (0.0, 0.0), v.sensor1)
-        per_m, where = math.tan(v.steering.delta_max) / v.L1, "drive axle"
-        limit = (f"tan(delta_max) / L1 = {per_m:.3g} rad/m (delta_max = "
-                 f"{math.degrees(v.steering.delta_max):.0f} deg, L1 = {v.L1:g} m)")
+        radius = v.L1 / math.tan(v.steering.delta_max) - abs(v.sensor1[1])
+        limit = (f"a radius of {radius:.3g} m at its sensor: L1 / tan(delta_max) with "
+                 f"L1 = {v.L1:g} m, delta_max = {math.degrees(v.steering.delta_max):.0f} deg")
     else:
-        track = _point(df, 2, (0.0, 0.0), v.sensor2)
-        per_m, where = 1.0 / v.L2, "kingpin"
-        limit = f"1 / L2 = {per_m:.3g} rad/m (L2 = {v.L2:g} m)"
+        radius = abs(v.sensor2[0] + v.L2)
+        limit = (f"a radius of {radius:.3g} m at its sensor, {radius:.3g} m from its axle, "
+                 "about which it may turn on the spot")
+    if radius < scale.distance(0.5):
+        return None
     i0, i1 = _windows(t, YAW_WINDOW)
     if not i0.size:
         return None
     psi = df[f"psi_{i}"].to_numpy(float)
-    step = np.concatenate([[0.0], np.hypot(np.diff(track[0]), np.diff(track[1]))])
-    path = np.cumsum(step)
+    x, y = df[f"x_{i}"].to_numpy(float), df[f"y_{i}"].to_numpy(float)
+    path = np.cumsum(np.concatenate([[0.0], np.hypot(np.diff(x), np.diff(y))]))
     turn = np.abs(psi[i1] - psi[i0])
-    travel = path[i1] - path[i0]
     use = turn > TURN_WINDOW_MIN
     turned = float(turn[use].sum())
     if turned < max(YAW_FLOOR, 4.0 * YAW_NOISE * math.sqrt(max(1, int(use.sum())))):
         return None
-    travelled = float(travel[use].sum())
-    most = per_m * travelled
+    travelled = float((path[i1] - path[i0])[use].sum())
+    most = travelled / radius
     if turned <= TURN_MARGIN * most:
         return None
     factor = turned / most if most > 0 else math.inf
     unit = "tractor" if i == 1 else "semitrailer"
     return Finding("turning", _pose_names(i, ctx), float(t[i0[use][0]]), float(t[i1[use][-1]]),
-                   f"the {unit} turns {turned:.3g} rad while its {where} travels "
+                   f"the {unit} turns {turned:.3g} rad while its sensor travels "
                    f"{travelled:.3g} m, {_ratio(factor)} times tighter than its geometry "
                    f"allows ({limit} of {v.name})",
-                   f"the positions look {_ratio(factor)} times too small: millimetres or "
-                   "centimetres declared as metres, or a scale; declare their unit")
+                   f"the positions look at least {_ratio(factor)} times too small: "
+                   "millimetres or centimetres declared as metres, or a scale; declare their "
+                   "unit")
+
+
+_AXES_MIRRORS = (("y's sign flipped", (1.0, 0.0, 0.0, -1.0)),
+                 ("x's sign flipped", (-1.0, 0.0, 0.0, 1.0)),
+                 ("x and y swapped", (0.0, 1.0, 1.0, 0.0)))
+"""The mirrored tracks the axes check names: (what, the matrix ``(a, b, c, d)`` that undoes it)."""
 
 
 def check_axes(t: np.ndarray, df: pd.DataFrame, i: int, vehicle, ctx: Context,
                scale: LogScale = FULL_SIZE) -> Finding | None:
-    """Unit ``i``'s axle travels along its heading, forwards or backwards (module docstring)."""
+    """Unit ``i``'s axle travels along its heading, forwards or backwards (module docstring).
+
+    The angle between the axle's travel over :data:`VELOCITY_WINDOW` windows and
+    the heading, its median over the windows that travel, is judged against
+    :data:`AXES_TOL`; beyond :data:`AXES_SLIP`, the track is also mirrored
+    (each of :data:`_AXES_MIRRORS` undone), and one that fits twice as well is
+    named.
+    """
     v = _default_vehicle(vehicle)
     axle = (0.0, 0.0) if i == 1 else (-v.L2, 0.0)
-    x, y = _point(df, i, axle, v.sensor1 if i == 1 else v.sensor2)
+    sensor = v.sensor1 if i == 1 else v.sensor2
     psi = df[f"psi_{i}"].to_numpy(float)
+    xs, ys = df[f"x_{i}"].to_numpy(float), df[f"y_{i}"].to_numpy(float)
     i0, i1 = _windows(t, VELOCITY_WINDOW)
     if not i0.size:
         return None
-    dx, dy = x[i1] - x[i0], y[i1] - y[i0]
-    use = np.hypot(dx, dy) >= scale.distance(VELOCITY_MIN_STEP)
+
+    def off(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        x, y = _point(pd.DataFrame({f"x_{i}": x, f"y_{i}": y, f"psi_{i}": psi}), i, axle,
+                      sensor)
+        dx, dy = x[i1] - x[i0], y[i1] - y[i0]
+        use = np.hypot(dx, dy) >= scale.distance(VELOCITY_MIN_STEP)
+        mid = 0.5 * (psi[i0] + psi[i1])
+        return _fold(np.arctan2(dy, dx) - mid), use
+
+    angle, use = off(xs, ys)
     if use.sum() < 3:
         return None
-    mid = 0.5 * (psi[i0] + psi[i1])[use]
-    off = np.arctan2(dy[use], dx[use]) - mid
-    off = np.abs(np.angle(np.exp(1j * off)))
-    off = np.minimum(off, math.pi - off)  # forwards or backwards along the heading
-    med = float(np.median(off))
-    if med <= AXES_TOL:
+    med = float(np.median(angle[use]))
+    if med <= AXES_SLIP:
+        return None
+    undone = []
+    for what, (a, b, c, d) in _AXES_MIRRORS:
+        m_angle, m_use = off(a * xs + b * ys, c * xs + d * ys)
+        both = use & m_use
+        if both.sum() >= 3:
+            undone.append((float(np.median(m_angle[both])), what))
+    best = min(undone) if undone else (math.inf, "")
+    if med <= AXES_TOL and not best[0] < 0.5 * med:
         return None
     idx = np.flatnonzero(use)
-    j = idx[int(np.argmax(off))]
+    j = idx[int(np.argmax(angle[use]))]
     unit, where = ("tractor", "drive axle") if i == 1 else ("semitrailer", "axle")
+    mirrored = (f"; undone, {best[1]} makes it {math.degrees(best[0]):.1f} deg"
+                if best[0] < 0.5 * med else "")
+    cause = (f"{best[1]} (a mirrored track): fix the axes at their source"
+             if best[0] < 0.5 * med else
+             "latitude and longitude (or x and y) swapped, or one of them with the wrong "
+             "sign (a mirrored track), or a heading that is not counter-clockwise from x: "
+             "fix the axes at their source")
     return Finding("axes", _pose_names(i, ctx), float(t[i0[idx[0]]]), float(t[i1[idx[-1]]]),
-                   f"the {unit}'s {where} travels {math.degrees(med):.0f} deg (median over "
+                   f"the {unit}'s {where} travels {math.degrees(med):.1f} deg (median over "
                    f"{idx.size} windows of {VELOCITY_WINDOW:g} s; worst over t = "
                    f"{t[i0[j]]:.2f} to {t[i1[j]]:.2f} s) off the direction its heading "
-                   "points, where it can only roll along it",
-                   "latitude and longitude (or x and y) swapped, or one of them with the "
-                   "wrong sign (a mirrored track), or a heading that is not counter-clockwise "
-                   "from x: fix the axes at their source")
+                   f"points, where it can only roll along it{mirrored}", cause)
+
+
+def _fold(a: np.ndarray) -> np.ndarray:
+    """``|a|`` wrapped to [0, pi/2]: an angle to a line, travelled either way."""
+    a = np.abs(np.angle(np.exp(1j * a)))
+    return np.minimum(a, math.pi - a)
 
 
 def check_articulation(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
