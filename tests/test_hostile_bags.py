@@ -129,15 +129,16 @@ Y = 'y_1 = { topic = "/vive/pose", field = "pose.position.y", unit = "m" }'
 
 
 @pytest.mark.parametrize("case, text", [
-    ("x and y swapped", MCAP.replace(X, X.replace("position.x", "position.y"))
+    ("latitude and longitude (or x and y) swapped", MCAP.replace(X, X.replace("position.x", "position.y"))
      .replace(Y, Y.replace("position.y", "position.x"))),
-    ("y's sign flipped", MCAP.replace(Y, Y.replace(' }', ', scale = -1.0 }'))),
+    ("y (or latitude) with its sign flipped", MCAP.replace(Y, Y.replace(' }', ', scale = -1.0 }'))),
 ])
 def test_a_mirrored_track_is_refused(tmp_path, truth, case, text):
     path, _ = bag_logs.write_log("mcap", tmp_path / "rig", truth)
     line = refused(tmp_path, path, text)
     assert "drive axle travels" in line and "off the direction its heading points" in line, line
-    assert f"undone, {case} makes it" in line and f"{case} (a mirrored track)" in line, line
+    assert f"with {case.split(' (')[0]} undone, " in line, line
+    assert f"{case} (a mirrored track)" in line, line
     assert "--accept axes" in line
 
 
@@ -156,8 +157,8 @@ def test_positions_in_millimetres_declared_as_metres_are_refused(tmp_path, truth
     line = refused(tmp_path, path, in_mm)
     assert re.search(r"the tractor turns [\d.]+ rad while its sensor travels [\d.]+ m, "
                      r"[\d.]+ times tighter than its geometry allows \(a radius of", line)
-    assert "look at least" in line and "times too small: millimetres or centimetres declared " \
-        "as metres" in line and "--accept turning" in line
+    assert "look at least" in line and "times too small (millimetres or centimetres declared " \
+        "as metres)" in line and "--accept turning" in line
 
 
 # ------------------------------------------------------------------ stamps and rates

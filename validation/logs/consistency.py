@@ -99,9 +99,9 @@ from artic.validation.logs.scale import FULL_SIZE, LogScale
 
 CHECKS: dict[str, str] = {
     "gap": "no time step longer than the longest gap accepted",
+    "yaw-rate": "integrated yaw rate against the heading change",
     "turning": "no unit turns tighter than its geometry allows (positions in too small a unit)",
     "axes": "each unit's axle travels along its heading (x and y swapped or mirrored)",
-    "yaw-rate": "integrated yaw rate against the heading change",
     "curvature": "course of the position track against the integrated yaw rate",
     "velocity": "integrated velocity against the position track: sign, scale, direction",
     "jump": "position steps the velocity does not explain",
@@ -800,14 +800,14 @@ def check_turning(t: np.ndarray, df: pd.DataFrame, i: int, vehicle, ctx: Context
                    f"the {unit} turns {turned:.3g} rad while its sensor travels "
                    f"{travelled:.3g} m, {_ratio(factor)} times tighter than its geometry "
                    f"allows ({limit} of {v.name})",
-                   f"the positions look at least {_ratio(factor)} times too small: "
-                   "millimetres or centimetres declared as metres, or a scale; declare their "
-                   "unit")
+                   f"the positions look at least {_ratio(factor)} times too small "
+                   "(millimetres or centimetres declared as metres), or the heading as many "
+                   "times too large (degrees declared as radians): declare their units")
 
 
-_AXES_MIRRORS = (("y's sign flipped", (1.0, 0.0, 0.0, -1.0)),
-                 ("x's sign flipped", (-1.0, 0.0, 0.0, 1.0)),
-                 ("x and y swapped", (0.0, 1.0, 1.0, 0.0)))
+_AXES_MIRRORS = (("y (or latitude) with its sign flipped", (1.0, 0.0, 0.0, -1.0)),
+                 ("x (or longitude) with its sign flipped", (-1.0, 0.0, 0.0, 1.0)),
+                 ("latitude and longitude (or x and y) swapped", (0.0, 1.0, 1.0, 0.0)))
 """The mirrored tracks the axes check names: (what, the matrix ``(a, b, c, d)`` that undoes it)."""
 
 
@@ -856,7 +856,7 @@ def check_axes(t: np.ndarray, df: pd.DataFrame, i: int, vehicle, ctx: Context,
     idx = np.flatnonzero(use)
     j = idx[int(np.argmax(angle[use]))]
     unit, where = ("tractor", "drive axle") if i == 1 else ("semitrailer", "axle")
-    mirrored = (f"; undone, {best[1]} makes it {math.degrees(best[0]):.1f} deg"
+    mirrored = (f"; with {best[1].split(' (')[0]} undone, {math.degrees(best[0]):.1f} deg"
                 if best[0] < 0.5 * med else "")
     cause = (f"{best[1]} (a mirrored track): fix the axes at their source"
              if best[0] < 0.5 * med else
@@ -980,7 +980,8 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
              tracked: int | None = None) -> Iterator[Finding]:
     """Every check's finding on a frame that passed ``check_frame``, lazily, in check order.
 
-    Per unit, the turning radius comes first (positions in too small a unit
+    Per unit, the turning radius comes after the yaw rate (which names a
+    heading in degrees) and before the velocity (positions in too small a unit
     would otherwise be named as a velocity in too large a one), the
     velocity's sign and scale are judged before the axes and the track's
     curvature (a flipped velocity also turns the sideslip the curvature
@@ -1017,10 +1018,10 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
     if "gap" in run and (f := check_gap(t)) is not None:
         yield f
     for i in (1, 2):
+        if "yaw-rate" in run and (f := check_yaw(t, frame, i, ctx, sc)) is not None:
+            yield f
         if i in measured and "turning" in run and (
                 f := check_turning(t, frame, i, vehicle, ctx, sc)) is not None:
-            yield f
-        if "yaw-rate" in run and (f := check_yaw(t, frame, i, ctx, sc)) is not None:
             yield f
         vel = check_velocity(t, frame, i, ctx, sc) if "velocity" in run else None
         if vel is not None and not vel.direction:
