@@ -128,10 +128,14 @@ X = 'x_1 = { topic = "/vive/pose", field = "pose.position.x", unit = "m" }'
 Y = 'y_1 = { topic = "/vive/pose", field = "pose.position.y", unit = "m" }'
 
 
+SWAPPED = MCAP.replace(X, X.replace("position.x", "position.y")).replace(
+    Y, Y.replace("position.y", "position.x"))
+Y_FLIPPED = MCAP.replace(Y, Y.replace(" }", ", scale = -1.0 }"))
+
+
 @pytest.mark.parametrize("case, text", [
-    ("latitude and longitude (or x and y) swapped", MCAP.replace(X, X.replace("position.x", "position.y"))
-     .replace(Y, Y.replace("position.y", "position.x"))),
-    ("y (or latitude) with its sign flipped", MCAP.replace(Y, Y.replace(' }', ', scale = -1.0 }'))),
+    ("latitude and longitude (or x and y) swapped", SWAPPED),
+    ("y (or latitude) with its sign flipped", Y_FLIPPED),
 ])
 def test_a_mirrored_track_is_refused(tmp_path, truth, case, text):
     path, _ = bag_logs.write_log("mcap", tmp_path / "rig", truth)
