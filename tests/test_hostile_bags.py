@@ -90,6 +90,19 @@ def test_an_encoder_in_radians_declared_in_degrees_is_refused(tmp_path, truth):
     assert "/encoder/angle (field data) looks like radians where degrees are expected" in line
 
 
+def test_an_encoder_writing_radians_to_a_degrees_map_is_refused_with_the_tractor_tracked(
+        tmp_path, truth):
+    """The mcap rig's map says degrees; its encoder writes radians: gamma 57 times small."""
+    msgs = bag_logs.messages("mcap", truth)
+    for topic, _, m, _ in msgs:
+        if topic == "/encoder/angle":
+            m.data = np.float32(math.radians(float(m.data)))
+    path = bag_logs.write_messages("mcap", tmp_path / "rig", msgs)
+    line = refused(tmp_path, path, bag_logs.channel_map("mcap"))
+    assert "the kinematic trailer equation driven by the tractor's speed" in line, line
+    assert "/encoder/angle (field data) looks like radians where degrees are expected" in line
+
+
 # ------------------------------------------------------------------ quaternions
 def _scaled_quaternions(truth, factor) -> list:
     msgs = bag_logs.messages("mcap", truth)
