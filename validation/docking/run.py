@@ -292,7 +292,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 obs = Observation(now, signals, dh)
                 tc = time.perf_counter()
                 try:
-                    with calling("command()"):
+                    with calling("command()", now):
                         cmd = ctrl.command(obs)
                     solve_ms = 1e3 * (time.perf_counter() - tc)
                     target = (float(cmd.delta_h), float(cmd.u1), bool(cmd.done))

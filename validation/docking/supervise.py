@@ -40,23 +40,36 @@ MPC's solver) on a loaded machine."""
 POLL = 0.2
 """How often the supervisor looks at the workers' heartbeats [s]."""
 
+CALLS = ("reset()", "command()")
+"""The controller's calls the heartbeat names."""
+
 _heartbeat = None
-"""This worker's heartbeat (a shared double): when its controller call started
-(``time.monotonic``), 0 between calls; ``None`` outside a supervised worker."""
+"""This worker's heartbeat (three shared doubles): when its controller call started
+(``time.monotonic``, 0 between calls), which call (an index of :data:`CALLS`) and the
+run's time then [s]; ``None`` outside a supervised worker."""
 
 
 @contextlib.contextmanager
-def calling(what: str) -> Iterator[None]:
-    """Stamp the heartbeat while the controller's ``what`` runs (nothing outside a worker)."""
+def calling(what: str, t: float = 0.0) -> Iterator[None]:
+    """Stamp the heartbeat while the controller's ``what`` runs (nothing outside a worker).
+
+    Parameters
+    ----------
+    what : str
+        One of :data:`CALLS`.
+    t : float
+        The run's time [s], for the message of a hang.
+    """
     hb = _heartbeat
     if hb is None:
         yield
         return
-    hb.value = time.monotonic()
+    hb[1], hb[2] = float(CALLS.index(what)), float(t)
+    hb[0] = time.monotonic()
     try:
         yield
     finally:
-        hb.value = 0.0
+        hb[0] = 0.0
 
 
 def _worker(conn, hb, parent: int) -> None:
@@ -81,7 +94,7 @@ def _worker(conn, hb, parent: int) -> None:
             return
         except BaseException as exc:  # noqa: BLE001 - reported as the run's failure
             out = ("error", " ".join(f"{type(exc).__name__}: {exc}".split()))
-        hb.value = 0.0
+        hb[0] = 0.0
         try:
             conn.send(out)
         except (OSError, ValueError):
@@ -93,7 +106,7 @@ class _Slot:
 
     def __init__(self, ctx) -> None:
         self.conn, child = ctx.Pipe()
-        self.hb = ctx.Value("d", 0.0, lock=False)
+        self.hb = ctx.Array("d", 3, lock=False)
         self.proc = ctx.Process(target=_worker, args=(child, self.hb, os.getpid()),
                                 name="artic-dock-worker", daemon=True)
         self.proc.start()
@@ -177,10 +190,12 @@ def supervised(fn: Callable, tasks: Sequence[tuple[object, tuple]], jobs: int,
                         reason = (f"controller ended the run's process ("
                                   f"{_ended(s.proc.exitcode)}): a sys.exit, os._exit or "
                                   "crash outside Python")
-                started = s.hb.value
+                started = s.hb[0]
                 if reason is None and started > 0.0 and time.monotonic() - started > deadline:
-                    reason = (f"controller hang: a call of reset() or command() did not "
-                              f"return within {deadline:g} s")
+                    call = CALLS[int(s.hb[1])]
+                    when = f" at t = {s.hb[2]:.1f} s" if call == "command()" else ""
+                    reason = (f"controller hang: {call}{when} did not return within "
+                              f"{deadline:g} s")
                 if reason is not None:
                     s.task = None
                     s.stop(kill=True)
