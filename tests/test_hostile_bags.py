@@ -146,14 +146,25 @@ SWAPPED = MCAP.replace(X, X.replace("position.x", "position.y")).replace(
 Y_FLIPPED = MCAP.replace(Y, Y.replace(" }", ", scale = -1.0 }"))
 
 
+@pytest.mark.parametrize("fmt", ["mcap", "ros2-mcap"])  # the tractor tracked; the semitrailer
 @pytest.mark.parametrize("case, text", [
     ("latitude and longitude (or x and y) swapped", SWAPPED),
     ("y (or latitude) with its sign flipped", Y_FLIPPED),
 ])
-def test_a_mirrored_track_is_refused(tmp_path, truth, case, text):
-    path, _ = bag_logs.write_log("mcap", tmp_path / "rig", truth)
+def test_a_mirrored_track_is_refused(tmp_path, truth, case, text, fmt):
+    path, theirs = bag_logs.write_log(fmt, tmp_path / "rig", truth)
+    if fmt == "ros2-mcap":  # the same lie in the semitrailer's map
+        text = theirs.replace(X.replace("x_1", "x_2").replace("/vive", "/trailer"),
+                              X.replace("x_1", "x_2").replace("/vive", "/trailer").replace(
+                                  "position.x", "position.y") if "swapped" in case else
+                              X.replace("x_1", "x_2").replace("/vive", "/trailer"))
+        y2 = Y.replace("y_1", "y_2").replace("/vive", "/trailer")
+        text = text.replace(y2, y2.replace("position.y", "position.x") if "swapped" in case
+                            else y2.replace(" }", ", scale = -1.0 }"))
+        assert text != theirs
     line = refused(tmp_path, path, text)
-    assert "drive axle travels" in line and "off the direction its heading points" in line, line
+    where = "semitrailer's axle travels" if fmt == "ros2-mcap" else "tractor's drive axle travels"
+    assert where in line and "off the direction its heading points" in line, line
     assert f"with {case.split(' (')[0]} undone, " in line, line
     assert f"{case} (a mirrored track)" in line, line
     assert "--accept axes" in line

@@ -207,11 +207,13 @@ AXES_TOL = math.radians(30.0)
 at yard speeds is a few degrees, a chord over a window in a turn adds less; swapped
 axes are off by tens of degrees in every turn."""
 
-AXES_SLIP = math.radians(5.0)
-"""Median angle between axle travel and heading that tyre slip and a sensor placed a
-metre off the vehicle file's explain at yard speeds [rad]. Beyond it, a track that fits
-twice as well mirrored back is refused: a track mirrored while the heading stays ISO's
-is off by about twice the heading's swing, a few degrees on a log that keeps its course."""
+AXES_SLIP = math.radians(2.0)
+"""Median angle between axle travel and heading below which a track is not judged for a
+mirror [rad]: a semitrailer's heading may swing by only a few degrees, and a mirror moves
+the travel by twice the swing. Beyond it, a track that fits at least twice as well mirrored
+back is refused. Tyre slip and a sensor off the vehicle file's place move the travel off the
+heading too, but alike for the track and its mirror: they never make the mirror fit twice
+as well (on a log that keeps its heading both fit alike, and nothing is refused)."""
 
 METADATA_SHARE = 0.25
 """Least share of the distance driven in the direction the metadata states: a docking
