@@ -49,6 +49,16 @@ MISBEHAVING = USER_CONTROLLER + textwrap.dedent('''
             return super().command(obs)
 
 
+    class Killed(Proportional):
+        """Ends as a crash in compiled code would: by a signal, with no word."""
+
+        def command(self, obs):
+            if obs.t > 0.25:
+                import signal
+                os.kill(os.getpid(), signal.SIGKILL)
+            return super().command(obs)
+
+
     class Hangs(Proportional):
         def command(self, obs):
             if obs.t > 0.25:
@@ -124,21 +134,22 @@ def test_exit_crash_and_hang_are_failed_rows_and_the_benchmark_completes(
         tmp_path, user_module, monkeypatch, jobs):
     monkeypatch.setattr(supervise, "CALL_DEADLINE", 3.0)  # the hang is judged after 3 s
     code, so, err, out = dock(
-        tmp_path, "misbehaving:Exits,misbehaving:OsExit,misbehaving:Hangs,"
+        tmp_path, "misbehaving:Exits,misbehaving:OsExit,misbehaving:Killed,misbehaving:Hangs,"
         "misbehaving:Proportional", "--jobs", jobs)
     assert code == 0, err
     rows = pd.read_csv(out / "dock.csv", keep_default_na=False)
     assert list(rows.columns) == list(COLUMNS)
     rows = rows.set_index("controller")
-    assert len(rows) == 4
+    assert len(rows) == 5
     assert "controller error: SystemExit: 3" in rows.loc["misbehaving:Exits", "failure"]
     assert "exit code 7" in rows.loc["misbehaving:OsExit", "failure"]
+    assert "killed by signal SIGKILL" in rows.loc["misbehaving:Killed", "failure"]
     assert rows.loc["misbehaving:Hangs", "failure"] == (
         "controller hang: command() at t = 0.3 s did not return within 3 s")
     assert not any(rows.loc[c, "success"] for c in ("misbehaving:Exits", "misbehaving:OsExit",
-                                                    "misbehaving:Hangs"))
+                                                    "misbehaving:Killed", "misbehaving:Hangs"))
     assert rows.loc["misbehaving:Proportional", "success"] in (True, "True")  # went on
-    assert "1 of 4 runs docked" in so
+    assert "1 of 5 runs docked" in so
     assert "Traceback" not in err and "All-NaN" not in err
 
 
