@@ -776,3 +776,11 @@ def test_fuzz_mapped_logs_many(make, damage, accept, byte_damage):
        truncate=st.one_of(st.none(), st.none(), st.integers(1, 10 ** 6)))
 def test_fuzz_bags_and_maps_many(edits, byte_damage, truncate):
     check_bag(edits, byte_damage, truncate)
+
+
+@pytest.mark.slow
+@BAGS
+@SLOW
+@given(lie=BAG_LIES)
+def test_fuzz_bags_that_lie_many(lie):
+    check_bag_lie(lie)
