@@ -45,8 +45,9 @@ class Field:
     doc : str
         What the number means.
     kind : str
-        ``"positive"``, ``"nonneg"``, ``"real"``, ``"angle"``, ``"bool"``,
-        ``"str"``, ``"vec3"`` or ``"strlist"``.
+        ``"positive"``, ``"nonneg"``, ``"real"``, ``"angle"``, ``"limit"`` (a
+        positive angle: a joint's freedom either way), ``"bool"``, ``"str"``,
+        ``"vec3"`` or ``"strlist"``.
     optional : bool
         Whether the key may be left out.
     default : Any
@@ -175,9 +176,9 @@ PLANT = {
 
 LIMITS = {
     "gamma_max": Field("rad", "articulation at which the cab and trailer touch (jackknife)",
-                       "angle"),
+                       "limit"),
     "hitch_pitch": Field("rad", "pitch freedom of the fifth wheel, either way (plant)",
-                         "angle"),
+                         "limit"),
 }
 
 MODELS = ("kin", "stm", "mbd")
@@ -257,7 +258,11 @@ def check_value(path: Path | str, key: str, field: Field, value: Any) -> Any:
         raise _fail(path, key, f"must be positive{unit}, got {x!r}")
     if kind == "nonneg" and x < 0.0:
         raise _fail(path, key, f"must not be negative{unit}, got {x!r}")
-    if kind == "angle" and abs(x) > math.pi:
+    if kind == "limit" and x <= 0.0:
+        raise _fail(path, key, f"must be positive{unit}, got {x!r}: it is the freedom either "
+                               "way, and a joint needs some (the plant's joint range would be "
+                               "empty)")
+    if kind in ("angle", "limit") and abs(x) > math.pi:
         raise _fail(path, key, f"{x!r} is larger than pi: angles are in radians; "
                                f"{x!r} deg is {math.radians(x):.6g} rad")
     return x

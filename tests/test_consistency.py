@@ -190,7 +190,8 @@ def test_accept_records_the_override(tmp_path):
     back = read_log(p, accept=("yaw-rate",))
     assert len(back.meta["accepted_checks"]) == 1
     assert back.meta["accepted_checks"][0].startswith("accepted yaw-rate: ")
-    with pytest.raises(ValueError, match="unknown check; the checks are gap, yaw-rate"):
+    with pytest.raises(ValueError,
+                       match="unknown check; the checks are gap, yaw-rate, turning, axes"):
         consistency.parse_accept(["yaw-rate,nonsense"])
 
 

@@ -20,9 +20,17 @@ run) generation of four kinds of input, each fed to ``artic`` in-process:
   ``validate``;
 - bags and their channel maps: an MCAP file of the rig in ``bag_logs`` whose
   map names missing topics, wrong or hostile field paths (text, messages,
-  out-of-range indices, custom types), wrong units, scales and time sources,
+  out-of-range indices, custom types), any unit, scales and time sources,
   and whose bytes are damaged or truncated, through ``logs import`` and
-  ``validate``.
+  ``validate``;
+- the bag reader's field paths, built from real field names, indices, joint
+  names and garbage, on every message type of the rig's bags, with a number's
+  unit or a quaternion's: a number (NaN for an absent joint) or one line;
+- bags that lie: positions in another unit than the map says, swapped or
+  mirrored axes, quaternions off unit length, header stamps a thousand times
+  apart, a flipped articulation or one in radians declared as degrees, alone
+  or together: refused in one line naming the check, never imported silently
+  (a quaternion off unit length alone is normalised, with a line).
 
 The property, per case: the command exits 0 with a sound result (strict JSON;
 a run whose status is ``ok`` holds only finite numbers; an imported log that
@@ -57,7 +65,8 @@ from hypothesis import strategies as st
 
 from artic.mjcf import load_vehicle
 from artic.validation.cli.commands import main
-from artic.validation.logs.runfile import check_frame, read_run, write_run
+from artic.validation.logs.channelmap import UNITS
+from artic.validation.logs.runfile import LogError, check_frame, read_run, write_run
 from artic.validation.logs.schema import COLUMNS
 from hostile_logs import slalom
 
@@ -485,7 +494,7 @@ BAG_EDITS = st.lists(st.one_of(
         ["/vive/pose", "/encoder/angle", "/diagnostics/rig", "/nope", "", "vive/pose"])),
     st.tuples(st.just("field"), st.sampled_from(BAG_CHANNELS), BAG_FIELDS),
     st.tuples(st.just("unit"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
-        ["m", "deg", "rad", "quaternion", "km/h", "s", "", "furlong"])),
+        [*UNITS, "", "furlong"])),
     st.tuples(st.just("scale"), st.sampled_from(BAG_CHANNELS), HOSTILE_NUMBERS),
     st.tuples(st.just("time"), st.sampled_from(BAG_CHANNELS), st.sampled_from(
         ["header", "receive", "later"])),
@@ -552,6 +561,101 @@ def check_bag(edits, byte_damage: int | None, truncate: int | None) -> None:
 BAGS = pytest.mark.skipif(bag_logs is None, reason="rosbags and mcap-ros2-support (the test "
                                                     "extra) are not installed")
 
+# The bag reader's field paths, on every message type the rig's bags carry: any path gives
+# a number (NaN where a named joint is absent) or one LogError naming the file, topic and field.
+PATH_STEPS = st.one_of(
+    st.sampled_from(["pose", "position", "orientation", "x", "y", "z", "w", "header", "stamp",
+                     "sec", "frame_id", "name", "velocity", "data", "twist", "linear",
+                     "counters", "state", "battery", "covariance", "child_frame_id",
+                     "__msgtype__", "__class__", "[0]", "[1]", "[2]", "[-1]", "[35]", "[99]",
+                     "[hitch]", "[steer_dummy]", "[nope]", "[]", "[0x1]"]),
+    st.text(max_size=6))
+FIELD_PATHS = st.lists(PATH_STEPS, min_size=0, max_size=5).map(
+    lambda steps: "".join(st_ if st_.startswith("[") or i == 0 else "." + st_
+                          for i, st_ in enumerate(steps)))
+
+
+@functools.cache
+def _rig_messages() -> dict:
+    """One message per topic type of the rig's bags (ROS 2 types), by type name."""
+    f = slalom().frame.iloc[:20].reset_index(drop=True)
+    out = {}
+    for fmt in ("mcap", "sqlite3", "ros1"):
+        for _, typ, m, _ in bag_logs.messages(fmt, f):
+            out.setdefault(typ, m)
+    return out
+
+
+def check_field(path: str, typ: str, unit: str, strict: bool) -> None:
+    from artic.validation.logs.bags import _Field
+    from artic.validation.logs.channelmap import Entry
+
+    entry = Entry("psi_1" if unit == "quaternion" else "x_1", "/topic", path, unit)
+    try:
+        field = _Field(Path("rig.mcap"), entry, typ, "map.toml")
+        value = field.value(_rig_messages()[typ], strict)
+    except LogError as exc:
+        text = str(exc)
+        assert "\n" not in text and text.startswith("rig.mcap: topic /topic"), text
+        OUTCOMES.setdefault("bag field paths", Counter())["refused"] += 1
+        return
+    assert isinstance(value, float)
+    OUTCOMES.setdefault("bag field paths", Counter())["a number"] += 1
+
+
+# Lies a bag's messages tell that its map does not know: each must be refused in one line
+# naming its check, or (a quaternion off unit length) repaired with a line; never accepted
+# silently.
+BAG_LIES = st.fixed_dictionaries({
+    "positions": st.sampled_from([1.0, 1.0, 1e-3, 1e-2, 1e3]),  # written in m, or other units
+    "axes": st.sampled_from(["iso", "iso", "swapped", "y flipped", "x flipped"]),
+    "quaternion": st.sampled_from([1.0, 1.0, 2.0, 0.5, 0.01]),
+    "stamps": st.sampled_from([1, 1, 1000]),  # header stamps this many times too far apart
+    "gamma": st.sampled_from(["right", "right", "flipped", "radians as degrees"]),
+})
+
+
+@functools.cache
+def _lie_truth() -> pd.DataFrame:
+    return slalom().frame.iloc[:2400].reset_index(drop=True)
+
+
+def check_bag_lie(lie: dict) -> None:
+    msgs = bag_logs.messages("mcap", _lie_truth())
+    for topic, _, m, _ in msgs:
+        if topic == "/vive/pose":
+            p, q = m.pose.position, m.pose.orientation
+            x, y = p.x * lie["positions"], p.y * lie["positions"]
+            x, y = {"iso": (x, y), "swapped": (y, x), "y flipped": (x, -y),
+                    "x flipped": (-x, y)}[lie["axes"]]
+            p.x, p.y = x, y
+            k = lie["quaternion"]
+            q.x, q.y, q.z, q.w = k * q.x, k * q.y, k * q.z, k * q.w
+            ns = (m.header.stamp.sec * 10 ** 9 + m.header.stamp.nanosec - bag_logs.T0_NS)
+            ns = bag_logs.T0_NS + ns * lie["stamps"]
+            m.header.stamp.sec, m.header.stamp.nanosec = ns // 10 ** 9, ns % 10 ** 9
+        elif topic == "/encoder/angle" and lie["gamma"] == "radians as degrees":
+            m.data = np.float32(math.radians(float(m.data)))  # the map still says deg
+    text = bag_logs.channel_map("mcap")
+    if lie["gamma"] == "flipped":
+        text = text.replace("scale = -1.0", "scale = 1.0")
+    lies = [k for k, v in lie.items() if v not in (1.0, 1, "iso", "right")
+            and not (k == "quaternion" and 0.1 <= v <= 10.0)]
+    with tempfile.TemporaryDirectory() as tmp:
+        path = bag_logs.write_messages("mcap", Path(tmp) / "rig", msgs)
+        chmap = Path(tmp) / "map.toml"
+        chmap.write_text(text)
+        code, out, err = artic("logs", "import", path, "--channels", chmap, "--out-dir",
+                               Path(tmp) / "out")
+        outcome = judge("bags that lie, import", code, err)
+        if lies:
+            assert outcome == "exit 2", f"{lie} accepted silently:\n{out}"
+            assert re.search(r"(check|--accept [a-z-]+ to use it|beyond .* for a yard)", err), err
+        else:
+            assert outcome == "ok", err
+            if lie["quaternion"] != 1.0:
+                assert "quaternion check" in out and "normalised" in out, out
+
 
 # ------------------------------------------------------------------ the fast part
 @FAST
@@ -599,6 +703,24 @@ def test_fuzz_damaged_logs(damage, fmt, byte_damage):
        truncate=st.one_of(st.none(), st.none(), st.integers(1, 10 ** 6)))
 def test_fuzz_bags_and_maps(edits, byte_damage, truncate):
     check_bag(edits, byte_damage, truncate)
+
+
+@BAGS
+@settings(FAST, max_examples=300)
+@given(path=FIELD_PATHS, typ=st.sampled_from(["geometry_msgs/msg/PoseStamped",
+                                              "sensor_msgs/msg/JointState", "nav_msgs/msg/Odometry",
+                                              "std_msgs/msg/Float32", "std_msgs/msg/Float64",
+                                              "my_rig/msg/Diagnostics"]),
+       unit=st.sampled_from(["m", "quaternion"]), strict=st.booleans())
+def test_fuzz_bag_field_paths(path, typ, unit, strict):
+    check_field(path, typ, unit, strict)
+
+
+@BAGS
+@FAST
+@given(lie=BAG_LIES)
+def test_fuzz_bags_that_lie(lie):
+    check_bag_lie(lie)
 
 
 # ------------------------------------------------------------------ the slow part
@@ -654,3 +776,11 @@ def test_fuzz_mapped_logs_many(make, damage, accept, byte_damage):
        truncate=st.one_of(st.none(), st.none(), st.integers(1, 10 ** 6)))
 def test_fuzz_bags_and_maps_many(edits, byte_damage, truncate):
     check_bag(edits, byte_damage, truncate)
+
+
+@pytest.mark.slow
+@BAGS
+@SLOW
+@given(lie=BAG_LIES)
+def test_fuzz_bags_that_lie_many(lie):
+    check_bag_lie(lie)

@@ -110,7 +110,7 @@ from artic.validation.runs.validate import (
 from artic.validation.runs.workers import completed
 from artic.validation.synthetic.generate import generate_campaign
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import TUNING
+from artic.validation.synthetic.testmatrix import MATRIX, TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 LOADS = ("unloaded", "loaded")
@@ -492,6 +492,7 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     if seeds < 1:
         raise UserError(f"--seeds {seeds}: a campaign needs at least one truck")
     _sensor_model(sensors)  # a bad name fails before anything is written
+    check_selection(only)
     jobs = jobs or os.cpu_count() or 1
     if seeds > 1:
         from artic.validation.campaign.seeds import run_seeds
@@ -531,6 +532,32 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
                         + ("" if drift else ", no drift"))
         return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
                            key, stage, truth, state, closing, sensors, drift)
+
+
+def check_selection(only: list[str] | None) -> None:
+    """Refuse an ``--only`` that leaves nothing to validate, before any work.
+
+    The tuning manoeuvres (:data:`~artic.validation.synthetic.testmatrix.TUNING`)
+    are fitted on and never validated; a selection of them alone would tune
+    and then have no log for the tables.
+
+    Raises
+    ------
+    ValueError
+        One line naming the selection and what to add.
+    """
+    if not only:
+        return
+    chosen = [m.name for m in MATRIX if any(m.name.startswith(o) for o in only)]
+    if chosen and all(n in TUNING for n in chosen):
+        raise UserError(f"--only {','.join(only)}: selects only tuning manoeuvres "
+                         f"({', '.join(chosen)}), which are fitted on and never validated, "
+                         "so there would be nothing to validate; add a validation manoeuvre "
+                         f"(for example --only {','.join(only)},{_first_validated()})")
+
+
+def _first_validated() -> str:
+    return next(m.name for m in MATRIX if m.name not in TUNING)
 
 
 def _saved_timings(out_dir: Path, key: str) -> dict:

@@ -50,6 +50,7 @@ from artic.mjcf.vehicle import load_vehicle
 from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
 from artic.validation.harness.loop import DEFAULT_GAIN
+from artic.validation.logs.assemble import MIN_SEGMENT
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import SOURCES, read_log
 from artic.validation.logs.noise import from_meta, read_noise
@@ -65,6 +66,10 @@ from artic.validation.synthetic.truth import TRUTHS
 
 JOBS = os.cpu_count() or 1
 """Default of every ``--jobs``: the number of cores."""
+
+MIN_RUN = MIN_SEGMENT
+"""Shortest run ``artic simulate`` writes [s]: what an import keeps of a segment, as the
+criteria and the differentiator need a second."""
 
 USER_ERRORS = (UserError, FileNotFoundError)
 """What the user can fix (:mod:`artic.mjcf.errors`): one line, exit code 2. Anything
@@ -129,6 +134,10 @@ def _simulate(args: argparse.Namespace) -> int:
     what = "--duration" if args.duration is not None else (
         f"--speed-kph {speed:g} and --amplitude-deg {amplitude:g} (a {args.manoeuvre} lasts "
         f"{duration:.3g} s at them)")
+    if duration < MIN_RUN:
+        raise UserError(f"{what}: a run of {duration:.3g} s is too short to validate; the "
+                         f"criteria and the differentiator need at least {MIN_RUN:g} s: give "
+                         f"--duration {MIN_RUN:g} or more")
     options.check_memory(int(duration / 0.01) + 1, what)
     profile = make_profile(args.manoeuvre, amplitude_deg=args.amplitude_deg,
                            speed_kph=args.speed_kph, side=args.side, duration=args.duration,
@@ -138,8 +147,14 @@ def _simulate(args: argparse.Namespace) -> int:
         run = simulate(model, v, profile)
     finally:
         close(model)
-    write_run(run, out)
     status = run.meta["status"]
+    span = float(run.frame.t.iloc[-1] - run.frame.t.iloc[0]) if len(run.frame) else 0.0
+    if span < MIN_RUN - 1e-9:
+        end = f" ({span:.3g} s)" if len(run.frame) else ""
+        print(f"artic: simulation failed: {len(run.frame)} sample(s){end}, too short to "
+              f"validate (at least {MIN_RUN:g} s), not written: {status}", file=sys.stderr)
+        return 1
+    write_run(run, out)
     end = f", {run.frame.t.iloc[-1]:.2f} s" if len(run.frame) else ""
     print(f"wrote {out}: {len(run.frame)} samples{end}"
           + ("" if status == "ok" else f"; {status}"))
@@ -415,7 +430,7 @@ def _tyre_curves(args: argparse.Namespace) -> int:
 
 def _campaign(args: argparse.Namespace) -> int:
     from artic.validation.campaign.executors import DaskOptions
-    from artic.validation.campaign.main import run_campaign
+    from artic.validation.campaign.main import check_selection, run_campaign
     from artic.validation.models import parse_models
 
     sweep = tuple(parse_models(args.sweep_models, "--sweep-models")) if args.sweep_models else ()
@@ -423,8 +438,9 @@ def _campaign(args: argparse.Namespace) -> int:
     dask = DaskOptions(timeout=args.scheduler_timeout, tls_ca_file=args.tls_ca_file,
                        tls_cert=args.tls_cert, tls_key=args.tls_key)
     dask.check(args.executor, args.scheduler)
-    out = check_output_dir(args.out_dir)
     only = [o for o in args.only.split(",") if o] if args.only else None
+    check_selection(only)  # before the output folder is made: nothing is written
+    out = check_output_dir(args.out_dir)
     run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
                  sweep_models=sweep, only=only, recordings=args.recordings,
                  executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth,

@@ -12,7 +12,15 @@
   The Markdown ends with each controller's compute time per command over all
   its runs (median, 99th percentile, largest): for the controller's own, run
   it on one core, ``taskset -c 0 artic dock --no-recordings ...`` (``--jobs``
-  follows the process's cores).
+  follows the process's cores). A controller slower than the 0.1 s sample
+  period is named in a warning and in ``late_commands``; a run with too many
+  late commands fails as ``not real-time`` unless ``--no-realtime``.
+
+A name given twice in a list is refused (its runs would count twice). A
+controller module that cannot be imported is one line naming the module and
+the error; a controller that exits, crashes or hangs fails its run and the
+benchmark goes on. Temporaries of an interrupted benchmark, and recordings of
+runs the new table does not list, are removed.
 
 The parser is built without importing the benchmark (numba, the plant), so
 that every other command starts as fast as before.
@@ -22,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 from pathlib import Path
 
 from artic.mjcf.errors import UserError
@@ -56,6 +65,10 @@ def add_parser(sub) -> None:
     p.add_argument("--truth", action="store_true",
                    help="drive the synthetic campaign's truth (seed 0) instead of the plant built "
                         "from the vehicle file; gosar2022 presets only")
+    p.add_argument("--realtime", action=argparse.BooleanOptionalAction, default=True,
+                   help="fail a run whose controller takes longer than the 0.1 s sample period "
+                        "for more than one command in twenty (default: on; --no-realtime "
+                        "only counts them, in dock.csv's late_commands)")
     p.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
                    help="write one Rerun recording per run in OUT_DIR/recordings, about 1 MB "
                         "a minute of driving (default: on)")
@@ -74,7 +87,19 @@ def _names(text: str, option: str) -> list[str]:
     names = [n.strip() for n in text.split(",") if n.strip()]
     if not names:
         raise UserError(f"{option}: no name given")
+    _once(names, option)
     return names
+
+
+def _once(names: list[str], option: str, given: list[str] | None = None) -> None:
+    """Refuse a name given twice: its runs would be counted twice in every rate."""
+    seen: dict[str, str] = {}
+    for name, text in zip(names, given or names, strict=True):
+        if name in seen:
+            both = text if text == seen[name] else f"{seen[name]} and {text}"
+            raise UserError(f"{option} {','.join(given or names)}: {both} named twice; each "
+                             "start would be counted twice in the success rates: name it once")
+        seen[name] = text
 
 
 def list_all() -> str:
@@ -106,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
     from artic.validation.cli.progress import stderr
     from artic.validation.docking.controllers import load
     from artic.validation.docking.plots import plot_errors
-    from artic.validation.docking.run import benchmark
+    from artic.validation.docking.run import benchmark, run_name
     from artic.validation.docking.scenarios import SCENARIOS, scenario
     from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
@@ -115,24 +140,30 @@ def run(args: argparse.Namespace) -> int:
     scenarios = (list(SCENARIOS) if args.scenario.strip() == "all"
                  else [scenario(n).name for n in _names(args.scenario, "--scenario")])
     vehicles = _names(args.vehicle, "--vehicle")
+    loaded = []
     for v in vehicles:
         vehicle = load_vehicle(v)  # a bad name or file is one line now, not in a worker
+        loaded.append(vehicle.name)
         if args.truth:
             from artic.validation.docking.run import truth_yard
 
             truth_yard(vehicle, 0, 0, 0)
+    _once(loaded, "--vehicle", vehicles)  # a preset and its file are one vehicle
     controllers = _names(args.controller, "--controller")
-    for c in controllers:
-        load(c)
+    classes = [load(c) for c in controllers]
+    _once([f"{c.__module__}:{c.__qualname__}" for c in classes], "--controller", controllers)
     out = check_output_dir(args.out_dir)
     rows = []
     with OutDirLock(out, "dock"):
-        clean_stale(out)
+        stale = clean_stale(out)
+        if stale:
+            stderr(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         for c in controllers:
             rows += benchmark(scenarios, vehicles, c, range(args.seeds), jobs=args.jobs,
                               progress=stderr,
                               recordings=out / "recordings" if args.recordings else None,
-                              truth=0 if args.truth else None)
+                              truth=0 if args.truth else None, realtime=args.realtime)
+        _warn_late(rows, args.realtime)
         frame = pd.DataFrame(rows)[list(COLUMNS)]
         csv = atomic_write(out / "dock.csv",
                            lambda p: frame.to_csv(p, index=False, float_format="%.6g"))
@@ -150,7 +181,48 @@ def run(args: argparse.Namespace) -> int:
                f"core{'s' if _cores() > 1 else ''}:\n\n" + markdown(compute_times(rows)))
         atomic_write_text(out / "dock_table.md", md)
         plot_errors(frame, out / "dock_errors.png")
+        orphans = _orphan_recordings(out / "recordings", [
+            run_name(sc, v, c, seed) for c in controllers for sc in scenarios for v in vehicles
+            for seed in range(args.seeds)])
+        if orphans:
+            stderr(f"removed {len(orphans)} recording(s) in {out / 'recordings'} of runs that "
+                   f"dock.csv does not list (an earlier benchmark's): "
+                   f"{', '.join(p.name for p in orphans[:3])}"
+                   + (", ..." if len(orphans) > 3 else ""))
     docked = int(frame["success"].sum())
     print(md, end="")
     print(f"wrote {csv}: {docked} of {len(frame)} runs docked; {out / 'dock_table.md'}")
     return 0
+
+
+def _warn_late(rows: list[dict], realtime: bool) -> None:
+    """One warning per controller whose commands took longer than the sample period."""
+    from artic.validation.docking.run import DT
+
+    late: dict[str, list[int]] = {}
+    for r in rows:
+        n = int(r.get("late_commands") or 0)
+        if n:
+            late.setdefault(r["controller"], []).append(n)
+    for ctrl, counts in late.items():
+        judged = ("those with too many failed as not real-time" if realtime
+                  else "counted only (--no-realtime)")
+        print(f"artic: warning: controller {ctrl}: {sum(counts)} command(s) in {len(counts)} "
+              f"run(s) took longer than the {DT:g} s sample period; {judged}", file=sys.stderr)
+
+
+def _orphan_recordings(folder: Path, runs: list[str]) -> list[Path]:
+    """Remove the recordings in ``folder`` of runs other than ``runs``; return them.
+
+    An earlier benchmark into the same folder (other scenarios, seeds or
+    controllers) left them; beside the new table they would pass for its runs.
+    """
+    if not folder.is_dir():
+        return []
+    keep = {f"{r}.rrd" for r in runs}
+    removed = []
+    for p in sorted(folder.glob("*.rrd")):
+        if p.name not in keep:
+            p.unlink(missing_ok=True)
+            removed.append(p)
+    return removed

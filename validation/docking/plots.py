@@ -43,10 +43,8 @@ def plot_errors(rows: pd.DataFrame, path: Path) -> Path:
                            label=f"{c}, {v}")
         ax.plot([-BAR[0], BAR[0], BAR[0], -BAR[0], -BAR[0]],
                 [-BAR[1], -BAR[1], BAR[1], BAR[1], -BAR[1]], "k--", lw=0.8)
-        lim_x = max(BAR[0] * 1.3, float(np.nanmax(np.abs(100.0 * ok["lateral_error_m"]),
-                                                  initial=0.0)) * 1.1)
-        lim_y = max(BAR[1] * 1.3, float(np.nanmax(np.abs(ok["heading_error_deg"]),
-                                                  initial=0.0)) * 1.1)
+        lim_x = max(BAR[0] * 1.3, _largest(100.0 * ok["lateral_error_m"]) * 1.1)
+        lim_y = max(BAR[1] * 1.3, _largest(ok["heading_error_deg"]) * 1.1)
         ax.set_xlim(-lim_x, lim_x)
         ax.set_ylim(-lim_y, lim_y)
         ax.axhline(0.0, color="0.8", lw=0.6)
@@ -62,3 +60,10 @@ def plot_errors(rows: pd.DataFrame, path: Path) -> Path:
                    frameon=False)
     fig.tight_layout(rect=(0, 0.1, 1, 1))
     return atomic_write(path, lambda p: fig.savefig(p, format="png", dpi=110))
+
+
+def _largest(values) -> float:
+    """The largest finite magnitude, 0 without one (no all-NaN warning for an all-failed table)."""
+    x = np.abs(np.asarray(values, dtype=float))
+    x = x[np.isfinite(x)]
+    return float(x.max()) if x.size else 0.0

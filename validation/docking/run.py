@@ -24,9 +24,14 @@ The loop (:func:`drive`), on the plant built from the vehicle file or, with
 6. when the controller says it is done, the speed is brought to zero and the
    run is scored where the plant comes to rest.
 
-A failure is a row of the table with its reason, never an exception.
-:func:`benchmark` runs scenarios x vehicles x seeds on worker processes and
-returns the rows in a fixed order: the same arguments give the same rows,
+A failure is a row of the table with its reason, never an exception: a
+controller's exception or ``sys.exit`` in ``reset`` or ``command`` fails the
+run, and so does a controller slower than the sample period for more than
+:data:`REALTIME_LATE` of its commands (the real-time criterion; ``realtime=False``
+only counts them). :func:`benchmark` runs scenarios x vehicles x seeds on
+supervised worker processes (:mod:`artic.validation.docking.supervise`: a
+controller that ends its process or hangs fails its run, and the others go on)
+and returns the rows in a fixed order: the same arguments give the same rows,
 except the compute times.
 """
 
@@ -54,12 +59,12 @@ from artic.validation.docking.controllers import Command, Observation, Task, loa
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
-from artic.validation.docking.scores import score
+from artic.validation.docking.scores import COLUMNS, score
 from artic.validation.docking.sensing import SensorStream
+from artic.validation.docking.supervise import calling, supervised
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build
-from artic.validation.runs.workers import completed
 from artic.validation.synthetic.sensors import SensorModel
 
 DT = 0.1
@@ -84,6 +89,16 @@ what the synthetic driver turns (0.3 rad/s of road wheel through 21:1)."""
 
 SETTLE = 3.0
 """Time the run waits for the plant to stop after the controller is done [s]."""
+
+REALTIME_LATE = 0.05
+"""Share of a run's commands (its first left out: a first call may compile or warm caches)
+that may take longer than the sample period :data:`DT` before the run fails the real-time
+criterion. A controller on a real truck that misses its period more often than once in
+twenty leaves the actuators holding stale commands for whole periods."""
+
+REALTIME_GRACE = 3
+"""Late commands forgiven whatever the share: a loaded machine's scheduling delays are
+not the controller's."""
 
 SENSOR_STREAM = 1
 """Third word of a run's random seed ``(seed, scenario number, SENSOR_STREAM)``: the
@@ -113,6 +128,8 @@ class Trace:
     extra_columns: tuple[str, ...] = ()
     failure: str = ""
     done: bool = False
+    late: int = 0
+    """Commands (after the first) that took longer than the sample period :data:`DT`."""
 
     def arrays(self) -> dict[str, np.ndarray]:
         """The plant's and the controller's series as arrays."""
@@ -143,7 +160,8 @@ def _fail(trace: Trace, reason: str) -> None:
 def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           planner: Planner | None = None, sensors: SensorModel | None = None,
           timeout: float | None = None, yard_model: str = "mbd",
-          record: Path | None = None, truth: int | None = None) -> Result:
+          record: Path | None = None, truth: int | None = None,
+          realtime: bool = True) -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -175,6 +193,10 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         Drive the synthetic campaign's truth of this seed instead of the
         plant built from the vehicle file (:func:`truth_yard`): the
         controller and the planner still know only the vehicle file.
+    realtime : bool
+        Fail the run as soon as more than :data:`REALTIME_LATE` of its
+        commands (and :data:`REALTIME_GRACE`) took longer than :data:`DT`;
+        without it the late commands are only counted (``late_commands``).
 
     Returns
     -------
@@ -210,10 +232,11 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
                          sensors, timeout, yard_model, record is not None,
-                         plant_vehicle, actuation)
+                         plant_vehicle, actuation, realtime)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
            **score(trace, yard, plant_vehicle, frames, start),
+           "late_commands": trace.late,
            "plan_ms": plan_ms, "plan_expansions": plan.expansions if plan else 0,
            "plan_direction_changes": plan.direction_changes if plan else 0,
            "plan_length_m": plan.length if plan else math.nan}
@@ -226,7 +249,8 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
 def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames, cls: type,
                  plan: Plan, seed: int, number: int, sensors: SensorModel,
                  timeout: float, yard_model: str, extras: bool = False,
-                 plant_vehicle=None, actuation: Callable | None = None) -> None:
+                 plant_vehicle=None, actuation: Callable | None = None,
+                 realtime: bool = True) -> None:
     plant_vehicle = plant_vehicle or vehicle
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
@@ -237,9 +261,12 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
     x0 = frames.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma)
     xs, ys = frames.tractor_sensor_of_kin(x0)
     try:
-        ctrl = cls()
-        ctrl.reset(Task(vehicle, yard, plan, DT, SPEED, SPEED_MAX, ACCEL_MAX, STEER_RATE))
-    except Exception as exc:  # noqa: BLE001 - a user's controller: a failed run, said why
+        with calling("reset()"):
+            ctrl = cls()
+            ctrl.reset(Task(vehicle, yard, plan, DT, SPEED, SPEED_MAX, ACCEL_MAX, STEER_RATE))
+    except KeyboardInterrupt:
+        raise
+    except BaseException as exc:  # noqa: BLE001 - a user's controller (sys.exit too): a failed run
         _fail(trace, f"controller error: {_one_line(exc)}")
         return
     if actuation is not None:  # the truth behind its steering column and pedals
@@ -266,15 +293,27 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 obs = Observation(now, signals, dh)
                 tc = time.perf_counter()
                 try:
-                    cmd = ctrl.command(obs)
+                    with calling("command()", now):
+                        cmd = ctrl.command(obs)
                     solve_ms = 1e3 * (time.perf_counter() - tc)
                     target = (float(cmd.delta_h), float(cmd.u1), bool(cmd.done))
                     intent = (_path(cmd, "horizon"), _path(cmd, "reference"))
-                except Exception as exc:  # noqa: BLE001 - the user's code: a failed run
+                except KeyboardInterrupt:
+                    raise
+                except BaseException as exc:  # noqa: BLE001 - the user's code (sys.exit too)
                     _fail(trace, f"controller error: {_one_line(exc)} "
                                  f"({_where(exc)})")
                     return
                 trace.solve_ms.append(solve_ms)
+                if k > 0 and solve_ms > 1e3 * DT:
+                    trace.late += 1
+                    if realtime and trace.late > max(REALTIME_GRACE, REALTIME_LATE * k):
+                        late = np.asarray(trace.solve_ms[1:])
+                        _fail(trace, f"not real-time: {trace.late} of {k} commands took "
+                                     f"longer than the {1e3 * DT:g} ms sample period "
+                                     f"(median {np.median(late):.0f} ms) by t = {now:.1f} s; "
+                                     "--no-realtime judges the docking alone")
+                        return
                 if not (math.isfinite(target[0]) and math.isfinite(target[1])):
                     _fail(trace, f"controller error: non-finite command {target[:2]} at "
                                  f"t = {now:.1f} s")
@@ -477,20 +516,46 @@ def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
 
 
 def _task(scen_name: str, vehicle: str, controller: str, seed: int,
-          sensors: SensorModel | None, recordings: Path | None, truth: int | None) -> dict:
+          sensors: SensorModel | None, recordings: Path | None, truth: int | None,
+          realtime: bool = True) -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
     record = (None if recordings is None
               else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
     return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors,
-                 record=record, truth=truth).row
+                 record=record, truth=truth, realtime=realtime).row
+
+
+def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: int | None,
+               reason: str) -> dict:
+    """The row of a run that ended its worker process (see :mod:`.supervise`): failed, why.
+
+    Its start is the scenario's seeded one; the scores of a run that did not finish are
+    unknown (NaN).
+    """
+    start = scenario(scen_name).start(seed)
+    yard = scenario(scen_name).yard(load_vehicle(vehicle))
+    row = dict.fromkeys(COLUMNS, math.nan)
+    row.update({"scenario": scen_name, "vehicle": load_vehicle(vehicle).name,
+                "controller": controller, "plant": "mbd" if truth is None else f"truth-{truth}",
+                "seed": seed, "success": False, "failure": reason, "direction_changes": 0,
+                "late_commands": 0, "plan_expansions": 0, "plan_direction_changes": 0,
+                "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
+                "start_heading_deg": math.degrees(start.psi_2),
+                "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0)})
+    return row
 
 
 def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str,
               seeds: Sequence[int], jobs: int = 1,
               progress: Callable[[str], None] | None = None,
               sensors: SensorModel | None = None,
-              recordings: Path | None = None, truth: int | None = None) -> list[dict]:
+              recordings: Path | None = None, truth: int | None = None,
+              realtime: bool = True, deadline: float | None = None) -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
+
+    The runs go to supervised worker processes
+    (:func:`artic.validation.docking.supervise.supervised`): a controller that
+    ends its process or hangs fails its run, and the benchmark goes on.
 
     Parameters
     ----------
@@ -510,12 +575,22 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
         Folder for one Rerun recording per run (:func:`run_name`); none without it.
     truth : int, optional
         Drive the synthetic truth of this seed instead of the plant (:func:`truth_yard`).
+    realtime : bool
+        Hold the controller to the real-time criterion (see :func:`drive`).
+    deadline : float, optional
+        Longest controller call before its run is ended as hung [s]
+        (:data:`artic.validation.docking.supervise.CALL_DEADLINE` by default).
     """
-    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth))
+    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime))
              for s in scenarios for v in vehicles for seed in seeds]
     counter = Counter(len(tasks), f"docking ({controller})", progress)
     rows: dict[tuple, dict] = {}
-    with contextlib.closing(completed(_task, tasks, jobs)) as done:
+
+    def failed(key, args, reason):
+        s, v, c, seed, _, _, tr, _ = args
+        return failed_row(s, v, c, seed, tr, reason)
+
+    with contextlib.closing(supervised(_task, tasks, jobs, failed, deadline)) as done:
         for key, row in done:
             rows[key] = row
             counter.step(f"{key[0]} {key[1]} seed {key[2]}: "

@@ -21,7 +21,11 @@ noisy ones never enter a score):
   wider in a turn;
 - ``solve_ms_p50``, ``solve_ms_p99``: the controller's compute time per command
   (the row also carries every command's, ``solve_ms``, which
-  :func:`compute_times` pools over runs; it is not a column of ``dock.csv``).
+  :func:`compute_times` pools over runs; it is not a column of ``dock.csv``);
+  ``late_commands``: how many commands (the first left out) took longer than
+  the sample period. A run with too many fails as ``not real-time``
+  (:data:`artic.validation.docking.run.REALTIME_LATE`) unless ``artic dock
+  --no-realtime``.
 
 The table (:func:`table`) groups by scenario, vehicle and controller: the
 success rate with its Wilson 95 % interval, and the means of the errors
@@ -57,8 +61,8 @@ SWEPT_CELL = 0.1
 COLUMNS = ("scenario", "vehicle", "controller", "plant", "seed", "success", "failure",
            "lateral_error_m", "longitudinal_error_m", "heading_error_deg", "max_gamma_deg",
            "gamma_margin_deg", "direction_changes", "time_s", "path_length_m", "swept_width_m",
-           "swept_area_m2", "solve_ms_p50", "solve_ms_p99", "plan_ms", "plan_expansions",
-           "plan_direction_changes", "plan_length_m", "start_x_m", "start_y_m",
+           "swept_area_m2", "solve_ms_p50", "solve_ms_p99", "late_commands", "plan_ms",
+           "plan_expansions", "plan_direction_changes", "plan_length_m", "start_x_m", "start_y_m",
            "start_heading_deg", "start_gamma_deg")
 """Columns of ``dock.csv``, in order."""
 

@@ -65,6 +65,12 @@ GAP_FLOOR = 0.1
 most ``a g**2 / 8``, 1.3 mm at the yard's 1 m/s**2, and bursty stamps (messages delivered in
 clumps) leave holes of several median intervals at 100 Hz."""
 
+MAX_INTERVAL = 1.0
+"""Longest mean interval between a stream's samples over a segment [s] (full-size; times
+scale with the square root of a scale model's size): linear interpolation over ``T``
+seconds errs by up to ``a T**2 / 8``, 0.125 m at the yard's 1 m/s**2 for 1 Hz, the
+slowest GNSS fix rate in use; ten times sparser errs by metres."""
+
 BURST = 1e-3
 """An interval shorter than this is counted as a burst in the report [s]."""
 
@@ -226,6 +232,7 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
     cleaned = [_clean(s, chmap, report, time_factor, "gap" not in accept) for s in streams]
     _local_plane(cleaned, chmap, report)
     spans = segments(cleaned, report)
+    _check_density(cleaned, spans, report, scale)
     origin = min(float(c.t[0]) for c in cleaned)
     runs = []
     for k, (a, b) in enumerate(spans, start=1):
@@ -239,7 +246,8 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
             for note in derived.get("notes", []):
                 report.add(note)
         _check_measured(df, chmap, where, report, accept, scale, ctx or CANONICAL)
-        check_frame(df, f"{where}, imported through {chmap.path}", scale)
+        check_frame(df, f"{where}, imported through {chmap.path}", scale,
+                    derived.get("channels", ()))
         meta: dict = {"source": "measured",
                       "import": {"file": source, "channels": chmap.path}}
         if derived:
@@ -257,6 +265,30 @@ def assemble(streams: list[Stream], chmap: ChannelMap, vehicle: Vehicle, source:
         r.meta["direction"] = direction[0]
         r.meta["import"]["report"] = report.lines
     return runs
+
+
+def _check_density(cleaned: list[_Clean], spans: list[tuple[float, float]], report: Report,
+                   scale: LogScale) -> None:
+    """Refuse a stream far sparser over a segment than interpolation onto 100 Hz can bridge.
+
+    Raises
+    ------
+    LogError
+        Naming the stream, its samples over the segment and the limit.
+    """
+    limit = MAX_INTERVAL * scale.speed
+    for a, b in spans:
+        for c in cleaned:
+            n = int(np.sum((c.t >= a - 1e-9) & (c.t <= b + 1e-9)))
+            mean = (b - a) / max(n - 1, 1)
+            if mean > limit:
+                elsewhere = (f"; over the whole log it has {c.t.size} over "
+                             f"{c.t[-1] - c.t[0]:.6g} s" if c.t.size != n else "")
+                raise LogError(f"{report.source}: {c.name}: sample check: {n} sample(s) over "
+                               f"the {b - a:.6g} s from t = {a:.6g} s that every channel "
+                               f"covers, one per {mean:.3g} s, where interpolation needs one "
+                               f"per {limit:.3g} s at most{elsewhere}; its stamps may be in "
+                               "another unit, or the topic dropped most of its messages")
 
 
 def _direction(runs: list[Run]) -> tuple[str, float]:

@@ -44,6 +44,20 @@ import numpy as np
 from artic.validation.logs.channelmap import ChannelMap, Entry
 from artic.validation.logs.runfile import LogError
 
+QUATERNION_TOL = 1e-3
+"""Largest departure of a quaternion's norm from 1 taken as rounding [-]: a quaternion
+stored as float32 and renormalised by its publisher is within 1e-6; one beyond 1e-3 was
+scaled or built wrong, and is normalised with a line in the report."""
+
+QUATERNION_MIN = 0.1
+"""Least norm of a quaternion normalised [-]: below it (or beyond its inverse) the field is
+no orientation but a value near zero or another quantity, and the log is refused."""
+
+STAMP_RATIO = 10.0
+"""Largest ratio of a topic's header-stamp span to its receive-time span (either way): a
+replay at another rate or a recorder's buffering moves it by a factor of a few; header
+stamps in another unit (milliseconds read as seconds) by a thousand."""
+
 SUFFIXES = (".bag", ".mcap", ".db3")
 """File suffixes read as bags (and any folder with a ``metadata.yaml``)."""
 
@@ -117,6 +131,7 @@ class _Field:
         self.steps = _parse(path, entry, map_path)
         self.where = (f"{path}: topic {entry.source} ({msgtype}), field {entry.field} "
                       f"(for {entry.channel} in {map_path})")
+        self.off_norm = (math.inf, 0.0, 0)  # quaternions off unit length: least, most norm, count
 
     def _walk(self, msg: Any, strict: bool) -> Any:
         node = msg
@@ -158,9 +173,15 @@ class _Field:
             except (AttributeError, TypeError, ValueError):
                 raise LogError(f"{self.where}: unit quaternion needs a geometry_msgs/Quaternion "
                                f"(x, y, z, w) there; it has {_fields_of(node)}") from None
-            if not math.isfinite(x * y * z * w) or x * x + y * y + z * z + w * w < 1e-12:
+            n2 = x * x + y * y + z * z + w * w
+            if not math.isfinite(x * y * z * w) or n2 < 1e-12:
                 return math.nan
-            return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+            norm = math.sqrt(n2)
+            if abs(norm - 1.0) > QUATERNION_TOL:
+                self.off_norm = (min(self.off_norm[0], norm), max(self.off_norm[1], norm),
+                                 self.off_norm[2] + 1)
+            # the yaw of the normalised quaternion: each term carries the norm squared
+            return math.atan2(2.0 * (w * z + x * y), w * w + x * x - y * y - z * z)
         if isinstance(node, str | bytes):
             raise LogError(f"{self.where}: is text ({str(node)[:20]!r}), not a number; name a "
                            "numeric field")
@@ -288,6 +309,21 @@ def _read(path, reader, chmap: ChannelMap, ros1: bool, typesys, reader_errors, S
         raise LogError(f"{path}: truncated or damaged{where} "
                        f"({' '.join(str(exc).split()) or type(exc).__name__}) while reading "
                        f"{_wanted(chmap)}: {_repair_hint(path)}") from exc
+    for topic, fs in fields.items():
+        for f in fs:
+            lo, hi, n = f.off_norm
+            if not n:
+                continue
+            if lo < QUATERNION_MIN or hi > 1.0 / QUATERNION_MIN:
+                raise LogError(f"{f.where}: quaternion check: {n} of {count[topic]} "
+                               f"quaternions have a norm from {lo:.3g} to {hi:.3g}, not 1 "
+                               f"(within {QUATERNION_TOL:g}); beyond {QUATERNION_MIN:g} to "
+                               f"{1.0 / QUATERNION_MIN:g} the field is no orientation: name "
+                               "the orientation quaternion")
+            lines.append(f"topic {topic}, field {f.entry.field}: quaternion check: {n} of "
+                         f"{count[topic]} quaternions have a norm from {lo:.4g} to {hi:.4g}, "
+                         f"not 1 (within {QUATERNION_TOL:g}); normalised before their yaw "
+                         "was taken")
     for topic, entries in named.items():
         if not count[topic]:
             raise LogError(f"{path}: topic {topic} ({by_topic[topic][0].msgtype}), field "
@@ -316,6 +352,8 @@ def _read(path, reader, chmap: ChannelMap, ros1: bool, typesys, reader_errors, S
                         f"{e.field}: every header stamp is {ns[0] * 1e-9:.9g} s, so its "
                         f'publisher does not set them; give {e.channel} time = "receive" in '
                         f"{chmap.path}")
+                _check_stamps(path, topic, by_topic[topic][0].msgtype, entries[idx[0]], ns,
+                              np.asarray(receive[topic], dtype=np.int64), chmap.path)
             else:
                 ns = np.asarray(receive[topic], dtype=np.int64)
             raw_streams.append((topic, source, ns, [entries[k] for k in idx],
@@ -335,6 +373,31 @@ def _read(path, reader, chmap: ChannelMap, ros1: bool, typesys, reader_errors, S
             raw={e.label: v[order] for e, v in zip(entries, vals, strict=True)},
             entries=entries))
     return streams, lines
+
+
+def _check_stamps(path: Path, topic: str, msgtype: str, e: Entry, header: np.ndarray,
+                  receive: np.ndarray, map_path: str) -> None:
+    """Refuse header stamps spread over another span than the receive times (another unit).
+
+    Raises
+    ------
+    LogError
+        Naming the topic, both spans and the factor.
+    """
+    if header.size < 3:
+        return
+    span_h = float(header.max() - header.min()) * 1e-9
+    span_r = float(receive.max() - receive.min()) * 1e-9
+    if span_r <= 0.0 or span_h <= 0.0:
+        return
+    ratio = span_h / span_r
+    if 1.0 / STAMP_RATIO <= ratio <= STAMP_RATIO:
+        return
+    raise LogError(f"{path}: topic {topic} ({msgtype}), field {e.field}: stamp check: its "
+                   f"{header.size} header stamps span {span_h:.6g} s but the bag received "
+                   f"them over {span_r:.6g} s, {ratio:.3g} times as long (more than "
+                   f"{STAMP_RATIO:g} either way); its publisher's stamps are in another unit "
+                   f'or clock: give {e.channel} time = "receive" in {map_path}')
 
 
 def _decoder(path: Path, conn, base, ros1: bool, typesys, entries: list[Entry]) -> Callable:

@@ -11,6 +11,20 @@ the likely cause when they disagree:
 
 ``gap``
     No time step longer than :data:`artic.validation.logs.checks.MAX_GAP`.
+``turning``
+    No unit turns tighter than its geometry allows: the tractor's sensor on a
+    radius of at least ``L1 / tan(delta_max)`` (less its lateral offset), the
+    semitrailer's on one of at least its distance from the axle (about which
+    the semitrailer may turn on the spot), judged per metre of the sensor's
+    own track with :data:`TURN_MARGIN` for tyre slip. Positions
+    in too small a unit (millimetres declared as metres) turn the unit a
+    hundred or a thousand times tighter. Larger units are refused by the
+    structural limits on speed.
+``axes``
+    Each unit's axle (the tractor's drive axle, the semitrailer's axle
+    group) travels along the unit's heading, forwards or backwards, over
+    :data:`VELOCITY_WINDOW` windows: swapped x and y, a mirrored axis, or a
+    heading of another sense or zero direction moves it sideways.
 ``yaw-rate``
     The integral of the yaw rate ``r_i`` against the change of the heading
     ``psi_i``, over :data:`YAW_WINDOW` windows, on any log whose heading
@@ -41,12 +55,21 @@ the likely cause when they disagree:
     position in each unit is estimated) and, with a vehicle, with the
     vehicle file's sensor positions and ``L1c``.
 ``articulation``
-    On a log whose semitrailer is derived from the tractor and ``gamma``
-    (where the hitch check cannot fail), the sign of ``gamma``: over
-    :data:`YAW_WINDOW` windows its change must follow the kinematic trailer
-    equation ``gamma' = r_1 (1 - L1c cos(gamma) / L2) - u_1 sin(gamma) / L2``,
-    driven by the tractor's measured speed and yaw rate, and not its mirror,
-    the same equation for ``-gamma``, in which the yaw-rate term changes sign.
+    On a log whose one unit is derived from the other and ``gamma`` (where
+    the hitch check cannot fail), the sign and the scale of ``gamma``: the
+    derived unit's axle must roll along its heading. With the tractor
+    measured, that is the kinematic trailer equation ``gamma' = r_1 (1 - L1c
+    cos(gamma) / L2) - u_1 sin(gamma) / L2``; with the semitrailer measured,
+    the tractor's drive axle: ``u_K sin(gamma) + L1c gamma' = v_K cos(gamma) -
+    r_2 L1c`` with the kingpin's velocity ``(u_K, v_K)`` in the semitrailer's
+    axes. Over :data:`YAW_WINDOW` windows the terms odd in ``gamma`` must equal
+    the even (yaw-rate) ones: their mirror (a flipped sign) or a multiple of
+    them (a unit mistake, radians declared as degrees) fitting better is refused.
+``metadata``
+    The direction a canonical log's metadata states (``direction``, or the
+    one its ``manoeuvre`` implies: ``docking``, ``parking`` and ``*-reverse``
+    reverse, the other kinds drive forward) must cover at least
+    :data:`METADATA_SHARE` of the distance the tractor travels.
 
 Each check returns nothing or one :class:`Finding`. :func:`check_log` raises a
 :class:`~artic.validation.logs.runfile.LogError` for the first finding that the
@@ -62,6 +85,7 @@ The distances and speeds below are the full-size ones; with a vehicle of the
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Collection, Iterator, Mapping
 from dataclasses import dataclass
@@ -77,13 +101,17 @@ from artic.validation.logs.scale import FULL_SIZE, LogScale
 CHECKS: dict[str, str] = {
     "gap": "no time step longer than the longest gap accepted",
     "yaw-rate": "integrated yaw rate against the heading change",
+    "turning": "no unit turns tighter than its geometry allows (positions in too small a unit)",
+    "axes": "each unit's axle travels along its heading (x and y swapped or mirrored)",
     "curvature": "course of the position track against the integrated yaw rate",
     "velocity": "integrated velocity against the position track: sign, scale, direction",
     "jump": "position steps the velocity does not explain",
     "steering": "steering wheel against the steering map's reach and the observed curvature",
     "hitch": "semitrailer against tractor through one hitch point",
-    "articulation": "articulation change against the kinematic trailer equation, driven by the "
-                    "tractor's speed and yaw rate (logs whose semitrailer is derived)",
+    "articulation": "articulation against the derived unit's kinematics: its axle rolls along "
+                    "its heading, which fixes gamma's sign and scale (logs with a derived unit)",
+    "metadata": "the direction the metadata states (or its manoeuvre implies) against the "
+                "motion",
 }
 """Every check by the name ``--accept`` takes, in the order they run."""
 
@@ -161,6 +189,39 @@ ARTICULATION_MIRROR = 0.5
 puts twice the yaw-rate term into the logged fit's misfit; noise ``sigma`` per window then
 gives ``sqrt(sigma^2 + 4 a^2)`` against ``sigma``, past the ratio once the term's RMS ``a``
 exceeds ``0.9 sigma``. With the right sign the mirror's misfit is the larger one."""
+
+ARTICULATION_SCALE = (1.0 / 3.0, 3.0)
+"""Accepted factor between the articulation's odd and even terms: tyre slip and a hitch
+sensor's offset move it by tens of percent; a unit mistake by 57.3 (degrees) or more."""
+
+TURN_MARGIN = 2.0
+"""How much tighter than its kinematic limit a unit may appear to turn: tyre slip in
+reverse (a semitrailer pushing the tractor's rear out) and the heading's noise over short
+windows, with a factor of two to spare; a unit mistake is a factor of 100 or 1000."""
+
+TURN_WINDOW_MIN = 4.0 * YAW_NOISE
+"""Least heading change in a window for it to count in the turning check [rad]: windows
+of heading noise alone (a unit standing still) leave it."""
+
+AXES_TOL = math.radians(30.0)
+"""Largest median angle between a unit's axle travel and its heading [rad]: tyre slip
+at yard speeds is a few degrees, a chord over a window in a turn adds less; swapped
+axes are off by tens of degrees in every turn."""
+
+AXES_SLIP = math.radians(2.0)
+"""Median angle between axle travel and heading below which a track is not judged for a
+mirror [rad]: a semitrailer's heading may swing by only a few degrees, and a mirror moves
+the travel by twice the swing. Beyond it, a track that fits at least twice as well mirrored
+back is refused. Tyre slip and a sensor off the vehicle file's place move the travel off the
+heading too, but alike for the track and its mirror: they never make the mirror fit twice
+as well (on a log that keeps its heading both fit alike, and nothing is refused)."""
+
+METADATA_SHARE = 0.25
+"""Least share of the distance driven in the direction the metadata states: a docking
+or parking manoeuvre pulls forward to set up, but reverses for most of its distance."""
+
+REVERSE_KINDS = ("ramp-steer-reverse", "docking", "parking")
+"""Manoeuvre kinds that reverse; every other kind drives forward."""
 
 # Factors that mark a unit mistake, with their names.
 _DEG = math.degrees(1.0)
@@ -673,52 +734,263 @@ def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
     return None
 
 
-def check_articulation(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
-                       scale: LogScale = FULL_SIZE) -> Finding | None:
-    """``gamma``'s change against the kinematic trailer equation and its mirror (module doc).
-
-    The tractor's speed ``u_1`` is ``v_x_1``; ``L1c`` and ``L2`` are the vehicle's
-    (``gosar2022-unloaded``'s without one). The sign is told by the yaw-rate term,
-    so a log that barely turns passes.
-    """
+def _default_vehicle(vehicle):
     if vehicle is None:
         from artic.mjcf.vehicle import load_vehicle
 
-        vehicle = load_vehicle("gosar2022-unloaded")
+        return load_vehicle("gosar2022-unloaded")
+    return vehicle
+
+
+def _pose_names(i: int, ctx: Context) -> str:
+    if f"x_{i}" in ctx.names:
+        return ", ".join(dict.fromkeys(ctx.name(c) for c in (f"x_{i}", f"y_{i}", f"psi_{i}")
+                                       if c in ctx.names))
+    return f"x_{i}, y_{i}, psi_{i}"
+
+
+def _point(df: pd.DataFrame, i: int, at: tuple[float, float], sensor) -> tuple[np.ndarray,
+                                                                              np.ndarray]:
+    """Where a point of unit ``i`` (``at`` in the unit's frame) is, from its sensor's track."""
+    psi = df[f"psi_{i}"].to_numpy(float)
+    dx, dy = at[0] - sensor[0], at[1] - sensor[1]
+    c, s_ = np.cos(psi), np.sin(psi)
+    return (df[f"x_{i}"].to_numpy(float) + c * dx - s_ * dy,
+            df[f"y_{i}"].to_numpy(float) + s_ * dx + c * dy)
+
+
+def check_turning(t: np.ndarray, df: pd.DataFrame, i: int, vehicle, ctx: Context,
+                  scale: LogScale = FULL_SIZE) -> Finding | None:
+    """Unit ``i`` turns no tighter than its geometry allows (see the module docstring).
+
+    Judged on the sensor's own track (the positions as logged, no offset in
+    another unit added): the tractor's drive axle turns on a radius of at least
+    ``R = L1 / tan(delta_max)``, so its sensor, ``(x_s, y_s)`` from the axle, on
+    one of at least ``R - |y_s|``; the semitrailer's axle may turn on the spot,
+    so its sensor, ``d`` ahead of the axle, on a radius of at least ``|d|`` (not
+    judged within half a metre of the axle). Summed over the :data:`YAW_WINDOW`
+    windows that turn by more than :data:`TURN_WINDOW_MIN`.
+    """
+    v = _default_vehicle(vehicle)
+    if i == 1:
+        radius = v.L1 / math.tan(v.steering.delta_max) - abs(v.sensor1[1])
+        limit = (f"a radius of {radius:.3g} m at its sensor: L1 / tan(delta_max) with "
+                 f"L1 = {v.L1:g} m, delta_max = {math.degrees(v.steering.delta_max):.0f} deg")
+    else:
+        radius = abs(v.sensor2[0] + v.L2)
+        limit = (f"a radius of {radius:.3g} m at its sensor, {radius:.3g} m from its axle, "
+                 "about which it may turn on the spot")
+    if radius < scale.distance(0.5):
+        return None
+    i0, i1 = _windows(t, YAW_WINDOW)
+    if not i0.size:
+        return None
+    psi = df[f"psi_{i}"].to_numpy(float)
+    x, y = df[f"x_{i}"].to_numpy(float), df[f"y_{i}"].to_numpy(float)
+    path = np.cumsum(np.concatenate([[0.0], np.hypot(np.diff(x), np.diff(y))]))
+    turn = np.abs(psi[i1] - psi[i0])
+    use = turn > TURN_WINDOW_MIN
+    turned = float(turn[use].sum())
+    if turned < max(YAW_FLOOR, 4.0 * YAW_NOISE * math.sqrt(max(1, int(use.sum())))):
+        return None
+    travelled = float((path[i1] - path[i0])[use].sum())
+    most = travelled / radius
+    if turned <= TURN_MARGIN * most:
+        return None
+    factor = turned / most if most > 0 else math.inf
+    unit = "tractor" if i == 1 else "semitrailer"
+    return Finding("turning", _pose_names(i, ctx), float(t[i0[use][0]]), float(t[i1[use][-1]]),
+                   f"the {unit} turns {turned:.3g} rad while its sensor travels "
+                   f"{travelled:.3g} m, {_ratio(factor)} times tighter than its geometry "
+                   f"allows ({limit} of {v.name})",
+                   f"the positions look at least {_ratio(factor)} times too small "
+                   "(millimetres or centimetres declared as metres), or the heading as many "
+                   "times too large (degrees declared as radians): declare their units")
+
+
+_AXES_MIRRORS = (("y (or latitude) with its sign flipped", (1.0, 0.0, 0.0, -1.0)),
+                 ("x (or longitude) with its sign flipped", (-1.0, 0.0, 0.0, 1.0)),
+                 ("latitude and longitude (or x and y) swapped", (0.0, 1.0, 1.0, 0.0)))
+"""The mirrored tracks the axes check names: (what, the matrix ``(a, b, c, d)`` that undoes it)."""
+
+
+def check_axes(t: np.ndarray, df: pd.DataFrame, i: int, vehicle, ctx: Context,
+               scale: LogScale = FULL_SIZE) -> Finding | None:
+    """Unit ``i``'s axle travels along its heading, forwards or backwards (module docstring).
+
+    The angle between the axle's travel over :data:`VELOCITY_WINDOW` windows and
+    the heading, its median over the windows that travel, is judged against
+    :data:`AXES_TOL`; beyond :data:`AXES_SLIP`, the track is also mirrored
+    (each of :data:`_AXES_MIRRORS` undone), and one that fits twice as well is
+    named.
+    """
+    v = _default_vehicle(vehicle)
+    axle = (0.0, 0.0) if i == 1 else (-v.L2, 0.0)
+    sensor = v.sensor1 if i == 1 else v.sensor2
+    psi = df[f"psi_{i}"].to_numpy(float)
+    xs, ys = df[f"x_{i}"].to_numpy(float), df[f"y_{i}"].to_numpy(float)
+    i0, i1 = _windows(t, VELOCITY_WINDOW)
+    if not i0.size:
+        return None
+
+    def off(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        x, y = _point(pd.DataFrame({f"x_{i}": x, f"y_{i}": y, f"psi_{i}": psi}), i, axle,
+                      sensor)
+        dx, dy = x[i1] - x[i0], y[i1] - y[i0]
+        use = np.hypot(dx, dy) >= scale.distance(VELOCITY_MIN_STEP)
+        mid = 0.5 * (psi[i0] + psi[i1])
+        return _fold(np.arctan2(dy, dx) - mid), use
+
+    angle, use = off(xs, ys)
+    if use.sum() < 3:
+        return None
+    med = float(np.median(angle[use]))
+    if med <= AXES_SLIP:
+        return None
+    undone = []
+    for what, (a, b, c, d) in _AXES_MIRRORS:
+        m_angle, m_use = off(a * xs + b * ys, c * xs + d * ys)
+        both = use & m_use
+        if both.sum() >= 3:
+            undone.append((float(np.median(m_angle[both])), what))
+    best = min(undone) if undone else (math.inf, "")
+    if med <= AXES_TOL and not best[0] < 0.5 * med:
+        return None
+    idx = np.flatnonzero(use)
+    j = idx[int(np.argmax(angle[use]))]
+    unit, where = ("tractor", "drive axle") if i == 1 else ("semitrailer", "axle")
+    mirrored = (f"; with {best[1].split(' (')[0]} undone, {math.degrees(best[0]):.1f} deg"
+                if best[0] < 0.5 * med else "")
+    cause = (f"{best[1]} (a mirrored track): fix the axes at their source"
+             if best[0] < 0.5 * med else
+             "latitude and longitude (or x and y) swapped, or one of them with the wrong "
+             "sign (a mirrored track), or a heading that is not counter-clockwise from x: "
+             "fix the axes at their source")
+    return Finding("axes", _pose_names(i, ctx), float(t[i0[idx[0]]]), float(t[i1[idx[-1]]]),
+                   f"the {unit}'s {where} travels {math.degrees(med):.1f} deg (median over "
+                   f"{idx.size} windows of {VELOCITY_WINDOW:g} s; worst over t = "
+                   f"{t[i0[j]]:.2f} to {t[i1[j]]:.2f} s) off the direction its heading "
+                   f"points, where it can only roll along it{mirrored}", cause)
+
+
+def _fold(a: np.ndarray) -> np.ndarray:
+    """``|a|`` wrapped to [0, pi/2]: an angle to a line, travelled either way."""
+    a = np.abs(np.angle(np.exp(1j * a)))
+    return np.minimum(a, math.pi - a)
+
+
+def check_articulation(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
+                       scale: LogScale = FULL_SIZE, tracked: int = 1) -> Finding | None:
+    """``gamma`` against the derived unit's kinematics: its sign and scale (module doc).
+
+    With ``tracked = 1`` (the semitrailer derived), the kinematic trailer
+    equation driven by the tractor's speed ``u_1 = v_x_1`` and yaw rate; with
+    ``tracked = 2`` (the tractor derived), the tractor's drive axle rolling
+    along its heading, from the semitrailer's velocity and yaw rate. ``L1c``
+    and ``L2`` are the vehicle's (``gosar2022-unloaded``'s without one). The
+    sign is told by the yaw-rate term, so a log that barely turns passes.
+    """
+    vehicle = _default_vehicle(vehicle)
     i0, i1 = _windows(t, YAW_WINDOW)
     if i0.size < 3:
         return None
     g = np.unwrap(df["gamma"].to_numpy(float))
-    r1, u1 = df["r_1"].to_numpy(float), df["v_x_1"].to_numpy(float)
-    turn = _cumtrapz(t, r1 * (1.0 - vehicle.L1c * np.cos(g) / vehicle.L2))
-    trail = _cumtrapz(t, -u1 * np.sin(g) / vehicle.L2)
-    a, b, dg = turn[i1] - turn[i0], trail[i1] - trail[i0], g[i1] - g[i0]
+    L1c, L2 = vehicle.L1c, vehicle.L2
+    if tracked == 1:
+        # gamma' + u_1 sin(gamma) / L2 = r_1 (1 - L1c cos(gamma) / L2)
+        r1, u1 = df["r_1"].to_numpy(float), df["v_x_1"].to_numpy(float)
+        even = _cumtrapz(t, r1 * (1.0 - L1c * np.cos(g) / L2))
+        odd = _cumtrapz(t, u1 * np.sin(g) / L2) + g
+        driven = "the tractor's speed and yaw rate"
+    else:
+        # (u_K sin(gamma) + L1c gamma') / L2 = (v_K cos(gamma) - r_2 L1c) / L2, the kingpin's
+        # velocity (u_K, v_K) in the semitrailer's axes from its sensor's
+        s2x, s2y = vehicle.sensor2[0], vehicle.sensor2[1]
+        r2 = df["r_2"].to_numpy(float)
+        uk = df["v_x_2"].to_numpy(float) + r2 * s2y
+        vk = df["v_y_2"].to_numpy(float) - r2 * s2x
+        even = _cumtrapz(t, (vk * np.cos(g) - r2 * L1c) / L2)
+        odd = _cumtrapz(t, uk * np.sin(g) / L2) + g * L1c / L2
+        driven = "the semitrailer's speed and yaw rate"
+    a, b = even[i1] - even[i0], odd[i1] - odd[i0]
     if math.sqrt(float(np.mean(a * a))) < ARTICULATION_FLOOR:
         return None
-    logged = float(np.sqrt(np.mean((dg - a - b) ** 2)))
-    mirror = float(np.sqrt(np.mean((dg + a - b) ** 2)))
-    if mirror >= ARTICULATION_MIRROR * logged:
-        return None
+    logged = float(np.sqrt(np.mean((b - a) ** 2)))
+    mirror = float(np.sqrt(np.mean((b + a) ** 2)))
     name = ctx.name("gamma")
+    what = (f"with L1c = {vehicle.L1c:g} m and L2 = {vehicle.L2:g} m of {vehicle.name}")
+    equation = ("the kinematic trailer equation" if tracked == 1
+                else "the tractor's drive axle rolling along its heading")
+    if mirror < ARTICULATION_MIRROR * logged:
+        return Finding("articulation", name, float(t[i0[0]]), float(t[i1[-1]]),
+                       f"its change over {YAW_WINDOW:g} s windows follows {equation} driven by "
+                       f"{driven} with the opposite sign (RMS misfit {logged:.3g} rad as "
+                       f"logged, {mirror:.3g} rad mirrored, {what})",
+                       f"{name} (the articulation angle gamma) likely has its sign flipped: "
+                       "gamma is tractor yaw minus semitrailer yaw, psi_1 - psi_2; flip it "
+                       "(scale = -1 in a channel map)")
+    k = float(a @ b) / float(a @ a)  # the odd terms' factor on the even ones: 1 if right
+    scaled = float(np.sqrt(np.mean((b - k * a) ** 2)))
+    if ARTICULATION_SCALE[0] <= abs(k) <= ARTICULATION_SCALE[1] or k <= 0.0 \
+            or scaled >= ARTICULATION_MIRROR * logged:
+        return None
+    # gamma scaled by c scales the odd terms by about c: gamma is k times what it should be
     return Finding("articulation", name, float(t[i0[0]]), float(t[i1[-1]]),
-                   f"its change over {YAW_WINDOW:g} s windows follows the kinematic trailer "
-                   "equation driven by the tractor's speed and yaw rate with the opposite sign "
-                   f"(RMS misfit {logged:.3g} rad as logged, {mirror:.3g} rad mirrored, with "
-                   f"L1c = {vehicle.L1c:g} m and L2 = {vehicle.L2:g} m of {vehicle.name})",
-                   f"{name} (the articulation angle gamma) likely has its sign flipped: gamma "
-                   "is tractor yaw minus semitrailer yaw, psi_1 - psi_2; flip it (scale = -1 "
-                   "in a channel map)")
+                   f"its terms in {equation} driven by {driven} come out {_ratio(k)} times "
+                   f"what the yaw-rate term needs (RMS misfit {logged:.3g} rad as logged, "
+                   f"{scaled:.3g} rad scaled by {_ratio(1.0 / k)}, {what})",
+                   explain(k, "gamma", ctx) + "; declare its unit in the channel map")
+
+
+def check_metadata(frame: pd.DataFrame, meta: Mapping) -> Finding | None:
+    """The direction the metadata states, or its manoeuvre implies, against the motion.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        A log in the signal schema.
+    meta : mapping
+        Its metadata: ``direction`` and ``manoeuvre`` are judged when present.
+    """
+    t = frame["t"].to_numpy(float)
+    v = frame["v_x_1"].to_numpy(float)
+    total = float(np.trapezoid(np.abs(v), t)) if t.size > 1 else 0.0
+    if total <= 0.0:
+        return None
+    back = float(np.trapezoid(np.abs(v) * (v < 0), t)) / total
+    stated = []
+    if meta.get("direction") in ("forward", "reverse"):
+        stated.append((str(meta["direction"]), f"direction {meta['direction']!r}"))
+    kind = meta.get("manoeuvre")
+    if isinstance(kind, str) and kind:
+        implied = "reverse" if kind in REVERSE_KINDS or kind.endswith("reverse") else "forward"
+        stated.append((implied, f"manoeuvre {kind!r} (which drives {implied})"))
+    for direction, what in stated:
+        share = back if direction == "reverse" else 1.0 - back
+        if share < METADATA_SHARE:
+            return Finding("metadata", "v_x_1", float(t[0]), float(t[-1]),
+                           f"its metadata says {what}, but the tractor covers only "
+                           f"{100.0 * share:.0f} % of its {total:.3g} m in that direction "
+                           f"(at least {100.0 * METADATA_SHARE:.0f} % expected)",
+                           "the metadata belongs to another log, or the log's v_x_1 sign is "
+                           "flipped; correct the metadata (direction, manoeuvre) or the log")
+    return None
 
 
 # ------------------------------------------------------------------ entry points
 def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
-             only: Collection[str] | None = None, derived: bool = False) -> Iterator[Finding]:
+             only: Collection[str] | None = None, derived: bool = False,
+             tracked: int | None = None) -> Iterator[Finding]:
     """Every check's finding on a frame that passed ``check_frame``, lazily, in check order.
 
-    Per unit, the velocity's sign and scale are judged before the track's
+    Per unit, the turning radius comes after the yaw rate (which names a
+    heading in degrees) and before the velocity (positions in too small a unit
+    would otherwise be named as a velocity in too large a one), the
+    velocity's sign and scale are judged before the axes and the track's
     curvature (a flipped velocity also turns the sideslip the curvature
-    check uses) and its direction after it (a mirrored track is named as
-    such rather than as a heading off by some angle).
+    check uses) and its direction after them (a mirrored track is named as
+    such rather than as a heading off by some angle). The articulation comes
+    before the steering, which a derived tractor's wrong sign would upset.
 
     Parameters
     ----------
@@ -733,20 +1005,33 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
     only : collection of str, optional
         Run only these checks.
     derived : bool
-        Whether the semitrailer's channels were derived from the tractor's and
+        Whether one unit's channels were derived from the other's and
         ``gamma``: the ``articulation`` check runs on such logs.
+    tracked : int, optional
+        The unit measured when the other is derived (1 by default with
+        ``derived``): the ``turning`` and ``axes`` checks judge the measured
+        units only (a derived unit's are the articulation check's).
     """
     t = frame["t"].to_numpy(dtype=float)
     run = set(CHECKS) if only is None else set(only)
     sc = LogScale.of(vehicle)
+    if derived and tracked is None:
+        tracked = 1
+    measured = (1, 2) if tracked is None else (tracked,)
     if "gap" in run and (f := check_gap(t)) is not None:
         yield f
     for i in (1, 2):
         if "yaw-rate" in run and (f := check_yaw(t, frame, i, ctx, sc)) is not None:
             yield f
+        if i in measured and "turning" in run and (
+                f := check_turning(t, frame, i, vehicle, ctx, sc)) is not None:
+            yield f
         vel = check_velocity(t, frame, i, ctx, sc) if "velocity" in run else None
         if vel is not None and not vel.direction:
             yield vel.finding
+        if i in measured and "axes" in run and (
+                f := check_axes(t, frame, i, vehicle, ctx, sc)) is not None:
+            yield f
         curv = check_curvature(t, frame, i, ctx, sc) if "curvature" in run else None
         if curv is not None:
             yield curv
@@ -754,6 +1039,9 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
             yield vel.finding
         if "jump" in run and (f := check_jump(t, frame, i, ctx, sc)) is not None:
             yield f
+    if derived and "articulation" in run and (
+            f := check_articulation(t, frame, vehicle, ctx, sc, tracked or 1)) is not None:
+        yield f
     if "steering" in run:
         steer_vehicle = vehicle
         if steer_vehicle is None:
@@ -763,9 +1051,6 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
         if (f := check_steering(t, frame, steer_vehicle, ctx, sc)) is not None:
             yield f
     if "hitch" in run and (f := check_hitch(t, frame, vehicle, ctx, sc)) is not None:
-        yield f
-    if derived and "articulation" in run and (
-            f := check_articulation(t, frame, vehicle, ctx, sc)) is not None:
         yield f
 
 
@@ -788,7 +1073,8 @@ def parse_accept(values: Collection[str] | None) -> tuple[str, ...]:
 
 
 def check_log(frame: pd.DataFrame, source: str, vehicle=None, accept: Collection[str] = (),
-              ctx: Context = CANONICAL, derived: bool = False) -> list[str]:
+              ctx: Context = CANONICAL, derived: bool = False, tracked: int | None = None,
+              meta: Mapping | None = None) -> list[str]:
     """Run every check; refuse the first finding not accepted.
 
     Parameters
@@ -803,8 +1089,10 @@ def check_log(frame: pd.DataFrame, source: str, vehicle=None, accept: Collection
         Checks whose findings are accepted knowingly (``--accept``).
     ctx : Context
         Names and units of the source.
-    derived : bool
+    derived, tracked : bool, int
         See :func:`findings`.
+    meta : mapping, optional
+        The run's metadata, for the ``metadata`` check.
 
     Returns
     -------
@@ -818,7 +1106,10 @@ def check_log(frame: pd.DataFrame, source: str, vehicle=None, accept: Collection
         The first finding whose check is not in ``accept``.
     """
     accepted = []
-    for f in findings(frame, vehicle, ctx, derived=derived):
+    found = findings(frame, vehicle, ctx, derived=derived, tracked=tracked)
+    if meta is not None and (f := check_metadata(frame, meta)) is not None:
+        found = itertools.chain([f], found)
+    for f in found:
         if f.check not in accept:
             raise LogError(f.message(source))
         accepted.append(f"accepted {f.check}: {f.message(source)}")

@@ -58,8 +58,11 @@ def _checked(run: Run, source: str, vehicle, accept: Collection[str],
     accepted: ``validate`` and ``tune`` remember an ``--accept`` given to ``logs import``.
     """
     accept = tuple(dict.fromkeys([*accept, *consistency.accepted_in(run.meta)]))
+    derived = run.meta.get("derived") or {}
+    channels = derived.get("channels", []) if isinstance(derived, dict) else []
+    tracked = 2 if "x_1" in channels else 1 if "x_2" in channels else None
     accepted = consistency.check_log(run.frame, source, vehicle, accept, ctx,
-                                     derived=bool(run.meta.get("derived")))
+                                     derived=bool(derived), tracked=tracked, meta=run.meta)
     if accept:
         run.meta["accepted"] = list(accept)
     if accepted:

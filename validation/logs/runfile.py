@@ -226,7 +226,8 @@ def parse_meta(raw: bytes | str, source: str) -> dict[str, Any]:
     return meta
 
 
-def check_frame(df: pd.DataFrame, source: str = "log", scale: LogScale = FULL_SIZE) -> None:
+def check_frame(df: pd.DataFrame, source: str = "log", scale: LogScale = FULL_SIZE,
+                derived: Sequence[str] = ()) -> None:
     """Check a frame against the signal schema; raise on anything unusable.
 
     Checks, in order: the columns are there; the run has at least two
@@ -246,6 +247,9 @@ def check_frame(df: pd.DataFrame, source: str = "log", scale: LogScale = FULL_SI
     scale : LogScale
         The vehicle's scale, for the limits of speeds and yaw rates
         (:mod:`artic.validation.logs.scale`); full-size by default.
+    derived : sequence of str
+        Columns derived at import: a limit they break is blamed on the channels
+        they come from, not on their own unit.
 
     Raises
     ------
@@ -294,6 +298,13 @@ def check_frame(df: pd.DataFrame, source: str = "log", scale: LogScale = FULL_SI
         peak = float(np.max(np.abs(df[c].to_numpy(dtype=float))))
         if peak > limit:
             where = "" if scale.length == 1.0 else f" at the vehicle's scale ({scale.length:.3g})"
+            if c in derived:
+                raise LogError(f"{source}: column {c} (derived at import, not in the log): peak "
+                               f"{peak:.4g} is beyond {limit:.4g} (SI) for a yard "
+                               f"manoeuvre{where}; the channels it is derived from are in "
+                               "another unit: positions in too large a unit, time stamps in "
+                               "too small a one, or a heading off. Check their units in the "
+                               "channel map.")
             raise LogError(f"{source}: column {c}: peak {peak:.4g} is beyond {limit:.4g} "
                            f"(SI) for a yard manoeuvre{where}; this looks like {UNIT_HINT[c]}. "
                            "Convert units at import.")

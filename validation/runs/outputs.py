@@ -8,10 +8,11 @@
   process id, host, command and start time. The lock is an advisory
   ``flock`` on the open file, so a killed holder releases it with its last
   file descriptor: a crash never leaves the folder locked.
-- :func:`clean_stale` removes the temporaries (``.NAME.XXXX.part``) that a
-  killed writer left behind. Every atomic write in artic writes such a
-  temporary beside its target and renames it; under the lock nobody else
-  writes into the folder, so any temporary there is stale.
+- :func:`clean_stale` removes the temporaries (``.NAME.XXXX.part``, and the
+  recordings' ``.NAME.rrd.PID.tmp``) that a killed writer left behind. Every
+  atomic write in artic writes such a temporary beside its target and renames
+  it; under the lock nobody else writes into the folder, so any temporary
+  there is stale.
 - :func:`public_mode` gives a new file or folder the permissions the umask
   allows, as ``open`` would: the temporaries of ``tempfile`` are 0600 and
   0700 whatever the umask.
@@ -131,8 +132,17 @@ def _read_holder(fd: int) -> str:
         return "command (its lock file does not say which)"
 
 
+def _temporary(name: str) -> bool:
+    """Whether ``name`` is one of artic's temporaries.
+
+    ``.NAME.XXXX.part`` (the atomic writes) or ``.NAME.PID.tmp`` (the Rerun
+    recordings, saved under a name of their own before the rename).
+    """
+    return name.startswith(".") and (name.endswith(TEMP_SUFFIX) or name.endswith(".tmp"))
+
+
 def clean_stale(out_dir: Path | str) -> list[Path]:
-    """Remove the temporaries (``.*.part``) left in ``out_dir`` by killed writers.
+    """Remove the temporaries (``.*.part``, ``.*.tmp``) left in ``out_dir`` by killed writers.
 
     Call it only while holding :class:`OutDirLock` on ``out_dir``.
 
@@ -148,7 +158,7 @@ def clean_stale(out_dir: Path | str) -> list[Path]:
     for dirpath, dirnames, filenames in os.walk(root):
         here = Path(dirpath)
         for name in [*filenames, *dirnames]:
-            if name.startswith(".") and name.endswith(TEMP_SUFFIX):
+            if _temporary(name):
                 p = here / name
                 try:
                     if p.is_dir() and not p.is_symlink():
@@ -158,5 +168,5 @@ def clean_stale(out_dir: Path | str) -> list[Path]:
                     removed.append(p)
                 except OSError:
                     continue
-        dirnames[:] = [d for d in dirnames if not (d.startswith(".") and d.endswith(TEMP_SUFFIX))]
+        dirnames[:] = [d for d in dirnames if not _temporary(d)]
     return removed

@@ -13,6 +13,7 @@ constructor and the interface of :class:`~artic.validation.docking.controllers.b
 from __future__ import annotations
 
 import importlib
+import traceback
 
 from artic.mjcf.errors import UserError
 from artic.validation.docking.controllers.base import (
@@ -53,6 +54,20 @@ def load(spec: str) -> type:
     except ImportError as exc:
         raise UserError(f"--controller {spec!r}: cannot import {module!r} ({exc}); put its "
                          f"folder on PYTHONPATH") from None
+    except KeyboardInterrupt:
+        raise
+    except BaseException as exc:  # noqa: BLE001 - a SyntaxError, a raise or sys.exit at import
+        where = ""
+        if isinstance(exc, SyntaxError) and exc.filename:
+            where = f" at {exc.filename}:{exc.lineno}"
+        else:
+            tb = traceback.extract_tb(exc.__traceback__)
+            if tb:
+                where = f" at {tb[-1].filename}:{tb[-1].lineno}"
+        text = " ".join(str(exc).split())
+        raise UserError(f"--controller {spec!r}: importing module {module!r} failed{where} "
+                         f"({type(exc).__name__}{': ' + text if text else ''}); fix the "
+                         "module") from None
     cls = getattr(mod, name, None)
     if not isinstance(cls, type) or not callable(getattr(cls, "command", None)) \
             or not callable(getattr(cls, "reset", None)):
