@@ -164,8 +164,8 @@ def twins(tmp_path_factory):
     out = []
     for name in NAMES:
         m = next(x for x in MATRIX if x.name == name)
-        noisy = simulate_manoeuvre(m, 0, SensorModel())
-        ideal = simulate_manoeuvre(m, 0, SensorModel.ideal())
+        # one truth run measured twice: through the sensors and without noise
+        noisy, ideal = simulate_manoeuvre(m, 0, SensorModel(), twin=True)
         write_run(noisy, folder / f"{name}.parquet")
         out.append((noisy, ideal, folder / f"{name}.parquet"))
     return out
@@ -238,9 +238,14 @@ def test_the_printed_floor_is_what_the_noise_did_to_the_logs(twins, tmp_path, ca
         sd = np.sqrt(np.sum([got.loc[(n, c), "sd"] ** 2 for n in NAMES]) * (1 + 1 / DRAWS))
         sd /= len(NAMES)
         assert abs(mean_twin - mean_floor) <= 3.0 * sd + 0.1 * mean_floor, c
-        # and every log's own value lies within the floor's spread of single draws
+        # and every log's own value lies within the floor's spread of single draws.
+        # Sixteen such checks, of scores made mostly by a bias drawn once per log:
+        # |b| is half-normal, mean 0.8 sigma_b and sd 0.6 sigma_b, so a 2.7-sigma
+        # draw (1 in 150) already sits 3.2 of its sd above its mean. Five sd
+        # (|b| > 3.8 sigma_b, 1.4e-4 per check) keeps the family's false alarms
+        # near 0.2 % and still fails a floor off by a factor of two.
         for n in NAMES:
-            assert abs(twin[n][c] - got.loc[(n, c), "floor"]) <= 3.0 * got.loc[(n, c), "sd"], \
+            assert abs(twin[n][c] - got.loc[(n, c), "floor"]) <= 5.0 * got.loc[(n, c), "sd"], \
                 (c, n)
 
     # eps_n: its velocity term is white noise over the run's mean |v_y|; the
