@@ -244,6 +244,8 @@ class Plant:
     """
 
     name = "mbd"
+    budget_kind = "multibody"
+    """What its runs count as in the budget of simulated time, whichever loop runs it."""
 
     def __init__(self, vehicle: Vehicle, timestep: float | None = None,
                  backend: str = "auto", speed: str = "follow",
@@ -481,7 +483,10 @@ class Plant:
         d = self.data
         g = self.extras_gather()
         arrays = {"qpos": d.qpos, "xpos": d.xpos.ravel(), "xquat": d.xquat.ravel(),
-                  "site_xpos": d.site_xpos.ravel(), "userdata": d.userdata, "act": d.act,
+                  "site_xpos": d.site_xpos.ravel(),
+                  # the forces: where the compiled callback writes them, or the numpy one's
+                  "userdata": d.userdata if self.backend == "c" else self.last_forces.ravel(),
+                  "act": d.act,
                   "actuator_force": d.actuator_force, "zero": np.zeros(1)}
         raw = np.empty(len(g))
         for k, name in enumerate(closedloop.SOURCES):

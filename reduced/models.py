@@ -39,6 +39,9 @@ class Driven:
         (:meth:`~artic.reduced.control.ReducedModel.signals`).
     """
 
+    budget_kind = "reduced"
+    """What its runs count as in the process's budget of simulated time."""
+
     def __init__(self, model: ReducedModel) -> None:
         self.model = model
         self.name = model.name

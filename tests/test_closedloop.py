@@ -24,6 +24,11 @@ from conftest import straight_log
 
 TOL = 1e-9
 
+needs_loop = pytest.mark.skipif(
+    bool(closedloop.unavailable_reason()),
+    reason=f"the compiled loop is not built here ({closedloop.unavailable_reason()}): these "
+           "tests compare it with the Python loop, which the rest of the suite runs")
+
 
 def _speed_log(n: int = 1500, dt: float = 0.01):
     """Forward at 2 m/s, braking through standstill into reverse at -1 m/s, steering."""
@@ -53,6 +58,7 @@ def _both(vehicle, log, gain=3.0, inputs=None, plant_kw=None):
     return out
 
 
+@needs_loop
 @pytest.mark.parametrize("which", ["through-standstill", "reverse-feedback"])
 def test_compiled_loop_equals_python_loop(unloaded, which):
     log = _speed_log() if which == "through-standstill" else \
@@ -74,6 +80,7 @@ def test_compiled_loop_equals_python_loop(unloaded, which):
         assert np.abs(a[2]).max() > 0.05
 
 
+@needs_loop
 def test_compiled_loop_weighs_the_feedback_as_python_does(unloaded):
     # The handover's fractional weights (reversing.feedback_weight), here a weight
     # that sweeps 0..1 twice over a reverse with the feedback busy (the model starts
@@ -97,6 +104,7 @@ def test_compiled_loop_weighs_the_feedback_as_python_does(unloaded):
     assert part.sum() > 100 and np.abs(a[2][part]).max() > 0.05  # the partial weights act
 
 
+@needs_loop
 def test_the_loop_stops_at_the_jackknife_limit_where_python_does(unloaded):
     (a, _, _, _), (b, _, _, _) = _both(unloaded, straight_log(n=3000, u=-1.5, gamma0=0.3),
                                        gain=0.0)
@@ -105,6 +113,7 @@ def test_the_loop_stops_at_the_jackknife_limit_where_python_does(unloaded):
     np.testing.assert_allclose(a[0][:a[4]], b[0][:b[4]], rtol=0.0, atol=TOL)
 
 
+@needs_loop
 def test_steering_beyond_the_linkage_is_warned_once_as_in_python(unloaded):
     # 900 deg at the steering wheel asks for the road-wheel limit, 43 deg, past the
     # linkage's 37 deg stop of the left wheel turning right.
@@ -115,6 +124,7 @@ def test_steering_beyond_the_linkage_is_warned_once_as_in_python(unloaded):
     np.testing.assert_allclose(a[0], b[0], rtol=0.0, atol=TOL)
 
 
+@needs_loop
 def test_a_diverged_step_raises_the_same_error(unloaded):
     steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
     inp = loop_inputs(straight_log(n=200, u=2.0), unloaded, steering)
@@ -130,6 +140,7 @@ def test_a_diverged_step_raises_the_same_error(unloaded):
     assert errors[0] == errors[1] and "t = 0.50" in errors[0]
 
 
+@needs_loop
 def test_plants_on_threads_give_the_serial_numbers(unloaded):
     steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
     logs = [straight_log(n=600, u=-1.0, gamma0=g) for g in (0.1, -0.2, 0.3)]
@@ -146,6 +157,7 @@ def test_plants_on_threads_give_the_serial_numbers(unloaded):
         np.testing.assert_array_equal(s, t)
 
 
+@needs_loop
 def test_the_predicates_are_booleans(unloaded):
     # available() is True where the loop runs (a reason would be falsy there and
     # truthy where it cannot: the inverted reading this replaced).
@@ -155,6 +167,7 @@ def test_the_predicates_are_booleans(unloaded):
         assert p.closed_loop() is not None
 
 
+@needs_loop
 @pytest.mark.parametrize("kw, why", [({"backend": "numpy"}, "numpy tyre callback"),
                                      ({"speed": "drive"}, "speed mode is 'drive'")])
 def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
@@ -169,6 +182,7 @@ def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
                            3.0, 0.5, 1.5)
 
 
+@needs_loop
 def test_without_the_extension_the_python_loop_runs_and_says_so(unloaded, monkeypatch):
     # An install without a C compiler has no _loop_c: the harness falls back to the
     # Python loop, with one warning, and the run is the same.

@@ -273,7 +273,8 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
         count_run("multibody", inputs.t, res.n_done)
         return res.obs, res.delta, res.delta_fb, res.saturated, res.n_done
     out = _python_loop(model, *args, extras=extras)
-    count_run("other", inputs.t, out[4])
+    # the plant without its compiled parts, a subclass's own dynamics, outside models
+    count_run(getattr(model, "budget_kind", "other"), inputs.t, out[4])
     return out
 
 

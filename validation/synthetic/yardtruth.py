@@ -193,6 +193,9 @@ class YardTruth:
         MuJoCo's step [s]; a whole number of them makes each ``step``.
     """
 
+    budget_kind = "multibody"
+    """What its runs count as in the process's budget of simulated time."""
+
     name = "mbd"
     """The harness maps the steering wheel with the truth file's ``[steering.mbd]``."""
 
