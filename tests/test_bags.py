@@ -22,12 +22,12 @@ import pytest
 pytest.importorskip("rosbags", reason="the ros extra (rosbags) is not installed")
 pytest.importorskip("mcap_ros2", reason="mcap-ros2-support (test extra) is not installed")
 
-import bag_logs  # noqa: E402
 from artic.plant import Plant  # noqa: E402
 from artic.validation.cli.commands import main  # noqa: E402
 from artic.validation.harness.simulate import simulate  # noqa: E402
 from artic.validation.logs.runfile import read_run  # noqa: E402
 from artic.validation.synthetic.manoeuvres import make_profile  # noqa: E402
+from tests import bag_logs  # noqa: E402
 
 G = 9.81
 
@@ -151,7 +151,7 @@ def test_the_readme_example(tmp_path, truth, unloaded):
 @pytest.fixture(scope="module")
 def short_truth():
     """A measured 12 s slalom of the STM (the hostile-input suite's), gap included."""
-    from hostile_logs import slalom
+    from tests.hostile_logs import slalom
 
     return slalom().frame.iloc[:1200].reset_index(drop=True)
 

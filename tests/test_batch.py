@@ -11,7 +11,7 @@ from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_args, loop_inputs, run_inputs
 from artic.validation.harness.reducedloop import compiled_loop
 from artic.validation.harness.steering import SteeringMap
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def inputs_for(vehicle, name):

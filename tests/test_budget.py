@@ -24,7 +24,7 @@ from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_inputs, run_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.runs.validate import validate_runs
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def inputs(vehicle, name, log):

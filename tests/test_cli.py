@@ -105,7 +105,7 @@ def test_user_errors_exit_2_with_message(tmp_path, capsys):
 def test_validate_refuses_duplicate_log_names(tmp_path, capsys):
     from artic.mjcf import load_vehicle
     from artic.validation.runs.validate import validate_runs
-    from conftest import straight_log
+    from tests.helpers import straight_log
 
     with pytest.raises(ValueError, match="share the name"):
         validate_runs([straight_log(), straight_log()], load_vehicle("six-axle"), ["kin"])

@@ -20,7 +20,7 @@ import pytest
 from artic.plant import Plant, PlantError, PlantWarning, closedloop
 from artic.validation.harness.loop import loop_inputs, run_inputs
 from artic.validation.harness.steering import SteeringMap
-from conftest import straight_log
+from tests.helpers import straight_log
 
 TOL = 1e-9
 

@@ -23,7 +23,7 @@ from artic.validation.logs import consistency
 from artic.validation.logs.importers import import_source, read_log
 from artic.validation.logs.oxts import export_oxts, import_tables
 from artic.validation.logs.runfile import LogError, Run, check_frame, read_run, write_run
-from hostile_logs import docking, slalom
+from tests.hostile_logs import docking, slalom
 
 WINDOW = r"t = \d+\.\d\d to \d+\.\d\d s"
 
@@ -219,7 +219,7 @@ def test_a_straight_run_has_no_heading_change_to_judge():
     # Straight driving with sensor noise: the yaw rate's sign cannot be told, and
     # nothing is refused for it (the noise floor), whichever sign it has.
     from artic.validation.synthetic.sensors import measure
-    from conftest import straight_log
+    from tests.helpers import straight_log
 
     f = measure(straight_log(n=3000, u=2.0).frame, np.random.default_rng(3))
     for sign in (1.0, -1.0):

@@ -27,7 +27,7 @@ from artic.validation.synthetic.generate import simulate_manoeuvre
 from artic.validation.synthetic.sensors import SensorModel
 from artic.validation.synthetic.testmatrix import MATRIX
 from artic.validation.testing import COVER_LIMIT, assert_tracks, default_limits
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 class Still:

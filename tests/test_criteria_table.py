@@ -28,7 +28,7 @@ from artic.validation.criteria.columns import TABLE, Criterion
 from artic.validation.criteria.metrics import CRITERIA
 from artic.validation.logs.runfile import Run
 from artic.validation.logs.schema import COLUMNS as SCHEMA
-from conftest import straight_log
+from tests.helpers import straight_log
 
 ROOT = Path(__file__).resolve().parents[1]
 

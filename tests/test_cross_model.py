@@ -22,7 +22,7 @@ from artic.plant.tyre import TyreParams
 from artic.reduced import KIN, STM
 from artic.reduced.kinematic import kin_parameters
 from artic.validation.testing import assert_agree, assert_tracks
-from conftest import steady_turn, straight_log
+from tests.helpers import steady_turn, straight_log
 
 U = 5 / 3.6
 """Speed of the linear-regime runs [m/s]."""

@@ -12,7 +12,7 @@ import pytest
 from artic.mjcf.interface import InitialState
 from artic.plant import Plant, PlantWarning, callback, ctyre
 from artic.plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
-from shared_data import REFERENCE_TYRE, needs
+from tests.shared_data import REFERENCE_TYRE, needs
 
 TRAILER_TYRE = "artic-trailer-385-65R22.5.tir"
 

@@ -26,7 +26,7 @@ from artic.validation.logs.differentiate import derivative, rates_from_pose, sin
 from artic.validation.logs.runfile import Run, read_run
 from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.manoeuvres import make_profile
-from hostile_logs import docking
+from tests.hostile_logs import docking
 
 
 # ------------------------------------------------------------------ the differentiator
@@ -216,7 +216,7 @@ def test_steer_from_yaw_rate_and_tune_refusal(tmp_path, unloaded):
 
     from artic.validation.cli.commands import main
     from artic.validation.logs.runfile import write_run
-    from hostile_logs import slalom
+    from tests.hostile_logs import slalom
 
     log = tmp_path / "slalom.parquet"
     write_run(slalom(), log)

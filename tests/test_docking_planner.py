@@ -18,7 +18,7 @@ from artic.validation.docking.linear import (
     with_steering_state,
 )
 from artic.validation.docking.scenarios import Start, scenario
-from conftest import PRESETS
+from tests.helpers import PRESETS
 
 
 # ---------------------------------------------------------------- linearisation

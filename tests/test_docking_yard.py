@@ -19,7 +19,7 @@ from artic.mjcf.outline import (
 from artic.reduced import KIN, Driven
 from artic.validation.docking.geometry import Box, Frames, box_array, first_hit, swept_cells
 from artic.validation.docking.scenarios import SCENARIOS, make_yard, scenario
-from conftest import PRESETS
+from tests.helpers import PRESETS
 
 
 def test_the_starts_are_seeded_and_the_same_for_every_vehicle():

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from artic.validation.criteria.articulation import eps_gamma
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def test_constant_offset_gives_that_offset():

@@ -16,7 +16,7 @@ from artic.validation.criteria.fixedscale import (
 )
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.logs.runfile import Run
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def swaying(n: int, u: float, amp_r: float, amp_v: float, periods: int = 4) -> Run:

@@ -8,7 +8,7 @@ from artic.validation.campaign.executors import cluster_executor
 from artic.validation.cli.progress import BUDGET
 from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.generate import generate_campaign
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def test_executor_choices_are_checked():

@@ -16,7 +16,7 @@ from artic.validation.logs.runfile import read_run, write_run
 from artic.validation.review.tables import summary
 from artic.validation.runs import validate as val
 from artic.validation.runs.runtime import MujocoWarning
-from hostile_logs import docking, slalom
+from tests.hostile_logs import docking, slalom
 
 DIVERGE_AT = 5.0
 """When the deliberately absurd parameter is set [s]."""
@@ -125,7 +125,7 @@ def test_a_log_without_a_plant_run_is_left_out_against_the_plant(tmp_path, unloa
     from artic.validation.campaign.main import _versus_plant
     from artic.validation.logs.runfile import write_run
     from artic.validation.runs.validate import failed_run
-    from conftest import as_log, straight_log
+    from tests.helpers import as_log, straight_log
 
     log = as_log(straight_log(n=300), "refused-by-the-plant")
     log.meta.update(load="unloaded", direction="reverse", manoeuvre="docking")

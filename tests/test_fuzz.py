@@ -68,13 +68,13 @@ from artic.validation.cli.commands import main
 from artic.validation.logs.channelmap import UNITS
 from artic.validation.logs.runfile import LogError, check_frame, read_run, write_run
 from artic.validation.logs.schema import COLUMNS
-from hostile_logs import slalom
+from tests.hostile_logs import slalom
 
 try:
     import mcap_ros2  # noqa: F401
     import rosbags  # noqa: F401
 
-    import bag_logs
+    from tests import bag_logs
 except ImportError:  # pragma: no cover - the test extra installs them
     bag_logs = None
 
@@ -454,7 +454,7 @@ def check_log(damage, fmt: str, byte_damage: int | None) -> None:
 
 
 def check_mapped(make, damage, accept: bool, byte_damage: int | None) -> None:
-    from hostile_logs import docking
+    from tests.hostile_logs import docking
 
     with tempfile.TemporaryDirectory() as tmp:
         p = Path(tmp) / "log.csv"

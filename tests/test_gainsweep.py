@@ -19,7 +19,7 @@ from artic.validation.runs.gainsweep import (
     stability_bound,
     sweep_table,
 )
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def test_bound_is_eq7_on_each_models_lengths(unloaded):

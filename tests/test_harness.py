@@ -14,7 +14,7 @@ from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation, simulate
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
-from conftest import as_log, straight_log
+from tests.helpers import as_log, straight_log
 
 U_REV = -3.0 / 3.6
 G0 = math.radians(1.0)

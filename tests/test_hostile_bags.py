@@ -23,16 +23,16 @@ import pytest
 pytest.importorskip("rosbags", reason="the ros extra (rosbags) is not installed")
 pytest.importorskip("mcap_ros2", reason="mcap-ros2-support (test extra) is not installed")
 
-import bag_logs  # noqa: E402
 from artic.validation.cli.commands import main  # noqa: E402
 from artic.validation.logs.bags import QUATERNION_TOL  # noqa: E402
 from artic.validation.logs.runfile import read_run  # noqa: E402
+from tests import bag_logs  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def truth():
     """A measured 24 s slalom at 8 km/h (the hostile-input suite's), the bags' gap included."""
-    from hostile_logs import slalom
+    from tests.hostile_logs import slalom
 
     return slalom().frame.iloc[:2400].reset_index(drop=True)
 

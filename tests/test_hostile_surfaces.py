@@ -10,7 +10,7 @@ from artic.mjcf.vehicle import resolve_vehicle_path
 from artic.validation.cli.commands import main
 from artic.validation.logs import consistency
 from artic.validation.logs.runfile import write_run
-from hostile_logs import docking, slalom
+from tests.hostile_logs import docking, slalom
 
 
 def fails(capsys, *argv, code: int = 2) -> str:

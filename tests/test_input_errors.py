@@ -25,7 +25,7 @@ from artic.validation.cli.commands import main
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import read_run, write_run
 from artic.validation.logs.schema import COLUMNS
-from hostile_logs import slalom
+from tests.hostile_logs import slalom
 
 
 def fails(capsys, *argv: str, code: int = 2) -> str:

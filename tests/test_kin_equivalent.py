@@ -12,7 +12,7 @@ import pytest
 from artic.mjcf import load_vehicle
 from artic.reduced import KIN, STM
 from artic.reduced.kinematic import kin_parameters, wheelbases
-from conftest import steady_turn
+from tests.helpers import steady_turn
 
 U = 5 / 3.6
 

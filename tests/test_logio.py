@@ -13,7 +13,7 @@ from artic.validation.logs.runfile import (
     read_run,
     write_run,
 )
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def good_log() -> Run:

@@ -23,7 +23,7 @@ from artic.validation.logs import consistency
 from artic.validation.logs.importers import import_source, read_log
 from artic.validation.logs.runfile import LogError, check_frame, read_run
 from artic.validation.logs.scale import FULL_SIZE, LogScale
-from hostile_logs import docking, slalom
+from tests.hostile_logs import docking, slalom
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "channels-example.toml"
 

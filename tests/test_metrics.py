@@ -8,7 +8,7 @@ import pytest
 
 from artic.validation.criteria.metrics import distance_rms, distance_weights, run_metrics
 from artic.validation.criteria.pathdist import distance_to_polyline
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def brute_force(points, path):

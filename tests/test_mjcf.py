@@ -15,7 +15,7 @@ from artic.mjcf.builder import build_model, linkage, to_xml
 from artic.mjcf.linkage import Trapezoid, centre_angle
 from artic.mjcf.vehicle import G
 from artic.validation.cli.commands import main
-from conftest import PRESETS
+from tests.helpers import PRESETS
 
 
 @pytest.fixture(scope="module", params=PRESETS)

@@ -28,7 +28,7 @@ from artic.validation.logs.runfile import Run, atomic_write_text, read_run, writ
 from artic.validation.runs.outputs import LOCK_NAME, OutDirLock, clean_stale
 from artic.validation.synthetic import generate
 from artic.validation.synthetic.testmatrix import MATRIX, TUNING
-from hostile_logs import slalom
+from tests.hostile_logs import slalom
 
 ROOT = Path(__file__).resolve().parents[1]
 

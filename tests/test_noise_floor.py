@@ -32,7 +32,7 @@ from artic.validation.logs.runfile import LogError, Run, read_run, write_run
 from artic.validation.synthetic.generate import simulate_manoeuvre
 from artic.validation.synthetic.sensors import SensorModel
 from artic.validation.synthetic.testmatrix import MATRIX
-from conftest import straight_log
+from tests.helpers import straight_log
 
 NAMES = ("00-constant-steer-unloaded-200deg-5kph-left",
          "01-constant-steer-unloaded-200deg-5kph-right",

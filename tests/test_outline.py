@@ -9,7 +9,7 @@ import pytest
 from artic.mjcf import load_vehicle, naming
 from artic.mjcf.builder import build_model
 from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
-from conftest import PRESETS
+from tests.helpers import PRESETS
 
 
 @pytest.mark.parametrize("preset", PRESETS)

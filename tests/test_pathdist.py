@@ -16,7 +16,7 @@ import pytest
 from artic.validation.cli.commands import main
 from artic.validation.criteria.pathdist import LEAF, _build, distance_to_polyline
 from artic.validation.logs.runfile import write_run
-from hostile_logs import slalom
+from tests.hostile_logs import slalom
 
 
 def brute_force(points: np.ndarray, path: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ from artic.reduced import STM, InitialState
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation
 from artic.validation.harness.steering import SteeringMap
-from conftest import PRESETS, straight_log
+from tests.helpers import PRESETS, straight_log
 
 
 @pytest.fixture(scope="module")
@@ -256,7 +256,7 @@ def test_reverse_ramp_steer_is_held_by_the_harness(unloaded):
     log = drive_articulation(STM(v), v, t, np.full_like(t, -3 / 3.6), gref,
                              steering=s)
     log.meta["name"] = "ramp"
-    from conftest import as_log
+    from tests.helpers import as_log
 
     log = as_log(log, "ramp")
     with Plant(v) as p:

@@ -19,7 +19,7 @@ import pytest
 
 from artic.validation import testing
 from artic.validation.testing import assert_agree, assert_tracks, criteria_table
-from conftest import straight_log
+from tests.helpers import straight_log
 
 pytest_plugins = ["pytester"]
 

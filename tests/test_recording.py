@@ -27,7 +27,7 @@ from artic.validation.review.recording import (
     record_summary,
 )
 from artic.validation.synthetic.manoeuvres import make_profile
-from conftest import as_log
+from tests.helpers import as_log
 
 
 @pytest.fixture(scope="module")

@@ -36,7 +36,7 @@ from artic.validation.models import (
     spec,
     unregister_model,
 )
-from test_cli import constant_steer_logs
+from tests.test_cli import constant_steer_logs
 
 
 class KinBlue(KIN):

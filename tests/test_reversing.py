@@ -25,7 +25,7 @@ from artic.validation.harness.reversing import (
 from artic.validation.harness.simulate import simulate
 from artic.validation.logs.runfile import Run
 from artic.validation.synthetic.manoeuvres import Profile
-from conftest import as_log
+from tests.helpers import as_log
 
 DT = 0.01
 
@@ -135,7 +135,7 @@ def test_stretches_need_the_dead_band_and_the_minimum_duration():
 
 
 def test_a_log_reversing_from_its_first_sample_is_reversing_throughout(unloaded):
-    from conftest import straight_log
+    from tests.helpers import straight_log
 
     log = straight_log(n=300, u=-0.83, gamma0=math.radians(1.0))
     assert unsteered_inputs(log, unloaded).reversing.all()

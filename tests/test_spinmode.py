@@ -19,7 +19,7 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import G
 from artic.plant import Plant, PlantError, ctyre, spinmode
 from artic.plant.tyre import TyreParams, longitudinal_tread
-from conftest import rates_jacobian
+from tests.helpers import rates_jacobian
 
 TYRES = ("artic-truck-315-80R22.5.tir", "artic-trailer-385-65R22.5.tir")
 

@@ -13,7 +13,7 @@ from artic.validation.logs.importers import import_source
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.sensors import SensorModel, measure
 from artic.validation.synthetic.testmatrix import MATRIX, PAPER, TUNING
-from conftest import straight_log
+from tests.helpers import straight_log
 
 
 def test_matrix_has_the_seed_counts_and_every_cell():

@@ -30,7 +30,7 @@ from artic.validation.synthetic.truthplant import (
     TruthPlant,
     timestep_for,
 )
-from conftest import rates_jacobian
+from tests.helpers import rates_jacobian
 
 STEP = FORWARD_TIMESTEP
 """The truth's step on the forward manoeuvres [s], the log's sample."""

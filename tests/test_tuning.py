@@ -14,7 +14,7 @@ from artic.validation.criteria.metrics import run_metrics
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import simulate
 from artic.validation.synthetic.manoeuvres import make_profile
-from conftest import as_log
+from tests.helpers import as_log
 
 TRUTH = {"stm": {"f": 7.4, "i_s": 22.3, "q": 0.006, "delta_h_offset": 0.061},
          "kin": {"i_s": 19.8, "q": 0.012, "delta_h_offset": -0.03}}

@@ -19,7 +19,7 @@ from artic.plant.tyre import (
     steady_deflections,
     transient_forces,
 )
-from shared_data import REFERENCE_TYRE, needs
+from tests.shared_data import REFERENCE_TYRE, needs
 
 TIR = REFERENCE_TYRE
 

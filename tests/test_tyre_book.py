@@ -25,8 +25,8 @@ import numpy as np
 import pytest
 
 from artic.plant.tyre import TyreParams, steady_state
-from reference import pac2002_book as book
-from shared_data import REFERENCE_TYRE, needs
+from tests.reference import pac2002_book as book
+from tests.shared_data import REFERENCE_TYRE, needs
 
 SHIPPED = [str(resources.files("artic.mjcf") / "tyres" / n)
            for n in ("artic-truck-315-80R22.5.tir", "artic-trailer-385-65R22.5.tir")]

@@ -253,7 +253,7 @@ def test_ply_steer_is_not_mirrored_so_a_real_tyre_drifts_with_it():
     # slip angle at which its force vanishes, and drift to the side the tyres
     # push. Mirrored per side (MF-Tyre's TYRESIDE), the offsets would cancel on
     # every axle and nothing would drift.
-    from shared_data import REFERENCE_TYRE
+    from tests.shared_data import REFERENCE_TYRE
 
     if not REFERENCE_TYRE.is_file():
         pytest.skip(f"reference data {REFERENCE_TYRE} is absent (it is in ../shared)")

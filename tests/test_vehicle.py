@@ -10,7 +10,7 @@ import pytest
 
 from artic.mjcf import VehicleFileError, load_vehicle, preset_names
 from artic.mjcf.vehicle import G, resolve_vehicle_path
-from conftest import PRESETS
+from tests.helpers import PRESETS
 
 # Appendix of the paper: measured axle loads [N]; drive axle, trailer axles 1-3.
 MEASURED = {

@@ -126,9 +126,9 @@ def headline_section(r: CampaignResults) -> list[str]:
                 "resolved after the correction.", ""]
     else:
         out += [
-            "The criteria that rank models rather than sensors: a finding between the models, "
-            "no ranking that the logs resolve after the correction and the noise-free twins "
-            "do not, and what the sensor noise adds to any model's score at most "
+            "The criteria that rank models rather than sensors: a finding between the models "
+            "(resolved after the correction on the logs and, with the same sign, on the "
+            "noise-free twins), and what the sensor noise adds to any model's score at most "
             f"{findings.NOISE_FRACTION:g} of the smallest difference the findings state "
             "(\"Which criteria rank models\" below). Their findings:", ""]
     any_line = False
@@ -149,6 +149,10 @@ def headline_section(r: CampaignResults) -> list[str]:
             if share is not None and len(share):
                 noise = (f"; the noise adds at most {crit.loc[c, 'noise']:.2g} to a model's "
                          f"score, {crit.loc[c, 'ratio']:.2f} of the smallest finding")
+            made = int(crit.loc[c, "noise_made"])
+            if made:
+                noise += (f"; the noise also makes {made} ranking(s) that the twins do not "
+                          "hold, not stated (\"Discussion\" below)")
             out.append(f"- **{d.capitalize()}, {c}**: " + "; ".join(found) + noise + ".")
             any_line = True
         out.append("")
@@ -162,14 +166,11 @@ def headline_section(r: CampaignResults) -> list[str]:
                 continue
             found = [v for v, row in zip(verdicts(pairs, c), _model_rows(pairs, c), strict=True)
                      if ranked(row)]
-            why = (f"{int(crit.loc[c, 'noise_made'])} ranking(s) made by the noise"
-                   if crit.loc[c, "noise_made"] else
-                   f"noise addition {crit.loc[c, 'ratio']:.2f} of the smallest finding")
+            why = f"noise addition {crit.loc[c, 'ratio']:.2f} of the smallest finding"
             others.append(f"- {d}, {c} ({why}): " + "; ".join(found) + ".")
     if others:
         out += ["Findings on criteria that do not carry conclusions (they hold on the twins, "
-                "but the noise is not small against them, or the criterion also ranks "
-                "sensors):", "", *others, ""]
+                "but the noise is not small against them):", "", *others, ""]
     if not any_line and not others:
         out += ["No ranking between models is a finding.", ""]
     paper = []
@@ -204,7 +205,7 @@ def noise_sections(r: CampaignResults) -> list[str]:
            "correction on the logs that do not hold on the noise-free twins (made by the "
            "noise), the smallest difference a finding states, the largest noise addition to "
            "a model's score, their ratio, and whether the criterion carries conclusions "
-           f"(no ranking made by the noise, ratio at most {findings.NOISE_FRACTION:g}).", ""]
+           f"(a finding, and the ratio at most {findings.NOISE_FRACTION:g}).", ""]
     for d in ("forward", "reverse"):
         crit = r.headline_criteria.get(d)
         if crit is not None and len(crit):

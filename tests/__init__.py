@@ -1,0 +1,1 @@
+"""artic's tests: a package, so that they share helpers as modules (tests.helpers)."""
