@@ -319,3 +319,14 @@ def test_its_step_converges(unloaded):
     assert math.hypot(a[6] - b[6], a[7] - b[7]) < 0.01  # [m] the campaign's targets:
     assert abs(a[12] - b[12]) < math.radians(0.05)  # 1 cm, 0.05 deg,
     assert abs(a[5] - b[5]) < 1e-3  # 1e-3 rad/s
+
+
+def test_every_body_gets_inertias_a_body_can_have():
+    # A frame half whose yaw budget is small must not get a roll inertia above
+    # its pitch and yaw inertias' sum (MuJoCo refuses it: a drawn truck did).
+    from artic.validation.synthetic.yardbuild import _box
+
+    a, b, c = _box(4000.0, 4000.0 * 0.45 ** 2, 300.0, 300.0)
+    assert a <= b + c and b <= a + c and c <= a + b
+    assert (a, b, c) == (600.0, 300.0, 300.0)  # roll lowered to the sum, the rest kept
+    assert _box(10.0, 1.0, 2.0, 2.5) == [1.0, 2.0, 2.5]  # a valid body is unchanged

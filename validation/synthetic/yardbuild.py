@@ -158,7 +158,18 @@ def ackermann_right(delta_l: float, track: float, wheelbase: float) -> float:
 
 
 def _box(mass: float, ixx: float, iyy: float, izz: float) -> list[float]:
-    return [max(ixx, 1e-3 * mass), max(iyy, 1e-3 * mass), max(izz, 1e-3 * mass)]
+    """Principal inertias [kg m^2]: at least 1e-3 of the mass, none above the other two's sum.
+
+    A rigid body's principal moments obey the triangle inequality (``A + B >= C``:
+    ``A + B - C = 2 * int(z^2 dm)``); a drawn truck whose yaw budget leaves a
+    frame half little yaw and pitch inertia would otherwise be given a roll
+    inertia no body has, which MuJoCo refuses. Such a moment is lowered to the
+    sum of the other two (a body flat in that axis).
+    """
+    moments = [max(ixx, 1e-3 * mass), max(iyy, 1e-3 * mass), max(izz, 1e-3 * mass)]
+    for k in range(3):
+        moments[k] = min(moments[k], moments[(k + 1) % 3] + moments[(k + 2) % 3])
+    return moments
 
 
 def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
