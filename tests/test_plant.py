@@ -12,7 +12,7 @@ from artic.mjcf import load_vehicle
 from artic.mjcf.linkage import centre_angle
 from artic.plant import Plant, PlantError, callback
 from artic.plant.tyre import TyreParams, TyreRangeWarning
-from artic.reduced import STM, InitialState
+from artic.reduced import STM, Driven, InitialState
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation
 from artic.validation.harness.steering import SteeringMap
@@ -119,7 +119,7 @@ def test_constant_steer_yaw_rate_matches_stm(unloaded, unloaded_plant):
     y = run(p, 40.0, delta=delta_left, u=u)[-1]
     qL, qR = p.data.qpos[p._steer_L[0]], p.data.qpos[p._steer_R[0]]
     dc = float(centre_angle(np.array(qL), np.array(qR)))
-    m = stm_with_tyre_file_stiffness(v)
+    m = Driven(stm_with_tyre_file_stiffness(v))  # the STM with the state the harness keeps
     m.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=u))
     for _ in range(4000):
         m.step(0.01, dc, u, 0.0)

@@ -158,8 +158,8 @@ def _headline(r: SeedResults) -> list[str]:
     from artic.validation.campaign.rankings import label, ranked
 
     out = ["## Headline, pooled over trucks", "",
-           "The criteria that rank models rather than sensors (pooled: a finding, no ranking "
-           "made by the noise, noise addition at most "
+           "The criteria that rank models rather than sensors (pooled: a finding, and the "
+           "noise addition at most "
            f"{findings.NOISE_FRACTION:g} of the smallest finding), their pooled findings, and "
            "on how many trucks each is a finding of that truck's own campaign.", ""]
     n = len(r.walls)
