@@ -61,6 +61,13 @@ P_MIN = 1.0 / (RESAMPLES + 1)
 """The smallest p value a bootstrap of :data:`RESAMPLES` resamples reports [-]."""
 
 
+def _family(p) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The p values as floats, an all-NaN result, and the finite ones' indices, p ascending."""
+    p = np.asarray(p, dtype=float)
+    ok = np.flatnonzero(np.isfinite(p))
+    return p, np.full(p.shape, math.nan), ok[np.argsort(p[ok], kind="stable")]
+
+
 def holm(p: Sequence[float] | np.ndarray) -> np.ndarray:
     """Holm's step-down adjusted p values.
 
@@ -79,13 +86,8 @@ def holm(p: Sequence[float] | np.ndarray) -> np.ndarray:
     ndarray
         Adjusted p values, in the input's order [-].
     """
-    p = np.asarray(p, dtype=float)
-    out = np.full(p.shape, math.nan)
-    ok = np.flatnonzero(np.isfinite(p))
-    m = ok.size
-    if m == 0:
-        return out
-    order = ok[np.argsort(p[ok], kind="stable")]
+    p, out, order = _family(p)
+    m = order.size
     scaled = (m - np.arange(m)) * p[order]
     out[order] = np.minimum(1.0, np.maximum.accumulate(scaled))
     return out
@@ -107,13 +109,8 @@ def benjamini_hochberg(p: Sequence[float] | np.ndarray) -> np.ndarray:
     ndarray
         Adjusted p values (q values), in the input's order [-].
     """
-    p = np.asarray(p, dtype=float)
-    out = np.full(p.shape, math.nan)
-    ok = np.flatnonzero(np.isfinite(p))
-    m = ok.size
-    if m == 0:
-        return out
-    order = ok[np.argsort(p[ok], kind="stable")]
+    p, out, order = _family(p)
+    m = order.size
     scaled = m * p[order] / np.arange(1, m + 1)
     out[order] = np.minimum(1.0, np.minimum.accumulate(scaled[::-1])[::-1])
     return out
