@@ -64,7 +64,7 @@ from artic.validation.docking.sensing import SensorStream
 from artic.validation.docking.supervise import calling, supervised
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
-from artic.validation.models import build
+from artic.validation.models import build, driven
 from artic.validation.synthetic.sensors import SensorModel
 
 DT = 0.1
@@ -274,7 +274,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
         mbd = yard_plant.steering
     else:
         plant = (Plant(plant_vehicle) if yard_model == "mbd"
-                 else build(yard_model, plant_vehicle))
+                 else driven(build(yard_model, plant_vehicle)))
         yard_plant = None
     with contextlib.closing(plant):
         (yard_plant or plant).reset(InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0))

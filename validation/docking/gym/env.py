@@ -1,0 +1,207 @@
+"""``artic/Dock-v0`` and ``artic/DockKIN-v0``: the docking benchmark as a Gymnasium environment.
+
+An episode is one run of ``artic dock`` (:class:`~artic.validation.docking.gym.episode.Episode`):
+the scenario's seeded start, the planner, the actuators, the sensors and their
+noise, the failure checks and the scores are the benchmark's own, on the
+multibody plant (``Dock-v0``) or on KIN (``DockKIN-v0``, for fast prototyping:
+the same scenarios, observations and scores, so a policy trained on one is
+evaluated on the other).
+
+- **Observation**: ``Box(-inf, inf, (17,), float64)``, the controller's
+  observation as ``artic dock`` gives it and the dock errors
+  (:data:`~artic.validation.docking.gym.spaces.OBSERVATION_NAMES`, with their
+  :data:`~artic.validation.docking.gym.spaces.OBSERVATION_UNITS`).
+- **Action**: ``Box(-1, 1, (2,), float64)``: steering wheel and speed as shares
+  of their limits (:class:`~artic.validation.docking.gym.spaces.ActionScale`).
+  The actuators follow it at their rates, as in ``artic dock``.
+- **Step**: the controllers' sample period, 0.1 s; the plant steps at its own
+  10 ms within.
+- **Reward**: :mod:`artic.validation.docking.gym.reward`.
+- **End**: terminated when the run ends docked or failed (collision,
+  jackknife, a missed door, a diverged plant); truncated at the scenario's time
+  limit. ``info["reason"]`` says which; the last step's ``info["scores"]`` is the
+  run's ``dock.csv`` row, so an evaluation with this environment equals
+  ``artic dock``'s. Agents built on artic's controllers read
+  :attr:`DockEnv.observation` (the :class:`~artic.validation.docking.controllers.Observation`
+  a controller gets) and :attr:`DockEnv.task` (its
+  :class:`~artic.validation.docking.controllers.Task`, the plan among it).
+
+``reset(seed=s)`` seeds the draw of the start; ``options={"start": k}`` takes
+``artic dock``'s start ``k`` (its ``--seeds``) instead, and ``"scenario"`` another
+of the environment's scenarios.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from artic.mjcf.errors import UserError
+from artic.mjcf.vehicle import load_vehicle
+from artic.validation.docking.controllers.base import Controller, Observation, Task
+from artic.validation.docking.gym.episode import Episode, Step
+from artic.validation.docking.gym.reward import outcome_reward, step_reward
+from artic.validation.docking.gym.spaces import (
+    OBSERVATION_NAMES,
+    ActionScale,
+    observation_vector,
+    stopped_at_dock,
+)
+from artic.validation.docking.run import run_name
+from artic.validation.docking.scenarios import SCENARIOS
+from artic.validation.docking.scenarios import scenario as find_scenario
+
+_TRUNCATIONS = ("timeout",)
+_STARTS = 2**31 - 1
+
+
+class DockEnv(gym.Env):
+    """Reverse a tractor-semitrailer onto a loading dock.
+
+    Parameters
+    ----------
+    scenario : str
+        Comma-separated scenario names (``artic dock --list``), or ``"all"``:
+        each reset draws one of them unless ``options["scenario"]`` names it.
+    vehicle : str
+        Vehicle preset or file.
+    yard_model : str
+        ``"mbd"``, the multibody plant, or ``"kin"``.
+    render_mode : str, optional
+        ``"rerun"``: write each finished episode's Rerun recording, the one
+        ``artic dock`` writes, to ``recording_dir``.
+    recording_dir : str or Path
+        Where the recordings go (``"recordings"`` by default).
+    **drive_options
+        More keyword arguments of :func:`artic.validation.docking.run.drive`
+        for every episode (for example ``timeout`` [s]).
+
+    Examples
+    --------
+    >>> import gymnasium as gym
+    >>> import numpy as np
+    >>> env = gym.make("artic.gym:artic/DockKIN-v0", scenario="straight")
+    >>> observation, info = env.reset(seed=1, options={"start": 0})
+    >>> observation.shape, info["reason"]
+    ((17,), '')
+    >>> observation, reward, terminated, truncated, info = env.step(np.array([0.0, -0.5]))
+    >>> bool(reward > -1.0), terminated, truncated
+    (True, False, False)
+    >>> env.close()
+    """
+
+    metadata = {"render_modes": ["rerun"], "render_fps": 10}
+
+    def __init__(self, scenario: str = "alley", vehicle: str = "gosar2022-unloaded",
+                 yard_model: str = "mbd", render_mode: str | None = None,
+                 recording_dir: str | Path = "recordings", **drive_options: Any) -> None:
+        names = list(SCENARIOS) if scenario == "all" else \
+            [s.strip() for s in scenario.split(",") if s.strip()]
+        self._scenarios = [find_scenario(n) for n in names]
+        if not self._scenarios:
+            raise UserError("scenario: give at least one name (artic dock --list) or 'all'")
+        if render_mode not in (None, "rerun"):
+            raise UserError(f"render_mode {render_mode!r}: expected None or 'rerun'")
+        if yard_model not in ("mbd", "kin"):
+            raise UserError(f"yard_model {yard_model!r}: expected 'mbd' or 'kin'")
+        self.vehicle_name = vehicle
+        self.vehicle = load_vehicle(vehicle)
+        self.yard_model = yard_model
+        self.render_mode = render_mode
+        self.recording_dir = Path(recording_dir)
+        self._options = drive_options
+        self.scale = ActionScale.of(self.vehicle)
+        self.observation_space = gym.spaces.Box(-np.inf, np.inf, (len(OBSERVATION_NAMES),),
+                                                np.float64)
+        self.action_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float64)
+        self._episode: Episode | None = None
+        self._helper: Controller | None = None
+        self._last: tuple[np.ndarray, Observation] | None = None
+        self._task = None
+
+    # ------------------------------------------------------------------ API
+    def reset(self, *, seed: int | None = None,
+              options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict]:
+        """Start an episode at a seeded start; the first observation and ``info``."""
+        super().reset(seed=seed)
+        options = dict(options or {})
+        self._close_episode()
+        scen = find_scenario(options["scenario"]) if "scenario" in options else \
+            self._scenarios[int(self.np_random.integers(len(self._scenarios)))]
+        start = options.get("start")
+        for _ in range(100):  # a start the planner finds no path from is drawn again
+            k = int(self.np_random.integers(_STARTS)) if start is None else int(start)
+            record = None
+            if self.render_mode == "rerun":
+                name = run_name(scen.name, self.vehicle.name, "gym", k)
+                record = self.recording_dir / f"{name}.rrd"
+            self._episode = Episode(scen, self.vehicle_name, k, self.yard_model, record=record,
+                                    **self._options)
+            first = self._episode.start()
+            if first.observation is not None:
+                break
+            reason = first.result.row["failure"]
+            if start is not None:
+                raise UserError(f"start {k} of {scen.name}: {reason}; choose another start")
+        else:
+            raise RuntimeError(f"no start of {scen.name} had a plan in 100 draws")
+        self._task = self._episode.task
+        self._helper = Controller()
+        self._helper.reset(self._task)
+        vector = observation_vector(first.observation, self._helper)
+        self._last = (vector, first.observation)
+        info = {"t": first.observation.t, "scenario": scen.name, "start": k, "reason": ""}
+        return vector, info
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
+        """Hold ``action`` for 0.1 s: observation, reward, terminated, truncated, info."""
+        if self._episode is None or self._last is None:
+            raise RuntimeError("call reset() before step()")
+        before, _ = self._last
+        cmd = self.scale.command(action)
+        if stopped_at_dock(cmd, float(before[-3])):
+            cmd = type(cmd)(cmd.delta_h, 0.0, done=True)
+        got: Step = self._episode.send(cmd)
+        if got.observation is not None:
+            vector = observation_vector(got.observation, self._helper)
+            self._last = (vector, got.observation)
+            reward = step_reward(tuple(before[-3:]), tuple(vector[-3:]))
+            return vector, reward, False, False, {"t": got.observation.t, "reason": ""}
+        row = got.result.row
+        self._episode = None
+        reason = "docked" if row["success"] else str(row["failure"]).split(":")[0]
+        truncated = reason in _TRUNCATIONS
+        reward = outcome_reward(bool(row["success"]), reason)
+        info = {"t": self._last[1].t, "reason": reason, "scores": row}
+        return before.copy(), reward, not truncated, truncated, info
+
+    @property
+    def observation(self) -> Observation:
+        """The last :class:`~artic.validation.docking.controllers.Observation` a controller gets."""
+        if self._last is None:
+            raise RuntimeError("call reset() first")
+        return self._last[1]
+
+    @property
+    def task(self) -> Task:
+        """The episode's :class:`~artic.validation.docking.controllers.Task` a controller gets."""
+        if self._task is None:
+            raise RuntimeError("call reset() first")
+        return self._task
+
+    def render(self) -> None:
+        """Nothing to draw now: with ``render_mode="rerun"`` each episode is recorded whole."""
+        return None
+
+    def close(self) -> None:
+        """Stop an unfinished episode."""
+        self._close_episode()
+
+    def _close_episode(self) -> None:
+        if self._episode is not None:
+            self._episode.close()
+            self._episode = None
+

@@ -1,0 +1,117 @@
+"""The environment's observation vector and action scale, shared with the policy adapter.
+
+Observation (:data:`OBSERVATION_NAMES`, :data:`OBSERVATION_UNITS`): the 13
+measured signals of :data:`artic.mjcf.interface.OBSERVATION` as ``artic dock``
+gives them to a controller (same sensors, noise and seeds), the steering wheel
+from the CAN bus, and the three dock errors of
+:meth:`artic.Controller.dock_errors` from those signals: 17 numbers, in the
+yard's frame (the dock's face at ``x_dock``; see the scenario).
+
+Action: two numbers in [-1, 1]. The first is the steering-wheel angle from its
+centre (the vehicle file's ``delta_h_offset``) as a share of the wheel's angle
+at the road wheels' lock, the second the tractor's speed as a share of the
+yard's limit :data:`artic.validation.docking.run.SPEED_MAX` (negative:
+reverse). :class:`ActionScale` maps them both ways.
+
+A policy has no "done" output: the run ends docked when the policy asks for
+zero speed (:data:`STOP_SPEED`) within :data:`STOP_DISTANCE` of the face
+(:func:`stopped_at_dock`), as a driver stops at the dock and sets the brake;
+the reference controller asks exactly that when it is done.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from artic.mjcf.interface import OBSERVATION
+from artic.mjcf.vehicle import Vehicle
+from artic.validation.docking.controllers.base import Command, Controller, Observation
+from artic.validation.docking.run import SPEED_MAX
+from artic.validation.harness.steering import SteeringMap
+
+_UNITS = {"x": "m", "y": "m", "psi": "rad", "v": "m/s", "r": "rad/s", "gamma": "rad"}
+
+OBSERVATION_NAMES: tuple[str, ...] = (*OBSERVATION, "delta_h", "dock_distance",
+                                      "dock_lateral", "dock_heading")
+"""The observation vector's entries, in order."""
+
+OBSERVATION_UNITS: tuple[str, ...] = (
+    *(_UNITS[name.split("_")[0]] for name in OBSERVATION), "rad", "m", "m", "rad")
+"""Their units."""
+
+STOP_SPEED = 0.01
+"""A commanded speed below this [m/s] asks the tractor to stop."""
+
+STOP_DISTANCE = 1.0
+"""Within this distance of the dock's face [m] a stop ends the run (the driving
+test's 0.91 m tolerance, rounded up)."""
+
+
+def observation_vector(obs: Observation, ctrl: Controller) -> np.ndarray:
+    """The 17 numbers of :data:`OBSERVATION_NAMES` [m, rad, m/s, rad/s].
+
+    Parameters
+    ----------
+    obs : Observation
+        What the sensors report.
+    ctrl : Controller
+        A controller reset on the run's task: its :meth:`~artic.Controller.dock_errors`.
+    """
+    errors = ctrl.dock_errors(obs)
+    return np.concatenate([np.asarray(obs.signals, float), [obs.delta_h], errors])
+
+
+@dataclass(frozen=True)
+class ActionScale:
+    """The action's limits for one vehicle.
+
+    Parameters
+    ----------
+    offset : float
+        Steering wheel at the road wheels' centre [rad].
+    wheel : float
+        Steering wheel from its centre at the road wheels' lock [rad].
+    speed : float
+        The yard's speed limit [m/s].
+    """
+
+    offset: float
+    wheel: float
+    speed: float
+
+    @classmethod
+    def of(cls, vehicle: Vehicle) -> ActionScale:
+        """The scale of ``vehicle``: its steering map (KIN's, eq. (3)) and the yard's limit."""
+        steering = vehicle.steering_for("kin")
+        road = SteeringMap.from_steering(steering)
+        lock = max(abs(float(road.steering_wheel(s * steering.delta_max)) - steering.delta_h_offset)
+                   for s in (-1.0, 1.0))
+        return cls(float(steering.delta_h_offset), lock, SPEED_MAX)
+
+    def command(self, action: np.ndarray) -> Command:
+        """The command of an action (clipped to [-1, 1]); done when it stops at the dock."""
+        a = np.clip(np.asarray(action, float).reshape(2), -1.0, 1.0)
+        return Command(self.offset + float(a[0]) * self.wheel, float(a[1]) * self.speed)
+
+    def action(self, cmd: Command) -> np.ndarray:
+        """The action of a command (the inverse of :meth:`command`, clipped to [-1, 1])."""
+        a = np.array([(float(cmd.delta_h) - self.offset) / self.wheel,
+                      float(cmd.u1) / self.speed])
+        return np.clip(a, -1.0, 1.0)
+
+
+def stopped_at_dock(cmd: Command, dock_distance: float) -> bool:
+    """Whether ``cmd`` ends the run: zero speed within :data:`STOP_DISTANCE` of the face.
+
+    Parameters
+    ----------
+    cmd : Command
+        The command.
+    dock_distance : float
+        The rear's measured distance short of the face [m].
+    """
+    return abs(float(cmd.u1)) < STOP_SPEED and abs(dock_distance) < STOP_DISTANCE and \
+        math.isfinite(dock_distance)
