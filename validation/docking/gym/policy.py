@@ -95,6 +95,14 @@ def policy_controller(policy: Policy, name: str = "policy") -> type[PolicyContro
     type
         A class with a no-argument constructor, for ``artic dock --controller``
         (bind it to a module-level name) or :func:`artic.validation.docking.run.drive`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from artic.gym import policy_controller
+    >>> Creep = policy_controller(lambda observation: np.array([0.0, -0.1]), name="creep")
+    >>> Creep.name, Creep().policy(np.zeros(17)).tolist()
+    ('creep', [0.0, -0.1])
     """
     return type(f"Policy_{name}", (PolicyController,),
                 {"name": name, "policy": staticmethod(policy)})

@@ -8,8 +8,8 @@ from the CAN bus, and the three dock errors of
 yard's frame (the dock's face at ``x_dock``; see the scenario).
 
 Action: two numbers in [-1, 1]. The first is the steering-wheel angle from its
-centre (the vehicle file's ``delta_h_offset``) as a share of the wheel's angle
-at the road wheels' lock, the second the tractor's speed as a share of the
+centre (where the road wheels point straight) as a share of the wheel's angle
+at the road wheels' lock on that side, the second the tractor's speed as a share of the
 yard's limit :data:`artic.validation.docking.run.SPEED_MAX` (negative:
 reverse). :class:`ActionScale` maps them both ways.
 
@@ -59,6 +59,20 @@ def observation_vector(obs: Observation, ctrl: Controller) -> np.ndarray:
         What the sensors report.
     ctrl : Controller
         A controller reset on the run's task: its :meth:`~artic.Controller.dock_errors`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import artic
+    >>> from artic.gym import observation_vector
+    >>> from artic.validation.docking.controllers.base import Observation, Task
+    >>> from artic.validation.docking.scenarios import make_yard
+    >>> vehicle = artic.load_vehicle("gosar2022-unloaded")
+    >>> ctrl = artic.Controller()
+    >>> ctrl.reset(Task(vehicle, make_yard(vehicle), None, 0.1, 1.0, 1.67, 0.5, 6.3))
+    >>> vector = observation_vector(Observation(0.0, np.zeros(13), 0.0), ctrl)
+    >>> vector.shape  # 13 signals, the steering wheel, 3 dock errors
+    (17,)
     """
     errors = ctrl.dock_errors(obs)
     return np.concatenate([np.asarray(obs.signals, float), [obs.delta_h], errors])
@@ -68,18 +82,37 @@ def observation_vector(obs: Observation, ctrl: Controller) -> np.ndarray:
 class ActionScale:
     """The action's limits for one vehicle.
 
+    The steering share is scaled on each side to that side's lock: the vehicle's
+    steering map need not be symmetric about its centre (its offset, its
+    linkage's non-linear term), so +1 is the left lock and -1 the right lock.
+
     Parameters
     ----------
     offset : float
         Steering wheel at the road wheels' centre [rad].
-    wheel : float
-        Steering wheel from its centre at the road wheels' lock [rad].
+    left : float
+        Steering wheel from its centre to the left lock [rad], positive.
+    right : float
+        Steering wheel from its centre to the right lock [rad], positive.
     speed : float
         The yard's speed limit [m/s].
+
+    Examples
+    --------
+    Full left lock, reversing at half the yard's limit:
+
+    >>> import numpy as np
+    >>> import artic
+    >>> from artic.gym import ActionScale
+    >>> scale = ActionScale.of(artic.load_vehicle("gosar2022-unloaded"))
+    >>> cmd = scale.command(np.array([1.0, -0.5]))
+    >>> bool(cmd.delta_h > scale.offset), round(cmd.u1, 3), scale.action(cmd).round(6).tolist()
+    (True, -0.833, [1.0, -0.5])
     """
 
     offset: float
-    wheel: float
+    left: float
+    right: float
     speed: float
 
     @classmethod
@@ -87,18 +120,21 @@ class ActionScale:
         """The scale of ``vehicle``: its steering map (KIN's, eq. (3)) and the yard's limit."""
         steering = vehicle.steering_for("kin")
         road = SteeringMap.from_steering(steering)
-        lock = max(abs(float(road.steering_wheel(s * steering.delta_max)) - steering.delta_h_offset)
-                   for s in (-1.0, 1.0))
-        return cls(float(steering.delta_h_offset), lock, SPEED_MAX)
+        offset = float(road.steering_wheel(0.0))
+        left = float(road.steering_wheel(steering.delta_max)) - offset
+        right = offset - float(road.steering_wheel(-steering.delta_max))
+        return cls(offset, left, right, SPEED_MAX)
 
     def command(self, action: np.ndarray) -> Command:
-        """The command of an action (clipped to [-1, 1]); done when it stops at the dock."""
+        """The command of an action (clipped to [-1, 1])."""
         a = np.clip(np.asarray(action, float).reshape(2), -1.0, 1.0)
-        return Command(self.offset + float(a[0]) * self.wheel, float(a[1]) * self.speed)
+        side = self.left if a[0] >= 0.0 else self.right
+        return Command(self.offset + float(a[0]) * side, float(a[1]) * self.speed)
 
     def action(self, cmd: Command) -> np.ndarray:
         """The action of a command (the inverse of :meth:`command`, clipped to [-1, 1])."""
-        a = np.array([(float(cmd.delta_h) - self.offset) / self.wheel,
+        turn = float(cmd.delta_h) - self.offset
+        a = np.array([turn / (self.left if turn >= 0.0 else self.right),
                       float(cmd.u1) / self.speed])
         return np.clip(a, -1.0, 1.0)
 

@@ -1,0 +1,179 @@
+"""The Gymnasium environments: the checker, the round trip with artic dock, the ends, the reward."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+gym = pytest.importorskip("gymnasium", reason="the gym extra (pip install 'artic[gym]') "
+                                              "is not installed")
+
+import artic.gym  # noqa: E402 - registers the environments
+import artic.validation.harness.steering  # noqa: E402
+from artic.mjcf.errors import UserError  # noqa: E402
+from artic.validation.docking.controllers import load  # noqa: E402
+from artic.validation.docking.gym import reward  # noqa: E402
+from artic.validation.docking.gym.env import DockEnv  # noqa: E402
+from artic.validation.docking.gym.scripted import Scripted, scripted_policy  # noqa: E402
+from artic.validation.docking.gym.spaces import OBSERVATION_NAMES, ActionScale  # noqa: E402
+from artic.validation.docking.run import drive  # noqa: E402
+from artic.validation.docking.scenarios import scenario  # noqa: E402
+
+VEHICLE = "gosar2022-unloaded"
+FINAL = ("success", "lateral_error_m", "longitudinal_error_m", "heading_error_deg", "time_s")
+
+
+def episode(env: DockEnv, act, start: int, name: str = "straight") -> tuple[dict, list[float]]:
+    """Run one episode from ``artic dock``'s start ``start``; the last info and the rewards."""
+    obs, info = env.reset(options={"start": start, "scenario": name})
+    rewards = []
+    while True:
+        obs, r, terminated, truncated, info = env.step(act(obs))
+        rewards.append(r)
+        if terminated or truncated:
+            return info, rewards
+
+
+@pytest.mark.parametrize("env_id", list(artic.gym.ENVIRONMENTS))
+def test_gymnasium_s_checker_passes(env_id):
+    from gymnasium.utils.env_checker import check_env
+
+    env = gym.make(env_id, scenario="straight")
+    with warnings.catch_warnings():
+        # The observation is positions in the yard, velocities and angles: a Box
+        # without finite bounds, which the checker notes but allows.
+        warnings.filterwarnings("ignore", message=".*Box observation space m")
+        check_env(env.unwrapped)
+    assert env.observation_space.shape == (len(OBSERVATION_NAMES),)
+    env.close()
+
+
+@pytest.mark.parametrize("yard_model", ["mbd", "kin"])
+def test_the_reference_controller_through_the_environment_scores_as_artic_dock(yard_model):
+    # An agent that commands what the reference controller commands, through the
+    # action's scale, drives artic dock's run itself: the same final errors up to
+    # the rounding of the scale and back (one ulp of the steering wheel in a stable
+    # closed loop), here 1e-9 m and 1e-7 deg.
+    env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model=yard_model)
+    ctrl = load("reference")()
+    obs, _ = env.reset(options={"start": 2})
+    ctrl.reset(env.task)
+    while True:
+        action = env.scale.action(ctrl.command(env.observation))
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            break
+    row = drive(scenario("straight"), VEHICLE, "reference", 2, yard_model=yard_model).row
+    assert info["reason"] == "docked" and terminated and not truncated
+    assert info["scores"]["success"] and row["success"]
+    for key in FINAL[1:]:
+        assert info["scores"][key] == pytest.approx(row[key], abs=1e-7), key
+
+
+def test_a_policy_scores_the_same_in_the_environment_and_in_artic_dock():
+    # The round trip: the scripted policy as an agent and, through the adapter,
+    # as artic dock's controller give the same run to the last digit (the same
+    # observation vector, the same action scale, the same stop rule).
+    env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model="kin")
+    info, _ = episode(env, scripted_policy, start=1)
+    row = drive(scenario("straight"), VEHICLE, Scripted, 1, yard_model="kin").row
+    assert info["reason"] == "docked"
+    for key in FINAL:
+        assert info["scores"][key] == row[key], key
+    assert load("artic.validation.docking.gym.scripted:Scripted") is Scripted
+
+
+def test_a_random_policy_ends_with_its_reason():
+    env = DockEnv(scenario="alley", vehicle=VEHICLE, yard_model="kin")
+    env.action_space.seed(4)
+    reasons = set()
+    for start in range(2):
+        info, _ = episode(env, lambda o: env.action_space.sample(), start, "alley")
+        assert info["reason"] in ("collision", "jackknife", "timeout"), info["reason"]
+        assert not info["scores"]["success"]
+        reasons.add(info["reason"])
+    assert reasons  # each episode ended, and said why
+
+
+def test_the_shaped_rewards_add_up_to_the_progress_and_the_outcome():
+    # Potential shaping telescopes: the rewards of an episode sum to the
+    # potential's change from the first observation to the last, less the time
+    # cost of every step but the last, plus the outcome.
+    env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model="kin")
+    first, _ = env.reset(options={"start": 0})
+    rewards, obs = [], first
+    while True:
+        obs, r, terminated, truncated, info = env.step(scripted_policy(obs))
+        rewards.append(r)
+        if terminated or truncated:
+            break
+    expected = (reward.potential(*obs[-3:]) - reward.potential(*first[-3:])
+                - reward.TIME_COST * (len(rewards) - 1) + reward.DOCKED)
+    assert info["reason"] == "docked"
+    assert math.isclose(sum(rewards), expected, rel_tol=1e-12, abs_tol=1e-9)
+    assert reward.outcome_reward(False, "jackknife") == -reward.CRASH
+    assert reward.outcome_reward(False, "timeout") == 0.0
+
+
+def test_the_action_scale_reaches_each_lock_and_the_speed_limit():
+    vehicle = artic.load_vehicle(VEHICLE)
+    scale = ActionScale.of(vehicle)
+    steering = artic.validation.harness.steering.SteeringMap.from_steering(
+        vehicle.steering_for("kin"))
+    lock = vehicle.steering.delta_max
+    # +1 and -1 reach the road wheels' lock on their side, 0 points them straight.
+    for share, delta in ((1.0, lock), (-1.0, -lock), (0.0, 0.0)):
+        cmd = scale.command(np.array([share, -1.0]))
+        assert float(steering.road_wheel(cmd.delta_h)) == pytest.approx(delta, abs=1e-9)
+        assert cmd.u1 == pytest.approx(-scale.speed)
+    back = scale.action(scale.command(np.array([0.3, -0.7])))
+    assert back == pytest.approx([0.3, -0.7], abs=1e-15)
+    assert scale.command(np.array([5.0, 5.0])).u1 == scale.speed  # clipped, not scaled past
+
+
+def test_a_recorded_episode_writes_artic_dock_s_recording(tmp_path):
+    env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model="kin",
+                  render_mode="rerun", recording_dir=tmp_path, timeout=2.0)
+    info, _ = episode(env, lambda o: np.array([0.0, -0.5]), start=0)
+    assert info["reason"] == "timeout"
+    files = list(tmp_path.glob("*.rrd"))
+    assert len(files) == 1 and files[0].stat().st_size > 1000
+
+
+def test_bad_options_are_one_line():
+    with pytest.raises(UserError, match="no such scenario"):
+        DockEnv(scenario="nowhere")
+    with pytest.raises(UserError, match="render_mode"):
+        DockEnv(render_mode="human")
+    env = DockEnv(scenario="straight", yard_model="kin")
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(np.zeros(2))
+
+
+def test_an_unfinished_episode_is_stopped_by_reset_and_close():
+    env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model="kin")
+    env.reset(options={"start": 0})
+    env.step(np.array([0.0, -0.5]))
+    obs, _ = env.reset(options={"start": 1})  # the first run is stopped, a new one starts
+    assert obs.shape == (17,)
+    env.close()
+    assert env._episode is None
+
+
+@pytest.mark.parametrize("name", artic.gym.__all__)
+def test_the_examples_of_the_gym_names_run(name, tmp_path, monkeypatch):
+    import doctest
+
+    monkeypatch.chdir(tmp_path)
+    obj = getattr(artic.gym, name)
+    if isinstance(obj, (dict, tuple)):
+        return  # ENVIRONMENTS and the observation's names: data, documented in place
+    tests = [t for t in doctest.DocTestFinder(recurse=False).find(obj, name) if t.examples]
+    assert tests, f"artic.gym.{name} has no Examples section"
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    for test in tests:
+        runner.run(test)
+    assert runner.summarize(verbose=False).failed == 0
