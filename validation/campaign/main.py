@@ -63,13 +63,14 @@ The tables and the report use the pairs with results.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import json
-import os
 import threading
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 
@@ -77,11 +78,11 @@ from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
 from artic.validation.campaign import findings
-from artic.validation.campaign.executors import DaskOptions, cluster_executor
+from artic.validation.campaign.config import SENSORS, CampaignConfig
+from artic.validation.campaign.executors import cluster_executor
 from artic.validation.cli.progress import BUDGET, Counter, budget_text
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.criteria.multiplicity import CORRECTION
-from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
     LogError,
@@ -92,7 +93,6 @@ from artic.validation.logs.runfile import (
     read_run,
     write_run,
 )
-from artic.validation.models import code_of, names
 from artic.validation.review.tables import (
     paired_markdown,
     paired_table,
@@ -110,7 +110,7 @@ from artic.validation.runs.validate import (
 from artic.validation.runs.workers import completed
 from artic.validation.synthetic.generate import generate_campaign
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import MATRIX, TUNING
+from artic.validation.synthetic.testmatrix import TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 LOADS = ("unloaded", "loaded")
@@ -206,7 +206,7 @@ def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
 
 def _sensor_model(sensors: str) -> SensorModel:
     """``--sensors``: the campaign's measurement chain by name (``default`` or ``ideal``)."""
-    if sensors not in ("default", "ideal"):
+    if sensors not in SENSORS:
         raise UserError(f"--sensors {sensors}: expected default or ideal")
     return SensorModel.ideal() if sensors == "ideal" else SensorModel()
 
@@ -414,66 +414,30 @@ def _tuned_vehicles(out_dir: Path, tuned: dict, seed: int) -> dict[str, Vehicle]
     return out
 
 
-def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int = 0,
-                 jobs: int | None = None, only: list[str] | None = None,
-                 gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
-                 recordings: bool = True, executor: str = "local",
-                 scheduler: str | None = None, dask: DaskOptions | None = None,
-                 truth: str = DEFAULT_TRUTH, remeasure: bool = False, seeds: int = 1,
-                 closing: bool = True, sensors: str = "default",
-                 drift: bool = True) -> dict[str, Path]:
+def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict[str, Path]:
     """Run the campaign; see the module docstring.
 
     Parameters
     ----------
-    out_dir : Path
-        Output folder.
-    models : tuple of str, optional
-        Models to tune and validate; every model of the registry by default
-        (:func:`artic.validation.models.names`, registered ones included).
-    seed : int
-        Seed of the synthetic campaign.
-    jobs : int, optional
-        Processes for generation, threads for the plant; the number of cores by default.
-    only : list of str, optional
-        Manoeuvre names or prefixes: a part of the campaign (tests, studies).
-    gain : float
-        Reversing feedback gain K [rad/rad].
-    sweep_models : tuple of str
-        Models in the gain sweep (the plant makes it long: 33 logs per gain).
-    recordings : bool
-        Write the Rerun recordings.
-    executor, scheduler : str
-        Where generation and validation run: ``local`` or ``dask``, and a
-        Dask scheduler's address (a local cluster when omitted); see
-        :mod:`artic.validation.campaign.executors`.
-    truth : str
-        The synthetic campaign's truth: ``"independent"``, ``"structural"`` or
-        ``"legacy"`` (see :mod:`artic.validation.synthetic.truth`).
-    dask : DaskOptions, optional
-        The scheduler's timeout and TLS files.
-    remeasure : bool
-        Compute the efficiency again from the validation runs' times, even
-        when an earlier run with the same key computed it (a resumed run keeps
-        the original figures otherwise; a run simulated again has new times).
-    seeds : int
-        Trucks: with more than one, a campaign per seed (``seed`` on) in
-        ``out_dir/seed-K`` and the pooled results in ``out_dir``
-        (:mod:`artic.validation.campaign.seeds`).
-    closing : bool
-        Print the closing tables and where the report is.
-    sensors : str
-        The logs' measurement chain: ``default`` (noisy RTK/INS/CAN models;
-        every log then has a noise-free twin, and the report the noise share
-        of every criterion) or ``ideal`` (the truth's own signals).
-    drift : bool
-        ``False`` stills the steering column's drifting zero; with ideal
-        sensors the logs are then what the floor replays.
+    config : CampaignConfig or Path
+        The campaign (:class:`artic.validation.campaign.config.CampaignConfig`),
+        or its output folder, the other choices then given as keywords.
+    **options
+        With an output folder: the other fields of
+        :class:`~artic.validation.campaign.config.CampaignConfig` (``models``,
+        ``seed``, ``jobs``, ``only``, ``gain``, ``sweep_models``, ``recordings``,
+        ``executor``, ``scheduler``, ``dask``, ``truth``, ``remeasure``,
+        ``seeds``, ``closing``, ``sensors``, ``drift``).
 
     Returns
     -------
     dict
         Result files by name.
+
+    Raises
+    ------
+    UserError
+        A bad option (one line naming it), before anything is written.
 
     Examples
     --------
@@ -489,28 +453,21 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     >>> paths["report"].name, paths["table3"].exists()
     ('report.md', True)
     """
-    if seeds < 1:
-        raise UserError(f"--seeds {seeds}: a campaign needs at least one truck")
-    _sensor_model(sensors)  # a bad name fails before anything is written
-    check_selection(only)
-    jobs = jobs or os.cpu_count() or 1
-    if seeds > 1:
+    if isinstance(config, CampaignConfig):
+        if options:
+            config = dataclasses.replace(config, **options)
+    else:
+        config = CampaignConfig(Path(config), **options)
+    if config.seeds > 1:
         from artic.validation.campaign.seeds import run_seeds
 
-        return run_seeds(out_dir, seeds, seed, models=models, jobs=jobs, only=only, gain=gain,
-                         sweep_models=sweep_models, recordings=recordings, executor=executor,
-                         scheduler=scheduler, dask=dask, truth=truth, remeasure=remeasure,
-                         sensors=sensors, drift=drift)
-    out_dir = Path(out_dir)
+        return run_seeds(config)
+    config = config.resolved()
+    out_dir = config.out_dir
     out_dir.mkdir(parents=True, exist_ok=True)
-    models = tuple(names() if models is None else models)
-    # A registered model's code is not artic's: its own fingerprint joins the key.
-    outside = {m: c for m in models if (c := code_of(m))}
-    chain = {} if (sensors, drift) == ("default", True) else {"sensors": sensors, "drift": drift}
-    key = fingerprint.key(seed, list(models), gain, only, truth, *([outside] if outside else []),
-                          *([chain] if chain else []))
+    key = config.key()
     state = _saved_timings(out_dir, key)
-    if remeasure:
+    if config.remeasure:
         state["efficiency"] = None
 
     def save(times: dict[str, float], budget: dict[str, dict]) -> None:
@@ -524,40 +481,15 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
         if stale:
             stderr_progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
-        pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
+        pool = stack.enter_context(cluster_executor(config.executor, config.jobs,
+                                                    config.scheduler, config.dask))
         stage = Stages(stderr_progress, state["stages"], save, state.get("budget"))
-        stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
-                        f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}"
-                        + (f", sensors {sensors}" if sensors != "default" else "")
-                        + ("" if drift else ", no drift"))
-        return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
-                           key, stage, truth, state, closing, sensors, drift)
-
-
-def check_selection(only: list[str] | None) -> None:
-    """Refuse an ``--only`` that leaves nothing to validate, before any work.
-
-    The tuning manoeuvres (:data:`~artic.validation.synthetic.testmatrix.TUNING`)
-    are fitted on and never validated; a selection of them alone would tune
-    and then have no log for the tables.
-
-    Raises
-    ------
-    ValueError
-        One line naming the selection and what to add.
-    """
-    if not only:
-        return
-    chosen = [m.name for m in MATRIX if any(m.name.startswith(o) for o in only)]
-    if chosen and all(n in TUNING for n in chosen):
-        raise UserError(f"--only {','.join(only)}: selects only tuning manoeuvres "
-                         f"({', '.join(chosen)}), which are fitted on and never validated, "
-                         "so there would be nothing to validate; add a validation manoeuvre "
-                         f"(for example --only {','.join(only)},{_first_validated()})")
-
-
-def _first_validated() -> str:
-    return next(m.name for m in MATRIX if m.name not in TUNING)
+        stderr_progress(f"artic campaign: models {', '.join(config.models or ())}, seed "
+                        f"{config.seed}, K = {config.gain:g}, {config.jobs} jobs "
+                        f"({config.executor}), output {out_dir}"
+                        + (f", sensors {config.sensors}" if config.sensors != "default" else "")
+                        + ("" if config.drift else ", no drift"))
+        return _run_stages(config, pool, key, stage, state)
 
 
 def _saved_timings(out_dir: Path, key: str) -> dict:
@@ -573,9 +505,12 @@ def _saved_timings(out_dir: Path, key: str) -> dict:
     return saved if saved.get("key") == key else empty
 
 
-def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
-                stage, truth, state, closing=True, sensors="default",
-                drift=True) -> dict[str, Path]:
+def _run_stages(config: CampaignConfig, pool: Executor | None, key: str, stage: Stages,
+                state: dict) -> dict[str, Path]:
+    out_dir, models, seed, jobs = config.out_dir, config.models or (), config.seed, config.jobs or 1
+    only = list(config.only) if config.only else None
+    gain, sweep_models, recordings = config.gain, config.sweep_models, config.recordings
+    truth, closing, sensors, drift = config.truth, config.closing, config.sensors, config.drift
     from artic.validation.campaign import report as rep
     from artic.validation.campaign.efficiency import from_runs
     from artic.validation.runs.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
