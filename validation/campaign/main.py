@@ -318,10 +318,54 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                         "settings)")
         saved["reused"] = True
         return saved
-    from artic.validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
+    run = _Tuning(path, {"key": key, "loads": {}, "complete": False})
+    todo = _tuning_plan(logs, saved, run.out)
+    side_by_side = min(len(todo), max(1, jobs))
+    threads = max(1, jobs // side_by_side)
+    if side_by_side > 1:
+        with ThreadPoolExecutor(side_by_side, thread_name_prefix="artic-tune") as pool:
+            futures = [pool.submit(_tune_load, run, models, *t, threads) for t in todo]
+            try:
+                for f in futures:
+                    f.result()
+            except BaseException:  # interrupted, or a fit raised: the fits running end theirs
+                run.stop.set()
+                raise
+    else:
+        for t in todo:
+            _tune_load(run, models, *t, threads)
+    if not run.out["loads"]:
+        raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
+                        f"({', '.join(TUNING[:2])}, ...)")
+    run.out["complete"] = True
+    run.save()
+    run.out["reused"] = False
+    return run.out
 
-    out: dict = {"key": key, "loads": {}, "complete": False}
-    lock = threading.Lock()  # guards out and tuning.json
+
+@dataclasses.dataclass
+class _Tuning:
+    """Tuning under way: the fits so far (``out``), saved to ``path`` after each fit."""
+
+    path: Path
+    out: dict
+    lock: threading.Lock = dataclasses.field(default_factory=threading.Lock)
+    """Guards ``out`` and ``tuning.json`` between the load conditions' threads."""
+    stop: threading.Event = dataclasses.field(default_factory=threading.Event)
+    """Set when the campaign is interrupted: no further fit starts."""
+
+    def save(self) -> None:
+        """Write the fits so far (hold :attr:`lock`, or be the only thread)."""
+        atomic_write_text(self.path, json.dumps(self.out, indent=1) + "\n")
+
+
+def _tuning_plan(logs: list[Run], saved: dict, out: dict
+                 ) -> list[tuple[str, Vehicle, list[Run], dict | None]]:
+    """Each load condition to tune: its preset, tuning logs and the saved part to resume.
+
+    Its entry in ``out["loads"]`` is made here; a load condition without
+    tuning logs keeps its preset and says so.
+    """
     todo = []
     for load in LOADS:
         tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
@@ -338,73 +382,52 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                               "truth": tuning[0].meta.get("truth", {}),
                               "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
         todo.append((load, vehicle, tuning, part))
+    return todo
 
-    stop = threading.Event()  # set when the campaign is interrupted: no further fit starts
 
-    def tune_load(load: str, vehicle: Vehicle, tuning: list[Run], part: dict | None,
-                  threads: int) -> None:
-        entry = out["loads"][load]
-        for m in models:
-            if stop.is_set():
-                return
-            done = [r for r in (part or {}).get("summary", []) if r.get("model") == m]
-            if done:
-                with lock:
-                    entry["rows"] += [r for r in part.get("rows", []) if r.get("model") == m]
-                    entry["summary"] += done
-                    if m in part.get("fitted", {}):
-                        entry["fitted"][m] = part["fitted"][m]
-                stderr_progress(f"{load}: tuning of {m} reused from {path}")
-                continue
-            stderr_progress(f"{load}: tuning {m} on {len(tuning)} logs")
-            try:
-                with lock:
-                    start = start_from(m, entry["fitted"])
-                fit = tune_model(m, vehicle, tuning, threads,
-                                 lambda line, load=load: stderr_progress(f"{load}: {line}"),
-                                 start=start)
-            except (MemoryError, RecursionError):
-                raise
-            except Exception as exc:  # noqa: BLE001 - one model's failure is a row
-                why = " ".join(str(exc).split()) or type(exc).__name__
-                stderr_progress(f"{load}: tuning {m} failed ({why}); its preset values are "
-                                "used")
-                row = {"load": load, "model": m, "status": f"failed: {why}"}
-                with lock:
-                    entry["summary"].append(row)
-                    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
-            else:
-                with lock:
-                    entry["rows"] += [{"load": load, **row} for row in fit.rows()]
-                    entry["fitted"][m] = fit.fitted
-                    entry["summary"].append(
-                        {"load": load, "model": m, "eps_n_before": fit.eps_n_before,
-                         "eps_n_after": fit.eps_n_after, "cost_before": fit.cost_before,
-                         "cost_after": fit.cost_after, "evaluations": fit.evaluations,
-                         "wall_s": fit.wall_s, "status": "ok"})
-                    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
+def _tune_load(run: _Tuning, models: Sequence[str], load: str, vehicle: Vehicle,
+               tuning: list[Run], part: dict | None, threads: int) -> None:
+    """Fit every model on one load condition's logs, or take its fit from ``part``."""
+    from artic.validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
 
-    side_by_side = min(len(todo), max(1, jobs))
-    threads = max(1, jobs // side_by_side)
-    if side_by_side > 1:
-        with ThreadPoolExecutor(side_by_side, thread_name_prefix="artic-tune") as pool:
-            futures = [pool.submit(tune_load, *t, threads) for t in todo]
-            try:
-                for f in futures:
-                    f.result()
-            except BaseException:  # interrupted, or a fit raised: the fits running end theirs
-                stop.set()
-                raise
-    else:
-        for t in todo:
-            tune_load(*t, threads)
-    if not out["loads"]:
-        raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
-                         f"({', '.join(TUNING[:2])}, ...)")
-    out["complete"] = True
-    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
-    out["reused"] = False
-    return out
+    entry = run.out["loads"][load]
+    for m in models:
+        if run.stop.is_set():
+            return
+        done = [r for r in (part or {}).get("summary", []) if r.get("model") == m]
+        if done:
+            with run.lock:
+                entry["rows"] += [r for r in part.get("rows", []) if r.get("model") == m]
+                entry["summary"] += done
+                if m in part.get("fitted", {}):
+                    entry["fitted"][m] = part["fitted"][m]
+            stderr_progress(f"{load}: tuning of {m} reused from {run.path}")
+            continue
+        stderr_progress(f"{load}: tuning {m} on {len(tuning)} logs")
+        try:
+            with run.lock:
+                start = start_from(m, entry["fitted"])
+            fit = tune_model(m, vehicle, tuning, threads,
+                             lambda line: stderr_progress(f"{load}: {line}"), start=start)
+        except (MemoryError, RecursionError):
+            raise
+        except Exception as exc:  # noqa: BLE001 - one model's failure is a row
+            why = " ".join(str(exc).split()) or type(exc).__name__
+            stderr_progress(f"{load}: tuning {m} failed ({why}); its preset values are used")
+            row = {"load": load, "model": m, "status": f"failed: {why}"}
+            with run.lock:
+                entry["summary"].append(row)
+                run.save()
+        else:
+            with run.lock:
+                entry["rows"] += [{"load": load, **row} for row in fit.rows()]
+                entry["fitted"][m] = fit.fitted
+                entry["summary"].append(
+                    {"load": load, "model": m, "eps_n_before": fit.eps_n_before,
+                     "eps_n_after": fit.eps_n_after, "cost_before": fit.cost_before,
+                     "cost_after": fit.cost_after, "evaluations": fit.evaluations,
+                     "wall_s": fit.wall_s, "status": "ok"})
+                run.save()
 
 
 def _tuned_vehicles(out_dir: Path, tuned: dict, seed: int) -> dict[str, Vehicle]:
@@ -965,7 +988,7 @@ def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
 
 
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
-           jobs: int, pool, scale: dict | None = None) -> pd.DataFrame:
+           jobs: int, pool: Executor | None, scale: dict | None = None) -> pd.DataFrame:
     """The truth against the logs: the ``floor`` rows of the tables against logs.
 
     Each log's floor is the truth that made it (:func:`artic.validation.models.build`
@@ -985,7 +1008,8 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
 
 def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
            vehicles: dict[str, Vehicle], models: Sequence[str], seed: int, truth: str,
-           gain: float, key: str, jobs: int, pool, scale: dict | None) -> pd.DataFrame:
+           gain: float, key: str, jobs: int, pool: Executor | None,
+           scale: dict | None) -> pd.DataFrame:
     """Every model and the floor on the noise-free twins of the validated logs.
 
     The same tuned vehicles, gain and ``eps_n_fixed`` scale as on the logs,
