@@ -136,8 +136,8 @@ class Stages:
     wall time it took when it was computed, from ``saved``, so that a resumed
     campaign's report matches the original run's; likewise its simulated
     time (:data:`artic.validation.cli.progress.BUDGET` counted over the stage),
-    from ``saved_budget``. ``save`` receives the times and the budgets after
-    every stage.
+    from ``saved_budget``. ``save`` receives the times, the budgets and
+    which stages were reused after every stage.
     """
 
     def __init__(self, progress: Callable[[str], None], saved: dict[str, float] | None = None,
