@@ -17,7 +17,6 @@ import shutil
 import subprocess
 import sys
 import sysconfig
-import tomllib
 import venv
 import zipfile
 from pathlib import Path
@@ -85,14 +84,6 @@ def test_only_one_module_imports_rerun():
              if any(line.strip().startswith(("import rerun", "from rerun"))
                     for line in p.read_text().splitlines())]
     assert len(users) <= 1, users
-
-
-def test_the_layer_contract_is_declared():
-    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
-    layers = [c for c in cfg["contracts"] if c["type"] == "layers"]
-    assert cfg["root_packages"] == ["artic"]
-    assert layers and layers[0]["containers"] == ["artic"]
-    assert layers[0]["layers"] == ["validation", "plant | reduced", "mjcf"]
 
 
 def test_the_four_root_folders_are_artic_without_links():

@@ -2,76 +2,51 @@
 
 The layout is the map a newcomer reads (``docs/contributing.md``): a module is found by
 the room of its job, which the room's ``__init__`` docstring states, and by the module
-list the docs generate from the code. These tests keep the root from regrowing, each
-room's job stated and its docstring free of stale names.
+list the docs generate from the code. The root's file names and the rooms' docstrings
+are form: ``.ci/form.py`` checks them in CI (a lint step), and the test here shows
+that its rules can fail.
 """
 
 from __future__ import annotations
 
-import ast
+import importlib.util
 import json
 import re
 import subprocess
 import sys
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parents[1]
-VALIDATION = ROOT / "validation"
 
-ROOT_MODULES = {"__init__.py", "models.py", "testing.py"}
-"""What validation's root holds: the model registry every room reads, and the pytest
-plugin (its import path, ``artic.validation.testing``, is what users write)."""
-
-PACKAGES = sorted(p.parent for p in VALIDATION.rglob("__init__.py")
-                  if "__pycache__" not in p.parts)
-
-
-def test_validation_root_holds_only_the_registry_and_the_plugin():
-    found = {p.name for p in VALIDATION.glob("*.py")}
-    assert found == ROOT_MODULES, (
-        f"validation/ holds {sorted(found - ROOT_MODULES)} beside {sorted(ROOT_MODULES)}: "
-        "put a new module in the room of its job (harness/, criteria/, runs/, review/, cli/, "
-        "logs/, synthetic/, campaign/, docking/)")
+def _form():
+    """``.ci/form.py``, the lint step that holds the layout's form policies."""
+    spec = importlib.util.spec_from_file_location("form", ROOT / ".ci" / "form.py")
+    form = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(form)
+    return form
 
 
-def _job(doc: str | None) -> str:
-    """The job a room's docstring states: its first line, if it is a sentence of its own."""
-    first = (doc or "").strip().splitlines()[0] if (doc or "").strip() else ""
-    return first if len(first.split()) >= 3 and first.endswith(".") else ""
-
-
-def _named_modules(doc: str) -> set[str]:
-    """The artic modules a docstring refers to by role, e.g. :mod:`~artic.validation.x`."""
-    return set(re.findall(r":mod:`~?(artic\.[\w.]+)`", doc))
-
-
-def _exists(module: str) -> bool:
-    rel = Path(*module.split(".")[1:])
-    return (ROOT / rel).with_suffix(".py").is_file() or (ROOT / rel / "__init__.py").is_file()
-
-
-@pytest.mark.parametrize("package", PACKAGES, ids=lambda p: str(p.relative_to(ROOT)))
-def test_each_room_states_its_job_and_names_only_modules_it_has(package):
-    # A room's docstring says its job in its first line; the modules it names
-    # must exist (a renamed or moved module leaves no stale pointer). The full
-    # list of every room's modules is generated in the docs (contributing.md),
-    # so adding a module needs no line here.
-    doc = ast.get_docstring(ast.parse((package / "__init__.py").read_text()))
-    where = f"{package.relative_to(ROOT)}/__init__.py"
-    assert _job(doc), f"{where}: its docstring's first line must say the room's job"
-    stale = sorted(m for m in _named_modules(doc) if not _exists(m))
-    assert not stale, f"{where}: its docstring names {', '.join(stale)}, which do not exist"
-
-
-def test_the_rules_can_fail():
-    assert _job("The closed-loop harness: drives any model from a log.\n\nMore.")
-    assert not _job(None) and not _job("Harness") and not _job("The harness and\nits law.")
-    assert _named_modules(":mod:`~artic.validation.harness.loop`: the loop, and "
-                          ":mod:`artic.mjcf`") == {"artic.validation.harness.loop", "artic.mjcf"}
-    assert _exists("artic.validation.harness.loop") and _exists("artic.validation.harness")
-    assert not _exists("artic.validation.harness.loops")
+def test_the_form_lint_names_each_breach_and_passes_a_tidy_tree(tmp_path):
+    # The root whitelist and the rooms' docstrings are form, not behaviour: CI
+    # checks them with .ci/form.py (before the tests). Here: its rules can fail.
+    form = _form()
+    room = tmp_path / "validation" / "harness"
+    room.mkdir(parents=True)
+    (tmp_path / "validation" / "__init__.py").write_text('"""The rooms, one per job."""\n')
+    (tmp_path / "validation" / "models.py").write_text("")
+    (room / "__init__.py").write_text(
+        '"""The closed-loop harness: drives any model from a log.\n\n'
+        ':mod:`~artic.validation.harness.loop`: the loop."""\n')
+    (room / "loop.py").write_text("")
+    assert form.problems(tmp_path) == []
+    (tmp_path / "validation" / "helpers.py").write_text("")  # a module beside the rooms
+    (room / "__init__.py").write_text('"""Harness\n\n:mod:`artic.validation.harness.loops`"""\n')
+    found = form.problems(tmp_path)
+    assert len(found) == 3, found
+    assert found[0].startswith("validation/ holds helpers.py beside __init__.py, models.py")
+    assert "first line must say the room's job" in found[1]
+    assert "names artic.validation.harness.loops, which do not exist" in found[2]
+    assert not form.job(None) and not form.job("The harness and\nits law.")
 
 
 def test_the_docs_list_every_module_generated_from_the_code():

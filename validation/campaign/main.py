@@ -38,9 +38,15 @@ Stages, each timed and each resumable:
 8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
 9. **report**: ``report.md``, written last.
 
-Resuming. Every cached result carries a key: the hash of artic's code, the
-seed, the models and the gain (:mod:`artic.validation.runs.fingerprint`). A rerun
-reuses what matches and redoes the rest, so an interrupted campaign picks up
+Resuming. Every stage goes through one cache
+(:mod:`artic.validation.campaign.cache`): its entry holds the key of its
+inputs (artic's code, the :class:`~artic.validation.campaign.config.CampaignConfig`
+fields it depends on, the keys of the stages it reads) and its outputs; a
+stage whose entry matches and whose outputs are intact is reused whole, and
+each stage returns a :class:`~artic.validation.campaign.cache.StageResult`
+saying whether it was. A stage that computes resumes inside itself from what
+an interrupted run finished (the exports, the fits in ``tuning.json``, the run
+files, each carrying the stage's key), so an interrupted campaign picks up
 where it stopped. ``report.md`` is deleted when a run starts and written only
 when every stage has finished, and every file is written atomically, so no
 half-written result looks complete. Tuning is saved after every (load, model)
@@ -63,13 +69,14 @@ The tables and the report use the pairs with results.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import json
-import os
 import threading
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 
@@ -77,11 +84,12 @@ from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
 from artic.validation.campaign import findings
-from artic.validation.campaign.executors import DaskOptions, cluster_executor
+from artic.validation.campaign.cache import Entry, StageCache, StageResult
+from artic.validation.campaign.config import SENSORS, CampaignConfig
+from artic.validation.campaign.executors import cluster_executor
 from artic.validation.cli.progress import BUDGET, Counter, budget_text
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.criteria.multiplicity import CORRECTION
-from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
     LogError,
@@ -92,7 +100,7 @@ from artic.validation.logs.runfile import (
     read_run,
     write_run,
 )
-from artic.validation.models import code_of, names
+from artic.validation.models import code_of
 from artic.validation.review.tables import (
     paired_markdown,
     paired_table,
@@ -110,7 +118,7 @@ from artic.validation.runs.validate import (
 from artic.validation.runs.workers import completed
 from artic.validation.synthetic.generate import generate_campaign
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import MATRIX, TUNING
+from artic.validation.synthetic.testmatrix import TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 LOADS = ("unloaded", "loaded")
@@ -128,12 +136,13 @@ class Stages:
     wall time it took when it was computed, from ``saved``, so that a resumed
     campaign's report matches the original run's; likewise its simulated
     time (:data:`artic.validation.cli.progress.BUDGET` counted over the stage),
-    from ``saved_budget``. ``save`` receives the times and the budgets after
-    every stage.
+    from ``saved_budget``. ``save`` receives the times, the budgets and
+    which stages were reused after every stage.
     """
 
     def __init__(self, progress: Callable[[str], None], saved: dict[str, float] | None = None,
-                 save: Callable[[dict[str, float], dict[str, dict]], None] | None = None,
+                 save: Callable[[dict[str, float], dict[str, dict], dict[str, bool]], None]
+                 | None = None,
                  saved_budget: dict[str, dict] | None = None) -> None:
         self.times: dict[str, float] = {}
         self.budget: dict[str, dict[str, tuple[int, float]]] = {}
@@ -186,7 +195,7 @@ class Stages:
             simulated = budget_text(counted)
             self.progress(f"== {name}: {measured:.1f} s" + (f"; {simulated}" if simulated else ""))
         if self.save is not None:
-            self.save(self.times, self.budget)
+            self.save(self.times, self.budget, self._was)
 
 
 TWINS = "twins"
@@ -206,7 +215,7 @@ def load_logs(out_dir: Path, seed: int = 0, jobs: int = 1,
 
 def _sensor_model(sensors: str) -> SensorModel:
     """``--sensors``: the campaign's measurement chain by name (``default`` or ``ideal``)."""
-    if sensors not in ("default", "ideal"):
+    if sensors not in SENSORS:
         raise UserError(f"--sensors {sensors}: expected default or ideal")
     return SensorModel.ideal() if sensors == "ideal" else SensorModel()
 
@@ -309,10 +318,54 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                         "settings)")
         saved["reused"] = True
         return saved
-    from artic.validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
+    run = _Tuning(path, {"key": key, "loads": {}, "complete": False})
+    todo = _tuning_plan(logs, saved, run.out)
+    side_by_side = min(len(todo), max(1, jobs))
+    threads = max(1, jobs // side_by_side)
+    if side_by_side > 1:
+        with ThreadPoolExecutor(side_by_side, thread_name_prefix="artic-tune") as pool:
+            futures = [pool.submit(_tune_load, run, models, *t, threads) for t in todo]
+            try:
+                for f in futures:
+                    f.result()
+            except BaseException:  # interrupted, or a fit raised: the fits running end theirs
+                run.stop.set()
+                raise
+    else:
+        for t in todo:
+            _tune_load(run, models, *t, threads)
+    if not run.out["loads"]:
+        raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
+                        f"({', '.join(TUNING[:2])}, ...)")
+    run.out["complete"] = True
+    run.save()
+    run.out["reused"] = False
+    return run.out
 
-    out: dict = {"key": key, "loads": {}, "complete": False}
-    lock = threading.Lock()  # guards out and tuning.json
+
+@dataclasses.dataclass
+class _Tuning:
+    """Tuning under way: the fits so far (``out``), saved to ``path`` after each fit."""
+
+    path: Path
+    out: dict
+    lock: threading.Lock = dataclasses.field(default_factory=threading.Lock)
+    """Guards ``out`` and ``tuning.json`` between the load conditions' threads."""
+    stop: threading.Event = dataclasses.field(default_factory=threading.Event)
+    """Set when the campaign is interrupted: no further fit starts."""
+
+    def save(self) -> None:
+        """Write the fits so far (hold :attr:`lock`, or be the only thread)."""
+        atomic_write_text(self.path, json.dumps(self.out, indent=1) + "\n")
+
+
+def _tuning_plan(logs: list[Run], saved: dict, out: dict
+                 ) -> list[tuple[str, Vehicle, list[Run], dict | None]]:
+    """Each load condition to tune: its preset, tuning logs and the saved part to resume.
+
+    Its entry in ``out["loads"]`` is made here; a load condition without
+    tuning logs keeps its preset and says so.
+    """
     todo = []
     for load in LOADS:
         tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
@@ -329,73 +382,52 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
                               "truth": tuning[0].meta.get("truth", {}),
                               "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
         todo.append((load, vehicle, tuning, part))
+    return todo
 
-    stop = threading.Event()  # set when the campaign is interrupted: no further fit starts
 
-    def tune_load(load: str, vehicle: Vehicle, tuning: list[Run], part: dict | None,
-                  threads: int) -> None:
-        entry = out["loads"][load]
-        for m in models:
-            if stop.is_set():
-                return
-            done = [r for r in (part or {}).get("summary", []) if r.get("model") == m]
-            if done:
-                with lock:
-                    entry["rows"] += [r for r in part.get("rows", []) if r.get("model") == m]
-                    entry["summary"] += done
-                    if m in part.get("fitted", {}):
-                        entry["fitted"][m] = part["fitted"][m]
-                stderr_progress(f"{load}: tuning of {m} reused from {path}")
-                continue
-            stderr_progress(f"{load}: tuning {m} on {len(tuning)} logs")
-            try:
-                with lock:
-                    start = start_from(m, entry["fitted"])
-                fit = tune_model(m, vehicle, tuning, threads,
-                                 lambda line, load=load: stderr_progress(f"{load}: {line}"),
-                                 start=start)
-            except (MemoryError, RecursionError):
-                raise
-            except Exception as exc:  # noqa: BLE001 - one model's failure is a row
-                why = " ".join(str(exc).split()) or type(exc).__name__
-                stderr_progress(f"{load}: tuning {m} failed ({why}); its preset values are "
-                                "used")
-                row = {"load": load, "model": m, "status": f"failed: {why}"}
-                with lock:
-                    entry["summary"].append(row)
-                    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
-            else:
-                with lock:
-                    entry["rows"] += [{"load": load, **row} for row in fit.rows()]
-                    entry["fitted"][m] = fit.fitted
-                    entry["summary"].append(
-                        {"load": load, "model": m, "eps_n_before": fit.eps_n_before,
-                         "eps_n_after": fit.eps_n_after, "cost_before": fit.cost_before,
-                         "cost_after": fit.cost_after, "evaluations": fit.evaluations,
-                         "wall_s": fit.wall_s, "status": "ok"})
-                    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
+def _tune_load(run: _Tuning, models: Sequence[str], load: str, vehicle: Vehicle,
+               tuning: list[Run], part: dict | None, threads: int) -> None:
+    """Fit every model on one load condition's logs, or take its fit from ``part``."""
+    from artic.validation.campaign.tuning import tune_model  # here: scipy.optimize takes 0.7 s
 
-    side_by_side = min(len(todo), max(1, jobs))
-    threads = max(1, jobs // side_by_side)
-    if side_by_side > 1:
-        with ThreadPoolExecutor(side_by_side, thread_name_prefix="artic-tune") as pool:
-            futures = [pool.submit(tune_load, *t, threads) for t in todo]
-            try:
-                for f in futures:
-                    f.result()
-            except BaseException:  # interrupted, or a fit raised: the fits running end theirs
-                stop.set()
-                raise
-    else:
-        for t in todo:
-            tune_load(*t, threads)
-    if not out["loads"]:
-        raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
-                         f"({', '.join(TUNING[:2])}, ...)")
-    out["complete"] = True
-    atomic_write_text(path, json.dumps(out, indent=1) + "\n")
-    out["reused"] = False
-    return out
+    entry = run.out["loads"][load]
+    for m in models:
+        if run.stop.is_set():
+            return
+        done = [r for r in (part or {}).get("summary", []) if r.get("model") == m]
+        if done:
+            with run.lock:
+                entry["rows"] += [r for r in part.get("rows", []) if r.get("model") == m]
+                entry["summary"] += done
+                if m in part.get("fitted", {}):
+                    entry["fitted"][m] = part["fitted"][m]
+            stderr_progress(f"{load}: tuning of {m} reused from {run.path}")
+            continue
+        stderr_progress(f"{load}: tuning {m} on {len(tuning)} logs")
+        try:
+            with run.lock:
+                start = start_from(m, entry["fitted"])
+            fit = tune_model(m, vehicle, tuning, threads,
+                             lambda line: stderr_progress(f"{load}: {line}"), start=start)
+        except (MemoryError, RecursionError):
+            raise
+        except Exception as exc:  # noqa: BLE001 - one model's failure is a row
+            why = " ".join(str(exc).split()) or type(exc).__name__
+            stderr_progress(f"{load}: tuning {m} failed ({why}); its preset values are used")
+            row = {"load": load, "model": m, "status": f"failed: {why}"}
+            with run.lock:
+                entry["summary"].append(row)
+                run.save()
+        else:
+            with run.lock:
+                entry["rows"] += [{"load": load, **row} for row in fit.rows()]
+                entry["fitted"][m] = fit.fitted
+                entry["summary"].append(
+                    {"load": load, "model": m, "eps_n_before": fit.eps_n_before,
+                     "eps_n_after": fit.eps_n_after, "cost_before": fit.cost_before,
+                     "cost_after": fit.cost_after, "evaluations": fit.evaluations,
+                     "wall_s": fit.wall_s, "status": "ok"})
+                run.save()
 
 
 def _tuned_vehicles(out_dir: Path, tuned: dict, seed: int) -> dict[str, Vehicle]:
@@ -414,66 +446,30 @@ def _tuned_vehicles(out_dir: Path, tuned: dict, seed: int) -> dict[str, Vehicle]
     return out
 
 
-def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int = 0,
-                 jobs: int | None = None, only: list[str] | None = None,
-                 gain: float = DEFAULT_GAIN, sweep_models: tuple[str, ...] = ("kin", "stm"),
-                 recordings: bool = True, executor: str = "local",
-                 scheduler: str | None = None, dask: DaskOptions | None = None,
-                 truth: str = DEFAULT_TRUTH, remeasure: bool = False, seeds: int = 1,
-                 closing: bool = True, sensors: str = "default",
-                 drift: bool = True) -> dict[str, Path]:
+def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict[str, Path]:
     """Run the campaign; see the module docstring.
 
     Parameters
     ----------
-    out_dir : Path
-        Output folder.
-    models : tuple of str, optional
-        Models to tune and validate; every model of the registry by default
-        (:func:`artic.validation.models.names`, registered ones included).
-    seed : int
-        Seed of the synthetic campaign.
-    jobs : int, optional
-        Processes for generation, threads for the plant; the number of cores by default.
-    only : list of str, optional
-        Manoeuvre names or prefixes: a part of the campaign (tests, studies).
-    gain : float
-        Reversing feedback gain K [rad/rad].
-    sweep_models : tuple of str
-        Models in the gain sweep (the plant makes it long: 33 logs per gain).
-    recordings : bool
-        Write the Rerun recordings.
-    executor, scheduler : str
-        Where generation and validation run: ``local`` or ``dask``, and a
-        Dask scheduler's address (a local cluster when omitted); see
-        :mod:`artic.validation.campaign.executors`.
-    truth : str
-        The synthetic campaign's truth: ``"independent"``, ``"structural"`` or
-        ``"legacy"`` (see :mod:`artic.validation.synthetic.truth`).
-    dask : DaskOptions, optional
-        The scheduler's timeout and TLS files.
-    remeasure : bool
-        Compute the efficiency again from the validation runs' times, even
-        when an earlier run with the same key computed it (a resumed run keeps
-        the original figures otherwise; a run simulated again has new times).
-    seeds : int
-        Trucks: with more than one, a campaign per seed (``seed`` on) in
-        ``out_dir/seed-K`` and the pooled results in ``out_dir``
-        (:mod:`artic.validation.campaign.seeds`).
-    closing : bool
-        Print the closing tables and where the report is.
-    sensors : str
-        The logs' measurement chain: ``default`` (noisy RTK/INS/CAN models;
-        every log then has a noise-free twin, and the report the noise share
-        of every criterion) or ``ideal`` (the truth's own signals).
-    drift : bool
-        ``False`` stills the steering column's drifting zero; with ideal
-        sensors the logs are then what the floor replays.
+    config : CampaignConfig or Path
+        The campaign (:class:`artic.validation.campaign.config.CampaignConfig`),
+        or its output folder, the other choices then given as keywords.
+    **options
+        With an output folder: the other fields of
+        :class:`~artic.validation.campaign.config.CampaignConfig` (``models``,
+        ``seed``, ``jobs``, ``only``, ``gain``, ``sweep_models``, ``recordings``,
+        ``executor``, ``scheduler``, ``dask``, ``truth``, ``remeasure``,
+        ``seeds``, ``closing``, ``sensors``, ``drift``).
 
     Returns
     -------
     dict
         Result files by name.
+
+    Raises
+    ------
+    UserError
+        A bad option (one line naming it), before anything is written.
 
     Examples
     --------
@@ -489,33 +485,25 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
     >>> paths["report"].name, paths["table3"].exists()
     ('report.md', True)
     """
-    if seeds < 1:
-        raise UserError(f"--seeds {seeds}: a campaign needs at least one truck")
-    _sensor_model(sensors)  # a bad name fails before anything is written
-    check_selection(only)
-    jobs = jobs or os.cpu_count() or 1
-    if seeds > 1:
+    if isinstance(config, CampaignConfig):
+        if options:
+            config = dataclasses.replace(config, **options)
+    else:
+        config = CampaignConfig(Path(config), **options)
+    if config.seeds > 1:
         from artic.validation.campaign.seeds import run_seeds
 
-        return run_seeds(out_dir, seeds, seed, models=models, jobs=jobs, only=only, gain=gain,
-                         sweep_models=sweep_models, recordings=recordings, executor=executor,
-                         scheduler=scheduler, dask=dask, truth=truth, remeasure=remeasure,
-                         sensors=sensors, drift=drift)
-    out_dir = Path(out_dir)
+        return run_seeds(config)
+    config = config.resolved()
+    out_dir = config.out_dir
     out_dir.mkdir(parents=True, exist_ok=True)
-    models = tuple(names() if models is None else models)
-    # A registered model's code is not artic's: its own fingerprint joins the key.
-    outside = {m: c for m in models if (c := code_of(m))}
-    chain = {} if (sensors, drift) == ("default", True) else {"sensors": sensors, "drift": drift}
-    key = fingerprint.key(seed, list(models), gain, only, truth, *([outside] if outside else []),
-                          *([chain] if chain else []))
+    key = config.key()
     state = _saved_timings(out_dir, key)
-    if remeasure:
-        state["efficiency"] = None
 
-    def save(times: dict[str, float], budget: dict[str, dict]) -> None:
+    def save(times: dict[str, float], budget: dict[str, dict], reused: dict[str, bool]) -> None:
         state["stages"] = {**state["stages"], **times}
         state["budget"] = {**state.get("budget", {}), **budget}
+        state["reused"] = dict(reused)
         atomic_write_text(out_dir / TIMINGS, json.dumps(state, indent=1) + "\n")
 
     with contextlib.ExitStack() as stack:
@@ -524,46 +512,21 @@ def run_campaign(out_dir: Path, models: tuple[str, ...] | None = None, seed: int
         if stale:
             stderr_progress(f"removed {len(stale)} temporary file(s) left by an interrupted run")
         (out_dir / "report.md").unlink(missing_ok=True)
-        pool = stack.enter_context(cluster_executor(executor, jobs, scheduler, dask))
+        pool = stack.enter_context(cluster_executor(config.executor, config.jobs,
+                                                    config.scheduler, config.dask))
         stage = Stages(stderr_progress, state["stages"], save, state.get("budget"))
-        stderr_progress(f"artic campaign: models {', '.join(models)}, seed {seed}, "
-                        f"K = {gain:g}, {jobs} jobs ({executor}), output {out_dir}"
-                        + (f", sensors {sensors}" if sensors != "default" else "")
-                        + ("" if drift else ", no drift"))
-        return _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool,
-                           key, stage, truth, state, closing, sensors, drift)
-
-
-def check_selection(only: list[str] | None) -> None:
-    """Refuse an ``--only`` that leaves nothing to validate, before any work.
-
-    The tuning manoeuvres (:data:`~artic.validation.synthetic.testmatrix.TUNING`)
-    are fitted on and never validated; a selection of them alone would tune
-    and then have no log for the tables.
-
-    Raises
-    ------
-    ValueError
-        One line naming the selection and what to add.
-    """
-    if not only:
-        return
-    chosen = [m.name for m in MATRIX if any(m.name.startswith(o) for o in only)]
-    if chosen and all(n in TUNING for n in chosen):
-        raise UserError(f"--only {','.join(only)}: selects only tuning manoeuvres "
-                         f"({', '.join(chosen)}), which are fitted on and never validated, "
-                         "so there would be nothing to validate; add a validation manoeuvre "
-                         f"(for example --only {','.join(only)},{_first_validated()})")
-
-
-def _first_validated() -> str:
-    return next(m.name for m in MATRIX if m.name not in TUNING)
+        stderr_progress(f"artic campaign: models {', '.join(config.models or ())}, seed "
+                        f"{config.seed}, K = {config.gain:g}, {config.jobs} jobs "
+                        f"({config.executor}), output {out_dir}"
+                        + (f", sensors {config.sensors}" if config.sensors != "default" else "")
+                        + ("" if config.drift else ", no drift"))
+        return _run_stages(_Campaign(config, pool, StageCache(out_dir, stderr_progress), stage))
 
 
 def _saved_timings(out_dir: Path, key: str) -> dict:
-    """The stage times and efficiency an earlier run with ``key`` measured, if any."""
+    """The stage times an earlier run with ``key`` measured, if any."""
     path = out_dir / TIMINGS
-    empty = {"key": key, "stages": {}, "efficiency": None}
+    empty = {"key": key, "stages": {}}
     if not path.is_file():
         return empty
     try:
@@ -573,194 +536,459 @@ def _saved_timings(out_dir: Path, key: str) -> dict:
     return saved if saved.get("key") == key else empty
 
 
-def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recordings, pool, key,
-                stage, truth, state, closing=True, sensors="default",
-                drift=True) -> dict[str, Path]:
-    from artic.validation.campaign import report as rep
-    from artic.validation.campaign.efficiency import from_runs
-    from artic.validation.runs.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
+@dataclasses.dataclass
+class _Campaign:
+    """One campaign under way: its choices, executor, cache and stage timer."""
 
-    paths: dict[str, Path] = {}
-    # numba compiles the reduced models' loop and the criteria on a core of its
-    # own while the logs are made, instead of on the critical path of tuning
-    # (not on a resume past tuning: loading a warm cache takes tuning no time).
-    saved = _read_json(out_dir / "tuning.json") or {}
-    warm = None
-    if pool is None and set(models) & {"kin", "stm"} and not (
-            saved.get("key") == key and saved.get("complete")):
-        warm = warmup.start()
-    with stage("logs"):
-        logs, reused, twin_logs = _load_logs(out_dir, seed, jobs, only, pool, truth, sensors,
-                                             drift)
-        stage.reused(reused)
-    with stage("tuning"):
-        if warm is not None:  # a wait for it counts as tuning's, which needs it
-            warm.join()
-            if warm.exitcode:
-                stderr_progress(f"compiling ahead failed (exit code {warm.exitcode}); numba "
-                                "compiles on first use instead")
-        tuned = _tune(out_dir, logs, models, key, jobs)
-        stage.reused(tuned["reused"])
-        vehicles = _tuned_vehicles(out_dir, tuned, seed)
-        tuning_logs = {n for part in tuned["loads"].values() for n in part["logs"]}
-        paths["tuning"] = out_dir / "tuning.json"
-    validated = [log for log in logs if log.name not in tuning_logs]
+    config: CampaignConfig
+    pool: Executor | None
+    cache: StageCache
+    timer: Stages
+    results: dict[str, StageResult] = dataclasses.field(default_factory=dict)
+
+    @property
+    def out_dir(self) -> Path:
+        return self.config.out_dir
+
+    @property
+    def models(self) -> tuple[str, ...]:
+        return self.config.models or ()
+
+    @property
+    def jobs(self) -> int:
+        return self.config.jobs or 1
+
+    def fields(self, *names: str) -> dict[str, Any]:
+        """The config fields ``names`` (what a stage's key depends on).
+
+        With ``models``, a registered model's own code fingerprint joins them:
+        its code is not artic's.
+        """
+        out = {n: getattr(self.config, n) for n in names}
+        if "models" in names:
+            out["outside"] = {m: code for m in self.models if (code := code_of(m))}
+        return out
+
+    def run(self, name: str, key: str, compute: Callable[[], tuple[dict[str, Path], dict, Any]],
+            restore: Callable[[Entry], Any], *, force: bool = False) -> StageResult:
+        """Time stage ``name``: its entry's outputs if valid (``restore``), else ``compute``.
+
+        ``compute`` returns the outputs to record, a JSON payload and the value;
+        ``restore`` makes the value from a valid entry. ``force`` computes anyway.
+        """
+        with self.timer(name):
+            entry = None if force else self.cache.lookup(name, key)
+            value = None
+            if entry is not None:
+                try:
+                    value = restore(entry)
+                except (LogError, OSError, ValueError, KeyError, TypeError) as exc:
+                    stderr_progress(f"{name}: its cached outputs do not read ({exc}); the "
+                                    "stage computes again")
+                    entry = None
+            if entry is not None:
+                stderr_progress(f"{name} reused from {self.cache.path(name)} (made earlier "
+                                "with the same code and inputs)")
+                result = StageResult(name, key, True, entry.outputs, value)
+            else:
+                self.cache.forget(name)
+                outputs, data, value = compute()
+                self.cache.store(name, key, outputs, data)
+                result = StageResult(name, key, False, dict(outputs), value)
+            self.timer.reused(result.reused)
+        self.results[name] = result
+        return result
+
+    def derived(self, name: str, make: Callable[[], Any]) -> StageResult:
+        """A presentation stage (tables, report): drawn on every run from its inputs.
+
+        Its files are not cached: the fingerprint leaves presentation code out,
+        so a cached table would outlive an edit of the code that draws it. It
+        counts as reused when every stage before it was.
+        """
+        with self.timer(name):
+            reused = all(r.reused for r in self.results.values())
+            value = make()
+            self.timer.reused(reused)
+        self.results[name] = StageResult(name, "", reused, {}, value)
+        return self.results[name]
+
+
+def _stage_logs(c: _Campaign) -> StageResult:
+    """Stage 1: the logs (and their noise-free twins); value ``(logs, twin_logs)``."""
+    key = c.cache.key("logs", c.fields("seed", "only", "truth", "sensors", "drift"))
+
+    def compute():
+        cfg = c.config
+        logs, _, twin_logs = _load_logs(c.out_dir, cfg.seed, c.jobs,
+                                        list(cfg.only) if cfg.only else None, c.pool, cfg.truth,
+                                        cfg.sensors, cfg.drift)
+        return _log_files(c.out_dir, logs, twin_logs), {}, (logs, twin_logs)
+
+    def restore(entry: Entry):
+        logs = [read_run(p) for n, p in entry.outputs.items() if n.startswith("log:")]
+        twins = [read_run(p) for n, p in entry.outputs.items() if n.startswith("twin:")]
+        return logs, (twins if entry.data.get("twins") else None)
+
+    def compute_marked():
+        outputs, _, value = compute()
+        return outputs, {"twins": value[1] is not None}, value
+
+    return c.run("logs", key, compute_marked, restore)
+
+
+def _log_files(out_dir: Path, logs: list[Run], twin_logs: list[Run] | None) -> dict[str, Path]:
+    """The imported logs' files (and their twins') by name, in the logs' order."""
+    files = {f"log:{log.name}": out_dir / "logs" / f"{log.name}.parquet" for log in logs}
+    for log in twin_logs or []:
+        files[f"twin:{log.name}"] = out_dir / TWINS / "logs" / f"{log.name}.parquet"
+    return files
+
+
+def _tuning_key(c: _Campaign, logs_key: str) -> str:
+    return c.cache.key("tuning", c.fields("models", "seed"), [logs_key])
+
+
+def _stage_tuning(c: _Campaign, logs: StageResult) -> StageResult:
+    """Stage 2: the fits per load; value ``(tuned, vehicles, tuning_logs)``."""
+    key = _tuning_key(c, logs.key)
+
+    def value(tuned: dict, vehicles: dict[str, Vehicle]):
+        return tuned, vehicles, {n for part in tuned["loads"].values() for n in part["logs"]}
+
+    def compute():
+        tuned = _tune(c.out_dir, logs.value[0], c.models, key, c.jobs)
+        vehicles = _tuned_vehicles(c.out_dir, tuned, c.config.seed)
+        outputs = {"tuning": c.out_dir / "tuning.json"}
+        outputs |= {f"params:{load}": Path(v.path) for load, v in vehicles.items()
+                    if load in tuned["loads"]}
+        return outputs, {}, value(tuned, vehicles)
+
+    def restore(entry: Entry):
+        tuned = json.loads(entry.outputs["tuning"].read_text(encoding="utf-8"))
+        vehicles = {load: load_vehicle(entry.outputs[f"params:{load}"])
+                    if f"params:{load}" in entry.outputs
+                    else load_vehicle(PRESET.format(load=load)) for load in LOADS}
+        return value(tuned, vehicles)
+
+    return c.run("tuning", key, compute, restore)
+
+
+def _stage_validation(c: _Campaign, logs: StageResult, tuning: StageResult) -> StageResult:
+    """Stage 3: every model on every validated log; value ``(metrics, scale, validated)``."""
+    key = c.cache.key("validation", c.fields("models", "gain"), [logs, tuning])
+    _, vehicles, tuning_logs = tuning.value
+    validated = [log for log in logs.value[0] if log.name not in tuning_logs]
     scale = campaign_scale(validated)  # one scale for every row of eps_n_fixed
-    paths["eps_n_fixed_scale"] = write_scale(scale, out_dir / SCALE_FILE)
-    with stage("validation"):
+
+    def metrics() -> pd.DataFrame:
         parts = []
         for load in LOADS:
-            group = [log for log in logs if log.meta.get("load") == load
-                     and log.name not in tuning_logs]
+            group = [log for log in validated if log.meta.get("load") == load]
             if group:
-                parts.append(validate_runs(group, vehicles[load], models, gain=gain,
-                                           out_dir=out_dir, progress=stderr_progress,
-                                           reuse_key=f"{key}.{load}", jobs=jobs,
-                                           executor=pool, label=f"validation, {load}",
+                parts.append(validate_runs(group, vehicles[load], c.models, gain=c.config.gain,
+                                           out_dir=c.out_dir, progress=stderr_progress,
+                                           reuse_key=f"{key}.{load}", jobs=c.jobs,
+                                           executor=c.pool, label=f"validation, {load}",
                                            scale=scale))
-        stage.reused(all(p.attrs.get("reused") == len(p) for p in parts))
-        metrics = pd.concat(parts, ignore_index=True)
-    load_of = {log.name: log.meta.get("load") for log in logs}
-    with stage("references"):
-        floor = _floor(out_dir, validated, seed, truth, gain, key, jobs, pool, scale)
-        all_reused = floor.attrs.get("reused") == len(floor)
-        metrics = pd.concat([metrics, floor], ignore_index=True)
-        metrics["load"] = metrics["log"].map(load_of)
-        paths["metrics"] = write_metrics(metrics, out_dir / "metrics.csv")
+        return pd.concat(parts, ignore_index=True)
+
+    def compute():
+        m = metrics()
+        outputs = {"eps_n_fixed_scale": write_scale(scale, c.out_dir / SCALE_FILE)}
+        outputs |= _run_files(c.out_dir, m)
+        return outputs, {}, (m, scale, validated)
+
+    return c.run("validation", key, compute, lambda entry: (metrics(), scale, validated))
+
+
+def _run_files(root: Path, metrics: pd.DataFrame) -> dict[str, Path]:
+    """The run file of each (log, model) row of ``metrics`` under ``root/runs``, by name."""
+    return {f"run:{r.log}.{r.model}": root / "runs" / f"{r.log}.{r.model}.parquet"
+            for r in metrics.itertuples()}
+
+
+def _stage_references(c: _Campaign, logs: StageResult, tuning: StageResult,
+                      validation: StageResult) -> StageResult:
+    """Stage 4: the floor and the plant as reference; value ``(metrics, vs_plant)``."""
+    cfg = c.config
+    key = c.cache.key("references", c.fields("models", "gain", "seed", "truth"),
+                      [logs, tuning, validation])
+    metrics, scale, validated = validation.value
+    vehicles = tuning.value[1]
+    load_of = {log.name: log.meta.get("load") for log in logs.value[0]}
+
+    def tables() -> tuple[pd.DataFrame, pd.DataFrame | None, pd.DataFrame]:
+        floor = _floor(c.out_dir, validated, cfg.seed, cfg.truth, cfg.gain, key, c.jobs, c.pool,
+                       scale)
+        both = pd.concat([metrics, floor], ignore_index=True)
+        both["load"] = both["log"].map(load_of)
         vs_plant = None
-        if "mbd" in models:
-            reduced = [m for m in models if m != "mbd"]
-            vs_plant = _versus_plant(out_dir, validated, vehicles, reduced, gain, key, jobs,
-                                     scale)
+        if "mbd" in c.models:
+            reduced = [m for m in c.models if m != "mbd"]
+            vs_plant = _versus_plant(c.out_dir, validated, vehicles, reduced, cfg.gain, key,
+                                     c.jobs, scale)
             if vs_plant is not None:
-                all_reused = all_reused and vs_plant.attrs.get("reused") == len(vs_plant)
                 vs_plant["load"] = vs_plant["log"].map(load_of)
-                paths["metrics_vs_plant"] = write_metrics(vs_plant,
-                                                          out_dir / "metrics_vs_plant.csv")
-        stage.reused(all_reused)
-    twins = None
-    if twin_logs is not None:
-        with stage("twins"):
-            twins = _twins(out_dir, twin_logs, tuning_logs, vehicles, models, seed, truth, gain,
-                           key, jobs, pool, scale)
-            stage.reused(twins.attrs.get("reused") == len(twins))
-            twins["load"] = twins["log"].map(load_of)
-            paths["metrics_twins"] = write_metrics(twins, out_dir / TWINS / "metrics.csv")
-    with stage("tables"):
-        stage.reused(stage.all_reused())
+        return both, vs_plant, floor
+
+    def compute():
+        both, vs_plant, floor = tables()
+        outputs = {"metrics": write_metrics(both, c.out_dir / "metrics.csv")}
+        outputs |= _run_files(c.out_dir, floor)
+        if vs_plant is not None:
+            outputs["metrics_vs_plant"] = write_metrics(vs_plant,
+                                                        c.out_dir / "metrics_vs_plant.csv")
+            outputs |= _run_files(c.out_dir / "vs_plant", vs_plant)
+        return outputs, {}, (both, vs_plant)
+
+    return c.run("references", key, compute, lambda entry: tables()[:2])
+
+
+def _stage_twins(c: _Campaign, logs: StageResult, tuning: StageResult,
+                 validation: StageResult) -> StageResult:
+    """Stage 4b: every model and the floor on the noise-free twins; value the metrics."""
+    cfg = c.config
+    key = c.cache.key("twins", c.fields("models", "gain", "seed", "truth"),
+                      [logs, tuning, validation])
+    _, vehicles, tuning_logs = tuning.value
+    scale = validation.value[1]
+    load_of = {log.name: log.meta.get("load") for log in logs.value[0]}
+
+    def table() -> pd.DataFrame:
+        twins = _twins(c.out_dir, logs.value[1], tuning_logs, vehicles, c.models, cfg.seed,
+                       cfg.truth, cfg.gain, key, c.jobs, c.pool, scale)
+        twins["load"] = twins["log"].map(load_of)
+        return twins
+
+    def compute():
+        twins = table()
+        outputs = {"metrics_twins": write_metrics(twins, c.out_dir / TWINS / "metrics.csv")}
+        outputs |= _run_files(c.out_dir / TWINS, twins)
+        return outputs, {}, twins
+
+    return c.run("twins", key, compute, lambda entry: table())
+
+
+@dataclasses.dataclass
+class _Tables:
+    """What the tables stage computed, for the report."""
+
+    forward: pd.DataFrame
+    reverse: pd.DataFrame
+    forward_p: pd.DataFrame | None
+    reverse_p: pd.DataFrame | None
+    paired: dict[str, pd.DataFrame]
+    shares: dict[str, pd.DataFrame | None]
+    headlines: dict[str, Any]
+    per_load: dict[str, pd.DataFrame]
+    files: dict[str, Path]
+
+
+def _stage_tables(c: _Campaign, metrics: pd.DataFrame, vs_plant: pd.DataFrame | None,
+                  twins: pd.DataFrame | None) -> StageResult:
+    """Stage 5: Tables 2 and 3 (and against the plant), paired comparisons, noise share."""
+    out_dir = c.out_dir
+
+    def make() -> _Tables:
+        files: dict[str, Path] = {}
         forward, reverse = summary(metrics, "forward"), summary(metrics, "reverse")
-        paths["table2"], _ = write_table(forward, out_dir / "table2_forward",
+        files["table2"], _ = write_table(forward, out_dir / "table2_forward",
                                          "Forward driving (the paper's Table 2 columns)")
-        paths["table3"], _ = write_table(reverse, out_dir / "table3_reverse",
+        files["table3"], _ = write_table(reverse, out_dir / "table3_reverse",
                                          "Reverse driving (the paper's Table 3 columns)")
         forward_p = reverse_p = None
         if vs_plant is not None:
             forward_p, reverse_p = summary(vs_plant, "forward"), summary(vs_plant, "reverse")
-            paths["table2_vs_plant"], _ = write_table(
+            files["table2_vs_plant"], _ = write_table(
                 forward_p, out_dir / "table2_vs_plant",
                 "Forward driving against the plant as reference (Table 2 columns)")
-            paths["table3_vs_plant"], _ = write_table(
+            files["table3_vs_plant"], _ = write_table(
                 reverse_p, out_dir / "table3_vs_plant",
                 "Reverse driving against the plant as reference (Table 3 columns)")
-        paired, shares, headlines = {}, {}, {}
-        for d in ("forward", "reverse"):
-            twin_pairs = paired_table(twins, d) if twins is not None else None
-            paired[d] = findings.mark(paired_table(metrics, d), twin_pairs)
-            shares[d] = findings.noise_share(metrics, twins, d) if twins is not None else None
-            headlines[d] = findings.headline_criteria(paired[d], shares[d])
-            if shares[d] is not None and len(shares[d]):
-                paths[f"noise_share_{d}"], _ = write_table(
-                    shares[d].set_index("model"), out_dir / f"noise_share_{d}",
-                    f"Noise share, {d}: each criterion on the logs, on their noise-free twins, "
-                    "and the difference (paired per manoeuvre)",
-                    findings.share_markdown(shares[d]))
-        if vs_plant is not None:
-            # The plant's runs carry no sensor noise: findings are the corrected rankings.
-            paired["forward_vs_plant"] = findings.mark(paired_table(vs_plant, "forward"), None)
-            paired["reverse_vs_plant"] = findings.mark(paired_table(vs_plant, "reverse"), None)
-        for name, pairs in paired.items():
-            if len(pairs):
-                paths[f"paired_{name}"], _ = write_table(
-                    pairs.set_index("criterion"), out_dir / f"paired_{name}",
-                    f"Paired comparisons, {name.replace('_vs_plant', ', against the plant')}; "
-                    f"{CORRECTION} over the table's {len(pairs)} comparisons, findings "
-                    + ("resolved after it on the logs and on their noise-free twins"
-                       if twins is not None and "_vs_plant" not in name else
-                       "resolved after it"), paired_markdown(pairs))
-        per_load = {}
-        for load in LOADS:
-            part = metrics[metrics["load"] == load]
-            for direction in ("forward", "reverse"):
-                t = summary(part, direction)
-                if len(t):
-                    per_load[f"{load}, {direction}"] = t
-    by_name = {log.name: log for log in logs}
-    with stage("efficiency"):
-        if state.get("efficiency") is not None:
-            eff = pd.DataFrame(state["efficiency"]).set_index("model")
-            stderr_progress(f"efficiency reused from {out_dir / TIMINGS} (as the original "
-                            "run timed its validation runs; --remeasure times them again)")
-            stage.reused()
-        else:  # the validation runs' own times: no run is made for it
-            eff = from_runs(metrics, models, out_dir / "runs")
-            state["efficiency"] = eff.reset_index().to_dict(orient="records")
-        atomic_write(out_dir / "efficiency.csv", lambda p: eff.to_csv(p, float_format="%.6g"))
-        paths["efficiency"] = out_dir / "efficiency.csv"
-    sweep = None
-    if sweep_models:
-        with stage("gain sweep"):
-            rev = {load: (vehicles[load], [log for log in logs if log.meta.get("load") == load
-                                           and log.meta.get("direction") == "reverse"])
-                   for load in LOADS}
-            sweep = _cached_sweep(out_dir, key, sweep_models)
-            stage.reused(sweep is not None)
-            if sweep is None:
-                sweep = gain_sweep(rev, [m for m in sweep_models if m in models],
-                                   DEFAULT_GAINS, jobs, stderr_progress)
-                atomic_write_text(out_dir / "gain_sweep.json", json.dumps(
-                    {"key": key, "models": list(sweep_models), "K_min": sweep.attrs["K_min"],
-                     "rows": sweep.to_dict(orient="records")}) + "\n")
-            table, plot = out_dir / "gain_sweep.csv", out_dir / "plots" / "gain_sweep.png"
-            # The key covers K, so a reused sweep's table and plot stand if
-            # they are newer than it (drawing the plot again takes a second).
-            made = (out_dir / "gain_sweep.json").stat().st_mtime
-            if not all(p.is_file() and p.stat().st_mtime >= made for p in (table, plot)):
-                atomic_write(table, lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
-                plot_gain_sweep(sweep, plot, gain)
-            paths["gain_sweep"] = table
-    if recordings:
-        with stage("recordings"):
-            rec_paths, made = _recordings(out_dir, metrics, by_name, vehicles, models, jobs)
-            paths.update(rec_paths)
-            stage.reused(made == 0)
+        paired, shares, headlines = _paired(out_dir, metrics, vs_plant, twins, files)
+        per_load = {f"{load}, {d}": t for load in LOADS for d in ("forward", "reverse")
+                    if len(t := summary(metrics[metrics["load"] == load], d))}
+        return _Tables(forward, reverse, forward_p, reverse_p, paired, shares, headlines,
+                       per_load, files)
+
+    result = c.derived("tables", make)
+    return dataclasses.replace(result, outputs=result.value.files)
+
+
+def _paired(out_dir: Path, metrics: pd.DataFrame, vs_plant: pd.DataFrame | None,
+            twins: pd.DataFrame | None, files: dict[str, Path]
+            ) -> tuple[dict[str, pd.DataFrame], dict[str, pd.DataFrame | None], dict[str, Any]]:
+    """The paired comparisons, findings and noise shares; their files go into ``files``."""
+    paired, shares, headlines = {}, {}, {}
+    for d in ("forward", "reverse"):
+        twin_pairs = paired_table(twins, d) if twins is not None else None
+        paired[d] = findings.mark(paired_table(metrics, d), twin_pairs)
+        shares[d] = findings.noise_share(metrics, twins, d) if twins is not None else None
+        headlines[d] = findings.headline_criteria(paired[d], shares[d])
+        if shares[d] is not None and len(shares[d]):
+            files[f"noise_share_{d}"], _ = write_table(
+                shares[d].set_index("model"), out_dir / f"noise_share_{d}",
+                f"Noise share, {d}: each criterion on the logs, on their noise-free twins, "
+                "and the difference (paired per manoeuvre)",
+                findings.share_markdown(shares[d]))
+    if vs_plant is not None:
+        # The plant's runs carry no sensor noise: findings are the corrected rankings.
+        paired["forward_vs_plant"] = findings.mark(paired_table(vs_plant, "forward"), None)
+        paired["reverse_vs_plant"] = findings.mark(paired_table(vs_plant, "reverse"), None)
+    for name, pairs in paired.items():
+        if len(pairs):
+            files[f"paired_{name}"], _ = write_table(
+                pairs.set_index("criterion"), out_dir / f"paired_{name}",
+                f"Paired comparisons, {name.replace('_vs_plant', ', against the plant')}; "
+                f"{CORRECTION} over the table's {len(pairs)} comparisons, findings "
+                + ("resolved after it on the logs and on their noise-free twins"
+                   if twins is not None and "_vs_plant" not in name else
+                   "resolved after it"), paired_markdown(pairs))
+    return paired, shares, headlines
+
+
+def _stage_efficiency(c: _Campaign, metrics: pd.DataFrame) -> StageResult:
+    """Stage 6: wall time per simulated second, from the validation runs' own times.
+
+    Its key is the campaign's (:meth:`CampaignConfig.key`), not the runs': a
+    resumed campaign keeps the figures as first measured, though a run it
+    simulated again has a new time; ``remeasure`` measures them again.
+    """
+    from artic.validation.campaign.efficiency import from_runs
+
+    key = c.cache.key("efficiency", {"campaign": c.config.key()})
+    path = c.out_dir / "efficiency.csv"
+
+    def compute():
+        eff = from_runs(metrics, c.models, c.out_dir / "runs")
+        atomic_write(path, lambda p: eff.to_csv(p, float_format="%.6g"))
+        return {"efficiency": path}, {"rows": eff.reset_index().to_dict(orient="records")}, eff
+
+    def restore(entry: Entry) -> pd.DataFrame:
+        return pd.DataFrame(entry.data["rows"]).set_index("model")
+
+    return c.run("efficiency", key, compute, restore, force=c.config.remeasure)
+
+
+def _stage_sweep(c: _Campaign, logs: StageResult, tuning: StageResult) -> StageResult:
+    """Stage 7: the reverse criteria against K (the table and the plot)."""
+    from artic.validation.runs.gainsweep import DEFAULT_GAINS, gain_sweep, plot_gain_sweep
+
+    models = [m for m in c.config.sweep_models if m in c.models]
+    key = c.cache.key("gain sweep", {"sweep_models": models, "gain": c.config.gain,
+                                     "outside": c.fields("models")["outside"]}, [logs, tuning])
+    table, plot = c.out_dir / "gain_sweep.csv", c.out_dir / "plots" / "gain_sweep.png"
+    vehicles = tuning.value[1]
+
+    def compute():
+        rev = {load: (vehicles[load], [log for log in logs.value[0]
+                                       if log.meta.get("load") == load
+                                       and log.meta.get("direction") == "reverse"])
+               for load in LOADS}
+        sweep = gain_sweep(rev, models, DEFAULT_GAINS, c.jobs, stderr_progress)
+        atomic_write(table, lambda p: sweep.to_csv(p, index=False, float_format="%.6g"))
+        plot_gain_sweep(sweep, plot, c.config.gain)
+        data = {"K_min": sweep.attrs["K_min"], "rows": sweep.to_dict(orient="records")}
+        return {"gain_sweep": table, "gain_sweep_plot": plot}, data, sweep
+
+    def restore(entry: Entry) -> pd.DataFrame:
+        sweep = pd.DataFrame(entry.data["rows"])
+        sweep.attrs["K_min"] = entry.data["K_min"]
+        return sweep
+
+    return c.run("gain sweep", key, compute, restore)
+
+
+def _stage_recordings(c: _Campaign, logs: StageResult, tuning: StageResult,
+                      references: StageResult) -> StageResult:
+    """Stage 8: one ``.rrd`` per validated manoeuvre and a plot of a few."""
+    key = c.cache.key("recordings", c.fields("models"), [logs, tuning, references])
+    metrics = references.value[0]
+    by_name = {log.name: log for log in logs.value[0]}
+
+    def compute():
+        made = _recordings(c.out_dir, metrics, by_name, tuning.value[1], c.models, c.jobs)
+        return {f"recording:{n}": p for n, p in made.items()}, {}, None
+
+    result = c.run("recordings", key, compute, lambda entry: None)
+    return dataclasses.replace(result, outputs={"recordings": c.out_dir / "recordings"})
+
+
+def _run_stages(c: _Campaign) -> dict[str, Path]:
+    """Every stage in order (see the module docstring); the result files by name."""
+    cfg = c.config
+    # numba compiles the reduced models' loop and the criteria on a core of its
+    # own while the logs are made, instead of on the critical path of tuning
+    # (not when tuning will be reused: it then compiles nothing).
+    logs_key = c.cache.key("logs", c.fields("seed", "only", "truth", "sensors", "drift"))
+    warm = None
+    if c.pool is None and set(c.models) & {"kin", "stm"} and c.cache.lookup(
+            "tuning", _tuning_key(c, logs_key), quiet=True) is None:
+        warm = warmup.start()
+    logs = _stage_logs(c)
+    if warm is not None:  # a wait for it counts as tuning's, which needs it
+        warm.join()
+        if warm.exitcode:
+            stderr_progress(f"compiling ahead failed (exit code {warm.exitcode}); numba "
+                            "compiles on first use instead")
+    tuning = _stage_tuning(c, logs)
+    validation = _stage_validation(c, logs, tuning)
+    references = _stage_references(c, logs, tuning, validation)
+    metrics, vs_plant = references.value
+    twins = _stage_twins(c, logs, tuning, validation) if logs.value[1] is not None else None
+    tables = _stage_tables(c, metrics, vs_plant, twins.value if twins is not None else None)
+    efficiency = _stage_efficiency(c, metrics)
+    sweep = _stage_sweep(c, logs, tuning) if cfg.sweep_models else None
+    recordings = _stage_recordings(c, logs, tuning, references) if cfg.recordings else None
+    # The result files by name (a stage's single runs and recordings are not named here).
+    paths = {k: v for r in (tuning, validation, references, twins, tables, efficiency, sweep,
+                            recordings) if r is not None
+             for k, v in r.outputs.items() if ":" not in k and k != "gain_sweep_plot"}
+    return _report(c, paths, tables.value, tuning.value[0], efficiency.value,
+                   sweep.value if sweep is not None else None, metrics, vs_plant,
+                   twins.value if twins is not None else None)
+
+
+def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
+            eff: pd.DataFrame, sweep: pd.DataFrame | None, metrics: pd.DataFrame,
+            vs_plant: pd.DataFrame | None, twins: pd.DataFrame | None) -> dict[str, Path]:
+    """Stage 9: ``report.md`` (and the summary recording), written last; the closing lines."""
+    from artic.validation.campaign import report as rep
+
+    cfg, out_dir, stage = c.config, c.out_dir, c.timer
     results = rep.CampaignResults(
-        seed=seed, models=tuple(models), gain=gain, metrics=metrics, forward=forward,
-        reverse=reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep, stages=stage.times,
-        budget=stage.budget,
-        fingerprint=fingerprint.code(), version=_version(), per_load=per_load,
+        seed=cfg.seed, models=tuple(c.models), gain=cfg.gain, metrics=metrics,
+        forward=t.forward, reverse=t.reverse, tuned=tuned["loads"], efficiency=eff, sweep=sweep,
+        stages=stage.times, budget=stage.budget, fingerprint=fingerprint.code(),
+        version=_version(), per_load=t.per_load,
         files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
-        forward_vs_plant=forward_p, reverse_vs_plant=reverse_p, truth=truth,
-        metrics_vs_plant=vs_plant, paired=paired, twins=twins, noise_share=shares,
-        headline_criteria=headlines, sensors=sensors, drift=drift)
-    with stage("report"):
-        stage.reused(stage.all_reused())
-        draft = rep.render(results)  # the summary recording's copy, before the last timing
-        if recordings:
+        forward_vs_plant=t.forward_p, reverse_vs_plant=t.reverse_p, truth=cfg.truth,
+        metrics_vs_plant=vs_plant, paired=t.paired, twins=twins, noise_share=t.shares,
+        headline_criteria=t.headlines, sensors=cfg.sensors, drift=cfg.drift)
+
+    def draft() -> None:
+        text = rep.render(results)  # the summary recording's copy, before the last timing
+        if cfg.recordings:
             from artic.validation.review.recording import record_summary
 
             paths["summary_recording"] = record_summary(
-                out_dir / "recordings" / "campaign.rrd", metrics, draft)
-    text = rep.render(results)
-    paths["report"] = atomic_write_text(out_dir / "report.md", text)
+                out_dir / "recordings" / "campaign.rrd", metrics, text)
+
+    c.derived("report", draft)
+    paths["report"] = atomic_write_text(out_dir / "report.md", rep.render(results))
+    reused = [n for n, r in c.results.items() if r.reused]
+    stderr_progress("stages reused: " + (", ".join(reused) or "none") + "; computed: "
+                    + (", ".join(n for n in c.results if n not in reused) or "none"))
     failed = metrics[[is_failed(st) for st in metrics["status"]]]
-    if closing:
-        print(_closing_summary(forward, reverse, stage.times, paths["report"], len(failed),
+    if cfg.closing:
+        print(_closing_summary(t.forward, t.reverse, stage.times, paths["report"], len(failed),
                                stage.budget))
     return paths
 
 
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
-           jobs: int, pool, scale: dict | None = None) -> pd.DataFrame:
+           jobs: int, pool: Executor | None, scale: dict | None = None) -> pd.DataFrame:
     """The truth against the logs: the ``floor`` rows of the tables against logs.
 
     Each log's floor is the truth that made it (:func:`artic.validation.models.build`
@@ -780,7 +1008,8 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
 
 def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
            vehicles: dict[str, Vehicle], models: Sequence[str], seed: int, truth: str,
-           gain: float, key: str, jobs: int, pool, scale: dict | None) -> pd.DataFrame:
+           gain: float, key: str, jobs: int, pool: Executor | None,
+           scale: dict | None) -> pd.DataFrame:
     """Every model and the floor on the noise-free twins of the validated logs.
 
     The same tuned vehicles, gain and ``eps_n_fixed`` scale as on the logs,
@@ -876,19 +1105,6 @@ def _closing_summary(forward: pd.DataFrame, reverse: pd.DataFrame, times: dict[s
     return "\n".join(lines)
 
 
-def _cached_sweep(out_dir: Path, key: str, models: Sequence[str]) -> pd.DataFrame | None:
-    """The gain sweep of an earlier run with the same key and models, if any."""
-    path = out_dir / "gain_sweep.json"
-    saved = _read_json(path)
-    if saved is None or saved.get("key") != key or saved.get("models") != list(models) \
-            or not isinstance(saved.get("K_min"), dict):
-        return None
-    stderr_progress(f"gain sweep reused from {path}")
-    sweep = pd.DataFrame(saved["rows"])
-    sweep.attrs["K_min"] = saved["K_min"]
-    return sweep
-
-
 def _version() -> str:
     from artic.validation.review.recording import artic_version
 
@@ -907,18 +1123,19 @@ def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Veh
 
 def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
                 vehicles: dict[str, Vehicle], models: Sequence[str],
-                jobs: int = 1) -> tuple[dict[str, Path], int]:
+                jobs: int = 1) -> dict[str, Path]:
     """One recording per validated manoeuvre, skipped when newer than its runs; a few plots.
 
     The recordings are written on ``jobs`` local worker processes: drawing
     them is Python work that holds the GIL. They are local even with a Dask
     executor, whose workers need not share this file system.
 
-    Returns the paths and the number of recordings written.
+    Returns every validated manoeuvre's recording by its name, written or kept.
     """
     from artic.validation.review.plots import plot_manoeuvre
 
     names = list(dict.fromkeys(metrics["log"]))
+    made: dict[str, Path] = {}
     failed = {(r.log, r.model) for r in metrics.itertuples() if is_failed(r.status)}
     todo = []
     for name in names:
@@ -927,6 +1144,7 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
         if not runs:
             continue
         target = out_dir / "recordings" / f"{name}.rrd"
+        made[name] = target
         newest = max(p.stat().st_mtime for p in runs.values())
         if not (target.is_file() and target.stat().st_mtime >= newest):
             todo.append((name, runs, target))
@@ -946,4 +1164,4 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
         plot = out_dir / "plots" / f"{log.meta.get('manoeuvre')}.png"
         if log.meta.get("manoeuvre") in ("docking", "constant-steer") and not plot.is_file():
             plot_manoeuvre(plot, log, {m: read_run(p) for m, p in runs.items()})
-    return {"recordings": out_dir / "recordings"}, len(todo)
+    return made

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from artic.validation.campaign.config import CampaignConfig
 from artic.validation.cli.progress import Counter, stderr
 from artic.validation.criteria.statistics import format_ci, mean_ci
 from artic.validation.logs.runfile import atomic_write_text
@@ -60,22 +61,17 @@ def seed_dir(out_dir: Path, seed: int) -> Path:
     return Path(out_dir) / f"seed-{seed}"
 
 
-def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
-              progress: Callable[[str], None] = stderr, **campaign) -> dict[str, Path]:
-    """Run ``seeds`` campaigns (seeds ``seed`` on) and write the pooled results.
+def run_seeds(config: CampaignConfig,
+              progress: Callable[[str], None] = stderr) -> dict[str, Path]:
+    """Run ``config.seeds`` campaigns (seeds ``config.seed`` on) and write the pooled results.
 
     Parameters
     ----------
-    out_dir : Path
-        Output folder; each truck's campaign goes to ``out_dir/seed-K``.
-    seeds : int
-        Number of trucks.
-    seed : int
-        The first seed.
+    config : CampaignConfig
+        The campaign; each truck's goes to ``config.out_dir/seed-K``
+        (:meth:`~artic.validation.campaign.config.CampaignConfig.for_seed`).
     progress : callable
         Receives one line per finished truck, with its reverse eps_n and the time left.
-    **campaign
-        The other arguments of :func:`artic.validation.campaign.main.run_campaign`.
 
     Returns
     -------
@@ -84,6 +80,8 @@ def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
     """
     from artic.validation.campaign.main import run_campaign
 
+    out_dir, seeds, seed = config.out_dir, config.seeds, config.seed
+    campaign = {k: v for k, v in config.options().items() if k not in ("seed", "seeds")}
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     with OutDirLock(out_dir, "campaign"):
@@ -99,7 +97,7 @@ def run_seeds(out_dir: Path, seeds: int, seed: int = 0,
             where = seed_dir(out_dir, s)
             progress(f"=== truck {k + 1} of {seeds}: seed {s}, {where}")
             t0 = time.perf_counter()
-            paths = run_campaign(where, seed=s, closing=False, **campaign)
+            paths = run_campaign(config.for_seed(s, where))
             m = pd.read_csv(paths["metrics"]).assign(seed=s)
             metrics.append(m)
             if "metrics_vs_plant" in paths:

@@ -35,6 +35,7 @@ bug in artic: its traceback, a line asking to report it, and exit code 3.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import os
@@ -429,8 +430,9 @@ def _tyre_curves(args: argparse.Namespace) -> int:
 
 
 def _campaign(args: argparse.Namespace) -> int:
+    from artic.validation.campaign.config import CampaignConfig
     from artic.validation.campaign.executors import DaskOptions
-    from artic.validation.campaign.main import check_selection, run_campaign
+    from artic.validation.campaign.main import run_campaign
     from artic.validation.models import parse_models
 
     sweep = tuple(parse_models(args.sweep_models, "--sweep-models")) if args.sweep_models else ()
@@ -438,14 +440,15 @@ def _campaign(args: argparse.Namespace) -> int:
     dask = DaskOptions(timeout=args.scheduler_timeout, tls_ca_file=args.tls_ca_file,
                        tls_cert=args.tls_cert, tls_key=args.tls_key)
     dask.check(args.executor, args.scheduler)
-    only = [o for o in args.only.split(",") if o] if args.only else None
-    check_selection(only)  # before the output folder is made: nothing is written
-    out = check_output_dir(args.out_dir)
-    run_campaign(out, models=models, seed=args.seed, jobs=args.jobs, gain=args.gain,
-                 sweep_models=sweep, only=only, recordings=args.recordings,
-                 executor=args.executor, scheduler=args.scheduler, dask=dask, truth=args.truth,
-                 remeasure=args.remeasure, seeds=args.seeds, sensors=args.sensors,
-                 drift=args.drift)
+    only = tuple(o for o in args.only.split(",") if o) if args.only else None
+    # Checked as it is made, before the output folder is: nothing is written.
+    config = CampaignConfig(Path(args.out_dir), models=models, seed=args.seed, jobs=args.jobs,
+                            gain=args.gain, sweep_models=sweep, only=only,
+                            recordings=args.recordings, executor=args.executor,
+                            scheduler=args.scheduler, dask=dask, truth=args.truth,
+                            remeasure=args.remeasure, seeds=args.seeds, sensors=args.sensors,
+                            drift=args.drift)
+    run_campaign(dataclasses.replace(config, out_dir=check_output_dir(args.out_dir)))
     return 0
 
 
