@@ -31,7 +31,7 @@ Simulating and validating
     criteria of eqs. (8)-(10)), :func:`validate_runs` (many logs and models
     at once).
 The campaign
-    :func:`run_campaign`.
+    :func:`run_campaign`, with a :class:`CampaignConfig` of its choices.
 Errors
     :mod:`errors`: the base of artic's errors, the user's (a wrong file, log,
     option or vehicle) and the plant's, as the command line tells them apart.
@@ -94,6 +94,7 @@ _PUBLIC = {
     "run_metrics": ("artic.validation.criteria.metrics", "run_metrics"),
     "validate_runs": ("artic.validation.runs.validate", "validate_runs"),
     "run_campaign": ("artic.validation.campaign.main", "run_campaign"),
+    "CampaignConfig": ("artic.validation.campaign.config", "CampaignConfig"),
     "Profile": ("artic.validation.synthetic.manoeuvres", "Profile"),
     "make_profile": ("artic.validation.synthetic.manoeuvres", "make_profile"),
     "Controller": ("artic.validation.docking.controllers.base", "Controller"),

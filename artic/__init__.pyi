@@ -11,6 +11,7 @@ from artic.mjcf.vehicle import Vehicle, load_vehicle, preset_names
 from artic.plant.plant import Plant, PlantError
 from artic.reduced.control import KIN, STM
 from artic.reduced.models import KinematicModel, SingleTrackModel
+from artic.validation.campaign.config import CampaignConfig
 from artic.validation.campaign.main import run_campaign
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.docking.controllers.base import Command, Controller
@@ -26,6 +27,7 @@ from artic.validation.synthetic.manoeuvres import Profile, make_profile
 
 __version__: str
 __all__ = [
+    "CampaignConfig",
     "Command",
     "Controller",
     "KIN",

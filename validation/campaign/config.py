@@ -84,12 +84,14 @@ class CampaignConfig:
     Examples
     --------
     >>> from pathlib import Path
-    >>> from artic.validation.campaign.config import CampaignConfig
+    >>> from artic import CampaignConfig
     >>> c = CampaignConfig(Path("out"), models=("kin",), only=["00-", "28-"], jobs=2)
     >>> c.only, c.resolved().models
     (('00-', '28-'), ('kin',))
     >>> c.key() == CampaignConfig(Path("out"), models=("kin",), only=("00-", "28-")).key()
     True
+
+    ``artic.run_campaign(c)`` runs it.
     """
 
     out_dir: Path
