@@ -65,6 +65,11 @@ def add_parser(sub) -> None:
     p.add_argument("--truth", action="store_true",
                    help="drive the synthetic campaign's truth (seed 0) instead of the plant built "
                         "from the vehicle file; gosar2022 presets only")
+    p.add_argument("--sensors", default="full", metavar="{full,tractor,camera}",
+                   help="what the controllers see: full, RTK/INS on both units; tractor, the "
+                        "tractor's RTK/INS and a hitch encoder; camera, the tractor's RTK/INS "
+                        "and a rear camera's articulation; with tractor and camera an "
+                        "estimator gives the semitrailer's pose (default: %(default)s)")
     p.add_argument("--realtime", action=argparse.BooleanOptionalAction, default=True,
                    help="fail a run whose controller takes longer than the 0.1 s sample period "
                         "for more than one command in twenty (default: on; --no-realtime "
@@ -134,9 +139,11 @@ def run(args: argparse.Namespace) -> int:
     from artic.validation.docking.run import benchmark, run_name
     from artic.validation.docking.scenarios import SCENARIOS, scenario
     from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
+    from artic.validation.docking.sensing import sensor_set
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
     from artic.validation.runs.outputs import OutDirLock, check_output_dir, clean_stale
 
+    sensors = sensor_set(args.sensors)  # a bad name is one line, before any run
     scenarios = (list(SCENARIOS) if args.scenario.strip() == "all"
                  else [scenario(n).name for n in _names(args.scenario, "--scenario")])
     vehicles = _names(args.vehicle, "--vehicle")
@@ -162,7 +169,8 @@ def run(args: argparse.Namespace) -> int:
             rows += benchmark(scenarios, vehicles, c, range(args.seeds), jobs=args.jobs,
                               progress=stderr,
                               recordings=out / "recordings" if args.recordings else None,
-                              truth=0 if args.truth else None, realtime=args.realtime)
+                              truth=0 if args.truth else None, realtime=args.realtime,
+                              sensor_set=sensors)
         _warn_late(rows, args.realtime)
         frame = pd.DataFrame(rows)[list(COLUMNS)]
         csv = atomic_write(out / "dock.csv",
