@@ -11,7 +11,6 @@ import pytest
 from artic.mjcf import load_vehicle
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import OBS_INDEX, InitialState
-from artic.reduced.control import KIN
 from artic.validation.docking.controllers import Command, Controller
 from artic.validation.docking.estimator import (
     ArticulationEKF,

@@ -8,7 +8,9 @@ The loop (:func:`drive`), on the plant built from the vehicle file or, with
 3. every :data:`DT` (10 Hz) the controller gets the sensors' signals, with
    the synthetic campaign's noise and, on the truth, its semitrailer unit's
    clock skew (:mod:`artic.validation.docking.sensing`), and returns a
-   steering-wheel angle and a speed;
+   steering-wheel angle and a speed; with ``sensor_set`` ``"tractor"`` or
+   ``"camera"`` the semitrailer's signals are the estimator's, from the
+   tractor's sensors and an articulation sensor on the tractor;
 4. the plant steps every :data:`PLANT_DT`. Between the controller and the
    plant sit the actuators: the steering wheel turns at most
    :data:`STEER_RATE`; the speed is the yard's, at most :data:`SPEED_MAX`

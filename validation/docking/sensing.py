@@ -23,6 +23,18 @@ the same measurement chain, whose pieces are
   delay and quantised in its steps
   (:func:`~artic.validation.synthetic.sensors.can_sample`,
   :func:`~artic.validation.synthetic.sensors.can_quantise`).
+
+That is the ``full`` sensor set (``artic dock --sensors full``, the default):
+RTK/INS on both units. A yard tractor couples a different semitrailer every
+job, and semitrailers carry no GNSS; :data:`SENSOR_SETS` ``tractor`` and
+``camera`` keep the tractor's channels of the same stream (the same noise,
+sample for sample) and measure the articulation from the tractor, with a
+hitch encoder or a rear-facing camera
+(:class:`~artic.validation.synthetic.sensors.ArticulationModel`, its errors
+drawn up front like the rest, from a random stream of their own).
+:class:`EstimatedStream` gives the controller the semitrailer's channels and
+the articulation from the estimator
+(:mod:`artic.validation.docking.estimator`), never the plant's.
 """
 
 from __future__ import annotations

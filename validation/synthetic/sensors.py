@@ -10,6 +10,11 @@ RT3000) and of a truck CAN bus:
 - yaw rate: white, 0.005 deg/s per sample at 100 Hz, plus a constant bias
   per run of standard deviation 0.01 deg/s;
 - steering-wheel angle: sampled at 10 Hz, 50 ms late, in 0.1 deg steps.
+
+The docking benchmark's tractor-only sensor sets add an articulation sensor on
+the tractor (:class:`ArticulationModel`): a hitch encoder or a rear-facing
+camera, with their resolution, bias, drift, noise, latency and dropouts
+(:func:`articulation_noise`).
 """
 
 from __future__ import annotations
