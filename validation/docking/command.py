@@ -2,8 +2,10 @@
 
 - ``artic dock --list``: the scenarios, the built-in controllers and the presets;
 - ``artic dock [--scenario NAME,...] [--vehicle V,...] [--controller NAME,...]
-  [--seeds N] [--truth] [--jobs J] --out-dir D``: every scenario x vehicle x seed with
-  each controller. Writes ``D/dock.csv`` (one row per run, the columns of
+  [--seeds N] [--sensors full|tractor|camera] [--truth] [--jobs J] --out-dir D``: every
+  scenario x vehicle x seed with each controller, seeing the sensor set's signals
+  (:data:`artic.validation.docking.sensing.SENSOR_SETS`; ``full`` by default). Writes
+  ``D/dock.csv`` (one row per run, the columns of
   :data:`artic.validation.docking.scores.COLUMNS`), ``D/dock_table.csv`` and
   ``D/dock_table.md`` (success rates and errors with 95 % intervals; with
   two controllers or more, the Markdown ends with their paired comparisons
@@ -139,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
     from artic.validation.docking.run import benchmark, run_name
     from artic.validation.docking.scenarios import SCENARIOS, scenario
     from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
-    from artic.validation.docking.sensing import sensor_set
+    from artic.validation.docking.sensing import SENSOR_SETS, sensor_set
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
     from artic.validation.runs.outputs import OutDirLock, check_output_dir, clean_stale
 
@@ -178,6 +180,9 @@ def run(args: argparse.Namespace) -> int:
         t = table(frame)
         atomic_write(out / "dock_table.csv", lambda p: t.to_csv(p, index=False))
         md = markdown(t)
+        if sensors != "full":  # the default's table stays as it was
+            md = (f"Sensors: {sensors}, {SENSOR_SETS[sensors]}; the semitrailer's pose from the "
+                  "estimator (dock.csv: gamma_est_*, rear_est_*).\n\n" + md)
         for i, a in enumerate(controllers):
             for b in controllers[i + 1:]:
                 md += (f"\n{a} minus {b} in magnitude, paired over the starts both docked "
