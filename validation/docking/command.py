@@ -2,8 +2,10 @@
 
 - ``artic dock --list``: the scenarios, the built-in controllers and the presets;
 - ``artic dock [--scenario NAME,...] [--vehicle V,...] [--controller NAME,...]
-  [--seeds N] [--truth] [--jobs J] --out-dir D``: every scenario x vehicle x seed with
-  each controller. Writes ``D/dock.csv`` (one row per run, the columns of
+  [--seeds N] [--sensors full|tractor|camera] [--truth] [--jobs J] --out-dir D``: every
+  scenario x vehicle x seed with each controller, seeing the sensor set's signals
+  (:data:`artic.validation.docking.sensing.SENSOR_SETS`; ``full`` by default). Writes
+  ``D/dock.csv`` (one row per run, the columns of
   :data:`artic.validation.docking.scores.COLUMNS`), ``D/dock_table.csv`` and
   ``D/dock_table.md`` (success rates and errors with 95 % intervals; with
   two controllers or more, the Markdown ends with their paired comparisons
@@ -65,6 +67,11 @@ def add_parser(sub) -> None:
     p.add_argument("--truth", action="store_true",
                    help="drive the synthetic campaign's truth (seed 0) instead of the plant built "
                         "from the vehicle file; gosar2022 presets only")
+    p.add_argument("--sensors", default="full", metavar="{full,tractor,camera}",
+                   help="what the controllers see: full, RTK/INS on both units; tractor, the "
+                        "tractor's RTK/INS and a hitch encoder; camera, the tractor's RTK/INS "
+                        "and a rear camera's articulation; with tractor and camera an "
+                        "estimator gives the semitrailer's pose (default: %(default)s)")
     p.add_argument("--realtime", action=argparse.BooleanOptionalAction, default=True,
                    help="fail a run whose controller takes longer than the 0.1 s sample period "
                         "for more than one command in twenty (default: on; --no-realtime "
@@ -134,9 +141,11 @@ def run(args: argparse.Namespace) -> int:
     from artic.validation.docking.run import benchmark, run_name
     from artic.validation.docking.scenarios import SCENARIOS, scenario
     from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
+    from artic.validation.docking.sensing import SENSOR_SETS, sensor_set
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
     from artic.validation.runs.outputs import OutDirLock, check_output_dir, clean_stale
 
+    sensors = sensor_set(args.sensors)  # a bad name is one line, before any run
     scenarios = (list(SCENARIOS) if args.scenario.strip() == "all"
                  else [scenario(n).name for n in _names(args.scenario, "--scenario")])
     vehicles = _names(args.vehicle, "--vehicle")
@@ -162,7 +171,8 @@ def run(args: argparse.Namespace) -> int:
             rows += benchmark(scenarios, vehicles, c, range(args.seeds), jobs=args.jobs,
                               progress=stderr,
                               recordings=out / "recordings" if args.recordings else None,
-                              truth=0 if args.truth else None, realtime=args.realtime)
+                              truth=0 if args.truth else None, realtime=args.realtime,
+                              sensor_set=sensors)
         _warn_late(rows, args.realtime)
         frame = pd.DataFrame(rows)[list(COLUMNS)]
         csv = atomic_write(out / "dock.csv",
@@ -170,6 +180,9 @@ def run(args: argparse.Namespace) -> int:
         t = table(frame)
         atomic_write(out / "dock_table.csv", lambda p: t.to_csv(p, index=False))
         md = markdown(t)
+        if sensors != "full":  # the default's table stays as it was
+            md = (f"Sensors: {sensors}, {SENSOR_SETS[sensors]}; the semitrailer's pose from the "
+                  "estimator (dock.csv: gamma_est_*, rear_est_*).\n\n" + md)
         for i, a in enumerate(controllers):
             for b in controllers[i + 1:]:
                 md += (f"\n{a} minus {b} in magnitude, paired over the starts both docked "

@@ -8,7 +8,9 @@ The loop (:func:`drive`), on the plant built from the vehicle file or, with
 3. every :data:`DT` (10 Hz) the controller gets the sensors' signals, with
    the synthetic campaign's noise and, on the truth, its semitrailer unit's
    clock skew (:mod:`artic.validation.docking.sensing`), and returns a
-   steering-wheel angle and a speed;
+   steering-wheel angle and a speed; with ``sensor_set`` ``"tractor"`` or
+   ``"camera"`` the semitrailer's signals are the estimator's, from the
+   tractor's sensors and an articulation sensor on the tractor;
 4. the plant steps every :data:`PLANT_DT`. Between the controller and the
    plant sit the actuators: the steering wheel turns at most
    :data:`STEER_RATE`; the speed is the yard's, at most :data:`SPEED_MAX`
@@ -59,8 +61,13 @@ from artic.validation.docking.controllers import Command, Observation, Task, loa
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
-from artic.validation.docking.scores import COLUMNS, score
-from artic.validation.docking.sensing import SensorStream
+from artic.validation.docking.scores import COLUMNS, estimate_scores, score
+from artic.validation.docking.sensing import (
+    EstimatedStream,
+    SensorStream,
+    articulation_model,
+    sensor_set,
+)
 from artic.validation.docking.supervise import calling, supervised
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
@@ -104,6 +111,11 @@ SENSOR_STREAM = 1
 """Third word of a run's random seed ``(seed, scenario number, SENSOR_STREAM)``: the
 sensors' noise is drawn apart from the start, and is the same for every controller."""
 
+ARTICULATION_STREAM = 2
+"""Third word of the seed of a tractor-only set's articulation sensor (``--sensors tractor``
+or ``camera``): drawn apart from :data:`SENSOR_STREAM`, so that ``full``'s draws, and the
+tractor's channels of every set, stay the same."""
+
 
 @dataclass
 class Trace:
@@ -126,6 +138,9 @@ class Trace:
     """The plant's :meth:`~artic.plant.Plant.extras` at each controller sample, by plant step
     (only when the run is recorded)."""
     extra_columns: tuple[str, ...] = ()
+    seen_at: list[int] = field(default_factory=list)
+    """The plant step of each controller sample: the truth what the controller saw is
+    compared with (:func:`artic.validation.docking.scores.estimate_scores`)."""
     failure: str = ""
     done: bool = False
     late: int = 0
@@ -161,7 +176,8 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           planner: Planner | None = None, sensors: SensorModel | None = None,
           timeout: float | None = None, yard_model: str = "mbd",
           record: Path | None = None, truth: int | None = None,
-          realtime: bool = True) -> Result:
+          realtime: bool = True, sensor_set: str = "full",
+          articulation_noise_deg: float | None = None) -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -197,12 +213,23 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         Fail the run as soon as more than :data:`REALTIME_LATE` of its
         commands (and :data:`REALTIME_GRACE`) took longer than :data:`DT`;
         without it the late commands are only counted (``late_commands``).
+    sensor_set : str
+        What the controller sees (:data:`artic.validation.docking.sensing.SENSOR_SETS`):
+        ``"full"``, the RTK/INS of both units (``sensors``' measurement chain);
+        ``"tractor"`` or ``"camera"``, the tractor's channels of the same chain
+        and a hitch encoder or a camera on the tractor, the semitrailer's
+        pose and the articulation from the estimator
+        (:class:`artic.validation.docking.sensing.EstimatedStream`).
+    articulation_noise_deg : float, optional
+        The encoder's or camera's noise RMS [deg] instead of its model's
+        (:func:`artic.validation.docking.sensing.articulation_model`); not for ``"full"``.
 
     Returns
     -------
     Result
         Its :attr:`Result.row` holds the scores (:func:`artic.validation.docking.scores.score`).
     """
+    sensor_set_ = _sensor_set(sensor_set, articulation_noise_deg)
     vehicle = load_vehicle(vehicle_name)
     cls = load(controller) if isinstance(controller, str) else controller
     cname = controller if isinstance(controller, str) else f"{cls.__module__}:{cls.__name__}"
@@ -232,14 +259,16 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
                          sensors, timeout, yard_model, record is not None,
-                         plant_vehicle, actuation, realtime)
+                         plant_vehicle, actuation, realtime, sensor_set_,
+                         articulation_noise_deg)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
            **score(trace, yard, plant_vehicle, frames, start),
            "late_commands": trace.late,
            "plan_ms": plan_ms, "plan_expansions": plan.expansions if plan else 0,
            "plan_direction_changes": plan.direction_changes if plan else 0,
-           "plan_length_m": plan.length if plan else math.nan}
+           "plan_length_m": plan.length if plan else math.nan,
+           "sensors": sensor_set_, **estimate_scores(trace, Frames.of(vehicle), frames)}
     result = Result(row, trace, plan, yard, start)
     if record is not None:
         write_recording(result, plant_vehicle, Path(record))
@@ -250,12 +279,18 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                  plan: Plan, seed: int, number: int, sensors: SensorModel,
                  timeout: float, yard_model: str, extras: bool = False,
                  plant_vehicle=None, actuation: Callable | None = None,
-                 realtime: bool = True) -> None:
+                 realtime: bool = True, sensor_set: str = "full",
+                 articulation_noise_deg: float | None = None) -> None:
     plant_vehicle = plant_vehicle or vehicle
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
     stream = SensorStream(sensors, np.random.default_rng([seed, number, SENSOR_STREAM]),
                           n_ctrl + 1, DT, PLANT_DT)
+    if sensor_set != "full":  # the tractor's channels of the same stream, and an estimator
+        stream = EstimatedStream(
+            stream, articulation_model(sensor_set, articulation_noise_deg),
+            np.random.default_rng([seed, number, ARTICULATION_STREAM]), n_ctrl + 1, DT,
+            Frames.of(vehicle), plant_vehicle.sensor1_yaw - plant_vehicle.sensor2_yaw)
     mbd = SteeringMap.from_steering(plant_vehicle.steering_for(yard_model))
     boxes = box_array(yard.obstacles)
     x0 = frames.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma)
@@ -320,6 +355,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                     return
                 trace.t_ctrl.append(now)
                 trace.measured.append(signals)
+                trace.seen_at.append(len(trace.true) - 1)
                 trace.commands.append(target[:2])
                 trace.horizons.append(intent[0])
                 trace.references.append(intent[1])
@@ -367,6 +403,22 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 return
         if settle_until is None:
             _fail(trace, f"timeout: not docked after {timeout:.0f} s")
+
+
+def _sensor_set(name: str, articulation_noise_deg: float | None) -> str:
+    """``drive``'s sensor set, checked.
+
+    One line for a set it does not know, or for a noise override that has no
+    articulation sensor to apply to.
+    """
+    name = sensor_set(name)
+    if articulation_noise_deg is not None:
+        if name == "full":
+            raise UserError("articulation noise: the full set measures the articulation by "
+                            "the two units' headings; give it with the tractor or camera "
+                            "sensor set")
+        articulation_model(name, articulation_noise_deg)
+    return name
 
 
 def _path(cmd, name: str) -> np.ndarray | None:
@@ -517,16 +569,16 @@ def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
 
 def _task(scen_name: str, vehicle: str, controller: str, seed: int,
           sensors: SensorModel | None, recordings: Path | None, truth: int | None,
-          realtime: bool = True) -> dict:
+          realtime: bool = True, sensor_set: str = "full") -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
     record = (None if recordings is None
               else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
     return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors,
-                 record=record, truth=truth, realtime=realtime).row
+                 record=record, truth=truth, realtime=realtime, sensor_set=sensor_set).row
 
 
 def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: int | None,
-               reason: str) -> dict:
+               reason: str, sensor_set: str = "full") -> dict:
     """The row of a run that ended its worker process (see :mod:`.supervise`): failed, why.
 
     Its start is the scenario's seeded one; the scores of a run that did not finish are
@@ -541,7 +593,8 @@ def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: 
                 "late_commands": 0, "plan_expansions": 0, "plan_direction_changes": 0,
                 "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
                 "start_heading_deg": math.degrees(start.psi_2),
-                "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0)})
+                "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0),
+                "sensors": sensor_set})
     return row
 
 
@@ -550,7 +603,8 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
               progress: Callable[[str], None] | None = None,
               sensors: SensorModel | None = None,
               recordings: Path | None = None, truth: int | None = None,
-              realtime: bool = True, deadline: float | None = None) -> list[dict]:
+              realtime: bool = True, deadline: float | None = None,
+              sensor_set: str = "full") -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
 
     The runs go to supervised worker processes
@@ -580,15 +634,19 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
     deadline : float, optional
         Longest controller call before its run is ended as hung [s]
         (:data:`artic.validation.docking.supervise.CALL_DEADLINE` by default).
+    sensor_set : str
+        What the controllers see (``artic dock --sensors``, see :func:`drive`).
     """
-    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime))
+    sensor_set = _sensor_set(sensor_set, None)
+    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime,
+                             sensor_set))
              for s in scenarios for v in vehicles for seed in seeds]
     counter = Counter(len(tasks), f"docking ({controller})", progress)
     rows: dict[tuple, dict] = {}
 
     def failed(key, args, reason):
-        s, v, c, seed, _, _, tr, _ = args
-        return failed_row(s, v, c, seed, tr, reason)
+        s, v, c, seed, _, _, tr, _, sset = args
+        return failed_row(s, v, c, seed, tr, reason, sset)
 
     with contextlib.closing(supervised(_task, tasks, jobs, failed, deadline)) as done:
         for key, row in done:

@@ -66,6 +66,12 @@ COLUMNS = ("scenario", "vehicle", "controller", "plant", "seed", "success", "fai
            "start_heading_deg", "start_gamma_deg")
 """Columns of ``dock.csv``, in order."""
 
+ESTIMATE_COLUMNS = ("sensors", "gamma_est_rms_deg", "gamma_est_stop_deg", "rear_est_rms_m",
+                    "rear_est_stop_m")
+"""The sensor set and the errors of what the controller saw (:func:`estimate_scores`)."""
+
+COLUMNS = COLUMNS + ESTIMATE_COLUMNS
+
 
 def score(trace, yard, vehicle: Vehicle, frames: Frames, start) -> dict:
     """The scores of one run (see the module docstring).
@@ -159,6 +165,47 @@ def swept_area(tractor: np.ndarray, trailer: np.ndarray, frames: Frames,
     first = swept_cells(t[:1], k[:1], frames.tractor_box, frames.trailer_box, x0, y0,
                         SWEPT_CELL, nx, ny)
     return float(all_.sum() * cell2), float(first.sum() * cell2)
+
+
+def estimate_scores(trace, seen: Frames, true: Frames) -> dict:
+    """The errors of what the controller saw, at its samples, against the plant then.
+
+    With ``artic dock --sensors full`` the measured signals; with ``tractor`` or
+    ``camera`` the estimator's (:mod:`artic.validation.docking.estimator`).
+
+    - ``gamma_est_rms_deg``: RMS of the articulation's error over the run;
+      ``gamma_est_stop_deg``: its error (seen minus true) at the last sample,
+      where the controller stopped;
+    - ``rear_est_rms_m``, ``rear_est_stop_m``: the same of the distance between
+      the semitrailer's rear (the dock point) where the controller placed it,
+      by the vehicle file's geometry on the signals it saw, and where it was.
+
+    Parameters
+    ----------
+    trace : artic.validation.docking.run.Trace
+        The run: ``measured`` and ``seen_at`` (the plant step of each sample).
+    seen : Frames
+        The geometry the controller knows (the vehicle file's).
+    true : Frames
+        The plant's.
+    """
+    a = trace.arrays()
+    m = a["measured"]
+    if m.shape[0] == 0:
+        return dict.fromkeys(ESTIMATE_COLUMNS[1:], math.nan)
+    t = a["true"][np.asarray(trace.seen_at, dtype=int)]
+    g = OBS_INDEX["gamma"]
+    dg = np.degrees(np.remainder(m[:, g] - t[:, g] + np.pi, 2 * np.pi) - np.pi)
+    d = np.hypot(*(_rear(seen, m) - _rear(true, t)).T)
+    return {"gamma_est_rms_deg": float(np.sqrt(np.mean(dg ** 2))),
+            "gamma_est_stop_deg": float(dg[-1]),
+            "rear_est_rms_m": float(np.sqrt(np.mean(d ** 2))), "rear_est_stop_m": float(d[-1])}
+
+
+def _rear(frames: Frames, signals: np.ndarray) -> np.ndarray:
+    """The semitrailer's rear ``(x, y)`` [m] of signals (n, 13), by its unit's signals."""
+    _, k = frames.unit_poses_of_signals(signals)
+    return k[:, :2] - frames.rear * np.column_stack([np.cos(k[:, 2]), np.sin(k[:, 2])])
 
 
 # ---------------------------------------------------------------- statistics

@@ -8,9 +8,11 @@ A controller is a class with a no-argument constructor and two methods:
 - ``command(obs)`` every ``task.dt`` (10 Hz), with an :class:`Observation`:
   the signals of the synthetic campaign's sensors, with their noise
   (RTK/INS poses, velocities and yaw rates of both units, the articulation
-  from the two headings, the steering wheel from the CAN bus). It returns a
-  :class:`Command`: the steering-wheel angle, the tractor's speed, and
-  whether it has finished.
+  from the two headings, the steering wheel from the CAN bus; with ``artic
+  dock --sensors tractor`` or ``camera``, the semitrailer's channels and the
+  articulation are the estimator's, :mod:`artic.validation.docking.estimator`).
+  It returns a :class:`Command`: the steering-wheel angle, the tractor's
+  speed, and whether it has finished.
 
 What a controller intends travels with its command, for the recording, and
 is optional: ``Command.horizon``, the path it predicts for the point it
@@ -50,7 +52,9 @@ class Observation:
     signals : ndarray, shape (13,)
         Measured signals in :data:`artic.mjcf.interface.OBSERVATION` order
         (``x_1, y_1, psi_1, v_x_1, v_y_1, r_1``, the same ``_2`` for the
-        semitrailer's sensor, ``gamma``) [m, rad, m/s, rad/s].
+        semitrailer's sensor, ``gamma``) [m, rad, m/s, rad/s]. With the
+        tractor-only sensor sets the semitrailer's and ``gamma`` are the
+        estimator's (:class:`artic.validation.docking.sensing.EstimatedStream`).
     delta_h : float
         Steering-wheel angle from the CAN bus [rad].
     """
