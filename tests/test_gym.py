@@ -143,9 +143,26 @@ def test_a_recorded_episode_writes_artic_dock_s_recording(tmp_path):
     assert len(files) == 1 and files[0].stat().st_size > 1000
 
 
+def test_the_sensor_set_reaches_the_run():
+    # With the tractor's sensors the semitrailer's entries are the estimator's:
+    # the observation differs from full's, the tractor's entries do not (the
+    # same noise, sample for sample).
+    seen = {}
+    for sensors in ("full", "tractor"):
+        env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model="kin", sensors=sensors)
+        obs, _ = env.reset(options={"start": 0})
+        obs, *_ = env.step(np.array([0.0, -0.5]))
+        seen[sensors] = obs
+        env.close()
+    assert np.array_equal(seen["full"][:6], seen["tractor"][:6])
+    assert not np.array_equal(seen["full"][6:13], seen["tractor"][6:13])
+
+
 def test_bad_options_are_one_line():
     with pytest.raises(UserError, match="no such scenario"):
         DockEnv(scenario="nowhere")
+    with pytest.raises(UserError, match="no such sensor set"):
+        DockEnv(sensors="lidar")
     with pytest.raises(UserError, match="render_mode"):
         DockEnv(render_mode="human")
     env = DockEnv(scenario="straight", yard_model="kin")

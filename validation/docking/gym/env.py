@@ -51,6 +51,7 @@ from artic.validation.docking.gym.spaces import (
     stopped_at_dock,
 )
 from artic.validation.docking.run import run_name
+from artic.validation.docking.sensing import sensor_set
 from artic.validation.docking.scenarios import SCENARIOS
 from artic.validation.docking.scenarios import scenario as find_scenario
 
@@ -70,6 +71,11 @@ class DockEnv(gym.Env):
         Vehicle preset or file.
     yard_model : str
         ``"mbd"``, the multibody plant, or ``"kin"``.
+    sensors : str
+        ``artic dock --sensors``: ``"full"`` (RTK/INS on both units), ``"tractor"``
+        (the tractor's and a hitch encoder) or ``"camera"`` (the tractor's and a
+        rear camera); with the last two the observation's semitrailer entries are
+        the estimator's (:mod:`artic.validation.docking.estimator`).
     render_mode : str, optional
         ``"rerun"``: write each finished episode's Rerun recording, the one
         ``artic dock`` writes, to ``recording_dir``.
@@ -96,7 +102,8 @@ class DockEnv(gym.Env):
     metadata = {"render_modes": ["rerun"], "render_fps": 10}
 
     def __init__(self, scenario: str = "alley", vehicle: str = "gosar2022-unloaded",
-                 yard_model: str = "mbd", render_mode: str | None = None,
+                 yard_model: str = "mbd", sensors: str = "full",
+                 render_mode: str | None = None,
                  recording_dir: str | Path = "recordings", **drive_options: Any) -> None:
         names = list(SCENARIOS) if scenario == "all" else \
             [s.strip() for s in scenario.split(",") if s.strip()]
@@ -112,7 +119,7 @@ class DockEnv(gym.Env):
         self.yard_model = yard_model
         self.render_mode = render_mode
         self.recording_dir = Path(recording_dir)
-        self._options = drive_options
+        self._options = {"sensor_set": sensor_set(sensors), **drive_options}
         self.scale = ActionScale.of(self.vehicle)
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, (len(OBSERVATION_NAMES),),
                                                 np.float64)
