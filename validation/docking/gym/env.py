@@ -51,9 +51,9 @@ from artic.validation.docking.gym.spaces import (
     stopped_at_dock,
 )
 from artic.validation.docking.run import run_name
-from artic.validation.docking.sensing import sensor_set
 from artic.validation.docking.scenarios import SCENARIOS
 from artic.validation.docking.scenarios import scenario as find_scenario
+from artic.validation.docking.sensing import sensor_set
 
 _TRUNCATIONS = ("timeout",)
 _STARTS = 2**31 - 1
