@@ -65,6 +65,10 @@ def add_parser(sub) -> None:
     p.add_argument("--truth", action="store_true",
                    help="drive the synthetic campaign's truth (seed 0) instead of the plant built "
                         "from the vehicle file; gosar2022 presets only")
+    p.add_argument("--trailer", default="nominal",
+                   help="the plant's semitrailer: nominal (the vehicle file's) or unknown (drawn "
+                        "per start: bogie position, fifth wheel, payload, tyres; the planner and "
+                        "the controllers still know only the file) (default: %(default)s)")
     p.add_argument("--realtime", action=argparse.BooleanOptionalAction, default=True,
                    help="fail a run whose controller takes longer than the 0.1 s sample period "
                         "for more than one command in twenty (default: on; --no-realtime "
@@ -149,6 +153,12 @@ def run(args: argparse.Namespace) -> int:
 
             truth_yard(vehicle, 0, 0, 0)
     _once(loaded, "--vehicle", vehicles)  # a preset and its file are one vehicle
+    from artic.validation.docking.variants import check_trailer
+
+    check_trailer(args.trailer)
+    if args.trailer != "nominal" and args.truth:
+        raise UserError("--trailer unknown: the synthetic truth (--truth) has its own "
+                        "semitrailer; leave one of them out")
     controllers = _names(args.controller, "--controller")
     classes = [load(c) for c in controllers]
     _once([f"{c.__module__}:{c.__qualname__}" for c in classes], "--controller", controllers)
@@ -162,7 +172,8 @@ def run(args: argparse.Namespace) -> int:
             rows += benchmark(scenarios, vehicles, c, range(args.seeds), jobs=args.jobs,
                               progress=stderr,
                               recordings=out / "recordings" if args.recordings else None,
-                              truth=0 if args.truth else None, realtime=args.realtime)
+                              truth=0 if args.truth else None, realtime=args.realtime,
+                              trailer=args.trailer)
         _warn_late(rows, args.realtime)
         frame = pd.DataFrame(rows)[list(COLUMNS)]
         csv = atomic_write(out / "dock.csv",

@@ -57,11 +57,18 @@ from artic.plant.plant import PlantError
 from artic.validation.cli.progress import Counter
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
+from artic.validation.docking.identify import WheelbaseIdentifier
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
 from artic.validation.docking.scores import COLUMNS, score
 from artic.validation.docking.sensing import SensorStream
 from artic.validation.docking.supervise import calling, supervised
+from artic.validation.docking.variants import (
+    Draw,
+    check_trailer,
+    draw_semitrailer,
+    effective_wheelbase,
+)
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build
@@ -103,6 +110,11 @@ not the controller's."""
 SENSOR_STREAM = 1
 """Third word of a run's random seed ``(seed, scenario number, SENSOR_STREAM)``: the
 sensors' noise is drawn apart from the start, and is the same for every controller."""
+
+TRAILER_STREAM = 2
+"""Third word of the seed of ``--trailer unknown``'s semitrailer, ``(seed, scenario number,
+TRAILER_STREAM)``: drawn apart from the start and the sensors, so that those stay what
+they are with the file's semitrailer, and the same for every controller."""
 
 
 @dataclass
@@ -161,7 +173,7 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           planner: Planner | None = None, sensors: SensorModel | None = None,
           timeout: float | None = None, yard_model: str = "mbd",
           record: Path | None = None, truth: int | None = None,
-          realtime: bool = True) -> Result:
+          realtime: bool = True, trailer: str = "nominal") -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -197,6 +209,15 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         Fail the run as soon as more than :data:`REALTIME_LATE` of its
         commands (and :data:`REALTIME_GRACE`) took longer than :data:`DT`;
         without it the late commands are only counted (``late_commands``).
+    trailer : str
+        ``"nominal"``: the plant's semitrailer is the vehicle file's;
+        ``"unknown"``: drawn for this start
+        (:func:`artic.validation.docking.variants.draw_semitrailer`, from
+        ``(seed, scenario number, TRAILER_STREAM)``) while the planner and the
+        controller know the file's. Either way the run identifies the
+        semitrailer's effective wheelbase from what the controller observes
+        (:class:`~artic.validation.docking.identify.WheelbaseIdentifier`) and
+        reports it against the plant's (``l2_identified_m``, ``l2_true_m``).
 
     Returns
     -------
@@ -216,6 +237,14 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
 
         plant_vehicle, actuation = truth_yard(vehicle, truth, scen.number, seed)
         sensors = measurement_chain(sensors, truth_configuration(truth))
+    draw = Draw()
+    if check_trailer(trailer) == "unknown":
+        if truth is not None:
+            raise UserError("--trailer unknown: the synthetic truth (--truth) has its own "
+                            "semitrailer; leave one of them out")
+        draw, plant_vehicle = draw_semitrailer(
+            vehicle, np.random.default_rng([seed, scen.number, TRAILER_STREAM]))
+    identifier = WheelbaseIdentifier(vehicle)
     frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
     timeout = scen.timeout if timeout is None else float(timeout)
@@ -232,14 +261,18 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
                          sensors, timeout, yard_model, record is not None,
-                         plant_vehicle, actuation, realtime)
+                         plant_vehicle, actuation, realtime, identifier)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
            **score(trace, yard, plant_vehicle, frames, start),
            "late_commands": trace.late,
            "plan_ms": plan_ms, "plan_expansions": plan.expansions if plan else 0,
            "plan_direction_changes": plan.direction_changes if plan else 0,
-           "plan_length_m": plan.length if plan else math.nan}
+           "plan_length_m": plan.length if plan else math.nan,
+           "trailer": trailer, "l2_nominal_m": effective_wheelbase(vehicle),
+           "l2_true_m": effective_wheelbase(plant_vehicle),
+           "l2_identified_m": identifier.L2 if identifier.updates else math.nan,
+           "l2_updates": identifier.updates, **draw.row()}
     result = Result(row, trace, plan, yard, start)
     if record is not None:
         write_recording(result, plant_vehicle, Path(record))
@@ -250,7 +283,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                  plan: Plan, seed: int, number: int, sensors: SensorModel,
                  timeout: float, yard_model: str, extras: bool = False,
                  plant_vehicle=None, actuation: Callable | None = None,
-                 realtime: bool = True) -> None:
+                 realtime: bool = True, identifier: WheelbaseIdentifier | None = None) -> None:
     plant_vehicle = plant_vehicle or vehicle
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
@@ -291,6 +324,8 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
             if settle_until is None:
                 signals, dh = stream.observe(k, trace.true, trace.steering_wheel)
                 obs = Observation(now, signals, dh)
+                if identifier is not None:
+                    identifier.update(now, signals)
                 tc = time.perf_counter()
                 try:
                     with calling("command()", now):
@@ -517,16 +552,16 @@ def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
 
 def _task(scen_name: str, vehicle: str, controller: str, seed: int,
           sensors: SensorModel | None, recordings: Path | None, truth: int | None,
-          realtime: bool = True) -> dict:
+          realtime: bool = True, trailer: str = "nominal") -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
     record = (None if recordings is None
               else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
     return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors,
-                 record=record, truth=truth, realtime=realtime).row
+                 record=record, truth=truth, realtime=realtime, trailer=trailer).row
 
 
 def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: int | None,
-               reason: str) -> dict:
+               reason: str, trailer: str = "nominal") -> dict:
     """The row of a run that ended its worker process (see :mod:`.supervise`): failed, why.
 
     Its start is the scenario's seeded one; the scores of a run that did not finish are
@@ -541,7 +576,8 @@ def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: 
                 "late_commands": 0, "plan_expansions": 0, "plan_direction_changes": 0,
                 "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
                 "start_heading_deg": math.degrees(start.psi_2),
-                "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0)})
+                "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0),
+                "trailer": trailer, "l2_updates": 0})
     return row
 
 
@@ -550,7 +586,8 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
               progress: Callable[[str], None] | None = None,
               sensors: SensorModel | None = None,
               recordings: Path | None = None, truth: int | None = None,
-              realtime: bool = True, deadline: float | None = None) -> list[dict]:
+              realtime: bool = True, deadline: float | None = None,
+              trailer: str = "nominal") -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
 
     The runs go to supervised worker processes
@@ -580,15 +617,18 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
     deadline : float, optional
         Longest controller call before its run is ended as hung [s]
         (:data:`artic.validation.docking.supervise.CALL_DEADLINE` by default).
+    trailer : str
+        The plant's semitrailer, ``"nominal"`` or ``"unknown"`` (see :func:`drive`).
     """
-    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime))
+    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime,
+                             trailer))
              for s in scenarios for v in vehicles for seed in seeds]
     counter = Counter(len(tasks), f"docking ({controller})", progress)
     rows: dict[tuple, dict] = {}
 
     def failed(key, args, reason):
-        s, v, c, seed, _, _, tr, _ = args
-        return failed_row(s, v, c, seed, tr, reason)
+        s, v, c, seed, _, _, tr, _, trl = args
+        return failed_row(s, v, c, seed, tr, reason, trl)
 
     with contextlib.closing(supervised(_task, tasks, jobs, failed, deadline)) as done:
         for key, row in done:
