@@ -280,3 +280,41 @@ def test_on_the_alley_dock_the_identified_wheelbase_is_within_5_percent(seed):
     assert row["l2_updates"] > 20, row
     err = abs(row["l2_identified_m"] - row["l2_true_m"]) / row["l2_true_m"]
     assert err < 0.05, (row["l2_identified_m"], row["l2_true_m"], row["failure"])
+
+
+# ---------------------------------------------------------------- the adaptive controller
+def test_the_adaptive_law_holds_the_articulation_its_errors_ask_for_to_the_plans_limit():
+    from artic.validation.docking.controllers.adaptive import (
+        GAMMA_REF_MAX,
+        AdaptiveReferenceController,
+    )
+
+    ctrl = AdaptiveReferenceController()
+    K = np.array([-0.9, 8.7, -5.0, 1.6])  # reversing gains of the loaded preset's kind
+    far = np.array([3.0, 0.8, 0.1, 0.02])  # 3 m and 46 deg off the path: asks 60 deg
+    out = ctrl._limit(far, -1, 0.2, K)
+    g_ref = 0.2 - (K[0] * out[0] + K[1] * out[1]) / K[2]
+    assert abs(g_ref) == pytest.approx(GAMMA_REF_MAX)
+    assert np.all(out[2:] == far[2:])  # the articulation's and the steering's own errors
+    assert out[0] / out[1] == pytest.approx(far[0] / far[1])  # scaled together
+    near = np.array([0.05, 0.01, 0.0, 0.0])
+    assert np.all(ctrl._limit(near, -1, 0.2, K) == near)
+    assert np.all(ctrl._limit(far[:3], 1, 0.0, K[:3]) == far[:3])  # forward: as it is
+
+
+def test_the_adaptive_controller_is_built_in_and_docks_a_straight_start():
+    row = drive(scenario("straight"), "gosar2022-loaded", "reference-adaptive", 0,
+                trailer="unknown").row
+    assert row["success"], row["failure"]
+    assert abs(row["lateral_error_m"]) <= 0.10 and abs(row["heading_error_deg"]) <= 1.0
+
+
+@pytest.mark.slow
+def test_the_adaptive_controller_docks_a_short_bogie_in_the_alley():
+    """Seed 0 draws the bogie 0.90 m forward: the reference controller, on the file's
+    semitrailer, jackknifes after the cusp; planning again at the cusp for the
+    identified one docks."""
+    row = drive(scenario("alley"), "gosar2022-loaded", "reference-adaptive", 0,
+                trailer="unknown").row
+    assert row["trailer_length_error_m"] < -0.8
+    assert row["success"], row["failure"]
