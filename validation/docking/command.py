@@ -4,7 +4,8 @@
 - ``artic dock [--scenario NAME,...] [--vehicle V,...] [--controller NAME,...]
   [--seeds N] [--truth] [--trailer nominal|unknown] [--jobs J] --out-dir D``: every
   scenario x vehicle x seed with each controller; with ``--trailer unknown`` the plant's
-  semitrailer is drawn per start (:mod:`artic.validation.docking.variants`). Writes ``D/dock.csv`` (one row per run, the columns of
+  semitrailer is drawn per start (:mod:`artic.validation.docking.variants`). Writes
+  ``D/dock.csv`` (one row per run, the columns of
   :data:`artic.validation.docking.scores.COLUMNS`), ``D/dock_table.csv`` and
   ``D/dock_table.md`` (success rates and errors with 95 % intervals; with
   two controllers or more, the Markdown ends with their paired comparisons
