@@ -318,3 +318,36 @@ def test_the_adaptive_controller_docks_a_short_bogie_in_the_alley():
                 trailer="unknown").row
     assert row["trailer_length_error_m"] < -0.8
     assert row["success"], row["failure"]
+
+
+# ---------------------------------------------------------------- the command line
+def test_dock_csv_carries_the_identified_and_true_lengths_with_an_unknown_trailer(tmp_path):
+    import pandas as pd
+
+    from artic.validation.cli.commands import main
+    from artic.validation.docking.scores import COLUMNS
+
+    out = tmp_path / "out"
+    assert main(["dock", "--scenario", "straight", "--vehicle", "gosar2022-unloaded",
+                 "--seeds", "1", "--jobs", "1", "--trailer", "unknown", "--no-recordings",
+                 "--out-dir", str(out)]) == 0
+    rows = pd.read_csv(out / "dock.csv")
+    assert list(rows.columns) == list(COLUMNS)
+    row = rows.iloc[0]
+    assert row["trailer"] == "unknown" and bool(row["success"])
+    assert row["l2_true_m"] != row["l2_nominal_m"]
+    # A straight start turns the semitrailer little: 44 updates here, not the alley's hundreds,
+    # so a looser bar than the alley's 5 %.
+    assert row["l2_updates"] > 20
+    assert abs(row["l2_identified_m"] - row["l2_true_m"]) < 0.1 * row["l2_true_m"]
+
+
+def test_a_bad_trailer_option_is_one_line_and_writes_nothing(tmp_path, capsys):
+    from artic.validation.cli.commands import main
+
+    out = tmp_path / "out"
+    assert main(["dock", "--scenario", "straight", "--trailer", "unkown",
+                 "--out-dir", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--trailer 'unkown'" in err and "nominal, unknown" in err
+    assert not out.exists()
