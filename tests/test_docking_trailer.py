@@ -118,6 +118,11 @@ def test_the_draws_stay_in_their_ranges_and_build_a_valid_semitrailer(loaded):
     a = draw_semitrailer(loaded, np.random.default_rng([3, 1, 2]))[0]
     b = draw_semitrailer(loaded, np.random.default_rng([3, 1, 2]))[0]
     assert a == b
+    # A scale model is not what the ranges describe: one line, before any run.
+    from artic.mjcf import load_vehicle
+
+    with pytest.raises(UserError, match="full-size one's; .* --trailer nominal"):
+        draw_semitrailer(load_vehicle("scale-model-1to14"), rng)
 
 
 def test_a_bad_trailer_choice_is_one_line():

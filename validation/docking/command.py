@@ -161,6 +161,13 @@ def run(args: argparse.Namespace) -> int:
     if args.trailer != "nominal" and args.truth:
         raise UserError("--trailer unknown: the synthetic truth (--truth) has its own "
                         "semitrailer; leave one of them out")
+    if args.trailer == "unknown":  # a vehicle the ranges do not fit is one line now
+        import numpy as np
+
+        from artic.validation.docking.variants import draw_semitrailer
+
+        for v in vehicles:
+            draw_semitrailer(load_vehicle(v), np.random.default_rng(0))
     controllers = _names(args.controller, "--controller")
     classes = [load(c) for c in controllers]
     _once([f"{c.__module__}:{c.__qualname__}" for c in classes], "--controller", controllers)

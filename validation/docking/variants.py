@@ -331,9 +331,13 @@ def draw_semitrailer(vehicle: Vehicle, rng: np.random.Generator) -> tuple[Draw, 
     Raises
     ------
     UserError
-        When no draw of :data:`REDRAWS` gives a valid semitrailer (a vehicle
-        file far from the ranges, e.g. a scale model).
+        For a vehicle that is not full-size, or when no draw of :data:`REDRAWS`
+        gives a valid semitrailer (a vehicle file far from the ranges).
     """
+    if vehicle.vehicle_class != "full-size":
+        raise UserError(f"--trailer unknown: the semitrailer ranges are a full-size one's; "
+                        f"{vehicle.name} is of class {vehicle.vehicle_class}: use "
+                        "--trailer nominal")
     r = RANGES
     p_lo, p_hi = payload_range(vehicle)
     last = ""
