@@ -277,6 +277,16 @@ def test_nominal_is_the_file_and_unknown_draws_the_plant_apart_from_the_start():
         drive(scen, "gosar2022-loaded", "reference", 0, trailer="x")
 
 
+def test_a_given_semitrailer_is_the_plant_for_a_sweeps_level():
+    from artic.validation.docking.variants import Draw
+
+    row = drive(scenario("straight"), "gosar2022-loaded", "reference", 1,
+                trailer=Draw(length_error_m=0.5, payload_kg=4000.0)).row
+    assert row["trailer"] == "given" and row["trailer_payload_kg"] == 4000.0
+    assert row["l2_true_m"] == pytest.approx(row["l2_nominal_m"] + 0.5, abs=0.02)
+    assert row["success"], row["failure"]
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", range(4))
 def test_on_the_alley_dock_the_identified_wheelbase_is_within_5_percent(seed):

@@ -173,7 +173,7 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           planner: Planner | None = None, sensors: SensorModel | None = None,
           timeout: float | None = None, yard_model: str = "mbd",
           record: Path | None = None, truth: int | None = None,
-          realtime: bool = True, trailer: str = "nominal") -> Result:
+          realtime: bool = True, trailer: str | Draw = "nominal") -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -209,9 +209,11 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         Fail the run as soon as more than :data:`REALTIME_LATE` of its
         commands (and :data:`REALTIME_GRACE`) took longer than :data:`DT`;
         without it the late commands are only counted (``late_commands``).
-    trailer : str
+    trailer : str or Draw
         ``"nominal"``: the plant's semitrailer is the vehicle file's;
-        ``"unknown"``: drawn for this start
+        a :class:`~artic.validation.docking.variants.Draw`: that one, for every start
+        (a sweep's level, e.g. ``Draw(length_error_m=0.5)``; ``trailer`` is
+        ``"given"`` in the row); ``"unknown"``: drawn for this start
         (:func:`artic.validation.docking.variants.draw_semitrailer`, from
         ``(seed, scenario number, TRAILER_STREAM)``) while the planner and the
         controller know the file's. Either way the run identifies the
@@ -238,12 +240,15 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         plant_vehicle, actuation = truth_yard(vehicle, truth, scen.number, seed)
         sensors = measurement_chain(sensors, truth_configuration(truth))
     draw = Draw()
-    if check_trailer(trailer) == "unknown":
+    if isinstance(trailer, Draw) or check_trailer(trailer) == "unknown":
         if truth is not None:
             raise UserError("--trailer unknown: the synthetic truth (--truth) has its own "
                             "semitrailer; leave one of them out")
-        draw, plant_vehicle = draw_semitrailer(
-            vehicle, np.random.default_rng([seed, scen.number, TRAILER_STREAM]))
+        if isinstance(trailer, Draw):  # one given semitrailer, e.g. a sweep's level
+            draw, plant_vehicle, trailer = trailer, trailer.vary(vehicle), "given"
+        else:
+            draw, plant_vehicle = draw_semitrailer(
+                vehicle, np.random.default_rng([seed, scen.number, TRAILER_STREAM]))
     identifier = WheelbaseIdentifier(vehicle)
     frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
@@ -552,7 +557,7 @@ def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
 
 def _task(scen_name: str, vehicle: str, controller: str, seed: int,
           sensors: SensorModel | None, recordings: Path | None, truth: int | None,
-          realtime: bool = True, trailer: str = "nominal") -> dict:
+          realtime: bool = True, trailer: str | Draw = "nominal") -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
     record = (None if recordings is None
               else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
@@ -561,7 +566,7 @@ def _task(scen_name: str, vehicle: str, controller: str, seed: int,
 
 
 def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: int | None,
-               reason: str, trailer: str = "nominal") -> dict:
+               reason: str, trailer: str | Draw = "nominal") -> dict:
     """The row of a run that ended its worker process (see :mod:`.supervise`): failed, why.
 
     Its start is the scenario's seeded one; the scores of a run that did not finish are
@@ -577,7 +582,8 @@ def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: 
                 "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
                 "start_heading_deg": math.degrees(start.psi_2),
                 "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0),
-                "trailer": trailer, "l2_updates": 0})
+                "trailer": trailer if isinstance(trailer, str) else "given", "l2_updates": 0,
+                **(trailer.row() if isinstance(trailer, Draw) else {})})
     return row
 
 
@@ -587,7 +593,7 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
               sensors: SensorModel | None = None,
               recordings: Path | None = None, truth: int | None = None,
               realtime: bool = True, deadline: float | None = None,
-              trailer: str = "nominal") -> list[dict]:
+              trailer: str | Draw = "nominal") -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
 
     The runs go to supervised worker processes
@@ -617,8 +623,9 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
     deadline : float, optional
         Longest controller call before its run is ended as hung [s]
         (:data:`artic.validation.docking.supervise.CALL_DEADLINE` by default).
-    trailer : str
-        The plant's semitrailer, ``"nominal"`` or ``"unknown"`` (see :func:`drive`).
+    trailer : str or Draw
+        The plant's semitrailer: ``"nominal"``, ``"unknown"`` or a given one (see
+        :func:`drive`).
     """
     tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime,
                              trailer))
