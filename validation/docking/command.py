@@ -2,9 +2,11 @@
 
 - ``artic dock --list``: the scenarios, the built-in controllers and the presets;
 - ``artic dock [--scenario NAME,...] [--vehicle V,...] [--controller NAME,...]
-  [--seeds N] [--sensors full|tractor|camera] [--truth] [--jobs J] --out-dir D``: every
-  scenario x vehicle x seed with each controller, seeing the sensor set's signals
-  (:data:`artic.validation.docking.sensing.SENSOR_SETS`; ``full`` by default). Writes
+  [--seeds N] [--sensors full|tractor|camera] [--trailer nominal|unknown] [--truth]
+  [--jobs J] --out-dir D``: every scenario x vehicle x seed with each controller, seeing
+  the sensor set's signals (:data:`artic.validation.docking.sensing.SENSOR_SETS`; ``full``
+  by default); with ``--trailer unknown`` the plant's semitrailer is drawn per start
+  (:mod:`artic.validation.docking.variants`). Writes
   ``D/dock.csv`` (one row per run, the columns of
   :data:`artic.validation.docking.scores.COLUMNS`), ``D/dock_table.csv`` and
   ``D/dock_table.md`` (success rates and errors with 95 % intervals; with
@@ -72,6 +74,10 @@ def add_parser(sub) -> None:
                         "tractor's RTK/INS and a hitch encoder; camera, the tractor's RTK/INS "
                         "and a rear camera's articulation; with tractor and camera an "
                         "estimator gives the semitrailer's pose (default: %(default)s)")
+    p.add_argument("--trailer", default="nominal",
+                   help="the plant's semitrailer: nominal (the vehicle file's) or unknown (drawn "
+                        "per start: bogie position, fifth wheel, payload, tyres; the planner and "
+                        "the controllers still know only the file) (default: %(default)s)")
     p.add_argument("--realtime", action=argparse.BooleanOptionalAction, default=True,
                    help="fail a run whose controller takes longer than the 0.1 s sample period "
                         "for more than one command in twenty (default: on; --no-realtime "
@@ -158,6 +164,19 @@ def run(args: argparse.Namespace) -> int:
 
             truth_yard(vehicle, 0, 0, 0)
     _once(loaded, "--vehicle", vehicles)  # a preset and its file are one vehicle
+    from artic.validation.docking.variants import check_trailer
+
+    check_trailer(args.trailer)
+    if args.trailer != "nominal" and args.truth:
+        raise UserError("--trailer unknown: the synthetic truth (--truth) has its own "
+                        "semitrailer; leave one of them out")
+    if args.trailer == "unknown":  # a vehicle the ranges do not fit is one line now
+        import numpy as np
+
+        from artic.validation.docking.variants import draw_semitrailer
+
+        for v in vehicles:
+            draw_semitrailer(load_vehicle(v), np.random.default_rng(0))
     controllers = _names(args.controller, "--controller")
     classes = [load(c) for c in controllers]
     _once([f"{c.__module__}:{c.__qualname__}" for c in classes], "--controller", controllers)
@@ -172,7 +191,7 @@ def run(args: argparse.Namespace) -> int:
                               progress=stderr,
                               recordings=out / "recordings" if args.recordings else None,
                               truth=0 if args.truth else None, realtime=args.realtime,
-                              sensor_set=sensors)
+                              sensor_set=sensors, trailer=args.trailer)
         _warn_late(rows, args.realtime)
         frame = pd.DataFrame(rows)[list(COLUMNS)]
         csv = atomic_write(out / "dock.csv",

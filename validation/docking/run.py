@@ -59,6 +59,7 @@ from artic.plant.plant import PlantError
 from artic.validation.cli.progress import Counter
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
+from artic.validation.docking.identify import WheelbaseIdentifier
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
 from artic.validation.docking.scores import COLUMNS, estimate_scores, score
@@ -69,6 +70,12 @@ from artic.validation.docking.sensing import (
     sensor_set,
 )
 from artic.validation.docking.supervise import calling, supervised
+from artic.validation.docking.variants import (
+    Draw,
+    check_trailer,
+    draw_semitrailer,
+    effective_wheelbase,
+)
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build, driven
@@ -115,6 +122,11 @@ ARTICULATION_STREAM = 2
 """Third word of the seed of a tractor-only set's articulation sensor (``--sensors tractor``
 or ``camera``): drawn apart from :data:`SENSOR_STREAM`, so that ``full``'s draws, and the
 tractor's channels of every set, stay the same."""
+
+TRAILER_STREAM = 3
+"""Third word of the seed of ``--trailer unknown``'s semitrailer, ``(seed, scenario number,
+TRAILER_STREAM)``: drawn apart from the start and the sensors, so that those stay what
+they are with the file's semitrailer, and the same for every controller."""
 
 
 @dataclass
@@ -177,7 +189,8 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           timeout: float | None = None, yard_model: str = "mbd",
           record: Path | None = None, truth: int | None = None,
           realtime: bool = True, sensor_set: str = "full",
-          articulation_noise_deg: float | None = None) -> Result:
+          articulation_noise_deg: float | None = None,
+          trailer: str | Draw = "nominal") -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -223,6 +236,17 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     articulation_noise_deg : float, optional
         The encoder's or camera's noise RMS [deg] instead of its model's
         (:func:`artic.validation.docking.sensing.articulation_model`); not for ``"full"``.
+    trailer : str or Draw
+        ``"nominal"``: the plant's semitrailer is the vehicle file's;
+        a :class:`~artic.validation.docking.variants.Draw`: that one, for every start
+        (a sweep's level, e.g. ``Draw(length_error_m=0.5)``; ``trailer`` is
+        ``"given"`` in the row); ``"unknown"``: drawn for this start
+        (:func:`artic.validation.docking.variants.draw_semitrailer`, from
+        ``(seed, scenario number, TRAILER_STREAM)``) while the planner and the
+        controller know the file's. Either way the run identifies the
+        semitrailer's effective wheelbase from what the controller observes
+        (:class:`~artic.validation.docking.identify.WheelbaseIdentifier`) and
+        reports it against the plant's (``l2_identified_m``, ``l2_true_m``).
 
     Returns
     -------
@@ -243,6 +267,17 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
 
         plant_vehicle, actuation = truth_yard(vehicle, truth, scen.number, seed)
         sensors = measurement_chain(sensors, truth_configuration(truth))
+    draw = Draw()
+    if isinstance(trailer, Draw) or check_trailer(trailer) == "unknown":
+        if truth is not None:
+            raise UserError("--trailer unknown: the synthetic truth (--truth) has its own "
+                            "semitrailer; leave one of them out")
+        if isinstance(trailer, Draw):  # one given semitrailer, e.g. a sweep's level
+            draw, plant_vehicle, trailer = trailer, trailer.vary(vehicle), "given"
+        else:
+            draw, plant_vehicle = draw_semitrailer(
+                vehicle, np.random.default_rng([seed, scen.number, TRAILER_STREAM]))
+    identifier = WheelbaseIdentifier(vehicle)
     frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
     timeout = scen.timeout if timeout is None else float(timeout)
@@ -260,7 +295,7 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
                          sensors, timeout, yard_model, record is not None,
                          plant_vehicle, actuation, realtime, sensor_set_,
-                         articulation_noise_deg)
+                         articulation_noise_deg, identifier)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
            **score(trace, yard, plant_vehicle, frames, start),
@@ -268,7 +303,11 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
            "plan_ms": plan_ms, "plan_expansions": plan.expansions if plan else 0,
            "plan_direction_changes": plan.direction_changes if plan else 0,
            "plan_length_m": plan.length if plan else math.nan,
-           "sensors": sensor_set_, **estimate_scores(trace, Frames.of(vehicle), frames)}
+           "sensors": sensor_set_, **estimate_scores(trace, Frames.of(vehicle), frames),
+           "trailer": trailer, "l2_nominal_m": effective_wheelbase(vehicle),
+           "l2_true_m": effective_wheelbase(plant_vehicle),
+           "l2_identified_m": identifier.L2 if identifier.updates else math.nan,
+           "l2_updates": identifier.updates, **draw.row()}
     result = Result(row, trace, plan, yard, start)
     if record is not None:
         write_recording(result, plant_vehicle, Path(record))
@@ -280,7 +319,8 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                  timeout: float, yard_model: str, extras: bool = False,
                  plant_vehicle=None, actuation: Callable | None = None,
                  realtime: bool = True, sensor_set: str = "full",
-                 articulation_noise_deg: float | None = None) -> None:
+                 articulation_noise_deg: float | None = None,
+                 identifier: WheelbaseIdentifier | None = None) -> None:
     plant_vehicle = plant_vehicle or vehicle
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
@@ -326,6 +366,8 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
             if settle_until is None:
                 signals, dh = stream.observe(k, trace.true, trace.steering_wheel)
                 obs = Observation(now, signals, dh)
+                if identifier is not None:
+                    identifier.update(now, signals)
                 tc = time.perf_counter()
                 try:
                     with calling("command()", now):
@@ -569,16 +611,18 @@ def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
 
 def _task(scen_name: str, vehicle: str, controller: str, seed: int,
           sensors: SensorModel | None, recordings: Path | None, truth: int | None,
-          realtime: bool = True, sensor_set: str = "full") -> dict:
+          realtime: bool = True, sensor_set: str = "full",
+          trailer: str | Draw = "nominal") -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
     record = (None if recordings is None
               else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
     return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors,
-                 record=record, truth=truth, realtime=realtime, sensor_set=sensor_set).row
+                 record=record, truth=truth, realtime=realtime, sensor_set=sensor_set,
+                 trailer=trailer).row
 
 
 def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: int | None,
-               reason: str, sensor_set: str = "full") -> dict:
+               reason: str, sensor_set: str = "full", trailer: str | Draw = "nominal") -> dict:
     """The row of a run that ended its worker process (see :mod:`.supervise`): failed, why.
 
     Its start is the scenario's seeded one; the scores of a run that did not finish are
@@ -594,7 +638,9 @@ def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: 
                 "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
                 "start_heading_deg": math.degrees(start.psi_2),
                 "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0),
-                "sensors": sensor_set})
+                "sensors": sensor_set,
+                "trailer": trailer if isinstance(trailer, str) else "given", "l2_updates": 0,
+                **(trailer.row() if isinstance(trailer, Draw) else {})})
     return row
 
 
@@ -604,7 +650,7 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
               sensors: SensorModel | None = None,
               recordings: Path | None = None, truth: int | None = None,
               realtime: bool = True, deadline: float | None = None,
-              sensor_set: str = "full") -> list[dict]:
+              sensor_set: str = "full", trailer: str | Draw = "nominal") -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
 
     The runs go to supervised worker processes
@@ -636,17 +682,20 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
         (:data:`artic.validation.docking.supervise.CALL_DEADLINE` by default).
     sensor_set : str
         What the controllers see (``artic dock --sensors``, see :func:`drive`).
+    trailer : str or Draw
+        The plant's semitrailer: ``"nominal"``, ``"unknown"`` or a given one (see
+        :func:`drive`).
     """
     sensor_set = _sensor_set(sensor_set, None)
     tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime,
-                             sensor_set))
+                             sensor_set, trailer))
              for s in scenarios for v in vehicles for seed in seeds]
     counter = Counter(len(tasks), f"docking ({controller})", progress)
     rows: dict[tuple, dict] = {}
 
     def failed(key, args, reason):
-        s, v, c, seed, _, _, tr, _, sset = args
-        return failed_row(s, v, c, seed, tr, reason, sset)
+        s, v, c, seed, _, _, tr, _, sset, trl = args
+        return failed_row(s, v, c, seed, tr, reason, sset, trl)
 
     with contextlib.closing(supervised(_task, tasks, jobs, failed, deadline)) as done:
         for key, row in done:

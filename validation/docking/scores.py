@@ -65,6 +65,12 @@ COLUMNS = ("scenario", "vehicle", "controller", "plant", "seed", "success", "fai
            "plan_expansions", "plan_direction_changes", "plan_length_m", "start_x_m", "start_y_m",
            "start_heading_deg", "start_gamma_deg")
 """Columns of ``dock.csv``, in order."""
+COLUMNS += ("trailer", "l2_nominal_m", "l2_true_m", "l2_identified_m", "l2_updates",
+            "trailer_length_error_m", "trailer_kingpin_error_m", "trailer_payload_kg",
+            "trailer_payload_x_m", "trailer_tyre_scale")
+# The semitrailer (artic.validation.docking.variants, .identify): which (--trailer), its
+# effective wheelbase in the vehicle file, in the plant and as identified at the stop [m],
+# the identifier's updates, and the draw of --trailer unknown (zero with the file's).
 
 ESTIMATE_COLUMNS = ("sensors", "gamma_est_rms_deg", "gamma_est_stop_deg", "rear_est_rms_m",
                     "rear_est_stop_m")

@@ -7,6 +7,8 @@ constructor and the interface of :class:`~artic.validation.docking.controllers.b
 - :mod:`~artic.validation.docking.controllers.base`: the interface and a base class;
 - :mod:`~artic.validation.docking.controllers.reference`: the reference controller,
   LQR on KIN about the plan;
+- :mod:`~artic.validation.docking.controllers.adaptive`: the reference controller
+  re-designed online on the identified semitrailer;
 - :mod:`~artic.validation.docking.controllers.mpc`: MPCs designed on KIN and on the STM.
 """
 
@@ -28,6 +30,10 @@ __all__ = ["BUILTIN", "Command", "Controller", "Observation", "Task", "load"]
 BUILTIN: dict[str, tuple[str, str]] = {
     "reference": ("artic.validation.docking.controllers.reference:ReferenceController",
                   "follows the plan: LQR on KIN about the path, gain-scheduled with speed"),
+    "reference-adaptive": ("artic.validation.docking.controllers.adaptive:"
+                           "AdaptiveReferenceController",
+                           "the reference re-designed online on the identified semitrailer "
+                           "(--trailer unknown)"),
     "mpc-kin": ("artic.validation.docking.controllers.mpc:MPCKin",
                 "MPC designed on KIN, the reference's cost (needs CasADi: artic[mpc])"),
     "mpc-stm": ("artic.validation.docking.controllers.mpc:MPCStm",

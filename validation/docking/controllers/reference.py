@@ -174,6 +174,15 @@ class ReferenceController(Controller):
         return np.column_stack([np.interp(at, s, p[:, 0]) - np.sin(psi) * e_y,
                                 np.interp(at, s, p[:, 1]) + np.cos(psi) * e_y])
 
+    def _limit(self, z: np.ndarray, direction: int, gamma_path: float,
+               K: np.ndarray) -> np.ndarray:
+        """The errors the gains act on; the reference's are the measured ones.
+
+        A subclass may limit what they ask for (see
+        :class:`~artic.validation.docking.controllers.adaptive.AdaptiveReferenceController`).
+        """
+        return z
+
     def _follow(self, obs: Observation) -> Command:
         """The reference's command, without what it intends; keeps ``now`` for that."""
         self.now = None
@@ -208,6 +217,7 @@ class ReferenceController(Controller):
             z = np.array([e_y, e_psi, obs["gamma"] - float(np.interp(here, s, g_ref)), err])
         else:
             z = np.array([e_y, e_psi, err])
+        z = self._limit(z, d, float(np.interp(here, s, g_ref)), K)
         self.now = (d, p, s, here, z)
         # The path's own steering where the point will be after this sample, plus the correction.
         target = float(np.interp(here + ds, s, d_ref)) + err - ds * float(K @ z)
