@@ -60,7 +60,7 @@ from artic.validation.docking.controllers import Command, Observation, Task, loa
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
-from artic.validation.docking.scores import COLUMNS, score
+from artic.validation.docking.scores import COLUMNS, score, tiers
 from artic.validation.docking.sensing import SensorStream
 from artic.validation.docking.supervise import calling, supervised
 from artic.validation.harness.steering import SteeringMap
@@ -567,6 +567,7 @@ def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: 
                 "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
                 "start_heading_deg": math.degrees(start.psi_2),
                 "start_gamma_deg": math.degrees(start.gamma), "solve_ms": np.empty(0)})
+    row.update(tiers(row))
     return row
 
 
