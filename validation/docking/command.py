@@ -159,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         if args.truth and sweep[0].name in ("friction", "grade"):
             raise UserError(f"--sweep {sweep[0].name} acts on the plant built from the vehicle "
                             "file; the truth has its own tyres and slope: leave --truth out")
-    from artic.validation.campaign.executors import DaskOptions
+    from artic.validation.runs.executors import DaskOptions
 
     dask = DaskOptions(timeout=args.scheduler_timeout, tls_ca_file=args.tls_ca_file,
                        tls_cert=args.tls_cert, tls_key=args.tls_key)

@@ -11,7 +11,7 @@ sets.
 machine to the benchmark's supervised worker processes (``--jobs``; a
 controller that crashes or hangs fails its run), or with ``--executor dask``
 to the campaign's Dask executor
-(:func:`artic.validation.campaign.executors.cluster_executor`: a local cluster,
+(:func:`artic.validation.runs.executors.cluster_executor`: a local cluster,
 or ``--scheduler ADDRESS`` with its TLS options; the cluster must be trusted).
 Each finished run is written at once, atomically, as
 ``sweep_runs/AXIS=LEVEL-SCENARIO-VEHICLE-CONTROLLER-SEED.json`` holding what
@@ -392,7 +392,7 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
             for name, row in done:
                 yield by_name[name], row
         return
-    from artic.validation.campaign.executors import cluster_executor
+    from artic.validation.runs.executors import cluster_executor
 
     with cluster_executor(executor, jobs, scheduler, dask) as pool:
         futures = {pool.submit(run_one, s, rec): s for s in specs}
