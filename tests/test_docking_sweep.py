@@ -244,6 +244,11 @@ def test_a_killed_sweep_resumes_without_redoing_finished_runs(tmp_path, monkeypa
     other = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(2), realtime=False)
     assert sw.done_runs(tmp_path / sw.RUNS_DIR, other) == {}
     assert len(sw.done_runs(tmp_path / sw.RUNS_DIR, specs)) == 4
+    # A run its supervisor failed (a hang: a first call compiling on a loaded machine)
+    # is run again on resumption; the run's own failures are results.
+    sw.write_run(tmp_path / sw.RUNS_DIR, specs[0], rows[0] | {
+        "failure": "controller hang: reset() did not return within 60 s"})
+    assert set(sw.done_runs(tmp_path / sw.RUNS_DIR, specs)) == {s.name for s in specs[1:]}
 
 
 def test_the_sweep_command_writes_its_tables_and_resumes(tmp_path, capsys):

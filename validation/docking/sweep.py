@@ -17,7 +17,9 @@ Each finished run is written at once, atomically, as
 ``sweep_runs/AXIS=LEVEL-SCENARIO-VEHICLE-CONTROLLER-SEED.json`` holding what
 was asked (:class:`RunSpec`, with the vehicle's fingerprint) and its row; a
 sweep started again into the same folder skips every run whose file holds
-the same request, so a killed sweep resumes where it stopped. Runs of other
+the same request, so a killed sweep resumes where it stopped; a run that its
+supervisor failed (a hang, a crashed worker, a lost cluster worker:
+:data:`RETRIED`) is run again. Runs of other
 sweeps in the folder stay (a later sweep of that axis reuses them) and are
 not listed.
 
@@ -333,8 +335,18 @@ def _stored(row: dict) -> dict:
     return out
 
 
+RETRIED = ("controller hang:", "controller ended the run's process",
+           "run failed on the cluster")
+"""How the failures begin that the supervisor or the cluster gave a run, rather than the run
+itself: a hang (a first call that compiles on a loaded machine can be one), a worker that
+died, a cluster worker lost. Their runs are run again when the sweep resumes."""
+
+
 def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
-    """The rows of ``specs`` already in ``folder``, by run name: same request, same file."""
+    """The rows of ``specs`` already in ``folder``, by run name: same request, same file.
+
+    A run failed by its supervisor or the cluster (:data:`RETRIED`) is not done.
+    """
     out = {}
     for spec in specs:
         p = folder / f"{spec.name}.json"
@@ -342,7 +354,8 @@ def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
             stored = json.loads(p.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             continue  # not run, or unreadable: run it (again)
-        if stored.get("spec") == json.loads(json.dumps(spec.as_dict())):
+        if stored.get("spec") == json.loads(json.dumps(spec.as_dict())) \
+                and not str(stored["row"].get("failure") or "").startswith(RETRIED):
             out[spec.name] = stored["row"]
     return out
 
