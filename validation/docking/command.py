@@ -16,6 +16,13 @@
   period is named in a warning and in ``late_commands``; a run with too many
   late commands fails as ``not real-time`` unless ``--no-realtime``.
 
+- ``artic dock --sweep AXIS=L1,L2,... [...] --out-dir D``: a robustness sweep
+  (:mod:`artic.validation.docking.sweep`): the runs at each level of one axis,
+  on ``--jobs`` local processes or ``--executor dask`` (``--scheduler``, TLS
+  options), each written as it finishes so that a killed sweep resumes; writes
+  ``D/sweep.csv``, ``D/sweep_pairs.csv``, ``D/sweep.md``, ``D/sweep.png`` and
+  ``D/sweep_runs.csv``.
+
 A name given twice in a list is refused (its runs would count twice). A
 controller module that cannot be imported is one line naming the module and
 the error; a controller that exits, crashes or hangs fails its run and the

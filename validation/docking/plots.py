@@ -80,7 +80,8 @@ def plot_sweep(summary: pd.DataFrame, path: Path, note: str = "") -> Path:
 
     One row of panels per scenario and vehicle; each point has its 95 %
     interval as an error bar (Wilson for the rates, the project's mean
-    interval for the errors). Named levels (a sensor set) stand at equal
+    interval for the errors), the controllers' points a little apart at each
+    level so that every bar shows. Named levels (a sensor set) stand at equal
     spacing in the order given.
 
     Parameters
@@ -101,6 +102,8 @@ def plot_sweep(summary: pd.DataFrame, path: Path, note: str = "") -> Path:
     controllers = list(dict.fromkeys(summary["controller"]))
     levels = list(dict.fromkeys(summary["level"].map(level_text)))
     numeric = all(isinstance(v, (int, float, np.number)) for v in summary["level"])
+    span = (float(np.ptp(summary["level"].to_numpy(dtype=float))) if numeric else 1.0) or 1.0
+    dodge = 0.012 * span  # the controllers' points side by side, so each bar shows
     fig = Figure(figsize=(4.2 * len(SWEEP_PANELS), 3.2 * len(cases) + 0.9))
     axes = fig.subplots(len(cases), len(SWEEP_PANELS), squeeze=False)
     for row, (scen, veh) in zip(axes, cases, strict=True):
@@ -110,6 +113,7 @@ def plot_sweep(summary: pd.DataFrame, path: Path, note: str = "") -> Path:
                 s = g[g["controller"] == c]
                 x = (s["level"].to_numpy(dtype=float) if numeric
                      else np.array([levels.index(level_text(v)) for v in s["level"]], float))
+                x = x + dodge * (k - 0.5 * (len(controllers) - 1))
                 y = scale * s[col].to_numpy(dtype=float)
                 lo = np.clip(y - scale * s[f"{col}_lo"].to_numpy(dtype=float), 0.0, None)
                 hi = np.clip(scale * s[f"{col}_hi"].to_numpy(dtype=float) - y, 0.0, None)
