@@ -291,3 +291,13 @@ def test_a_sweep_runs_on_a_local_dask_cluster_as_locally(tmp_path):
             assert a[key] == b[key] or (isinstance(a[key], float) and math.isnan(a[key])
                                         and math.isnan(b[key])), key
     assert len(list((tmp_path / "dask" / sw.RUNS_DIR).glob("*.json"))) == 2
+
+
+def test_dock_list_names_the_sweep_axes():
+    from artic.validation.docking.command import list_all
+
+    text = list_all()
+    lines = text.split("sweep axes (--sweep AXIS=L1,L2,...):\n", 1)[1].splitlines()
+    assert [ln.split()[0] for ln in lines] == list(sw.AXES)
+    for ln, axis in zip(lines, sw.AXES.values(), strict=True):
+        assert ("not available yet" in ln) == (axis.missing() is not None), ln
