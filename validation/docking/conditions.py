@@ -11,7 +11,10 @@ whose default is today's benchmark, bit for bit:
   so the peaks of the longitudinal and lateral force (``D = mu Fz``, with
   ``mu = (PDY1 + PDY2 dfz) LMUY``) fall by the factor while the cornering
   stiffness ``K_y`` (which carries no ``LMUY``) stays: on a slippery yard the
-  tyres saturate earlier, not softer;
+  tyres saturate earlier, not softer. The benchmark's plant follows the
+  commanded speed with a servo on the tractor's axis, its wheels rolling free
+  (``Plant(speed="follow")``), so the factor limits the cornering forces, not
+  traction or braking;
 - **grade** (:func:`road`): the yard's slope along the dock's approach, in per
   cent. The dock faces +x and the approach runs along the yard's x-axis, so
   a grade is the plant's ``[plant] grade`` (+x uphill,
