@@ -301,3 +301,22 @@ def test_dock_list_names_the_sweep_axes():
     assert [ln.split()[0] for ln in lines] == list(sw.AXES)
     for ln, axis in zip(lines, sw.AXES.values(), strict=True):
         assert ("not available yet" in ln) == (axis.missing() is not None), ln
+
+
+def test_the_dock_table_gives_success_at_each_tier():
+    from artic.validation.criteria.statistics import format_ci
+    from artic.validation.docking.scores import table
+
+    missed = "missed the door: rear 0 cm from the face, 14 cm off the line, 0.2 deg askew"
+    rows = []
+    for k in range(4):  # 0, 4.5, 9 cm docked; 13.5 cm off: missed the door
+        failure = missed if k == 3 else ""
+        row = _row(0.045 * k, 0.0, 0.2, failure)
+        rows.append({c: 0.0 for c in COLUMNS} | row | tiers(row) | {
+            "scenario": "alley", "vehicle": "v", "controller": "c", "seed": k})
+    t = table(pd.DataFrame(rows)).iloc[0]
+    assert t["success [95 % CI]"] == format_ci(rate_ci(3, 4))
+    # The miss passes the driving test's 0.91 m and RL's 15 cm, not artic's gate.
+    assert t["driving test 0.91 m [95 % CI]"] == format_ci(rate_ci(4, 4))
+    assert t["RL 15 cm, 0.1 rad [95 % CI]"] == format_ci(rate_ci(4, 4))
+    assert t["artic 10 cm, 1 deg [95 % CI]"] == format_ci(rate_ci(3, 4))

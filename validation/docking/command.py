@@ -272,7 +272,7 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
                         recordings=out / "recordings" if args.recordings else None,
                         progress=stderr)
         _warn_late(rows, args.realtime)
-        frame = pd.DataFrame(rows)[["axis", "level", *COLUMNS]]
+        frame = pd.DataFrame(rows).reindex(columns=["axis", "level", *COLUMNS])
         atomic_write(out / "sweep_runs.csv",
                      lambda p: frame.to_csv(p, index=False, float_format="%.6g"))
         summary = sw.summarise(frame)
