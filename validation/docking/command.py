@@ -20,6 +20,13 @@
   period is named in a warning and in ``late_commands``; a run with too many
   late commands fails as ``not real-time`` unless ``--no-realtime``.
 
+- ``artic dock --sweep AXIS=L1,L2,... [...] --out-dir D``: a robustness sweep
+  (:mod:`artic.validation.docking.sweep`): the runs at each level of one axis,
+  on ``--jobs`` local processes or ``--executor dask`` (``--scheduler``, TLS
+  options), each written as it finishes so that a killed sweep resumes; writes
+  ``D/sweep.csv``, ``D/sweep_pairs.csv``, ``D/sweep.md``, ``D/sweep.png`` and
+  ``D/sweep_runs.csv``.
+
 A name given twice in a list is refused (its runs would count twice). A
 controller module that cannot be imported is one line naming the module and
 the error; a controller that exits, crashes or hangs fails its run and the
@@ -85,6 +92,25 @@ def add_parser(sub) -> None:
     p.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
                    help="write one Rerun recording per run in OUT_DIR/recordings, about 1 MB "
                         "a minute of driving (default: on)")
+    p.add_argument("--sweep", action="append", default=None, metavar="AXIS=L1,L2,...",
+                   help="a robustness sweep: every run at each level of one axis (artic dock "
+                        "--list names the axes); writes sweep.csv, sweep_pairs.csv, sweep.md "
+                        "and sweep.png, and resumes an interrupted sweep in the same folder")
+    p.add_argument("--executor", choices=("local", "dask"), default="local",
+                   help="where a sweep's runs execute: this machine's --jobs processes, or a "
+                        "Dask cluster (default: %(default)s)")
+    p.add_argument("--scheduler", default=None,
+                   help="with --executor dask: a running scheduler, tcp://HOST:PORT or "
+                        "tls://HOST:PORT; a local cluster of --jobs workers otherwise. The "
+                        "cluster must be trusted: its results are unpickled here")
+    p.add_argument("--scheduler-timeout", type=options.TIMEOUT, default=10.0,
+                   help="seconds to wait for the scheduler (default: %(default)s)")
+    p.add_argument("--tls-ca-file", type=Path, default=None,
+                   help="with a tls:// scheduler: the CA certificate (PEM)")
+    p.add_argument("--tls-cert", type=Path, default=None,
+                   help="with a tls:// scheduler: this client's certificate (PEM)")
+    p.add_argument("--tls-key", type=Path, default=None,
+                   help="with a tls:// scheduler: this client's private key (PEM)")
     p.set_defaults(func=run)
 
 
@@ -128,6 +154,15 @@ def list_all() -> str:
     lines += [f"  {n:<{width}}  {text}" for n, (_, text) in BUILTIN.items()]
     lines += ["vehicles (or a vehicle file):"]
     lines += [f"  {n}" for n in preset_names()]
+    from artic.validation.docking.sweep import AXES
+
+    width = max(len(n) for n in AXES)
+    lines += ["sweep axes (--sweep AXIS=L1,L2,...):"]
+    for a in AXES.values():
+        unit = f" [{a.unit}]" if a.unit and a.unit != "-" else ""
+        why = a.missing()
+        lines.append(f"  {a.name:<{width}}  {a.description}{unit}; nominal {a.nominal}"
+                     + (f" (not available yet: {why})" if why else ""))
     return "\n".join(lines)
 
 
@@ -136,6 +171,22 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print(list_all())
         return 0
+    sweep = None
+    if args.sweep is not None:
+        from artic.validation.docking.sweep import parse_sweep
+
+        sweep = parse_sweep(args.sweep)
+        if args.truth and sweep[0].name in ("friction", "grade"):
+            raise UserError(f"--sweep {sweep[0].name} acts on the plant built from the vehicle "
+                            "file; the truth has its own tyres and slope: leave --truth out")
+    from artic.validation.runs.executors import DaskOptions
+
+    dask = DaskOptions(timeout=args.scheduler_timeout, tls_ca_file=args.tls_ca_file,
+                       tls_cert=args.tls_cert, tls_key=args.tls_key)
+    dask.check(args.executor, args.scheduler)
+    if args.executor != "local" and sweep is None:
+        raise UserError("--executor dask spreads a sweep's runs: add --sweep AXIS=L1,L2,... "
+                        "(the benchmark itself runs on --jobs local processes)")
     if args.out_dir is None:
         raise UserError("artic dock: give --out-dir (or --list)")
     import pandas as pd
@@ -181,6 +232,8 @@ def run(args: argparse.Namespace) -> int:
     classes = [load(c) for c in controllers]
     _once([f"{c.__module__}:{c.__qualname__}" for c in classes], "--controller", controllers)
     out = check_output_dir(args.out_dir)
+    if sweep is not None:
+        return _run_sweep(args, out, sweep, scenarios, vehicles, controllers, dask)
     rows = []
     with OutDirLock(out, "dock"):
         stale = clean_stale(out)
@@ -224,6 +277,48 @@ def run(args: argparse.Namespace) -> int:
     docked = int(frame["success"].sum())
     print(md, end="")
     print(f"wrote {csv}: {docked} of {len(frame)} runs docked; {out / 'dock_table.md'}")
+    return 0
+
+
+def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
+               vehicles: list[str], controllers: list[str], dask) -> int:
+    """``artic dock --sweep``: the runs (resumed), then sweep.csv, its pairs, .md and .png."""
+    import pandas as pd
+
+    from artic.validation.cli.progress import stderr
+    from artic.validation.docking import sweep as sw
+    from artic.validation.docking.plots import plot_sweep
+    from artic.validation.docking.scores import COLUMNS
+    from artic.validation.logs.runfile import atomic_write, atomic_write_text
+    from artic.validation.runs.outputs import OutDirLock, clean_stale
+
+    axis, levels = sweep
+    specs = sw.plan(axis, levels, scenarios, vehicles, controllers, range(args.seeds),
+                    truth=0 if args.truth else None, realtime=args.realtime)
+    with OutDirLock(out, "dock"):
+        stale = clean_stale(out)
+        if stale:
+            stderr(f"removed {len(stale)} temporary file(s) left by an interrupted run")
+        rows = sw.sweep(specs, out, jobs=args.jobs, executor=args.executor,
+                        scheduler=args.scheduler, dask=dask,
+                        recordings=out / "recordings" if args.recordings else None,
+                        progress=stderr)
+        _warn_late(rows, args.realtime)
+        frame = pd.DataFrame(rows).reindex(columns=["axis", "level", *COLUMNS])
+        atomic_write(out / "sweep_runs.csv",
+                     lambda p: frame.to_csv(p, index=False, float_format="%.6g"))
+        summary = sw.summarise(frame)
+        csv = atomic_write(out / "sweep.csv",
+                           lambda p: summary.to_csv(p, index=False, float_format="%.6g"))
+        pairs = sw.compare(frame, controllers)
+        atomic_write(out / "sweep_pairs.csv",
+                     lambda p: pairs.to_csv(p, index=False, float_format="%.6g"))
+        md = sw.markdown(summary, pairs)
+        atomic_write_text(out / "sweep.md", md)
+        plot_sweep(summary, out / "sweep.png")
+    print(md, end="")
+    print(f"wrote {csv}: {int(frame['success'].sum())} of {len(frame)} runs docked; "
+          f"{out / 'sweep_pairs.csv'}, {out / 'sweep.md'}, {out / 'sweep.png'}")
     return 0
 
 

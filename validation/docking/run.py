@@ -57,12 +57,13 @@ from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
 from artic.plant.plant import PlantError
 from artic.validation.cli.progress import Counter
+from artic.validation.docking.conditions import ActuatorDelay, road
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.identify import WheelbaseIdentifier
 from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
-from artic.validation.docking.scores import COLUMNS, estimate_scores, score
+from artic.validation.docking.scores import COLUMNS, estimate_scores, score, tiers
 from artic.validation.docking.sensing import (
     EstimatedStream,
     SensorStream,
@@ -190,7 +191,9 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
           record: Path | None = None, truth: int | None = None,
           realtime: bool = True, sensor_set: str = "full",
           articulation_noise_deg: float | None = None,
-          trailer: str | Draw = "nominal") -> Result:
+          trailer: str | Draw = "nominal", *, delay: float = 0.0,
+          steer_rate: float = STEER_RATE, friction: float = 1.0,
+          grade: float = 0.0) -> Result:
     """One docking run on the plant.
 
     Parameters
@@ -247,6 +250,18 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         semitrailer's effective wheelbase from what the controller observes
         (:class:`~artic.validation.docking.identify.WheelbaseIdentifier`) and
         reports it against the plant's (``l2_identified_m``, ``l2_true_m``).
+    delay : float
+        The actuators' dead time [s], a whole number of :data:`PLANT_DT`
+        (:class:`artic.validation.docking.conditions.ActuatorDelay`); none by default.
+    steer_rate : float
+        The steering actuator's largest wheel rate [rad/s]; :data:`STEER_RATE` by default.
+        The controller is told :data:`STEER_RATE` whatever it is.
+    friction : float
+        Factor on the tyres' friction [-] (:func:`artic.validation.docking.conditions.road`):
+        1.0 dry, about 0.3 packed snow. The plant only (``yard_model="mbd"``, no ``truth``).
+    grade : float
+        The yard's slope along the dock's approach [%], positive when it falls towards
+        the dock (:func:`artic.validation.docking.conditions.road`). The plant only.
 
     Returns
     -------
@@ -278,6 +293,14 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
             draw, plant_vehicle = draw_semitrailer(
                 vehicle, np.random.default_rng([seed, scen.number, TRAILER_STREAM]))
     identifier = WheelbaseIdentifier(vehicle)
+    if friction != 1.0 or grade != 0.0:
+        if truth is not None or yard_model != "mbd":
+            raise UserError("friction and grade act on the plant built from the vehicle file "
+                            "only; leave --truth out (and drive yard_model 'mbd')")
+        plant_vehicle = road(plant_vehicle, friction, grade)
+    if not (math.isfinite(steer_rate) and steer_rate > 0.0):
+        raise UserError(f"steer_rate {steer_rate:g} rad/s: the steering actuator's rate limit "
+                        "must be positive")
     frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
     timeout = scen.timeout if timeout is None else float(timeout)
@@ -295,7 +318,7 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
             _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
                          sensors, timeout, yard_model, record is not None,
                          plant_vehicle, actuation, realtime, sensor_set_,
-                         articulation_noise_deg, identifier)
+                         articulation_noise_deg, identifier, delay, steer_rate)
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
            **score(trace, yard, plant_vehicle, frames, start),
@@ -320,7 +343,8 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                  plant_vehicle=None, actuation: Callable | None = None,
                  realtime: bool = True, sensor_set: str = "full",
                  articulation_noise_deg: float | None = None,
-                 identifier: WheelbaseIdentifier | None = None) -> None:
+                 identifier: WheelbaseIdentifier | None = None, delay: float = 0.0,
+                 steer_rate: float = STEER_RATE) -> None:
     plant_vehicle = plant_vehicle or vehicle
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
@@ -361,6 +385,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
         trace.speed.append(u)
         settle_until = None
         cmd = Command(wheel, 0.0)
+        actuators = ActuatorDelay(delay, PLANT_DT, (wheel, 0.0))
         for k in range(n_ctrl):
             now = k * DT
             if settle_until is None:
@@ -409,11 +434,12 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                     settle_until = now + SETTLE
                 u_target = 0.0 if settle_until is not None else \
                     min(max(target[1], -SPEED_MAX), SPEED_MAX)
-                wheel_target = target[0]
+                actuators.command(k * n_sub, (target[0], u_target))
             elif now >= settle_until or (abs(u) < 1e-9 and abs(trace.true[-1][3]) < 0.01):
                 return
-            for _ in range(n_sub):
-                step = STEER_RATE * PLANT_DT
+            for j in range(n_sub):
+                wheel_target, u_target = actuators.at(k * n_sub + j)
+                step = steer_rate * PLANT_DT
                 wheel += min(max(wheel_target - wheel, -step), step)
                 u_next = u + min(max(u_target - u, -ACCEL_MAX * PLANT_DT), ACCEL_MAX * PLANT_DT)
                 try:
@@ -641,6 +667,7 @@ def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: 
                 "sensors": sensor_set,
                 "trailer": trailer if isinstance(trailer, str) else "given", "l2_updates": 0,
                 **(trailer.row() if isinstance(trailer, Draw) else {})})
+    row.update(tiers(row))
     return row
 
 

@@ -26,6 +26,10 @@ noisy ones never enter a score):
   the sample period. A run with too many fails as ``not real-time``
   (:data:`artic.validation.docking.run.REALTIME_LATE`) unless ``artic dock
   --no-realtime``.
+- ``success_test``, ``success_rl``, ``success_artic``: success at the three
+  tolerances of :data:`TIERS` (a driving test's, reinforcement-learning
+  environments', artic's), each on a run that came to rest at the dock without
+  another failure (a run that ``missed the door`` may pass the driving test's).
 
 The table (:func:`table`) groups by scenario, vehicle and controller: the
 success rate with its Wilson 95 % interval, and the means of the errors
@@ -37,6 +41,7 @@ the interval supports (:mod:`artic.validation.criteria.statistics`).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -59,6 +64,7 @@ SWEPT_CELL = 0.1
 """Grid of the swept area [m]."""
 
 COLUMNS = ("scenario", "vehicle", "controller", "plant", "seed", "success", "failure",
+           "success_test", "success_rl", "success_artic",
            "lateral_error_m", "longitudinal_error_m", "heading_error_deg", "max_gamma_deg",
            "gamma_margin_deg", "direction_changes", "time_s", "path_length_m", "swept_width_m",
            "swept_area_m2", "solve_ms_p50", "solve_ms_p99", "late_commands", "plan_ms",
@@ -79,6 +85,80 @@ ESTIMATE_COLUMNS = ("sensors", "gamma_est_rms_deg", "gamma_est_stop_deg", "rear_
 COLUMNS = COLUMNS + ESTIMATE_COLUMNS
 
 
+@dataclass(frozen=True)
+class Tier:
+    """A tolerance on where a docked rear stands.
+
+    Parameters
+    ----------
+    name : str
+        The column is ``success_NAME``.
+    label : str
+        For tables.
+    lateral, longitudinal : float
+        Largest offset from the door's centre line and distance short of the face [m]
+        (``inf``: not bounded).
+    heading : float
+        Largest heading error [rad] (``inf``: not bounded).
+    distance : float
+        Largest distance of the rear's centre from the door's point on the face [m]
+        (``inf``: not bounded).
+    gated : bool
+        Whether the benchmark's own gates (:data:`DOCKED`) must hold too.
+    """
+
+    name: str
+    label: str
+    lateral: float = math.inf
+    longitudinal: float = math.inf
+    heading: float = math.inf
+    distance: float = math.inf
+    gated: bool = False
+
+    @property
+    def column(self) -> str:
+        """Its column of ``dock.csv``."""
+        return f"success_{self.name}"
+
+    def passed(self, row: dict) -> bool:
+        """Whether the run ``row`` (with :func:`score`'s errors and failure) meets the tier."""
+        failure = str(row.get("failure") or "")
+        if failure and not failure.startswith(MISSED):
+            return False
+        if self.gated and not row.get("success"):
+            return False
+        lat, lon = float(row["lateral_error_m"]), float(row["longitudinal_error_m"])
+        head = math.radians(float(row["heading_error_deg"]))
+        return bool(abs(lat) <= self.lateral and abs(lon) <= self.longitudinal
+                    and abs(head) <= self.heading and math.hypot(lat, lon) <= self.distance)
+
+
+MISSED = "missed the door"
+"""How the failure of a run that came to rest outside :data:`DOCKED` begins."""
+
+TIERS = (
+    Tier("test", "driving test 0.91 m", lateral=0.91, longitudinal=0.91),
+    Tier("rl", "RL 15 cm, 0.1 rad", heading=0.1, distance=0.15),
+    Tier("artic", "artic 10 cm, 1 deg", lateral=0.10, heading=math.radians(1.0), gated=True),
+)
+"""Success at three tolerances, loosest first:
+
+- ``test``: a driving test's alley dock (the 3 ft, 0.91 m, a commercial driving test
+  allows between the trailer's rear and the line, here the face, and off the door's
+  line); no heading bound;
+- ``rl``: the reinforcement-learning truck backer-upper environments' goal: the rear
+  within 15 cm of the target point and 0.1 rad of its heading;
+- ``artic``: the benchmark's gates (:data:`DOCKED`) and artic's bar on a docked run,
+  10 cm off the line and 1 deg askew (the dashed box of ``dock_errors.png``).
+
+The benchmark's ``success`` stays its gates alone (30 cm, 3 deg): today's rates stand."""
+
+
+def tiers(row: dict) -> dict[str, bool]:
+    """The run's success at each of :data:`TIERS`, by column."""
+    return {t.column: t.passed(row) for t in TIERS}
+
+
 def score(trace, yard, vehicle: Vehicle, frames: Frames, start) -> dict:
     """The scores of one run (see the module docstring).
 
@@ -96,7 +176,7 @@ def score(trace, yard, vehicle: Vehicle, frames: Frames, start) -> dict:
         Where it started.
     """
     a = trace.arrays()
-    row = {"success": False, "failure": trace.failure,
+    row = {"success": False, "failure": trace.failure, **{t.column: False for t in TIERS},
            "start_x_m": start.x_r - yard.x_dock, "start_y_m": start.y_r - yard.y_dock,
            "start_heading_deg": math.degrees(start.psi_2),
            "start_gamma_deg": math.degrees(start.gamma)}
@@ -137,11 +217,12 @@ def score(trace, yard, vehicle: Vehicle, frames: Frames, start) -> dict:
             row["failure"] = "the controller never finished"
         elif not (-DOCKED[0] <= lon <= DOCKED[0] and abs(lat) <= DOCKED[1]
                   and abs(head) <= DOCKED[2]):
-            row["failure"] = (f"missed the door: rear {100 * lon:.0f} cm from the face, "
+            row["failure"] = (f"{MISSED}: rear {100 * lon:.0f} cm from the face, "
                               f"{100 * lat:.0f} cm off the line, "
                               f"{math.degrees(head):.1f} deg askew")
         else:
             row["success"] = True
+    row.update(tiers(row))
     return row
 
 
@@ -245,6 +326,10 @@ def table(rows: pd.DataFrame) -> pd.DataFrame:
         ok = g[g["success"].astype(bool)]
         rec = {"scenario": scen, "vehicle": veh, "controller": ctrl, "runs": len(g),
                "docked": len(ok), "success [95 % CI]": format_ci(rate_ci(len(ok), len(g)))}
+        for t in TIERS:
+            if t.column in g:
+                k = int(g[t.column].astype(bool).sum())
+                rec[f"{t.label} [95 % CI]"] = format_ci(rate_ci(k, len(g)))
         for label, col, scale, absolute in TABLE_METRICS:
             x = scale * ok[col].to_numpy(dtype=float)
             rec[label] = format_ci(mean_ci(np.abs(x) if absolute else x))

@@ -1,0 +1,631 @@
+"""Robustness sweeps: the docking benchmark along one axis of what a yard throws at it.
+
+``artic dock --sweep AXIS=L1,L2,...`` runs every scenario x vehicle x
+controller x seed at each level of one axis (:data:`AXES`), with the same
+starts and sensor noise at every level, so levels and controllers compare
+paired. Adding an axis is one entry of :data:`AXES`: its name, unit, how a
+level is read, and the :func:`~artic.validation.docking.run.drive` keywords it
+sets.
+
+**Scale and resumption.** The runs go through :func:`execute`: on this
+machine to the benchmark's supervised worker processes (``--jobs``; a
+controller that crashes or hangs fails its run), or with ``--executor dask``
+to the campaign's Dask executor
+(:func:`artic.validation.runs.executors.cluster_executor`: a local cluster,
+or ``--scheduler ADDRESS`` with its TLS options; the cluster must be trusted).
+Each finished run is written at once, atomically, as
+``sweep_runs/AXIS=LEVEL-SCENARIO-VEHICLE-CONTROLLER-SEED.json`` holding what
+was asked (:class:`RunSpec`, with the vehicle's fingerprint) and its row; a
+sweep started again into the same folder skips every run whose file holds
+the same request, so a killed sweep resumes where it stopped; a run that its
+supervisor failed (a hang, a crashed worker, a lost cluster worker:
+:data:`RETRIED`) is run again. Runs of other
+sweeps in the folder stay (a later sweep of that axis reuses them) and are
+not listed.
+
+**What is written** (:func:`summarise`, :func:`compare`):
+
+- ``sweep_runs.csv``: every run's row (``dock.csv``'s columns after ``axis``
+  and ``level``);
+- ``sweep.csv``: one row per axis, level, scenario, vehicle and controller:
+  the runs, the success rate at the benchmark's gates and at each tier of
+  :data:`~artic.validation.docking.scores.TIERS`, each with its Wilson 95 %
+  interval; over the runs that came to rest at the dock (``finished``: docked
+  or missed the door, so no survivor's bias at the gate), the mean final
+  |lateral| [cm] and |heading| [deg] errors and time [s] with the project's
+  95 % intervals (Student's t below 8 runs, the expanded BCa bootstrap from 8
+  on; ``interval`` names it); the jackknifes, collisions and timeouts;
+- ``sweep_pairs.csv``: every two controllers at each level, scenario and
+  vehicle, over the same starts: success by McNemar's exact test (the
+  binomial test of the discordant pairs: the starts one docked and the other
+  did not), the |lateral| and |heading| errors over the starts both finished
+  by the mean paired difference with its interval and the p value that
+  interval inverts (:func:`artic.validation.criteria.multiplicity.paired_p`),
+  so ``p < 0.05`` exactly where the interval excludes zero. Holm's correction
+  over the whole sweep's family (every level, pair, metric, scenario and
+  vehicle) gives ``p_holm``; a comparison is a ``finding`` only where
+  ``p_holm < 0.05``;
+- ``sweep.md``: the table and the findings in words; ``sweep.png``: success
+  and errors against the level, one line per controller
+  (:func:`artic.validation.docking.plots.plot_sweep`).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import contextlib
+import dataclasses
+import hashlib
+import importlib.util
+import inspect
+import json
+import math
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from artic.mjcf.errors import UserError
+
+RUNS_DIR = "sweep_runs"
+"""Folder of the per-run files in the output folder."""
+
+
+# ---------------------------------------------------------------- the axes
+def _available() -> str | None:
+    return None
+
+
+def _drive_takes(keyword: str, part: str) -> Callable[[], str | None]:
+    """An axis's check: ``drive`` has ``keyword`` (the other part of the issue is merged)."""
+    def check() -> str | None:
+        from artic.validation.docking.run import drive
+
+        if keyword in inspect.signature(drive).parameters:
+            return None
+        return f"{part} (drive's {keyword}=) is not in this artic"
+    return check
+
+
+def _variants() -> str | None:
+    """The semitrailer axes' check: the variants module and ``drive(trailer=...)``."""
+    if importlib.util.find_spec("artic.validation.docking.variants") is None:
+        return "the semitrailer variants (artic.validation.docking.variants) are not in this artic"
+    return _drive_takes("trailer", "the unknown semitrailer")()
+
+
+def _semitrailer(**change) -> dict:
+    """The drive keywords for a semitrailer that differs from the vehicle file by ``change``.
+
+    ``drive(trailer=Draw(...))`` builds every start's plant on that semitrailer
+    (:class:`artic.validation.docking.variants.Draw`), the controllers knowing the file's.
+    """
+    from artic.validation.docking.variants import Draw
+
+    return {"trailer": Draw(**change)}
+
+
+def _number(lo: float, hi: float, unit: str, step: float | None = None,
+            lo_open: bool = False) -> Callable[[str], float]:
+    """A level's reader: a number in ``[lo, hi]`` (``(lo, hi]``), a multiple of ``step``."""
+    def parse(text: str) -> float:
+        try:
+            x = float(text)
+        except ValueError:
+            raise ValueError(f"{text!r} is not a number") from None
+        if not math.isfinite(x) or x > hi or (x <= lo if lo_open else x < lo):
+            raise ValueError(f"{text} is outside {'(' if lo_open else '['}{lo:g}, {hi:g}] "
+                             f"{unit}".rstrip())
+        if step is not None and abs(round(x / step) * step - x) > 1e-9:
+            raise ValueError(f"{text} is not a multiple of {step:g} {unit}")
+        return x
+    return parse
+
+
+def _choice(names: Sequence[str]) -> Callable[[str], str]:
+    def parse(text: str) -> str:
+        if text not in names:
+            raise ValueError(f"{text!r} is not one of {', '.join(names)}")
+        return text
+    return parse
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One axis of a robustness sweep.
+
+    Parameters
+    ----------
+    name : str
+        ``--sweep NAME=...``.
+    unit : str
+        The levels' unit (empty for a choice).
+    description : str
+        What it varies, for ``artic dock --list`` and the guide.
+    nominal : float or str
+        Today's benchmark.
+    parse : callable
+        A level's text to its value; raises ``ValueError`` saying what is wrong.
+    keywords : callable
+        A level to :func:`~artic.validation.docking.run.drive`'s keyword arguments.
+    missing : callable
+        ``None`` when the axis can run, else what this artic lacks for it.
+    """
+
+    name: str
+    unit: str
+    description: str
+    nominal: float | str
+    parse: Callable[[str], float | str]
+    keywords: Callable[[float | str], dict]
+    missing: Callable[[], str | None] = _available
+
+    @property
+    def categorical(self) -> bool:
+        """Whether the levels are names rather than numbers."""
+        return isinstance(self.nominal, str)
+
+
+AXES: dict[str, Axis] = {a.name: a for a in (
+    Axis("delay", "s", "actuator delay between the controller's command and the actuators "
+         "(a FIFO at the plant's 10 ms step)", 0.0,
+         _number(0.0, 2.0, "s", step=0.01), lambda x: {"delay": float(x)}),
+    Axis("steer_rate", "deg/s", "the steering wheel's rate limit (the controller is told "
+         "360 deg/s whatever it is)", 360.0,
+         _number(0.0, 3600.0, "deg/s", lo_open=True),
+         lambda x: {"steer_rate": math.radians(float(x))}),
+    Axis("friction", "-", "road friction factor on the tyres' LMUX, LMUY: 1.0 dry, 0.7 wet, "
+         "0.3 packed snow", 1.0, _number(0.0, 1.5, "", lo_open=True),
+         lambda x: {"friction": float(x)}),
+    Axis("grade", "%", "yard slope along the dock's approach, positive falling towards the "
+         "dock", 0.0, _number(-15.0, 15.0, "%"), lambda x: {"grade": float(x)}),
+    Axis("articulation_noise", "deg", "noise of the articulation measurement (RMS)", 0.0,
+         _number(0.0, 20.0, "deg"), lambda x: {"articulation_noise_deg": float(x)},
+         _drive_takes("articulation_noise_deg", "the sensor sets")),
+    Axis("sensors", "", "sensor set: full (RTK/INS on both units), tractor (and a hitch "
+         "encoder), camera (a rear-facing articulation sensor)", "full",
+         _choice(("full", "tractor", "camera")), lambda x: {"sensor_set": str(x)},
+         _drive_takes("sensor_set", "the sensor sets")),
+    Axis("trailer_length_error", "m", "the plant's semitrailer kingpin-to-axle length "
+         "less the vehicle file's", 0.0, _number(-3.0, 3.0, "m"),
+         lambda x: _semitrailer(length_error_m=float(x)), _variants),
+    Axis("payload", "kg", "payload added to the plant's semitrailer, its box centred where "
+         "the draws centre it by default", 0.0, _number(0.0, 40000.0, "kg"),
+         lambda x: _semitrailer(payload_kg=float(x)), _variants),
+)}
+"""The sweep's axes, by name. ``missing`` of the last four checks for the parts of the
+docking issue that other work adds (the sensor sets, the unknown semitrailer)."""
+
+
+def level_text(level: float | str) -> str:
+    """A level as the file names and tables write it."""
+    return level if isinstance(level, str) else f"{level:g}"
+
+
+def parse_sweep(text: str | Sequence[str]) -> tuple[Axis, list[float | str]]:
+    """``--sweep``'s value: one axis and its levels (one clear :class:`UserError` if bad).
+
+    Parameters
+    ----------
+    text : str or sequence of str
+        ``AXIS=L1,L2,...``; a sequence is ``--sweep`` given several times (refused).
+    """
+    if not isinstance(text, str):
+        if len(text) != 1:
+            raise UserError(f"--sweep given {len(text)} times: a sweep varies one axis at a "
+                            "time; run one artic dock --sweep per axis")
+        text = text[0]
+    example = "e.g. --sweep friction=1.0,0.6,0.3"
+    if "=" not in text:
+        raise UserError(f"--sweep {text}: expected AXIS=L1,L2,... ({example}); axes: "
+                        f"{', '.join(AXES)}")
+    name, _, levels = text.partition("=")
+    name = name.strip()
+    if "=" in levels:
+        second = levels.split("=")[0].split(",")[-1].strip()
+        raise UserError(f"--sweep {text}: one axis at a time ({name} and {second}); run one "
+                        "artic dock --sweep per axis")
+    axis = AXES.get(name)
+    if axis is None:
+        raise UserError(f"--sweep {text}: no axis {name!r}; axes: {', '.join(AXES)} "
+                        "(artic dock --list describes them)")
+    why = axis.missing()
+    if why is not None:
+        raise UserError(f"--sweep {name}: not available yet: {why}; sweep "
+                        + ", ".join(a for a in AXES if AXES[a].missing() is None))
+    parts = [p.strip() for p in levels.split(",")]
+    if not levels.strip() or not all(parts):
+        raise UserError(f"--sweep {text}: give the levels as {name}=L1,L2,... with no empty "
+                        f"one ({example})")
+    values = []
+    for p in parts:
+        try:
+            values.append(axis.parse(p))
+        except ValueError as exc:
+            unit = f" [{axis.unit}]" if axis.unit and axis.unit != "-" else ""
+            raise UserError(f"--sweep {name}: level {exc}; {name}{unit} is the "
+                            f"{axis.description}") from None
+    seen = [level_text(v) for v in values]
+    twice = sorted({s for s in seen if seen.count(s) > 1})
+    if twice:
+        raise UserError(f"--sweep {text}: level {twice[0]} given twice; its runs would count "
+                        "twice: name it once")
+    return axis, values
+
+
+# ---------------------------------------------------------------- the runs
+@dataclass(frozen=True)
+class RunSpec:
+    """What one run of a sweep asks for: the file's key, compared on resumption."""
+
+    axis: str
+    level: float | str
+    scenario: str
+    vehicle: str
+    controller: str
+    seed: int
+    vehicle_fingerprint: str
+    truth: int | None = None
+    realtime: bool = True
+
+    @property
+    def name(self) -> str:
+        """The run's file name, without suffix."""
+        from artic.validation.docking.run import _safe, run_name
+
+        return (f"{_safe(self.axis)}={_safe(level_text(self.level))}-"
+                f"{run_name(self.scenario, self.vehicle, self.controller, self.seed)}")
+
+    def as_dict(self) -> dict:
+        """As JSON stores it."""
+        return dataclasses.asdict(self)
+
+
+def vehicle_fingerprint(vehicle: str) -> str:
+    """A short hash of every number of the vehicle ``vehicle`` names (preset or file)."""
+    from artic.mjcf.vehicle import load_vehicle
+
+    return hashlib.sha256(repr(load_vehicle(vehicle)).encode()).hexdigest()[:16]
+
+
+def plan(axis: Axis, levels: Sequence[float | str], scenarios: Sequence[str],
+         vehicles: Sequence[str], controllers: Sequence[str], seeds: Sequence[int],
+         truth: int | None = None, realtime: bool = True) -> list[RunSpec]:
+    """Every run of a sweep, level by level, in the order of the tables."""
+    prints = {v: vehicle_fingerprint(v) for v in vehicles}
+    return [RunSpec(axis.name, lv, s, v, c, int(seed), prints[v], truth, realtime)
+            for lv in levels for s in scenarios for v in vehicles for c in controllers
+            for seed in seeds]
+
+
+def run_one(spec: RunSpec, recordings: str | None = None) -> dict:
+    """One run of a sweep: its scores row, with ``axis`` and ``level`` (a worker's task)."""
+    from artic.validation.docking.run import drive
+    from artic.validation.docking.scenarios import scenario
+
+    axis = AXES[spec.axis]
+    record = None if recordings is None else Path(recordings) / f"{spec.name}.rrd"
+    row = drive(scenario(spec.scenario), spec.vehicle, spec.controller, spec.seed,
+                record=record, truth=spec.truth, realtime=spec.realtime,
+                **axis.keywords(spec.level)).row
+    return _stored({"axis": spec.axis, "level": spec.level, **row})
+
+
+def _failed(spec: RunSpec, reason: str) -> dict:
+    from artic.validation.docking.run import failed_row
+
+    row = failed_row(spec.scenario, spec.vehicle, spec.controller, spec.seed, spec.truth,
+                     reason)
+    return _stored({"axis": spec.axis, "level": spec.level, **row})
+
+
+def _stored(row: dict) -> dict:
+    """``row`` as a run file keeps it: plain numbers, without the per-command compute times."""
+    out = {}
+    for k, v in row.items():
+        if k == "solve_ms":
+            continue
+        if isinstance(v, np.generic):
+            v = v.item()
+        out[k] = v
+    return out
+
+
+RETRIED = ("controller hang:", "controller ended the run's process",
+           "run failed on the cluster")
+"""How the failures begin that the supervisor or the cluster gave a run, rather than the run
+itself: a hang (a first call that compiles on a loaded machine can be one), a worker that
+died, a cluster worker lost. Their runs are run again when the sweep resumes."""
+
+
+def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
+    """The rows of ``specs`` already in ``folder``, by run name: same request, same file.
+
+    A run failed by its supervisor or the cluster (:data:`RETRIED`) is not done.
+    """
+    out = {}
+    for spec in specs:
+        p = folder / f"{spec.name}.json"
+        try:
+            stored = json.loads(p.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue  # not run, or unreadable: run it (again)
+        if stored.get("spec") == json.loads(json.dumps(spec.as_dict())) \
+                and not str(stored["row"].get("failure") or "").startswith(RETRIED):
+            out[spec.name] = stored["row"]
+    return out
+
+
+def write_run(folder: Path, spec: RunSpec, row: dict) -> Path:
+    """The run's file, atomically: a killed sweep leaves whole files or none."""
+    from artic.validation.logs.runfile import atomic_write_text
+
+    return atomic_write_text(folder / f"{spec.name}.json",
+                             json.dumps({"spec": spec.as_dict(), "row": row}))
+
+
+def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
+            scheduler: str | None = None, dask=None, recordings: Path | None = None,
+            deadline: float | None = None) -> Iterator[tuple[RunSpec, dict]]:
+    """``(spec, row)`` of each run as it finishes.
+
+    Parameters
+    ----------
+    specs : sequence of RunSpec
+        The runs.
+    jobs : int
+        Local worker processes (or a local Dask cluster's).
+    executor : str
+        ``"local"``: the docking benchmark's supervised workers
+        (:func:`artic.validation.docking.supervise.supervised`); ``"dask"``: the
+        campaign's Dask executor, where a run that raises or ends its worker is a
+        failed row with the error.
+    scheduler : str, optional
+        A running Dask scheduler's address.
+    dask : DaskOptions, optional
+        Its timeout and TLS files.
+    recordings : Path, optional
+        Folder for one recording per run.
+    deadline : float, optional
+        Longest controller call [s] (local only).
+    """
+    rec = None if recordings is None else str(recordings)
+    by_name = {s.name: s for s in specs}
+    if executor == "local":
+        from artic.validation.docking.supervise import supervised
+
+        tasks = [(s.name, (s, rec)) for s in specs]
+        with contextlib.closing(supervised(run_one, tasks, jobs,
+                                           lambda key, args, why: _failed(args[0], why),
+                                           deadline)) as done:
+            for name, row in done:
+                yield by_name[name], row
+        return
+    from artic.validation.runs.executors import cluster_executor
+
+    with cluster_executor(executor, jobs, scheduler, dask) as pool:
+        futures = {pool.submit(run_one, s, rec): s for s in specs}
+        try:
+            for f in concurrent.futures.as_completed(futures):
+                s = futures[f]
+                try:
+                    row = f.result()
+                except Exception as exc:  # noqa: BLE001 - a lost worker or a raising run
+                    row = _failed(s, "run failed on the cluster: "
+                                     + " ".join(f"{type(exc).__name__}: {exc}".split()))
+                yield s, row
+        finally:
+            for f in futures:
+                f.cancel()
+
+
+def sweep(specs: Sequence[RunSpec], out: Path, jobs: int = 1, executor: str = "local",
+          scheduler: str | None = None, dask=None, recordings: Path | None = None,
+          progress: Callable[[str], None] | None = None,
+          deadline: float | None = None) -> list[dict]:
+    """Run the sweep's runs not yet done in ``out``; every run's row, in ``specs``' order.
+
+    Each run's row is written to ``out/sweep_runs`` as it finishes
+    (:func:`write_run`), so an interrupted sweep resumes (:func:`done_runs`).
+    """
+    from artic.validation.cli.progress import Counter
+
+    folder = Path(out) / RUNS_DIR
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = done_runs(folder, specs)
+    todo = [s for s in specs if s.name not in rows]
+    if progress is not None:
+        where = (f"{jobs} local process{'es' if jobs > 1 else ''}" if executor == "local"
+                 else f"Dask ({scheduler or f'a local cluster of {jobs}'})")
+        progress(f"sweep {specs[0].axis if specs else ''}: {len(specs)} runs"
+                 + (f", {len(rows)} already done in {folder} (resumed)" if rows else "")
+                 + (f", {len(todo)} to run on {where}" if todo else ""))
+    counter = Counter(len(todo), f"sweep {specs[0].axis if specs else ''}", progress)
+    for spec, row in execute(todo, jobs, executor, scheduler, dask, recordings, deadline):
+        write_run(folder, spec, row)
+        rows[spec.name] = row
+        counter.step(f"{spec.axis}={level_text(spec.level)} {spec.scenario} "
+                     f"{row['vehicle']} {spec.controller} seed {spec.seed}: "
+                     + ("docked" if row["success"] else str(row["failure"])))
+    return [rows[s.name] for s in specs]
+
+
+# ---------------------------------------------------------------- the tables
+def finished(rows: pd.DataFrame) -> pd.Series:
+    """Runs that came to rest at the dock: docked, or stopped outside the gates."""
+    from artic.validation.docking.scores import MISSED
+
+    f = rows["failure"].fillna("").astype(str)
+    return (f == "") | f.str.startswith(MISSED)
+
+
+def _rate(prefix: str, k: int, n: int) -> dict:
+    from artic.validation.docking.scores import rate_ci
+
+    iv = rate_ci(k, n)
+    return {prefix: iv.mean, f"{prefix}_lo": iv.lo, f"{prefix}_hi": iv.hi}
+
+
+def _mean(prefix: str, x: np.ndarray) -> dict:
+    from artic.validation.criteria.statistics import mean_ci
+
+    iv = mean_ci(x)
+    return {prefix: iv.mean, f"{prefix}_lo": iv.lo, f"{prefix}_hi": iv.hi}
+
+
+ERRORS = (("lateral_cm", "lateral_error_m", 100.0), ("heading_deg", "heading_error_deg", 1.0))
+"""sweep.csv's error columns: name, dock.csv's column, scale (of the magnitude)."""
+
+GROUP = ["axis", "level", "scenario", "vehicle", "controller"]
+
+
+def summarise(rows: pd.DataFrame) -> pd.DataFrame:
+    """``sweep.csv``: one row per axis, level, scenario, vehicle and controller (module doc)."""
+    from artic.validation.criteria.statistics import mean_ci
+    from artic.validation.docking.scores import TIERS
+
+    out = []
+    rows = rows.assign(_finished=finished(rows), _level=rows["level"].map(level_text))
+    for (axis_, _lv, scen, veh, ctrl), g in rows.groupby(
+            ["axis", "_level", "scenario", "vehicle", "controller"], sort=False):
+        axis = AXES.get(axis_)
+        ok = g[g["_finished"]]
+        rec = {"axis": axis_, "unit": axis.unit if axis else "", "level": g["level"].iloc[0],
+               "scenario": scen, "vehicle": veh, "controller": ctrl, "runs": len(g),
+               "docked": int(g["success"].astype(bool).sum())}
+        rec |= _rate("success", rec["docked"], len(g))
+        for t in TIERS:
+            rec |= _rate(t.column, int(g[t.column].astype(bool).sum()), len(g))
+        rec["finished"] = len(ok)
+        for name, col, scale in ERRORS:
+            rec |= _mean(name, scale * np.abs(ok[col].to_numpy(dtype=float)))
+        rec["interval"] = mean_ci(np.abs(ok["lateral_error_m"].to_numpy(dtype=float))).method
+        fail = g["failure"].fillna("").astype(str)
+        rec["jackknifes"] = int(fail.str.startswith("jackknife").sum())
+        rec["collisions"] = int(fail.str.startswith("collision").sum())
+        rec["timeouts"] = int(fail.str.startswith("timeout").sum())
+        rec |= _mean("time_s", ok["time_s"].to_numpy(dtype=float))
+        out.append(rec)
+    return pd.DataFrame(out)
+
+
+def mcnemar_p(a_only: int, b_only: int) -> float:
+    """McNemar's exact two-sided p value from the discordant pairs [-].
+
+    Under "both dock equally often" each discordant start is ``a``'s with
+    probability 1/2: the binomial test of ``a_only`` of ``a_only + b_only``.
+    Without discordant pairs there is no evidence either way: 1.
+    """
+    n = int(a_only) + int(b_only)
+    if n == 0:
+        return 1.0
+    return float(stats.binomtest(int(a_only), n, 0.5).pvalue)
+
+
+def compare(rows: pd.DataFrame, controllers: Sequence[str]) -> pd.DataFrame:
+    """``sweep_pairs.csv``: every two controllers at each level, over the same starts."""
+    from artic.validation.criteria.multiplicity import ALPHA, holm, paired_p
+    from artic.validation.criteria.statistics import paired
+
+    out = []
+    rows = rows.assign(_finished=finished(rows), _level=rows["level"].map(level_text))
+    for (axis_, _lv, scen, veh), g in rows.groupby(["axis", "_level", "scenario", "vehicle"],
+                                                   sort=False):
+        by = {c: x.set_index("seed") for c, x in g.groupby("controller", sort=False)}
+        for i, a in enumerate(controllers):
+            for b in controllers[i + 1:]:
+                if a not in by or b not in by:
+                    continue
+                ra, rb = by[a], by[b]
+                seeds = ra.index.intersection(rb.index)
+                head = {"axis": axis_, "level": g["level"].iloc[0], "scenario": scen,
+                        "vehicle": veh, "a": a, "b": b}
+                sa = ra.loc[seeds, "success"].astype(bool).to_numpy()
+                sb = rb.loc[seeds, "success"].astype(bool).to_numpy()
+                a_only, b_only = int(np.sum(sa & ~sb)), int(np.sum(~sa & sb))
+                out.append(head | {
+                    "metric": "success", "pairs": len(seeds), "a_only": a_only,
+                    "b_only": b_only, "difference": float(np.mean(sa) - np.mean(sb))
+                    if len(seeds) else math.nan, "low": math.nan, "high": math.nan,
+                    "test": "McNemar exact", "p": mcnemar_p(a_only, b_only)})
+                both = ra.loc[seeds, "_finished"].to_numpy(bool) & \
+                    rb.loc[seeds, "_finished"].to_numpy(bool)
+                common = seeds[both]
+                for name, col, scale in ERRORS:
+                    xa = scale * np.abs(ra.loc[common, col].to_numpy(dtype=float))
+                    xb = scale * np.abs(rb.loc[common, col].to_numpy(dtype=float))
+                    p = paired(xa, xb, (a, b))
+                    d = xa - xb
+                    out.append(head | {
+                        "metric": name, "pairs": len(common), "a_only": math.nan,
+                        "b_only": math.nan, "difference": p.diff.mean, "low": p.diff.lo,
+                        "high": p.diff.hi, "test": f"paired mean ({p.diff.method})",
+                        "p": paired_p(d)})
+    cols = ["axis", "level", "scenario", "vehicle", "a", "b", "metric", "pairs", "a_only",
+            "b_only", "difference", "low", "high", "test", "p", "p_holm", "finding"]
+    if not out:
+        return pd.DataFrame(columns=cols)
+    t = pd.DataFrame(out)
+    t["p_holm"] = holm(t["p"].to_numpy(dtype=float))
+    t["finding"] = t["p_holm"] < ALPHA
+    return t[cols]
+
+
+def findings(pairs: pd.DataFrame) -> list[str]:
+    """The comparisons resolved after Holm's correction, in words."""
+    lines = []
+    for r in pairs[pairs["finding"].astype(bool)].itertuples(index=False):
+        where = f"at {r.axis} = {level_text(r.level)} ({r.scenario}, {r.vehicle})"
+        better, worse = (r.a, r.b) if r.difference > 0 else (r.b, r.a)
+        if r.metric == "success":
+            n_better, n_worse = ((r.a_only, r.b_only) if r.difference > 0
+                                 else (r.b_only, r.a_only))
+            lines.append(f"{better} docks more often than {worse} {where}: {int(n_better)} "
+                         f"starts only it docked against {int(n_worse)} of {r.pairs} "
+                         f"(McNemar, Holm p = {r.p_holm:.2g})")
+        else:  # the difference of magnitudes a - b: positive, b ends closer
+            flip = r.difference > 0
+            closer, farther = (r.b, r.a) if flip else (r.a, r.b)
+            d, lo, hi = ((r.difference, r.low, r.high) if flip
+                         else (-r.difference, -r.high, -r.low))
+            unit = "cm" if r.metric == "lateral_cm" else "deg"
+            what = "off the line" if r.metric == "lateral_cm" else "askew"
+            lines.append(f"{closer} ends less {what} than {farther} {where}: by {d:.2g} "
+                         f"{unit} [95 % CI {lo:.2g} to {hi:.2g}] over {r.pairs} starts "
+                         f"(Holm p = {r.p_holm:.2g})")
+    return lines
+
+
+def markdown(summary: pd.DataFrame, pairs: pd.DataFrame) -> str:
+    """``sweep.md``: the table, and the findings after Holm's correction."""
+    from artic.validation.criteria.statistics import format_ci
+    from artic.validation.docking.scores import TIERS
+    from artic.validation.docking.scores import markdown as md_table
+
+    def ci(r, prefix):
+        return format_ci(r[prefix], r[f"{prefix}_lo"], r[f"{prefix}_hi"])
+
+    recs = []
+    for _, r in summary.iterrows():
+        unit = f" [{r['unit']}]" if r["unit"] and r["unit"] != "-" else ""
+        rec = {f"{r['axis']}{unit}": level_text(r["level"]), "scenario": r["scenario"],
+               "vehicle": r["vehicle"], "controller": r["controller"], "runs": r["runs"],
+               "success [95 % CI]": ci(r, "success")}
+        for t in TIERS:
+            rec[t.label] = ci(r, t.column)
+        rec["|lateral| [cm]"] = ci(r, "lateral_cm")
+        rec["|heading| [deg]"] = ci(r, "heading_deg")
+        rec["jackknifes"], rec["collisions"] = r["jackknifes"], r["collisions"]
+        rec["time [s]"] = ci(r, "time_s")
+        recs.append(rec)
+    text = md_table(pd.DataFrame(recs)) if recs else ""
+    n = len(pairs)
+    found = findings(pairs)
+    text += (f"\nPaired comparisons: {n} (success by McNemar's exact test, errors by the "
+             "paired mean difference over the starts both finished); Holm's correction over "
+             f"all {n}. Findings (Holm p < 0.05): "
+             + ("none." if not found else "\n\n" + "\n".join(f"- {f}" for f in found)) + "\n")
+    return text
