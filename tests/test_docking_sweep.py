@@ -320,3 +320,39 @@ def test_the_dock_table_gives_success_at_each_tier():
     assert t["driving test 0.91 m [95 % CI]"] == format_ci(rate_ci(4, 4))
     assert t["RL 15 cm, 0.1 rad [95 % CI]"] == format_ci(rate_ci(4, 4))
     assert t["artic 10 cm, 1 deg [95 % CI]"] == format_ci(rate_ci(3, 4))
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--sweep", "articulation_noise=0.5,2"], "add --sensors tractor or camera"),
+    (["--sweep", "sensors=full,camera", "--sensors", "tractor"], "leave --sensors tractor out"),
+    (["--sweep", "trailer_length_error=0,0.5", "--trailer", "unknown"],
+     "leave --trailer unknown out"),
+])
+def test_an_axis_that_contradicts_the_sweep_s_sensors_or_semitrailer_is_one_line(
+        argv, message, tmp_path, capsys):
+    from artic.validation.cli.entry import main
+
+    out = tmp_path / "out"
+    code = main(["dock", *argv, "--scenario", "straight", "--seeds", "1", "--out-dir", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and message in err[0], err
+    assert not out.exists()
+
+
+def test_the_sweep_s_sensor_set_and_semitrailer_reach_every_run(monkeypatch):
+    # The base conditions go to drive with the axis's own keywords over them.
+    from artic.validation.docking import run as run_module
+    from artic.validation.docking import sweep as sw
+
+    seen = []
+
+    class Row:
+        row = {"success": True}
+
+    axis, levels = sw.parse_sweep("articulation_noise=1.5")
+    spec = sw.plan(axis, levels, ["straight"], ["gosar2022-loaded"], ["reference"], [0],
+                   sensors="camera", trailer="unknown")[0]
+    monkeypatch.setattr(run_module, "drive", lambda *a, **k: seen.append(k) or Row())
+    sw.run_one(spec)
+    assert seen[0]["sensor_set"] == "camera" and seen[0]["trailer"] == "unknown"
+    assert seen[0]["articulation_noise_deg"] == 1.5

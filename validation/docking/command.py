@@ -176,6 +176,9 @@ def run(args: argparse.Namespace) -> int:
         from artic.validation.docking.sweep import parse_sweep
 
         sweep = parse_sweep(args.sweep)
+        from artic.validation.docking.sweep import check_base
+
+        check_base(sweep[0], args.sensors, args.trailer)
         if args.truth and sweep[0].name in ("friction", "grade"):
             raise UserError(f"--sweep {sweep[0].name} acts on the plant built from the vehicle "
                             "file; the truth has its own tyres and slope: leave --truth out")
@@ -289,12 +292,15 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
     from artic.validation.docking import sweep as sw
     from artic.validation.docking.plots import plot_sweep
     from artic.validation.docking.scores import COLUMNS
+    from artic.validation.docking.sensing import sensor_set
+    from artic.validation.docking.variants import check_trailer
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
     from artic.validation.runs.outputs import OutDirLock, clean_stale
 
     axis, levels = sweep
     specs = sw.plan(axis, levels, scenarios, vehicles, controllers, range(args.seeds),
-                    truth=0 if args.truth else None, realtime=args.realtime)
+                    truth=0 if args.truth else None, realtime=args.realtime,
+                    sensors=sensor_set(args.sensors), trailer=check_trailer(args.trailer))
     with OutDirLock(out, "dock"):
         stale = clean_stale(out)
         if stale:

@@ -270,6 +270,10 @@ class RunSpec:
     vehicle_fingerprint: str
     truth: int | None = None
     realtime: bool = True
+    sensors: str = "full"
+    """The sensor set of every run (``artic dock --sensors``) unless the axis sweeps it."""
+    trailer: str = "nominal"
+    """The plant's semitrailer (``artic dock --trailer``) unless the axis gives one."""
 
     @property
     def name(self) -> str:
@@ -291,12 +295,35 @@ def vehicle_fingerprint(vehicle: str) -> str:
     return hashlib.sha256(repr(load_vehicle(vehicle)).encode()).hexdigest()[:16]
 
 
+def check_base(axis: Axis, sensors: str = "full", trailer: str = "nominal") -> None:
+    """Refuse an axis that contradicts the sweep's sensor set or semitrailer.
+
+    Raises
+    ------
+    UserError
+        The articulation's noise with the ``full`` set (it measures no articulation
+        of its own), the sensor set with another ``sensors``, a given semitrailer
+        with ``unknown``.
+    """
+    if axis.name == "articulation_noise" and sensors == "full":
+        raise UserError("--sweep articulation_noise: the full set measures the articulation "
+                        "by the two units' headings; add --sensors tractor or camera")
+    if axis.name == "sensors" and sensors != "full":
+        raise UserError(f"--sweep sensors sweeps the sensor set; leave --sensors {sensors} out")
+    if axis.name in ("trailer_length_error", "payload") and trailer != "nominal":
+        raise UserError(f"--sweep {axis.name} gives the plant's semitrailer; leave "
+                        f"--trailer {trailer} out")
+
+
 def plan(axis: Axis, levels: Sequence[float | str], scenarios: Sequence[str],
          vehicles: Sequence[str], controllers: Sequence[str], seeds: Sequence[int],
-         truth: int | None = None, realtime: bool = True) -> list[RunSpec]:
-    """Every run of a sweep, level by level, in the order of the tables."""
+         truth: int | None = None, realtime: bool = True, sensors: str = "full",
+         trailer: str = "nominal") -> list[RunSpec]:
+    """Every run of a sweep, level by level, in the order of the tables (see :func:`check_base`)."""
+    check_base(axis, sensors, trailer)
     prints = {v: vehicle_fingerprint(v) for v in vehicles}
-    return [RunSpec(axis.name, lv, s, v, c, int(seed), prints[v], truth, realtime)
+    return [RunSpec(axis.name, lv, s, v, c, int(seed), prints[v], truth, realtime, sensors,
+                    trailer)
             for lv in levels for s in scenarios for v in vehicles for c in controllers
             for seed in seeds]
 
@@ -308,9 +335,10 @@ def run_one(spec: RunSpec, recordings: str | None = None) -> dict:
 
     axis = AXES[spec.axis]
     record = None if recordings is None else Path(recordings) / f"{spec.name}.rrd"
+    keywords = {"sensor_set": spec.sensors, "trailer": spec.trailer,
+                **axis.keywords(spec.level)}
     row = drive(scenario(spec.scenario), spec.vehicle, spec.controller, spec.seed,
-                record=record, truth=spec.truth, realtime=spec.realtime,
-                **axis.keywords(spec.level)).row
+                record=record, truth=spec.truth, realtime=spec.realtime, **keywords).row
     return _stored({"axis": spec.axis, "level": spec.level, **row})
 
 
@@ -318,7 +346,7 @@ def _failed(spec: RunSpec, reason: str) -> dict:
     from artic.validation.docking.run import failed_row
 
     row = failed_row(spec.scenario, spec.vehicle, spec.controller, spec.seed, spec.truth,
-                     reason)
+                     reason, spec.sensors, spec.trailer)
     return _stored({"axis": spec.axis, "level": spec.level, **row})
 
 
