@@ -34,13 +34,17 @@ def packages() -> list[str]:
     return ["artic", *(f"artic.{name}" for name in found)]
 
 
-def mujoco_include() -> list[str]:
-    """The include folder of the mujoco wheel in the build environment."""
+SHARED_HEADER = "mjcf/extensions.h"
+"""What the extensions share (the sealed block, their exports), included by each."""
+
+
+def include_dirs() -> list[str]:
+    """The shared header's folder, and the mujoco wheel's include folder (build environment)."""
     try:
         import mujoco
     except ImportError:  # no mujoco in the build environment: the build fails, optionally
-        return []
-    return [os.path.join(os.path.dirname(mujoco.__file__), "include")]
+        return ["mjcf"]
+    return ["mjcf", os.path.join(os.path.dirname(mujoco.__file__), "include")]
 
 
 class BuildExt(build_ext):
@@ -78,21 +82,24 @@ setup(
         Extension(
             "artic.plant._tyre_c",
             sources=["plant/_tyre_c.c"],
-            include_dirs=mujoco_include(),
+            include_dirs=include_dirs(),
+            depends=[SHARED_HEADER],
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),
         Extension(  # the harness's closed loop around the plant (plant/closedloop.py)
             "artic.plant._loop_c",
             sources=["plant/_loop_c.c"],
-            include_dirs=mujoco_include(),
+            include_dirs=include_dirs(),
+            depends=[SHARED_HEADER],
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),
         Extension(  # the synthetic truth's own tyres and steering (validation/synthetic/)
             "artic.validation.synthetic._truth_c",
             sources=["validation/synthetic/_truth_c.c"],
-            include_dirs=mujoco_include(),
+            include_dirs=include_dirs(),
+            depends=[SHARED_HEADER],
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),

@@ -28,12 +28,12 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import importlib.util
 import math
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from artic.mjcf import extensions
 from artic.plant import ctyre
 
 if TYPE_CHECKING:
@@ -73,18 +73,15 @@ class _Loop(ctypes.Structure):
 
 
 def _load() -> tuple[ctypes.CDLL | None, str]:
-    if ctyre.library() is None:  # it also makes MuJoCo's symbols visible to the loader
+    if ctyre.library() is None:  # the loop calls the tyre callback's models
         return None, ctyre.unavailable_reason()
-    spec = importlib.util.find_spec("artic.plant._loop_c")
-    if spec is None or spec.origin is None:
-        return None, ("the compiled closed loop was not built (no C compiler at install "
-                      "time?); reinstall artic with a C compiler to get it")
-    try:
-        lib = ctypes.CDLL(spec.origin)
-    except OSError as exc:
-        return None, f"{spec.origin} does not load: {exc}"
-    if lib.artic_loop_abi() != ABI or lib.artic_loop_size() != ctypes.sizeof(_Loop):
-        return None, f"{spec.origin} was built from another version of artic; reinstall artic"
+    lib, why = extensions.load("artic.plant._loop_c", "artic_loop", ABI,
+                               "the compiled closed loop")
+    if lib is None:
+        return None, why
+    if lib.artic_loop_size() != ctypes.sizeof(_Loop):
+        return None, ("the compiled closed loop was built from another version of artic; "
+                      "reinstall artic")
     d, b = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_ubyte)
     lib.artic_run_loop.restype = ctypes.c_int
     lib.artic_run_loop.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),

@@ -7,12 +7,27 @@ fixtures are in ``conftest.py``.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from artic.mjcf import extensions
 from artic.validation.logs.runfile import Run
 from artic.validation.logs.schema import COLUMNS
 
 PRESETS = ("gosar2022-unloaded", "gosar2022-loaded", "six-axle")
 """The presets the tests run on every model."""
+
+def needs_compiled(what: str) -> pytest.MarkDecorator:
+    """Skip a test of ``what``, a compiled part with no Python version, where artic runs
+    without its compiled parts on purpose (``ARTIC_NO_EXTENSIONS=1``).
+
+    Where they are merely missing the test runs, and fails: CI builds them, so
+    their absence is a failed build, not a reason to skip.
+    """
+    return pytest.mark.skipif(
+        extensions.switched_off(),
+        reason=f"{what}: compiled, with no Python version, and {extensions.NO_EXTENSIONS} "
+               "switches artic's compiled parts off")
+
 
 FIRST_ROLLOUT = """
 import json, time
