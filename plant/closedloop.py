@@ -20,8 +20,8 @@ drivers decide in Python every 10 ms. It computes what Python's ``step``
 and ``observe`` compute, to the bit (``tests/test_plant_step.py``).
 
 The extension is built by ``pip install`` beside the tyre callback; without
-it, or for a plant whose speed is not followed or whose tyre callback is the
-numpy one, :func:`available` says why and the harness uses its Python loop.
+it, or for a plant whose speed is not followed or whose backend is
+``"python"``, :func:`available` says why and the harness uses its Python loop.
 """
 
 from __future__ import annotations
@@ -116,8 +116,8 @@ def why_no_step(plant: Plant) -> str:
     lib, why = _loaded()
     if lib is None:
         return why
-    if plant.backend != "c":
-        return "the plant uses the numpy tyre callback"
+    if plant.backend != "compiled":
+        return f"the plant's backend is {plant.backend!r} (the numpy tyre callback)"
     if len(plant._servo) > MAX_SERVOS or plant.n_wheels > MAX_WHEELS:
         return (f"the compiled plant takes at most {MAX_SERVOS} steered axles and "
                 f"{MAX_WHEELS} wheels")

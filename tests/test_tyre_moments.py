@@ -179,7 +179,7 @@ def test_a_malformed_tyre_block_raises_and_never_crashes(case):
         import mujoco, numpy as np
         from artic.mjcf import load_vehicle
         from artic.plant import Plant, ctyre
-        with Plant(load_vehicle("gosar2022-unloaded"), backend="c") as p:
+        with Plant(load_vehicle("gosar2022-unloaded"), backend="compiled") as p:
             m, d = p.model, p.data
             blk = m.numeric_data
             HDR, NS, NP = len(ctyre.HEADER_FIELDS), int(blk[5]), len(ctyre.param_names())
@@ -310,7 +310,7 @@ FOREIGN = textwrap.dedent('''
              "sealed, site beyond the model": dict(key=ctyre.KEY, hub_site=5),
              "sealed, dof beyond the model": dict(key=ctyre.KEY, spin_dof=7),
              "sealed, too little userdata": dict(key=ctyre.KEY, nuserdata=2)}
-    with Plant(load_vehicle("gosar2022-unloaded"), backend="c"):  # the C callback is global
+    with Plant(load_vehicle("gosar2022-unloaded"), backend="compiled"):  # the C callback is global
         for name, kw in CASES.items():
             m = mujoco.MjModel.from_xml_string(foreign(**kw))  # compiled while a plant is open
             d = mujoco.MjData(m)
