@@ -699,10 +699,11 @@ class Plant:
         bias, the control clamped to its range, the force to its.
         """
         q = np.zeros(self.n_wheels)
-        joint_trn = (mujoco.mjtTrn.mjTRN_JOINT, mujoco.mjtTrn.mjTRN_JOINTINPARENT)
+        # As ints: ``x in (enum, ...)`` compares enum == x, which is False for numpy's ints.
+        joint_trn = (int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT))
         for i, j in enumerate(m.dof_jntid[self._spin_dof]):
             for a in range(m.nu):
-                if m.actuator_trntype[a] in joint_trn and m.actuator_trnid[a, 0] == j:
+                if int(m.actuator_trntype[a]) in joint_trn and m.actuator_trnid[a, 0] == j:
                     q[i] += m.actuator_gear[m.actuator_outadr[a], 0] * _actuator_now(m, d, a)
         return q
 
