@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from artic.mjcf import extensions
-from artic.plant import closedloop, ctyre
+from artic.plant import Plant, PlantWarning, closedloop, ctyre
 from artic.validation.synthetic import truthc, yardtruth
 from tests.helpers import needs_compiled
 
@@ -37,3 +38,23 @@ def test_every_extension_loads_through_it_with_the_process_key():
         body.ctypes.data_as(extensions._DOUBLE_P), body.size))
     w = (np.arange(body.size) % 97) + 1.0  # the weights the header documents
     assert np.isclose(ctyre.checksum(body), float(body @ w), rtol=1e-12)
+
+
+def test_backend_auto_falls_back_to_python_with_a_warning(unloaded, monkeypatch):
+    # Without the compiled callback "auto" runs the numpy reference and says
+    # why; "compiled" refuses. Faked here, so it runs where the parts are built
+    # (in a module that keeps no compiled plant open while it is faked).
+    import artic.plant.plant as pp
+
+    monkeypatch.setattr(ctyre, "library", lambda: None)
+    monkeypatch.setattr(ctyre, "unavailable_reason", lambda: "no compiler (test)")
+    monkeypatch.setattr(pp, "_warned", set())
+    with pytest.warns(PlantWarning, match="no compiler"), Plant(unloaded) as p:
+        assert p.backend == "python"
+    with pytest.raises(RuntimeError, match="no compiler"):
+        Plant(unloaded, backend="compiled")
+    with pytest.raises(ValueError, match="backend 'fortran'"):
+        Plant(unloaded, backend="fortran")
+    # The former names of the two backends are refused with their new ones.
+    with pytest.raises(ValueError, match="'c' is now 'compiled'"):
+        Plant(unloaded, backend="c")

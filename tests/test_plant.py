@@ -16,7 +16,7 @@ from artic.reduced import STM, Driven, InitialState
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation
 from artic.validation.harness.steering import SteeringMap
-from tests.helpers import PRESETS, straight_log
+from tests.helpers import PRESETS, needs_compiled, straight_log
 
 
 @pytest.fixture(scope="module")
@@ -231,7 +231,8 @@ def test_divergence_names_time_and_wheel(unloaded_plant):
         p.step(0.01, 0.0, 1.0, 0.0)
 
 
-@pytest.mark.parametrize("backend", ["compiled", "python"])
+@pytest.mark.parametrize("backend", [pytest.param("compiled", marks=needs_compiled(
+    "the compiled tyre callback's range count")), "python"])
 def test_tyre_range_warning_names_the_wheel(unloaded, backend):
     import dataclasses
 
@@ -265,23 +266,3 @@ def test_reverse_ramp_steer_is_held_by_the_harness(unloaded):
     g_meas, g_plant = log.frame["gamma"].to_numpy(), run_.frame["gamma"].to_numpy()
     assert abs(g_meas[-1]) > math.radians(25.0)
     assert np.max(np.abs(g_plant - g_meas)) < math.radians(5.0)
-
-
-def test_backend_auto_falls_back_to_python_with_a_warning(unloaded, monkeypatch):
-    # Without the compiled callback "auto" runs the numpy reference and says
-    # why; "compiled" refuses. Faked here, so it runs where the parts are built.
-    import artic.plant.plant as pp
-    from artic.plant import PlantWarning, ctyre
-
-    monkeypatch.setattr(ctyre, "library", lambda: None)
-    monkeypatch.setattr(ctyre, "unavailable_reason", lambda: "no compiler (test)")
-    monkeypatch.setattr(pp, "_warned", set())
-    with pytest.warns(PlantWarning, match="no compiler"), Plant(unloaded) as p:
-        assert p.backend == "python"
-    with pytest.raises(RuntimeError, match="no compiler"):
-        Plant(unloaded, backend="compiled")
-    with pytest.raises(ValueError, match="backend 'fortran'"):
-        Plant(unloaded, backend="fortran")
-    # The former names of the two backends are refused with their new ones.
-    with pytest.raises(ValueError, match="'c' is now 'compiled'"):
-        Plant(unloaded, backend="c")

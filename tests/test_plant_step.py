@@ -21,6 +21,10 @@ import pytest
 from artic.mjcf.interface import InitialState
 from artic.plant import Plant, PlantError, PlantWarning, closedloop
 from artic.plant.tyre import TyreRangeWarning
+from tests.helpers import needs_compiled
+
+# The compiled step against Python's: without it both would be Python's.
+pytestmark = needs_compiled("the compiled plant step")
 
 
 def _drive(vehicle, compiled: bool, speed: str, n: int = 800, plant_kw=None, edit=None):
