@@ -1,6 +1,6 @@
 """Build hook for artic's layout and compiled parts.
 
-Everything else is in pyproject.toml. Two things need code:
+Everything else is in pyproject.toml. Three things need code:
 
 - **The layout.** ``artic`` is the one import name, and its four sub-packages
   stay at the repository root as the design card names them: ``artic.mjcf`` is
@@ -11,11 +11,18 @@ Everything else is in pyproject.toml. Two things need code:
   truth's. They are compiled against the headers that the mujoco wheel ships,
   and are optional: without a C compiler the install goes on, and the plant
   falls back, with a warning, to the numpy tyre model (see plant/ctyre.py).
+- **numba's cache of KIN and the STM**, filled after the extensions are built
+  (:class:`BuildExt`), so that a reduced model's first call after install
+  loads compiled code instead of compiling it for seconds (reduced/precompile.py
+  says where numba keeps it and when it is used).
 """
 
 import os
+import subprocess
+import sys
 
 from setuptools import Extension, find_packages, setup
+from setuptools.command.build_ext import build_ext
 
 ROOMS = ("mjcf", "plant", "reduced", "validation")
 """The four folders at the root that are ``artic``'s sub-packages."""
@@ -27,37 +34,72 @@ def packages() -> list[str]:
     return ["artic", *(f"artic.{name}" for name in found)]
 
 
-def mujoco_include() -> list[str]:
-    """The include folder of the mujoco wheel in the build environment."""
+SHARED_HEADER = "mjcf/extensions.h"
+"""What the extensions share (the sealed block, their exports), included by each."""
+
+
+def include_dirs() -> list[str]:
+    """The shared header's folder, and the mujoco wheel's include folder (build environment)."""
     try:
         import mujoco
     except ImportError:  # no mujoco in the build environment: the build fails, optionally
-        return []
-    return [os.path.join(os.path.dirname(mujoco.__file__), "include")]
+        return ["mjcf"]
+    return ["mjcf", os.path.join(os.path.dirname(mujoco.__file__), "include")]
+
+
+class BuildExt(build_ext):
+    """``build_ext``, then numba's cache of the reduced models (``artic.reduced.precompile``).
+
+    It is filled where the installed package will read it: the checkout for
+    an editable install (``reduced/__pycache__``), the build folder for a
+    wheel (``artic/reduced/__pycache__``, which the wheel carries). Optional
+    as the extensions are: where it fails (no numba in the build environment,
+    ``ARTIC_NO_PRECOMPILE=1``), the install goes on and the first call compiles.
+    """
+
+    def run(self) -> None:
+        """Build the extensions, then fill numba's cache."""
+        super().run()
+        if os.environ.get("ARTIC_NO_PRECOMPILE", "") not in ("", "0"):
+            return
+        # The checkout maps artic.reduced to reduced/ by itself (artic/__init__.py).
+        root = os.path.dirname(os.path.abspath(__file__))
+        where = root if (self.inplace or getattr(self, "editable_mode", False)) else self.build_lib
+        env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+        env["PYTHONPATH"] = os.path.abspath(where)
+        print(f"artic: filling numba's cache of KIN and the STM under {where}")
+        done = subprocess.run([sys.executable, "-m", "artic.reduced.precompile"], env=env,
+                              cwd=where, check=False)
+        if done.returncode != 0:
+            print("artic: numba's cache was not filled; a reduced model's first call compiles")
 
 
 setup(
+    cmdclass={"build_ext": BuildExt},
     packages=packages(),
     package_dir={"artic": "artic", **{f"artic.{room}": room for room in ROOMS}},
     ext_modules=[
         Extension(
             "artic.plant._tyre_c",
             sources=["plant/_tyre_c.c"],
-            include_dirs=mujoco_include(),
+            include_dirs=include_dirs(),
+            depends=[SHARED_HEADER],
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),
         Extension(  # the harness's closed loop around the plant (plant/closedloop.py)
             "artic.plant._loop_c",
             sources=["plant/_loop_c.c"],
-            include_dirs=mujoco_include(),
+            include_dirs=include_dirs(),
+            depends=[SHARED_HEADER],
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),
         Extension(  # the synthetic truth's own tyres and steering (validation/synthetic/)
             "artic.validation.synthetic._truth_c",
             sources=["validation/synthetic/_truth_c.c"],
-            include_dirs=mujoco_include(),
+            include_dirs=include_dirs(),
+            depends=[SHARED_HEADER],
             extra_compile_args=["-O2", "-fno-math-errno", "-std=c99"],
             optional=True,
         ),

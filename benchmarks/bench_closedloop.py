@@ -60,8 +60,8 @@ def _inputs(vehicle) -> LoopInputs:
 def _loop(vehicle, inp, compiled: bool, extras: bool = False, step: bool | None = None) -> float:
     """One run; ``step``: whether Plant.step is compiled in the Python loop (as ``compiled``)."""
     with Plant(vehicle) as p:
-        p.use_compiled_loop = compiled
-        p.use_compiled_step = compiled if step is None else step
+        p._compiled_loop = compiled
+        p._compiled_step = compiled if step is None else step
         t0 = time.perf_counter()
         run_inputs(p, inp, vehicle, 3.0, {} if extras else None)
         return time.perf_counter() - t0

@@ -94,13 +94,13 @@ def _tyre_ns() -> tuple[float, float, float]:
 def main() -> dict[str, float]:
     c_ns, np_ns, cm_ns = _tyre_ns()
     states: list = []
-    wall_c, p = _run("c", SIM_SECONDS, states)
+    wall_c, p = _run("compiled", SIM_SECONDS, states)
     bare = _bare(p, states)
     steps = round(SIM_SECONDS / p.model.opt.timestep)
     p.close()
-    wall_m, pm = _run("c", SIM_SECONDS, moments=True)
+    wall_m, pm = _run("compiled", SIM_SECONDS, moments=True)
     pm.close()
-    wall_np, q = _run("numpy", SIM_SECONDS / 5)
+    wall_np, q = _run("python", SIM_SECONDS / 5)
     q.close()
     wall_np *= 5
     out = {"plant_rtf": SIM_SECONDS / wall_c, "numpy_rtf": SIM_SECONDS / wall_np,

@@ -34,6 +34,8 @@
 
 #include <mujoco/mujoco.h>
 
+#include "extensions.h" /* mjcf/: what artic's extensions export to their loader */
+
 #define ARTIC_LOOP_ABI 3
 #define N_OBS 13
 #define MAX_SERVOS 4
@@ -176,7 +178,8 @@ static int servo_and_steps(const mjModel* m, mjData* d, artic_loop* s, double dl
   return LOOP_DONE;
 }
 
-int artic_loop_abi(void) { return ARTIC_LOOP_ABI; }
+/* artic_loop_abi, artic_loop_mj_version, ... (extensions.h); the loop has no block */
+ARTIC_EXPORTS(artic_loop, ARTIC_LOOP_ABI)
 
 int artic_loop_size(void) { return (int)sizeof(artic_loop); }
 

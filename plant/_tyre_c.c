@@ -30,6 +30,8 @@
 
 #include <mujoco/mujoco.h>
 
+#include "extensions.h" /* mjcf/: the sealed block's key, checksum and memory */
+
 #define ARTIC_ABI 3
 #define BLOCK_NAME "artic.tyre"
 /* abi, key_hi, key_lo, n_wheels, n_params, n_sets, moments, spin_fit, checksum */
@@ -67,9 +69,6 @@ static const double TWIST_LIMIT = 2.5;   /* tyre.TWIST_LIMIT */
 static const double TWIST_MIN = 1e-3;    /* tyre.TWIST_MIN */
 static const double PATCH_MIN = 0.02;    /* tyre.PATCH_MIN */
 static const double TINY = 1e-12;        /* floor of every divisor the data could zero */
-
-/* The process's key, set once by artic_set_key before any plant attaches. */
-static uint32_t key_hi = 0, key_lo = 0;
 
 static double sign(double x) { return (x > 0.0) - (x < 0.0); }
 
@@ -363,76 +362,22 @@ static void apply_ft(const mjModel* m, const mjData* d, const double F[3], const
 
 /* ------------------------------------------------------------------ block */
 
-/* A weighted sum of the block after the header, sealing it against damage. */
-static double checksum(const double* body, int n) {
-  double s = 0.0;
-  int w = 1; /* (i % 97) + 1, without a division per value */
-  for (int i = 0; i < n; i++) {
-    s += body[i] * (double)w;
-    if (++w > 97) w = 1;
-  }
-  return s;
-}
-
-static int id_ok(double x, int n) { return x >= 0.0 && x < n && x == floor(x); }
-
-/* The last block this thread found valid, and the model sizes its ids were
- * checked against. Whether a block is valid depends on nothing else (the
- * process's key never changes once set), so a block equal to it, bit for bit,
- * in a model of the same sizes, is valid without the checksum and the id scan:
- * about 5 % of a plant step, done at each of RK4's four stages. Any edit of the
- * block, in place or not, misses and is checked in full. */
-#define SEEN_MAX 4096 /* doubles; larger blocks are checked at every call */
-static __thread struct {
-  int size, nw, sizes[6];
-  double blk[SEEN_MAX];
-} seen = {0};
-
-static void model_sizes(const mjModel* m, int out[6]) {
-  out[0] = m->nsite;
-  out[1] = m->nbody;
-  out[2] = m->nv;
-  out[3] = m->na;
-  out[4] = m->nu;
-  out[5] = m->nuserdata;
-}
-
-static int seen_before(const mjModel* m, const double* blk, int size) {
-  int sizes[6];
-  model_sizes(m, sizes);
-  return size == seen.size && memcmp(sizes, seen.sizes, sizeof sizes) == 0
-         && memcmp(blk, seen.blk, (size_t)size * sizeof(double)) == 0;
-}
-
-static void remember(const mjModel* m, const double* blk, int size, int nw) {
-  if (size > SEEN_MAX) return;
-  seen.size = 0; /* invalid while it is written */
-  memcpy(seen.blk, blk, (size_t)size * sizeof(double));
-  model_sizes(m, seen.sizes);
-  seen.nw = nw;
-  seen.size = size;
-}
+/* The last block this thread found valid (extensions.h). */
+static __thread seen_block seen = {0};
 
 /* The block of model m, or NULL when m carries none this process may follow. */
 static const double* valid_block(const mjModel* m, const mjData* d, int* nw_out) {
-  if (m->nnumeric < 1 || strcmp(m->names + m->name_numericadr[0], BLOCK_NAME) != 0) return NULL;
-  int size = m->numeric_size[0];
-  if (size < HEADER || d == NULL) return NULL;
-  const mjtNum* blk = m->numeric_data + m->numeric_adr[0];
-  if (seen_before(m, blk, size)) {
-    *nw_out = seen.nw;
-    return blk;
-  }
-  if (blk[0] != ARTIC_ABI || (key_hi == 0 && key_lo == 0) || blk[1] != (double)key_hi
-      || blk[2] != (double)key_lo || blk[4] != N_PARAMS) {
-    return NULL;
-  }
+  int size = 0;
+  const mjtNum* blk = block_of(m, BLOCK_NAME, &size);
+  if (blk == NULL || size < HEADER || d == NULL) return NULL;
+  if (seen_before(&seen, m, blk, size, nw_out)) return blk;
+  if (!block_sealed(blk, ARTIC_ABI) || blk[4] != N_PARAMS) return NULL;
   double nw_d = blk[3], ns_d = blk[5];
   if (!(nw_d >= 0.0 && nw_d <= 4096.0 && ns_d >= 1.0 && ns_d <= 64.0)) return NULL;
   int nw = (int)nw_d, ns = (int)ns_d;
   if (size != HEADER + ns * N_PARAMS + nw * PER_WHEEL) return NULL;
   if (!(blk[7] >= 0.0 && isfinite(blk[7]))) return NULL; /* spin_fit */
-  if (checksum(blk + HEADER, size - HEADER) != blk[8]) return NULL;
+  if (block_checksum(blk + HEADER, size - HEADER) != blk[8]) return NULL;
   if (m->nuserdata < 3 * nw + 1 || d == NULL) return NULL;
   const double* w = blk + HEADER + ns * N_PARAMS;
   for (int i = 0; i < nw; i++, w += PER_WHEEL) {
@@ -444,7 +389,7 @@ static const double* valid_block(const mjModel* m, const mjData* d, int* nw_out)
       return NULL;
     }
   }
-  remember(m, blk, size, nw);
+  remember(&seen, m, blk, size, nw);
   *nw_out = nw;
   return blk;
 }
@@ -487,9 +432,8 @@ int artic_register_kind(const char* name, artic_kind_fn fn) {
   return n_kinds++;
 }
 
-int artic_abi(void) { return ARTIC_ABI; }
-
-int artic_mj_version(void) { return mjVERSION_HEADER; }
+/* artic_abi, artic_mj_version, artic_set_key, artic_checksum (extensions.h) */
+ARTIC_EXPORTS(artic, ARTIC_ABI)
 
 const char* artic_param_names(void) { return param_names; }
 
@@ -498,16 +442,6 @@ int artic_n_params(void) { return N_PARAMS; }
 int artic_header(void) { return HEADER; }
 
 int artic_per_wheel(void) { return PER_WHEEL; }
-
-/* Set the process's key once; later calls keep the first. */
-void artic_set_key(uint32_t hi, uint32_t lo) {
-  if (key_hi == 0 && key_lo == 0) {
-    key_hi = hi;
-    key_lo = lo;
-  }
-}
-
-double artic_checksum(const double* body, int n) { return checksum(body, n); }
 
 /* 1 when m's block is one the callback follows (for Python's checks). */
 int artic_block_ok(const mjModel* m, const mjData* d) {

@@ -20,20 +20,20 @@ drivers decide in Python every 10 ms. It computes what Python's ``step``
 and ``observe`` compute, to the bit (``tests/test_plant_step.py``).
 
 The extension is built by ``pip install`` beside the tyre callback; without
-it, or for a plant whose speed is not followed or whose tyre callback is the
-numpy one, :func:`available` says why and the harness uses its Python loop.
+it, or for a plant whose speed is not followed or whose backend is
+``"python"``, :func:`available` says why and the harness uses its Python loop.
 """
 
 from __future__ import annotations
 
 import ctypes
 import functools
-import importlib.util
 import math
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from artic.mjcf import extensions
 from artic.plant import ctyre
 
 if TYPE_CHECKING:
@@ -73,18 +73,15 @@ class _Loop(ctypes.Structure):
 
 
 def _load() -> tuple[ctypes.CDLL | None, str]:
-    if ctyre.library() is None:  # it also makes MuJoCo's symbols visible to the loader
+    if ctyre.library() is None:  # the loop calls the tyre callback's models
         return None, ctyre.unavailable_reason()
-    spec = importlib.util.find_spec("artic.plant._loop_c")
-    if spec is None or spec.origin is None:
-        return None, ("the compiled closed loop was not built (no C compiler at install "
-                      "time?); reinstall artic with a C compiler to get it")
-    try:
-        lib = ctypes.CDLL(spec.origin)
-    except OSError as exc:
-        return None, f"{spec.origin} does not load: {exc}"
-    if lib.artic_loop_abi() != ABI or lib.artic_loop_size() != ctypes.sizeof(_Loop):
-        return None, f"{spec.origin} was built from another version of artic; reinstall artic"
+    lib, why = extensions.load("artic.plant._loop_c", "artic_loop", ABI,
+                               "the compiled closed loop")
+    if lib is None:
+        return None, why
+    if lib.artic_loop_size() != ctypes.sizeof(_Loop):
+        return None, ("the compiled closed loop was built from another version of artic; "
+                      "reinstall artic")
     d, b = ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_ubyte)
     lib.artic_run_loop.restype = ctypes.c_int
     lib.artic_run_loop.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
@@ -119,8 +116,8 @@ def why_no_step(plant: Plant) -> str:
     lib, why = _loaded()
     if lib is None:
         return why
-    if plant.backend != "c":
-        return "the plant uses the numpy tyre callback"
+    if plant.backend != "compiled":
+        return f"the plant's backend is {plant.backend!r} (the numpy tyre callback)"
     if len(plant._servo) > MAX_SERVOS or plant.n_wheels > MAX_WHEELS:
         return (f"the compiled plant takes at most {MAX_SERVOS} steered axles and "
                 f"{MAX_WHEELS} wheels")

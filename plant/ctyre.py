@@ -13,25 +13,24 @@ extension registered (:func:`register_kind`), are handed to that extension's
 callback by the same C function, without Python in between: the synthetic
 truth of :mod:`artic.validation` has its own tyres and steering that way.
 
-The extension is built by ``pip install`` when a C compiler is present. When
-it is missing, or was built against another MuJoCo version, :func:`library`
-returns ``None`` and :func:`unavailable_reason` says why; the plant then uses
-the numpy reference and warns once.
+The extension is built by ``pip install`` when a C compiler is present, and
+loaded by :func:`artic.mjcf.extensions.load`. When it is missing, or was built
+against another MuJoCo version, :func:`library` returns ``None`` and
+:func:`unavailable_reason` says why; the plant then uses the numpy reference
+and warns once. The block's seal (the process's key, the checksum) is
+``mjcf/extensions.h``'s, which the synthetic truth's callback shares.
 """
 
 from __future__ import annotations
 
 import ctypes
 import functools
-import glob
-import importlib.util
-import os
-import secrets
 from typing import NamedTuple
 
 import mujoco
 import numpy as np
 
+from artic.mjcf import extensions
 from artic.mjcf.errors import UserError
 from artic.plant.spinmode import FIT_SCALE
 from artic.plant.tyre import TyreParams
@@ -81,36 +80,21 @@ class TyreOutputs(NamedTuple):
     dphi: np.ndarray
 
 
-NO_EXTENSIONS = "ARTIC_NO_EXTENSIONS"
+NO_EXTENSIONS = extensions.NO_EXTENSIONS
 """An environment variable: set to 1, artic runs as if its C parts were not built
-(the numpy tyre, the Python loops), as an install without a C compiler does."""
+(:data:`artic.mjcf.extensions.NO_EXTENSIONS`)."""
+
+KEY = extensions.KEY
+"""This process's key: the callback follows only blocks sealed with it."""
 
 
 def _load() -> tuple[ctypes.CDLL | None, str]:
-    if os.environ.get(NO_EXTENSIONS, "") not in ("", "0"):
-        return None, (f"the compiled parts are switched off ({NO_EXTENSIONS} is set), as "
-                      "without a C compiler at install time")
-    spec = importlib.util.find_spec("artic.plant._tyre_c")
-    if spec is None or spec.origin is None:
-        return None, ("the compiled tyre callback was not built (no C compiler at install "
-                      "time?); reinstall artic with a C compiler to get it")
-    # The extensions leave MuJoCo's symbols (mj_step) to the loader: make the
-    # library the bindings already loaded visible to it.
-    found = glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")) or \
-        glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco*.dylib"))
-    try:
-        if found:
-            ctypes.CDLL(found[0], mode=ctypes.RTLD_GLOBAL)
-        lib = ctypes.CDLL(spec.origin)
-    except OSError as exc:
-        return None, f"{spec.origin} does not load: {exc}"
-    if lib.artic_abi() != ABI:
-        return None, f"{spec.origin} has ABI {lib.artic_abi()}, this artic expects {ABI}"
-    if lib.artic_mj_version() != mujoco.mj_version():
-        return None, (f"{spec.origin} was built against MuJoCo {lib.artic_mj_version()}, but "
-                      f"{mujoco.mj_version()} is installed; reinstall artic")
+    lib, why = extensions.load("artic.plant._tyre_c", "artic", ABI,
+                               "the compiled tyre callback")
+    if lib is None:
+        return None, why
     if lib.artic_header() != len(HEADER_FIELDS) or lib.artic_per_wheel() != len(WHEEL_FIELDS):
-        return None, f"{spec.origin} lays its block out differently; reinstall artic"
+        return None, "the compiled tyre callback lays its block out differently; reinstall artic"
     lib.artic_param_names.restype = ctypes.c_char_p
     lib.artic_tyre_eval.restype = None
     lib.artic_tyre_eval.argtypes = [_DOUBLE_P, ctypes.c_int, ctypes.c_int] + [_DOUBLE_P] * 15
@@ -120,18 +104,9 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     lib.artic_passive.argtypes = [ctypes.c_void_p, ctypes.c_void_p]
     lib.artic_block_ok.restype = ctypes.c_int
     lib.artic_block_ok.argtypes = [ctypes.c_void_p, ctypes.c_void_p]
-    lib.artic_checksum.restype = ctypes.c_double
-    lib.artic_checksum.argtypes = [_DOUBLE_P, ctypes.c_int]
-    lib.artic_set_key.restype = None
-    lib.artic_set_key.argtypes = [ctypes.c_uint32, ctypes.c_uint32]
     lib.artic_register_kind.restype = ctypes.c_int
     lib.artic_register_kind.argtypes = [ctypes.c_char_p, ctypes.c_void_p]
-    lib.artic_set_key(*KEY)
     return lib, ""
-
-
-KEY = (secrets.randbits(31) + 1, secrets.randbits(31) + 1)
-"""This process's key: the callback follows only blocks sealed with it."""
 
 
 @functools.cache

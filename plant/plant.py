@@ -107,8 +107,11 @@ its angle is uncertain by 45 deg at 1 cm/s and by 1 deg at 0.5 m/s. Below
 this speed the steady deflections are scaled by ``|V| / SLIP_KNOWN`` (as the
 STM scales its lagged slips), so a start at rest has relaxed tyres."""
 
-BACKENDS = ("auto", "c", "numpy")
-"""Tyre callback implementations: compiled (:mod:`artic.plant.ctyre`) or the numpy reference."""
+BACKENDS = ("auto", "compiled", "python")
+"""How the plant runs (see :class:`Plant`): its compiled parts, its Python reference, or the
+compiled parts where they were built."""
+
+_FORMER_BACKENDS = {"c": "compiled", "numpy": "python"}
 
 _warned: set[str] = set()
 
@@ -211,7 +214,20 @@ class Plant:
     timestep : float, optional
         MuJoCo timestep [s]; the model's default (10 ms, RK4) otherwise.
     backend : str
-        Tyre callback: ``"auto"`` (compiled if available), ``"c"`` or ``"numpy"``.
+        How the plant runs; the physics is the same, to rounding:
+
+        - ``"compiled"``: the C tyre callback (:mod:`artic.plant.ctyre`), and
+          :meth:`step`, :meth:`observe` and the harness's closed loop in C
+          (:mod:`artic.plant.closedloop`) where that extension was built and
+          the plant allows it (the loop follows the speed, ``speed="follow"``);
+          raises where the tyre callback was not built;
+        - ``"python"``: the numpy tyre model (:mod:`artic.plant.tyre`, the
+          reference) and the step and loop in Python, about 16 times slower;
+          what an install without a C compiler runs;
+        - ``"auto"`` (the default): ``"compiled"`` where the tyre callback was
+          built, else ``"python"`` with a warning.
+
+        :attr:`backend` is the one chosen.
     speed : str
         ``"follow"`` the commanded speed kinematically, or ``"drive"`` it with
         wheel torques like a driver (see the module docstring).
@@ -252,22 +268,27 @@ class Plant:
                  tyre_files: Mapping[int, str | Path] | None = None,
                  spin_fit: bool = True) -> None:
         if backend not in BACKENDS:
-            raise UserError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+            was = (f" ({backend!r} is now {_FORMER_BACKENDS[backend]!r})"
+                   if backend in _FORMER_BACKENDS else "")
+            raise UserError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}{was}")
         if speed not in SPEED_MODES:
             raise UserError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)}")
         self.speed_mode = speed
         self.spin_fit = spinmode.FIT_SCALE if spin_fit else 0.0
         """The scale of the spin mode's fit to the step (0: none; :mod:`artic.plant.spinmode`)."""
-        self.use_compiled_loop = True
-        """Whether :meth:`closed_loop` offers the compiled loop (``False``: the Python one)."""
         self.pedals = (0.0, 0.0)
         """Throttle and brake in [0, 1], applied with ``speed="pedals"``."""
-        if backend != "numpy" and ctyre.library() is None:
-            if backend == "c":
-                raise RuntimeError(ctyre.unavailable_reason())
+        if backend != "python" and ctyre.library() is None:
+            if backend == "compiled":
+                raise RuntimeError(f"backend 'compiled': {ctyre.unavailable_reason()}")
             _warn_fallback()
-            backend = "numpy"
-        self.backend = "c" if backend == "auto" else backend
+            backend = "python"
+        self.backend = "compiled" if backend == "auto" else backend
+        """How the plant runs: ``"compiled"`` or ``"python"`` (``"auto"`` resolved)."""
+        # The compiled step and loop, where the backend is compiled. The tests
+        # and benchmarks switch them off alone, keeping the C tyre callback, for
+        # the Python reference they are checked against to the bit.
+        self._compiled_step = self._compiled_loop = self.backend == "compiled"
         vehicle = with_tyre_files(vehicle, tyre_files or {})
         check_tyre_data(vehicle, "mbd")  # tyre data that fits the vehicle's wheel loads
         self.vehicle = vehicle
@@ -280,7 +301,7 @@ class Plant:
         self.spec = spec
         """The model's spec, as compiled (:mod:`artic.plant.standalone` writes it out)."""
         n_wheels = 2 * len(vehicle.axles)
-        if self.backend == "c":
+        if self.backend == "compiled":
             if spec.numerics:
                 raise UserError("the plant's spec must not carry numerics of its own")
             self._add_block(spec, n_wheels, len(files))
@@ -298,14 +319,11 @@ class Plant:
         self.steer_limited = 0
         self._last_forces = np.zeros((self.n_wheels, 3))
         self._closed = False
-        if self.backend == "c":
+        if self.backend == "compiled":
             self.tyres = self._tyres  # writes the C callback's block and checks it
             callback.install(self.model, callback.NATIVE)
         else:
             callback.install(self.model, self._passive)
-        self.use_compiled_step = True
-        """Whether :meth:`step` and :meth:`observe` run in compiled code where they can
-        (``False``: in Python, the reference they are tested against)."""
         self._stepper = closedloop.Stepper(self) if closedloop.step_available(self) else None
         if self._stepper is not None:  # the unwrapped headings [rad], shared with it
             self._psi = self._stepper.psi
@@ -349,7 +367,7 @@ class Plant:
             raise UserError(f"the plant has {len(self._tyres)} tyre sets, got {len(sets)}")
         self._tyres = list(sets)
         self._per_wheel_tyre()
-        if self.backend == "c":
+        if self.backend == "compiled":
             self._write_block()
 
     @property
@@ -392,7 +410,7 @@ class Plant:
     @property
     def last_forces(self) -> np.ndarray:
         """Contact force of every wheel end from the last callback, world frame [N]."""
-        if self.backend == "c":
+        if self.backend == "compiled":
             return self.data.userdata[:3 * self.n_wheels].reshape(-1, 3)
         return self._last_forces
 
@@ -485,7 +503,8 @@ class Plant:
         arrays = {"qpos": d.qpos, "xpos": d.xpos.ravel(), "xquat": d.xquat.ravel(),
                   "site_xpos": d.site_xpos.ravel(),
                   # the forces: where the compiled callback writes them, or the numpy one's
-                  "userdata": d.userdata if self.backend == "c" else self.last_forces.ravel(),
+                  "userdata": (d.userdata if self.backend == "compiled"
+                               else self.last_forces.ravel()),
                   "act": d.act,
                   "actuator_force": d.actuator_force, "zero": np.zeros(1)}
         raw = np.empty(len(g))
@@ -680,10 +699,11 @@ class Plant:
         bias, the control clamped to its range, the force to its.
         """
         q = np.zeros(self.n_wheels)
-        joint_trn = (mujoco.mjtTrn.mjTRN_JOINT, mujoco.mjtTrn.mjTRN_JOINTINPARENT)
+        # As ints: ``x in (enum, ...)`` compares enum == x, which is False for numpy's ints.
+        joint_trn = (int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT))
         for i, j in enumerate(m.dof_jntid[self._spin_dof]):
             for a in range(m.nu):
-                if m.actuator_trntype[a] in joint_trn and m.actuator_trnid[a, 0] == j:
+                if int(m.actuator_trntype[a]) in joint_trn and m.actuator_trnid[a, 0] == j:
                     q[i] += m.actuator_gear[m.actuator_outadr[a], 0] * _actuator_now(m, d, a)
         return q
 
@@ -820,7 +840,7 @@ class Plant:
         m, d = self.model, self.data
         h = m.opt.timestep
         n = max(1, round(dt / h))
-        if self._stepper is not None and self.use_compiled_step:
+        if self._stepper is not None and self._compiled_step:
             # The same step in C: the speed controls here, the rest there.
             self._control(u1 + u1_dot * 0.5 * (n * h), u1_dot, n * h)
             code = self._stepper.step(delta, n)
@@ -855,7 +875,7 @@ class Plant:
         good_time, good_forces = d.time, self.last_forces.copy()
         mujoco.mj_step(m, d, nstep=n)
         self._check(good_time, good_forces, n * h)
-        if self.backend == "numpy":
+        if self.backend == "python":
             self.check_tyre_ranges()
         elif d.userdata[3 * self.n_wheels]:  # the C callback counted wheels out of range
             d.userdata[3 * self.n_wheels] = 0.0
@@ -890,7 +910,7 @@ class Plant:
 
     def observe(self, delta: float | None = None) -> np.ndarray:
         """Signals at the sensor points, in ``OBSERVATION`` order."""
-        if self._stepper is not None and self.use_compiled_step:
+        if self._stepper is not None and self._compiled_step:
             return self._stepper.observe()
         d = self.data
         out = np.empty(13)
@@ -966,11 +986,11 @@ class Plant:
     def closed_loop(self):
         """:func:`artic.plant.closedloop.run` for this plant, or ``None`` where it cannot run.
 
-        It cannot with the numpy tyre callback, a speed that is not followed,
-        or an install without the compiled extension; the harness then drives
-        the plant through :meth:`step` and :meth:`observe` in Python.
+        It cannot with ``backend="python"``, a speed that is not followed, or
+        an install without the compiled extension; the harness then drives the
+        plant through :meth:`step` and :meth:`observe` in Python.
         """
-        if not self.use_compiled_loop:
+        if not self._compiled_loop:
             return None
         if closedloop.unavailable_reason():  # not built: say so once, run in Python
             _warn_loop_fallback()

@@ -31,7 +31,7 @@ from artic.plant.plant import Plant
 
 def to_xml(vehicle: Vehicle) -> str:
     """The plant of ``vehicle`` as MJCF, tyre data included (needs the compiled callback)."""
-    with Plant(vehicle, backend="c", speed="drive") as p:
+    with Plant(vehicle, backend="compiled", speed="drive") as p:
         spec = p.spec
         blk = np.array(p.model.numeric_data, dtype=float)
     blk[1:3] = 0.0  # unsealed: load() seals it for its own process

@@ -7,12 +7,45 @@ fixtures are in ``conftest.py``.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from artic.mjcf import extensions
 from artic.validation.logs.runfile import Run
 from artic.validation.logs.schema import COLUMNS
 
 PRESETS = ("gosar2022-unloaded", "gosar2022-loaded", "six-axle")
 """The presets the tests run on every model."""
+
+def needs_compiled(what: str) -> pytest.MarkDecorator:
+    """Skip a test of ``what``, a compiled part with no Python version, where artic runs
+    without its compiled parts on purpose (``ARTIC_NO_EXTENSIONS=1``).
+
+    Where they are merely missing the test runs, and fails: CI builds them, so
+    their absence is a failed build, not a reason to skip.
+    """
+    return pytest.mark.skipif(
+        extensions.switched_off(),
+        reason=f"{what}: compiled, with no Python version, and {extensions.NO_EXTENSIONS} "
+               "switches artic's compiled parts off")
+
+
+FIRST_ROLLOUT = """
+import json, time
+import numpy as np
+import artic
+from artic.reduced import control
+
+kin = artic.KIN(artic.load_vehicle("gosar2022-unloaded"))
+x0, u = np.zeros(4), np.tile([0.0, -1.0], (200, 1))  # 2 s straight back in 10 ms steps
+wall, cpu = time.perf_counter(), time.process_time()
+x = kin.rollout(x0, u, 0.01)
+wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+stats = control.rollout_steps.stats
+print(json.dumps({"wall": wall, "cpu": cpu, "hits": sum(stats.cache_hits.values()),
+                  "misses": sum(stats.cache_misses.values()), "final": x[-1].tolist()}))
+"""
+"""A script: the first ``KIN.rollout`` of a fresh process, timed, and whether numba loaded
+it from its cache; prints one JSON line."""
 
 
 def as_log(run: Run, name: str = "log") -> Run:

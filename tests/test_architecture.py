@@ -23,6 +23,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.helpers import FIRST_ROLLOUT
+
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("mjcf", "plant", "reduced", "validation")
 
@@ -222,3 +224,13 @@ def test_the_wheel_installs_one_import_name(tmp_path):
     gone = subprocess.run([str(py), "-c", "import validation"], cwd=tmp_path,
                           capture_output=True, text=True, env=clean)
     assert gone.returncode != 0 and "No module named 'validation'" in gone.stderr
+    # The wheel carries numba's cache of KIN and the STM (setup.py's build_ext),
+    # and in site-packages the first rollout loads it instead of compiling.
+    assert any(n.startswith("artic/reduced/__pycache__/control.rollout_steps")
+               and n.endswith(".nbi") for n in names), "the wheel carries no numba cache"
+    user = {k: v for k, v in clean.items() if k != "NUMBA_CACHE_DIR"}
+    first = subprocess.run([str(py), "-c", FIRST_ROLLOUT], cwd=tmp_path, capture_output=True,
+                           text=True, env=user)
+    assert first.returncode == 0, first.stderr[-2000:]
+    got = json.loads(first.stdout.strip().splitlines()[-1])
+    assert got["hits"] == 1 and got["misses"] == 0, got

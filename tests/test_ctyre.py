@@ -10,17 +10,23 @@ import numpy as np
 import pytest
 
 from artic.mjcf.interface import InitialState
-from artic.plant import Plant, PlantWarning, callback, ctyre
+from artic.plant import Plant, callback, ctyre
 from artic.plant.tyre import TyreParams, deflection_rates, rolling_resistance, transient_forces
+from tests.helpers import needs_compiled
 from tests.shared_data import REFERENCE_TYRE, needs
 
 TRAILER_TYRE = "artic-trailer-385-65R22.5.tir"
 
 
+# The compiled callback against its reference: nothing to compare without it.
+pytestmark = needs_compiled("the compiled tyre callback")
+
+
 @pytest.fixture(scope="module", autouse=True)
 def compiled():
     # CI installs with a C compiler, so the extension must be there: its absence
-    # is a failed build, not a reason to skip.
+    # is a failed build, not a reason to skip (needs_compiled skips only where
+    # artic runs without its compiled parts on purpose).
     assert ctyre.library() is not None, ctyre.unavailable_reason()
 
 
@@ -102,30 +108,16 @@ def test_plant_trajectories_agree_between_backends(unloaded, moments):
                                                                 tyre_moments=moments))
     files = {i: TRAILER_TYRE for i, a in enumerate(v.axles) if a.unit == 2} if moments else None
     # 8 s: forward, braking through the stop, reversing at 1 m/s by the end.
-    a, b = (trajectory(v, backend, 8.0, tyre_files=files) for backend in ("c", "numpy"))
+    a, b = (trajectory(v, backend, 8.0, tyre_files=files) for backend in ("compiled", "python"))
     assert np.abs(a - b).max() < 1e-9
     assert a[:, 3].min() < -0.5 and a[:, 3].max() > 1.5
 
 
-def test_fallback_warns_and_uses_numpy(unloaded, monkeypatch):
-    import artic.plant.plant as pp
-
-    monkeypatch.setattr(ctyre, "library", lambda: None)
-    monkeypatch.setattr(ctyre, "unavailable_reason", lambda: "no compiler (test)")
-    monkeypatch.setattr(pp, "_warned", set())
-    with pytest.warns(PlantWarning, match="no compiler"), Plant(unloaded) as p:
-        assert p.backend == "numpy"
-    with pytest.raises(RuntimeError, match="no compiler"):
-        Plant(unloaded, backend="c")
-    with pytest.raises(ValueError, match="backend 'fortran'"):
-        Plant(unloaded, backend="fortran")
-
-
 def test_native_callback_installed_and_restored(unloaded):
     assert callback.active() == 0
-    with Plant(unloaded, backend="c"):
+    with Plant(unloaded, backend="compiled"):
         assert not callback.python_installed()
-        with Plant(unloaded, backend="numpy"):
+        with Plant(unloaded, backend="python"):
             assert callback.python_installed()  # the dispatcher serves both
         assert not callback.python_installed()
     assert mujoco.get_mjcb_passive() is None
@@ -135,7 +127,7 @@ def test_models_without_the_block_get_no_force(unloaded):
     m = mujoco.MjModel.from_xml_string(
         "<mujoco><worldbody><body><freejoint/><geom size='1'/></body></worldbody></mujoco>")
     d = mujoco.MjData(m)
-    with Plant(unloaded, backend="c"):
+    with Plant(unloaded, backend="compiled"):
         mujoco.mj_step(m, d)
     assert np.all(d.qfrc_passive == 0.0)
 
@@ -143,11 +135,11 @@ def test_models_without_the_block_get_no_force(unloaded):
 def test_plants_on_threads_equal_serial(unloaded, loaded):
     # The C callback runs without the GIL and keeps no global state, so plants
     # step on threads; each result equals its serial run bit for bit.
-    serial = [trajectory(v, "c", 3.0) for v in (unloaded, loaded)]
+    serial = [trajectory(v, "compiled", 3.0) for v in (unloaded, loaded)]
     out: list = [None, None]
 
     def work(i, v):
-        out[i] = trajectory(v, "c", 3.0)
+        out[i] = trajectory(v, "compiled", 3.0)
 
     threads = [threading.Thread(target=work, args=(i, v))
                for i, v in enumerate((unloaded, loaded))]
@@ -191,14 +183,14 @@ def test_a_vertical_hub_axis_gets_no_force_in_either_backend(unloaded):
     # guards that division and gives the wheel no force; the numpy reference
     # must do the same (it divided by zero before), and the others go on.
     out = {}
-    for backend in ("c", "numpy"):
+    for backend in ("compiled", "python"):
         with Plant(unloaded, backend=backend) as p:
             p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=2.0))
             m, d = p.model, p.data
             d.site_xmat[p._hub[0]] = [0, 0, 1, 0, 1, 0, -1, 0, 0]  # x-axis straight down
             d.ctrl[p._tread_u[0]] = d.ctrl[p._tread_v[0]] = d.ctrl[p._tread_w[0]] = 1.0
             d.qfrc_passive[:] = 0.0
-            if backend == "c":
+            if backend == "compiled":
                 ctyre.call_passive(m, d)
             else:
                 p._passive(m, d)
@@ -207,8 +199,8 @@ def test_a_vertical_hub_axis_gets_no_force_in_either_backend(unloaded):
     for F, qfrc, rates in out.values():
         assert np.all(np.isfinite(qfrc)) and np.all(F[0] == 0.0) and np.all(rates == 0.0)
         assert np.all(F[1:, 2] > 1e3)  # the other wheels carry the truck
-    np.testing.assert_allclose(out["c"][0], out["numpy"][0], rtol=1e-9, atol=1e-6)
-    np.testing.assert_allclose(out["c"][1], out["numpy"][1], rtol=1e-9, atol=1e-6)
+    np.testing.assert_allclose(out["compiled"][0], out["python"][0], rtol=1e-9, atol=1e-6)
+    np.testing.assert_allclose(out["compiled"][1], out["python"][1], rtol=1e-9, atol=1e-6)
 
 
 def test_generalised_forces_of_a_turning_plant_equal_mujocos_apply_ft(unloaded):
@@ -217,7 +209,7 @@ def test_generalised_forces_of_a_turning_plant_equal_mujocos_apply_ft(unloaded):
     # In a turn under way (every wheel loaded, slipping, with aligning and
     # rolling moments) both must give the same qfrc_passive: the tyre forces
     # agree to about 1e-12 relative (test above), the chain sum is exact.
-    with Plant(unloaded, backend="c") as p:
+    with Plant(unloaded, backend="compiled") as p:
         p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=2.0))
         for _ in range(150):
             p.step(0.01, 0.25, 2.0, 0.0)
@@ -229,7 +221,7 @@ def test_generalised_forces_of_a_turning_plant_equal_mujocos_apply_ft(unloaded):
         d.qfrc_passive[:] = 0.0
         ctyre.call_passive(m, d)
         qfrc_c = d.qfrc_passive.copy()
-    with Plant(unloaded, backend="numpy") as p:
+    with Plant(unloaded, backend="python") as p:
         m, d = p.model, p.data
         mujoco.mj_setState(m, d, state, spec)
         mujoco.mj_forward(m, d)
@@ -247,7 +239,7 @@ def test_a_block_edited_after_use_is_refused_at_once_and_taken_back_when_restore
     # edit in place that is not sealed (a tyre coefficient here) must miss
     # that memory and be refused at the very next evaluation, as a block
     # damaged from the start is; the block as it was must be taken again.
-    with Plant(unloaded, backend="c") as p:
+    with Plant(unloaded, backend="compiled") as p:
         m, d = p.model, p.data
         p.reset(InitialState(0.0, 0.0, 0.0, 0.1, u1=2.0))
         mujoco.mj_forward(m, d)

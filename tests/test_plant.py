@@ -16,7 +16,7 @@ from artic.reduced import STM, Driven, InitialState
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation
 from artic.validation.harness.steering import SteeringMap
-from tests.helpers import PRESETS, straight_log
+from tests.helpers import PRESETS, needs_compiled, straight_log
 
 
 @pytest.fixture(scope="module")
@@ -231,7 +231,8 @@ def test_divergence_names_time_and_wheel(unloaded_plant):
         p.step(0.01, 0.0, 1.0, 0.0)
 
 
-@pytest.mark.parametrize("backend", ["c", "numpy"])
+@pytest.mark.parametrize("backend", [pytest.param("compiled", marks=needs_compiled(
+    "the compiled tyre callback's range count")), "python"])
 def test_tyre_range_warning_names_the_wheel(unloaded, backend):
     import dataclasses
 

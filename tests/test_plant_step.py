@@ -3,7 +3,7 @@
 ``Plant.step`` and ``Plant.observe`` run in C (``artic_step`` and
 ``artic_observe`` in plant/_loop_c.c) for plants that Python drives one step
 at a time, as the synthetic truth's drivers do. Python's own ``step`` and
-``observe`` are the reference (``use_compiled_step = False``). Both set the
+``observe`` are the reference (``Plant._compiled_step = False``). Both set the
 same controls and call the same MuJoCo step and the same libm functions in
 the same order, so they agree to the bit: any difference, even one rounding,
 is a change in what is computed and fails these tests.
@@ -21,12 +21,16 @@ import pytest
 from artic.mjcf.interface import InitialState
 from artic.plant import Plant, PlantError, PlantWarning, closedloop
 from artic.plant.tyre import TyreRangeWarning
+from tests.helpers import needs_compiled
+
+# The compiled step against Python's: without it both would be Python's.
+pytestmark = needs_compiled("the compiled plant step")
 
 
 def _drive(vehicle, compiled: bool, speed: str, n: int = 800, plant_kw=None, edit=None):
     """A run through standstill into reverse, steering past the linkage's stop."""
     with Plant(vehicle, speed=speed, **(plant_kw or {})) as p:
-        p.use_compiled_step = compiled
+        p._compiled_step = compiled
         if edit is not None:
             edit(p)
         p.reset(InitialState(0.0, 0.0, 0.4, 0.1, u1=1.5))
@@ -75,7 +79,7 @@ def test_a_diverged_compiled_step_raises_what_python_raises(loaded):
     for compiled in (True, False):
         with Plant(loaded) as p, warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)
-            p.use_compiled_step = compiled
+            p._compiled_step = compiled
             p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=1.0))
             for _ in range(30):
                 p.step(0.01, 0.0, 1.0, 0.0)
@@ -93,7 +97,7 @@ def test_headings_are_shared_with_the_compiled_loop_and_reset(loaded):
         p.reset(InitialState(0.0, 0.0, 3.0, 0.2))
         assert tuple(p._stepper.struct.psi) == (3.0, 2.8)
         compiled = p.observe()
-        p.use_compiled_step = False
+        p._compiled_step = False
         p._psi[:] = (3.0, 2.8)
         np.testing.assert_array_equal(compiled, p.observe())
 
@@ -101,7 +105,7 @@ def test_headings_are_shared_with_the_compiled_loop_and_reset(loaded):
 def test_plants_without_the_compiled_step_run_in_python(loaded, monkeypatch):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with Plant(loaded, backend="numpy") as p:  # its callback is Python: no C step
+        with Plant(loaded, backend="python") as p:  # its callback is Python: no C step
             assert p._stepper is None
             assert "numpy" in closedloop.why_no_step(p) and closedloop.step_available(p) is False
     monkeypatch.setattr(closedloop, "_loaded", lambda: (None, "not built here"))

@@ -10,6 +10,10 @@ import artic.plant as plant
 from artic.mjcf import load_vehicle, naming
 from artic.plant import callback
 from artic.validation.cli.commands import main
+from tests.helpers import needs_compiled
+
+# The file carries the compiled callback's block: plain MuJoCo needs the callback.
+pytestmark = needs_compiled("the standalone model's compiled tyre callback")
 
 
 def test_the_exported_truck_rolls_straight_on_its_tyres(tmp_path):

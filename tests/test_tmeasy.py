@@ -12,6 +12,9 @@ from artic.mjcf.vehicle import resolve_tyre_file
 from artic.plant.plant import scaled
 from artic.plant.tyre import TyreParams
 from artic.validation.synthetic import tmeasy, truthc
+from tests.helpers import needs_compiled
+
+pytestmark = needs_compiled("the truth's compiled TMeasy tyres")
 
 TYRES = ("artic-truck-315-80R22.5.tir", "artic-trailer-385-65R22.5.tir")
 

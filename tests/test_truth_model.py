@@ -12,6 +12,9 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.linkage import Trapezoid
 from artic.validation.synthetic.column import Column
 from artic.validation.synthetic.truthplant import TruthPlant, second_tread
+from tests.helpers import needs_compiled
+
+pytestmark = needs_compiled("the truth's compiled tyres and steering")
 
 PLAY = math.radians(2.0)
 

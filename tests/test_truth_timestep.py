@@ -30,7 +30,9 @@ from artic.validation.synthetic.truthplant import (
     TruthPlant,
     timestep_for,
 )
-from tests.helpers import rates_jacobian
+from tests.helpers import needs_compiled, rates_jacobian
+
+TRUTH = "the truth's compiled tyres and steering"
 
 STEP = FORWARD_TIMESTEP
 """The truth's step on the forward manoeuvres [s], the log's sample."""
@@ -63,6 +65,7 @@ def vehicle(request):
     return load_vehicle(request.param)
 
 
+@needs_compiled(TRUTH)
 @pytest.mark.parametrize("speed", [0.0, 2.0])
 def test_every_mode_of_the_truth_is_inside_rk4s_region_at_10_ms(vehicle, speed):
     lam, _ = eigenvalues(vehicle, Column.of(vehicle), speed)
@@ -72,6 +75,7 @@ def test_every_mode_of_the_truth_is_inside_rk4s_region_at_10_ms(vehicle, speed):
     assert (STEP * lam.real).min() > RK4_REAL_LIMIT
 
 
+@needs_compiled(TRUTH)
 def test_the_tie_rods_stretch_mode_is_the_derived_one_and_limited_the_step(vehicle):
     column = Column.of(vehicle)
     lam, J = eigenvalues(vehicle, column, 0.0)
@@ -121,6 +125,7 @@ def stretch_after_a_nudge(column: Column, h: float) -> np.ndarray:
     return np.degrees(x)
 
 
+@needs_compiled(TRUTH)
 def test_a_nudged_tie_rod_settles_at_10_ms_as_at_1_ms():
     column = Column.of(load_vehicle("gosar2022-unloaded"))
     fine, coarse = stretch_after_a_nudge(column, 1e-3), stretch_after_a_nudge(column, STEP)
@@ -135,6 +140,7 @@ def test_a_nudged_tie_rod_settles_at_10_ms_as_at_1_ms():
     assert np.abs(old).max() > 1.0
 
 
+@needs_compiled(TRUTH)
 @pytest.mark.parametrize("kind", ["figure-8", "docking"])
 def test_the_floor_replays_a_log_at_the_step_that_made_it(kind):
     import pandas as pd

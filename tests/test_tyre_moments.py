@@ -23,6 +23,7 @@ from artic.plant.tyre import (
     steady_state,
     transient_forces,
 )
+from tests.helpers import needs_compiled
 
 
 def with_moments(v, on=True):
@@ -172,6 +173,7 @@ MALFORMED = {
 }
 
 
+@needs_compiled("the compiled tyre callback's checks of its block")
 @pytest.mark.parametrize("case", list(MALFORMED))
 def test_a_malformed_tyre_block_raises_and_never_crashes(case):
     # In a subprocess: a segmentation fault would end it with a signal.
@@ -179,7 +181,7 @@ def test_a_malformed_tyre_block_raises_and_never_crashes(case):
         import mujoco, numpy as np
         from artic.mjcf import load_vehicle
         from artic.plant import Plant, ctyre
-        with Plant(load_vehicle("gosar2022-unloaded"), backend="c") as p:
+        with Plant(load_vehicle("gosar2022-unloaded"), backend="compiled") as p:
             m, d = p.model, p.data
             blk = m.numeric_data
             HDR, NS, NP = len(ctyre.HEADER_FIELDS), int(blk[5]), len(ctyre.param_names())
@@ -200,6 +202,7 @@ def test_a_malformed_tyre_block_raises_and_never_crashes(case):
     assert "REFUSED" in out.stdout and "STEPPED 1" in out.stdout, out.stdout
 
 
+@needs_compiled("the compiled tyre callback's checks of its block")
 def test_a_block_refuses_a_zero_relaxation_length():
     from importlib import resources
 
@@ -310,7 +313,7 @@ FOREIGN = textwrap.dedent('''
              "sealed, site beyond the model": dict(key=ctyre.KEY, hub_site=5),
              "sealed, dof beyond the model": dict(key=ctyre.KEY, spin_dof=7),
              "sealed, too little userdata": dict(key=ctyre.KEY, nuserdata=2)}
-    with Plant(load_vehicle("gosar2022-unloaded"), backend="c"):  # the C callback is global
+    with Plant(load_vehicle("gosar2022-unloaded"), backend="compiled"):  # the C callback is global
         for name, kw in CASES.items():
             m = mujoco.MjModel.from_xml_string(foreign(**kw))  # compiled while a plant is open
             d = mujoco.MjData(m)
@@ -325,6 +328,7 @@ FOREIGN = textwrap.dedent('''
 ''')
 
 
+@needs_compiled("the compiled tyre callback's checks of its block")
 def test_a_foreign_model_with_a_look_alike_block_is_never_touched():
     # A model artic did not attach carries an 'artic.tyre' numeric laid out like
     # artic's, and is compiled and stepped while a plant has the C callback

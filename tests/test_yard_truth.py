@@ -24,6 +24,9 @@ from artic.mjcf.interface import InitialState
 from artic.validation.synthetic import truth as truth_mod
 from artic.validation.synthetic import yardbuild, yardtyres
 from artic.validation.synthetic.yardtruth import YardSetup, YardTruth
+from tests.helpers import needs_compiled
+
+YARD = "the yard truth's compiled loop (artic_yard_advance)"
 
 TRUTH_MODULES = ("artic.validation.synthetic.yardtruth", "artic.validation.synthetic.yardbuild",
                  "artic.validation.synthetic.yardtyres", "artic.validation.synthetic.truth")
@@ -84,6 +87,7 @@ def test_no_truth_module_imports_the_plant_or_its_builder():
     assert bad == [], f"the truth reaches the plant's code through {bad}"
 
 
+@needs_compiled(YARD)
 def test_a_running_truth_never_loads_the_plant():
     # Behaviour as well as source: a process that builds, resets and steps the
     # truth has not imported the plant or its builder.
@@ -163,6 +167,7 @@ def _run(truth: YardTruth, seconds: float, delta: float, u: float) -> np.ndarray
     return truth.observe()
 
 
+@needs_compiled(YARD)
 def test_a_steady_circle_at_crawl_speed_is_the_kinematic_one(unloaded):
     import dataclasses
 
@@ -196,6 +201,7 @@ def test_a_steady_circle_at_crawl_speed_is_the_kinematic_one(unloaded):
     assert o[12] == pytest.approx(gamma, abs=tol), (math.degrees(o[12]), math.degrees(gamma))
 
 
+@needs_compiled(YARD)
 def test_standstill_holds_on_a_sloped_yard(unloaded):
     import dataclasses
 
@@ -213,6 +219,7 @@ def test_standstill_holds_on_a_sloped_yard(unloaded):
     assert abs(end[3]) < 1e-3 and abs(end[9]) < 1e-3
 
 
+@needs_compiled(YARD)
 def test_reverse_is_sound(unloaded):
     # Reversing straight: the tyres' slips stay finite through standstill (no
     # division by the speed), the speed follows and the combination goes back.
@@ -230,6 +237,7 @@ def test_reverse_is_sound(unloaded):
     assert np.all(np.isfinite(t.z))
 
 
+@needs_compiled(YARD)
 def test_the_full_state_continues_a_run_bit_for_bit(unloaded):
     setup = YardSetup(play=math.radians(2.0))
     with YardTruth(unloaded, setup) as a, YardTruth(unloaded, setup) as b:
@@ -246,6 +254,7 @@ def test_the_full_state_continues_a_run_bit_for_bit(unloaded):
         a.set_full_state(saved[:-1])
 
 
+@needs_compiled(YARD)
 def test_its_mechanisms_are_in_the_model(unloaded):
     with YardTruth(unloaded) as t:
         m = t.model
@@ -260,6 +269,7 @@ def test_its_mechanisms_are_in_the_model(unloaded):
             yardbuild.FRAME_TORSION)
 
 
+@needs_compiled(YARD)
 def test_the_fifth_wheel_rolls_free_within_its_lash(unloaded):
     # The plate's bushes carry nothing until the lash is taken up, then their
     # stiffness: the roll torque the loop applies at the fifth wheel's roll joint.
@@ -281,6 +291,7 @@ def test_the_fifth_wheel_rolls_free_within_its_lash(unloaded):
     assert torques[1] == pytest.approx(-k * 1e-3, rel=0.1)
 
 
+@needs_compiled(YARD)
 def test_the_follower_asks_no_more_than_the_drive_gives(unloaded):
     # The floor's follower under a demand far past the drive (5 m/s^2 in reverse):
     # its force is held at what the driven tyres carry without spinning up and its
@@ -303,6 +314,7 @@ def test_the_follower_asks_no_more_than_the_drive_gives(unloaded):
     assert np.max(np.abs(spin - v)) < 0.1 * abs(v)
 
 
+@needs_compiled(YARD)
 def test_its_step_converges(unloaded):
     # The yard truth at its 2.5 ms against itself at 1 ms: a ramp of the steering
     # to 0.3 rad while pulling off to 1.4 m/s, 10 s. Its modes lie well inside

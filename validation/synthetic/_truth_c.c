@@ -65,6 +65,8 @@
 
 #include <mujoco/mujoco.h>
 
+#include "extensions.h" /* mjcf/: the sealed block's key, checksum and memory, as the plant's */
+
 #define TRUTH_ABI 1
 #define BLOCK_NAME "artic.truth"
 /* abi, key_hi, key_lo, n_ends, n_sets, n_tyre_params, n_columns, checksum, then the
@@ -112,8 +114,6 @@ static const char end_names[] = END_FIELDS(STR);
 static const double TINY = 1e-12;
 static const double SQRT1_2 = 0.70710678118654752440;
 static const double V_SMOOTH = 0.05; /* [m/s] width of the smoothed sign of travel and rolling */
-
-static uint32_t key_hi = 0, key_lo = 0;
 
 static double pos_(double x) { return x > TINY ? x : TINY; }
 
@@ -380,33 +380,8 @@ static void wheel_end(const mjModel* m, mjData* d, const double* p, const double
 
 /* ------------------------------------------------------------------ block */
 
-static double checksum(const double* body, int n) {
-  double s = 0.0;
-  int w = 1;
-  for (int i = 0; i < n; i++) {
-    s += body[i] * (double)w;
-    if (++w > 97) w = 1;
-  }
-  return s;
-}
-
-static int id_ok(double x, int n) { return x >= 0.0 && x < n && x == floor(x); }
-
-#define SEEN_MAX 4096
-static __thread struct {
-  int size, sizes[7];
-  double blk[SEEN_MAX];
-} seen = {0};
-
-static void model_sizes(const mjModel* m, int out[7]) {
-  out[0] = m->nsite;
-  out[1] = m->nbody;
-  out[2] = m->nv;
-  out[3] = m->na;
-  out[4] = m->nu;
-  out[5] = m->nuserdata;
-  out[6] = m->nq;
-}
+/* The last block this thread found valid (extensions.h). */
+static __thread seen_block seen = {0};
 
 static int ids_ok(const mjModel* m, const double* blk) {
   int ne = (int)blk[3], ns = (int)blk[4], nc = (int)blk[6];
@@ -453,18 +428,11 @@ static int ids_ok(const mjModel* m, const double* blk) {
 
 /* The block of model m, or NULL when m carries none this process may follow. */
 static const double* valid_block(const mjModel* m) {
-  if (m->nnumeric < 1 || strcmp(m->names + m->name_numericadr[0], BLOCK_NAME) != 0) return NULL;
-  int size = m->numeric_size[0];
-  if (size < HEADER) return NULL;
-  const mjtNum* blk = m->numeric_data + m->numeric_adr[0];
-  int sizes[7];
-  model_sizes(m, sizes);
-  if (size == seen.size && memcmp(sizes, seen.sizes, sizeof sizes) == 0
-      && memcmp(blk, seen.blk, (size_t)size * sizeof(double)) == 0)
-    return blk;
-  if (blk[0] != TRUTH_ABI || (key_hi == 0 && key_lo == 0) || blk[1] != (double)key_hi
-      || blk[2] != (double)key_lo || blk[5] != N_TYRE)
-    return NULL;
+  int size = 0, unused = 0;
+  const mjtNum* blk = block_of(m, BLOCK_NAME, &size);
+  if (blk == NULL || size < HEADER) return NULL;
+  if (seen_before(&seen, m, blk, size, &unused)) return blk;
+  if (!block_sealed(blk, TRUTH_ABI) || blk[5] != N_TYRE) return NULL;
   double ne = blk[3], ns = blk[4], nc = blk[6];
   if (!(ne >= 0.0 && ne <= 256.0 && ne == floor(ne) && ns >= 1.0 && ns <= 16.0
         && ns == floor(ns) && (nc == 0.0 || nc == 1.0)))
@@ -473,23 +441,18 @@ static const double* valid_block(const mjModel* m) {
         && id_ok(blk[H_FOLLOWER], m->nu) && id_ok(blk[H_SITE], m->nsite)))
     return NULL;
   if (size != HEADER + (int)ns * N_TYRE + (int)nc * N_COLUMN + (int)ne * N_END) return NULL;
-  if (checksum(blk + 8, size - 8) != blk[7]) return NULL;
+  if (block_checksum(blk + 8, size - 8) != blk[7]) return NULL;
   if (m->nuserdata < 3 * (int)ne + 1 + N_DIAG) return NULL;
   if (!ids_ok(m, blk)) return NULL;
-  if (size <= SEEN_MAX) {
-    seen.size = 0;
-    memcpy(seen.blk, blk, (size_t)size * sizeof(double));
-    memcpy(seen.sizes, sizes, sizeof sizes);
-    seen.size = size;
-  }
+  remember(&seen, m, blk, size, 0);
   return blk;
 }
 
 /* ------------------------------------------------------------------ exported */
 
-int artic_truth_abi(void) { return TRUTH_ABI; }
-
-int artic_truth_mj_version(void) { return mjVERSION_HEADER; }
+/* artic_truth_abi, artic_truth_mj_version, artic_truth_set_key, artic_truth_checksum
+ * (extensions.h) */
+ARTIC_EXPORTS(artic_truth, TRUTH_ABI)
 
 const char* artic_truth_tyre_names(void) { return tyre_names; }
 
@@ -500,15 +463,6 @@ const char* artic_truth_end_names(void) { return end_names; }
 int artic_truth_header(void) { return HEADER; }
 
 int artic_truth_diagnostics(void) { return N_DIAG; }
-
-void artic_truth_set_key(uint32_t hi, uint32_t lo) {
-  if (key_hi == 0 && key_lo == 0) {
-    key_hi = hi;
-    key_lo = lo;
-  }
-}
-
-double artic_truth_checksum(const double* body, int n) { return checksum(body, n); }
 
 int artic_truth_block_ok(const mjModel* m) { return valid_block(m) != NULL; }
 

@@ -9,17 +9,19 @@ between. The block is sealed with the same process key as the plant's.
 
 The order of the coefficients and fields is the C code's
 (``artic_truth_tyre_names()`` and its siblings); Python reads it from there.
+The seal (the key, the checksum) and the loader are the plant's as well
+(``mjcf/extensions.h``, :func:`artic.mjcf.extensions.load`).
 """
 
 from __future__ import annotations
 
 import ctypes
 import functools
-import importlib.util
 
 import mujoco
 import numpy as np
 
+from artic.mjcf import extensions
 from artic.plant import ctyre
 
 BLOCK = "artic.truth"
@@ -35,29 +37,16 @@ class TruthUnavailable(RuntimeError):
 
 
 def _load() -> tuple[ctypes.CDLL | None, str]:
-    if ctyre.library() is None:  # it also makes MuJoCo's symbols visible to the loader
+    if ctyre.library() is None:  # the plant's callback hands the truth's models to this one
         return None, ctyre.unavailable_reason()
-    spec = importlib.util.find_spec("artic.validation.synthetic._truth_c")
-    if spec is None or spec.origin is None:
-        return None, ("the synthetic truth's compiled tyres were not built (no C compiler at "
-                      "install time?); reinstall artic with a C compiler, or generate with "
-                      "--truth structural")
-    try:
-        lib = ctypes.CDLL(spec.origin)
-    except OSError as exc:
-        return None, f"{spec.origin} does not load: {exc}"
-    if lib.artic_truth_abi() != ABI:
-        return None, f"{spec.origin} has ABI {lib.artic_truth_abi()}; reinstall artic"
-    if lib.artic_truth_mj_version() != mujoco.mj_version():
-        return None, (f"{spec.origin} was built against MuJoCo {lib.artic_truth_mj_version()}, "
-                      f"but {mujoco.mj_version()} is installed; reinstall artic")
+    lib, why = extensions.load("artic.validation.synthetic._truth_c", "artic_truth", ABI,
+                               "the synthetic truth's compiled tyres",
+                               "reinstall artic with a C compiler, or generate with "
+                               "--truth structural")
+    if lib is None:
+        return None, why
     for name in ("artic_truth_tyre_names", "artic_truth_column_names", "artic_truth_end_names"):
         getattr(lib, name).restype = ctypes.c_char_p
-    lib.artic_truth_set_key.argtypes = [ctypes.c_uint32, ctypes.c_uint32]
-    lib.artic_truth_set_key.restype = None
-    lib.artic_truth_set_key(*ctyre.KEY)
-    lib.artic_truth_checksum.restype = ctypes.c_double
-    lib.artic_truth_checksum.argtypes = [_DOUBLE_P, ctypes.c_int]
     lib.artic_truth_block_ok.restype = ctypes.c_int
     lib.artic_truth_block_ok.argtypes = [ctypes.c_void_p]
     lib.artic_truth_steady.restype = None
@@ -152,7 +141,7 @@ def seal(follower: tuple[bool, float, int, int], sets: list[np.ndarray],
                            *([] if column is None else [column]), ends.ravel()])
     body = np.ascontiguousarray(body, dtype=float)
     total = float(library().artic_truth_checksum(body.ctypes.data_as(_DOUBLE_P), body.size))
-    head = [ABI, *ctyre.KEY, len(ends), len(sets), len(tyre_names()),
+    head = [ABI, *extensions.KEY, len(ends), len(sets), len(tyre_names()),
             0 if column is None else 1, total]
     return np.concatenate([np.array(head, dtype=float), body])
 

@@ -125,7 +125,7 @@ class TruthPlant(Plant):
         self._parked = False
         self._friction_decel: float | None = None  # the brakes' friction as last written
         super().__init__(vehicle, timestep=TIMESTEP if timestep is None else timestep,
-                         backend="c", speed=speed)
+                         backend="compiled", speed=speed)
 
     # ------------------------------------------------------------ brakes
     # The truth's brakes are dry friction on the wheels' spin joints, which

@@ -39,15 +39,13 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import functools
-import glob
-import importlib.util
 import math
-import os
 from collections.abc import Mapping
 
 import mujoco
 import numpy as np
 
+from artic.mjcf import extensions
 from artic.mjcf.interface import InitialState, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.synthetic import yardbuild, yardtyres
@@ -101,31 +99,25 @@ SETTLE_TIME = 1.5
 """How long a new truth settles on its tyres before its first reset [s]."""
 
 
+TRUTH_ABI = 1
+"""The ABI of ``_truth_c.c`` (its ``TRUTH_ABI``; :data:`artic.validation.synthetic.truthc.ABI`,
+which imports the plant, as this module must not)."""
+
+
 class YardUnavailable(RuntimeError):
     """The compiled truth cannot be used; the message says why."""
 
 
 @functools.cache
 def _library() -> tuple[ctypes.CDLL | None, str]:
-    spec = importlib.util.find_spec("artic.validation.synthetic._truth_c")
-    if spec is None or spec.origin is None:
-        return None, ("the yard truth's compiled loop was not built (no C compiler at install "
-                      "time?); reinstall artic with a C compiler, or generate with --truth "
-                      "structural")
-    here = os.path.dirname(mujoco.__file__)
-    found = glob.glob(os.path.join(here, "libmujoco.so*")) or glob.glob(
-        os.path.join(here, "libmujoco*.dylib"))
-    try:
-        if found:  # the loop calls mj_step1 and mj_step2: MuJoCo's symbols, made visible
-            ctypes.CDLL(found[0], mode=ctypes.RTLD_GLOBAL)
-        lib = ctypes.CDLL(spec.origin)
-    except OSError as exc:
-        return None, f"{spec.origin} does not load: {exc}"
+    lib, why = extensions.load("artic.validation.synthetic._truth_c", "artic_truth", TRUTH_ABI,
+                               "the yard truth's compiled loop",
+                               "reinstall artic with a C compiler, or generate with --truth "
+                               "structural")
+    if lib is None:
+        return None, why
     if not hasattr(lib, "artic_yard_advance"):
-        return None, f"{spec.origin} has no yard truth; reinstall artic"
-    if lib.artic_truth_mj_version() != mujoco.mj_version():
-        return None, (f"{spec.origin} was built against MuJoCo {lib.artic_truth_mj_version()}, "
-                      f"but {mujoco.mj_version()} is installed; reinstall artic")
+        return None, "the compiled truth has no yard truth; reinstall artic"
     dp = ctypes.POINTER(ctypes.c_double)
     lib.artic_yard_advance.restype = ctypes.c_int
     lib.artic_yard_advance.argtypes = [ctypes.c_void_p, ctypes.c_void_p, dp, dp, dp, dp,
