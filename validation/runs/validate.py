@@ -45,7 +45,7 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.models import build, close, spec
+from artic.validation.models import build, close, floor_replay, spec
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -338,17 +338,34 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str) -> dict:
     holds (:func:`artic.validation.criteria.prediction.truth_states`); a truth
     that has states (``set_full_state``) but whose log holds none leaves
     every start point out rather than start with its hidden states zeroed.
+    Started, it replays the truth's own recorded actuation
+    (:func:`artic.validation.models.floor_replay`); a log without one has it
+    driven by the harness's speed follower, and its note says so.
     """
+    replay = None
     try:
         states = truth_states(log.meta) if spec(name).reference else None
         if states is None and spec(name).reference and hasattr(model, "set_full_state"):
             states = TruthStates(np.zeros(0), np.zeros((0, 0)))
-        return prediction_errors(model, log, vehicle, states=states)
+        if states is not None and states.t.size:
+            replay = floor_replay(vehicle, log)  # the truth's own pedals and steering
+        out = prediction_errors(replay or model, log, vehicle, states=states)
+        if states is not None and states.t.size and replay is None and out["starts"]:
+            out["note"] = "; ".join(filter(None, [out["note"], FOLLOWED]))
+        return out
     except (MemoryError, RecursionError):
         raise
     except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point
         return {c: float("nan") for c in extra.COLUMNS if extra.COMPUTE[c] == "model"} | {
             "note": f"failed: {_one_line(exc)}"}
+    finally:
+        if replay is not None:
+            replay.close()
+
+
+FOLLOWED = ("the floor's speed follows the log through the harness's follower: the log "
+            "holds no recorded actuation of the truth (generate it again)")
+"""The floor's prediction note on a log made before the truth's actuation was recorded."""
 
 
 def _one_line(exc: BaseException) -> str:

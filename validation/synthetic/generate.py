@@ -55,7 +55,12 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import PlantWarning
 from artic.validation.cli.progress import BUDGET, Counter
-from artic.validation.criteria.prediction import STATE_KEY, record_states
+from artic.validation.criteria.prediction import (
+    ACTUATION_KEY,
+    STATE_KEY,
+    record_actuation,
+    record_states,
+)
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
@@ -211,6 +216,10 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
             "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
     if plant.states:
         meta[STATE_KEY] = record_states(measured, plant.states)
+        # What the truth was given at every step, for the floor to replay
+        # (artic.validation.criteria.prediction.Replay); both drivers step 10 ms.
+        meta[ACTUATION_KEY] = record_actuation(plant.held, "pedals" if structural else "drive",
+                                               0.01, float(t[0]))
     run = Run(measured, meta)
     return (run, noise_free_twin(true, meta)) if twin else run
 
