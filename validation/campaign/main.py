@@ -84,6 +84,7 @@ from artic.validation.criteria.multiplicity import CORRECTION
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
+    SINGLE_SIGNALS,
     LogError,
     Run,
     atomic_write,
@@ -250,8 +251,10 @@ def _import(exports: list[Path], into: Path) -> tuple[list[Run], bool]:
         run, report = import_source(folder)
         for line in report:
             stderr_progress(f"repaired: {line}")
-        write_run(run, target)
-        logs.append(run)
+        # Stored in single precision (SINGLE_SIGNALS says why that suffices) and
+        # used as stored, so that a resumed campaign computes what a fresh one did.
+        write_run(run, target, single=SINGLE_SIGNALS)
+        logs.append(read_run(target))
         imported += 1
     if imported < len(exports):
         stderr_progress(f"{len(exports) - imported} of {len(exports)} imported logs reused from "
@@ -760,7 +763,7 @@ def _run_stages(out_dir, models, seed, jobs, only, gain, sweep_models, recording
 
 
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
-           jobs: int, pool, scale: dict | None = None) -> pd.DataFrame:
+           jobs: int, pool, scale: dict | None = None, samples: bool = True) -> pd.DataFrame:
     """The truth against the logs: the ``floor`` rows of the tables against logs.
 
     Each log's floor is the truth that made it (:func:`artic.validation.models.build`
@@ -775,7 +778,8 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
 
     return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
-                         executor=pool, label="references, the truth", scale=scale)
+                         executor=pool, label="references, the truth", scale=scale,
+                         samples=samples)
 
 
 def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
@@ -785,7 +789,8 @@ def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
 
     The same tuned vehicles, gain and ``eps_n_fixed`` scale as on the logs,
     so that a criterion's difference between a log and its twin is the
-    measurement's alone. Runs go to ``OUT/twins/runs``; no recordings.
+    measurement's alone. Runs go to ``OUT/twins/runs``, their metadata only
+    (the criteria; ``validate_runs(samples=False)``); no recordings.
     """
     twin_out = out_dir / TWINS
     validated = [log for log in twin_logs if log.name not in tuning_logs]
@@ -796,9 +801,10 @@ def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
             parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                        out_dir=twin_out, progress=stderr_progress,
                                        reuse_key=f"{key}.{load}.twins", jobs=jobs,
-                                       executor=pool, label=f"twins, {load}", scale=scale))
+                                       executor=pool, label=f"twins, {load}", scale=scale,
+                                       samples=False))
     parts.append(_floor(twin_out, validated, seed, truth, gain, f"{key}.twins", jobs, pool,
-                        scale))
+                        scale, samples=False))
     out = pd.concat(parts, ignore_index=True)
     out.attrs["reused"] = sum(p.attrs.get("reused", 0) for p in parts)
     return out
@@ -814,6 +820,8 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
     metadata. It ran forward open loop and in reverse under the harness; the
     reduced models run through the same harness against it. ``eps_n_fixed``
     uses ``scale``, the measured logs' (the same unit as against the logs).
+    Their run files hold the metadata only (``validate_runs(samples=False)``):
+    the tables read the criteria, and the plant's reference run is in ``runs``.
     """
     from artic.validation.logs.schema import COLUMNS
 
@@ -840,7 +848,7 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
                                        out_dir=out_dir / "vs_plant", progress=stderr_progress,
                                        reuse_key=f"{key}.{load}.vs_plant", jobs=jobs,
                                        label=f"references, {load}, against the plant",
-                                       scale=scale))
+                                       scale=scale, samples=False))
     if not parts:
         return None
     out = pd.concat(parts, ignore_index=True)

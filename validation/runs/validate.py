@@ -38,6 +38,7 @@ from artic.validation.criteria.prediction import TruthStates, prediction_errors,
 from artic.validation.harness.loop import DEFAULT_GAIN, run_closed_loop
 from artic.validation.logs.runfile import (
     META_KEY,
+    SINGLE_SIGNALS,
     LogError,
     Run,
     atomic_write,
@@ -62,7 +63,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                   progress: Callable[[str], None] | None = None,
                   reuse_key: str | None = None, jobs: int = 1,
                   executor: Executor | None = None, label: str = "validation",
-                  scale: Scale | None = None) -> pd.DataFrame:
+                  scale: Scale | None = None, samples: bool = True) -> pd.DataFrame:
     """Run every model on every log and compute the criteria.
 
     Parameters
@@ -78,6 +79,13 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         Reversing feedback gain K [rad/rad].
     out_dir : Path, optional
         If given, each model run is written to ``out_dir/runs/LOG.MODEL.parquet``.
+    samples : bool
+        With ``out_dir``: write the runs' samples (single precision, see
+        :data:`SINGLE`); ``False`` writes only their metadata (criteria, key,
+        status; ``meta["samples"]`` the rows the run had), which is all a
+        resumed campaign reads (the noise-free twins' runs: the tables need
+        their criteria only, and ``artic validate`` on a twin log makes a
+        twin run again).
     progress : callable, optional
         Receives progress lines (counts and the time left, see
         :class:`artic.validation.cli.progress.Counter`), one line for the runs reused,
@@ -161,9 +169,12 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             if key is not None:
                 meta["key"] = key
             meta["criteria"] = _criteria(log, run, _resolve(vehicle, log))
-            meta["rows"] = len(run.frame)
+            meta["rows"] = len(run.frame) if samples else 0
+            if not samples:
+                meta["samples"] = len(run.frame)
             if target is not None:
-                write_run(Run(_thin_extras(run.frame), meta), target)
+                kept = _thin_extras(run.frame) if samples else run.frame.iloc[:0]
+                write_run(Run(kept, meta), target, single=SINGLE)
         wall = float(meta["wall_s"])
         criteria = dict(meta["criteria"])
         duration = criteria.pop("duration_s")
@@ -384,12 +395,23 @@ def failed_run(log: Run, name: str, vehicle: Vehicle, gain: float, status: str) 
     return Run(frame, meta)
 
 
-EXTRAS_RATE = 10.0
+EXTRAS_RATE = 5.0
 """Samples per second at which run files keep the plant's extra columns [Hz].
 
 The harness records them at every sample; the recordings draw the yard and
-plot the tyres at 10 Hz, and the full rate would make a plant run file five
-times larger. The rows between hold NaN (stored as nulls)."""
+plot the tyres at 5 Hz (:data:`artic.validation.review.recording.YARD_RATE`),
+and the full rate would make a plant run file ten times larger. The rows
+between hold NaN (stored as nulls)."""
+
+
+SINGLE = (*SINGLE_SIGNALS, "delta", "delta_fb")
+"""A model run's columns its file stores in single precision (float32; why that
+suffices: :data:`artic.validation.logs.runfile.SINGLE_SIGNALS`): every signal
+but the time. Its criteria are computed from the run in double precision
+before it is written (``meta["criteria"]``, what the tables read); the file
+serves inspection, the recordings, the pooled criteria of ``artic validate``
+and the plant's runs as the reduced models' reference
+(``metrics_vs_plant.csv``)."""
 
 
 def _thin_extras(frame: pd.DataFrame) -> pd.DataFrame:

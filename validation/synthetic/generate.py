@@ -265,7 +265,9 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     The CAN file is written at the rate and resolution of the run's
     measurement chain (``meta["sensors"]``): 10 Hz in 0.1 deg steps by
     default, every sample unquantised for ideal sensors, whose logs must come
-    back as the truth was.
+    back as the truth was. The tables are gzip-compressed (``tractor.csv.gz``
+    and so on: a third of the plain CSV's size, the campaign writes two per
+    manoeuvre), ``meta.json`` is plain.
 
     The export is written into a uniquely named temporary folder and renamed
     into place. An existing export is first renamed aside under a unique
@@ -283,7 +285,7 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     can = {"can_rate": float(chain["can_rate"]),
            "can_step_deg": round(math.degrees(chain["can_step"]), 9)} if chain else {}
     try:
-        export_oxts(run, tmp, **can)
+        export_oxts(run, tmp, **can, compress=True)
         meta = {**run.meta, "name": name}
         (tmp / META_FILE).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n")
         public_mode(tmp)
