@@ -84,7 +84,6 @@ from artic.validation.criteria.multiplicity import CORRECTION
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import (
-    SINGLE_SIGNALS,
     LogError,
     Run,
     atomic_write,
@@ -251,10 +250,8 @@ def _import(exports: list[Path], into: Path) -> tuple[list[Run], bool]:
         run, report = import_source(folder)
         for line in report:
             stderr_progress(f"repaired: {line}")
-        # Stored in single precision (SINGLE_SIGNALS says why that suffices) and
-        # used as stored, so that a resumed campaign computes what a fresh one did.
-        write_run(run, target, single=SINGLE_SIGNALS)
-        logs.append(read_run(target))
+        write_run(run, target)
+        logs.append(run)
         imported += 1
     if imported < len(exports):
         stderr_progress(f"{len(exports) - imported} of {len(exports)} imported logs reused from "
