@@ -310,8 +310,10 @@ def test_two_trucks_pool_and_resume(tmp_path, capsys):
 # floor on the default logs (forward eps_n 3.3 of 3.5 %, reverse 22 of 25 %,
 # J_steer 6.8 of 7.5 %) these are near zero; the limits are the per-log maxima
 # with about 20 % to spare. The open-loop predictions start from the truth's own
-# state: per log their means at 10 m are at most 4.6 mm and 8.3e-4 rad, within
-# the 1 cm and 0.05 deg the floor must predict itself to.
+# state and replay its own recorded steering and pedals: the 1 cm and
+# 0.05 deg, which the floor meets at every start point of every log
+# (tests/test_floor_prediction.py; the follower's per-log means were 4.6 mm and
+# 8.3e-4 rad).
 IDEAL_FLOOR = {"forward": {"eps_a": 6.5e-4, "eps_v": 2.3e-3, "eps_p": 0.05, "eps_n": 0.25,
                            "eps_gamma": 1.3e-4, "eps_n_fixed": 0.36},
                "reverse": {"eps_a": 1.5e-3, "eps_v": 6e-3, "J_steer": 1.05, "eps_n": 8.1,

@@ -184,15 +184,18 @@ def test_pooled_criteria_are_the_integrals_over_both_segments(unloaded, tmp_path
         dc.append((run["delta"] - run["delta_fb"]).to_numpy())
     W = np.concatenate(w)
     assert row["s_max"] == pytest.approx(W.sum(), rel=1e-12)
-    assert row["eps_r1"] == pytest.approx(distance_rms(np.concatenate(err["r_1"]), W), rel=1e-9)
+    # The run files hold the model's signals in single precision (6e-8 relative,
+    # artic.validation.runs.validate.SINGLE); the pooled row is computed from the
+    # runs in double: recomputed from the files, a criterion agrees to 1e-6.
+    assert row["eps_r1"] == pytest.approx(distance_rms(np.concatenate(err["r_1"]), W), rel=1e-6)
     assert row["eps_vy2"] == pytest.approx(distance_rms(np.concatenate(err["v_y_2"]), W),
-                                           rel=1e-9)
+                                           rel=1e-6)
     r_mean = distance_mean_abs(np.concatenate(meas["r"]), W)
     vy_mean = distance_mean_abs(np.concatenate(meas["v_y"]), W)
     assert row["eps_n"] == pytest.approx(100 * (row["eps_a"] / r_mean + row["eps_v"] / vy_mean),
                                          rel=1e-9)
     J = 100 * distance_rms(np.concatenate(dfb), W) / distance_mean_abs(np.concatenate(dc), W)
-    assert row["J_steer"] == pytest.approx(J, rel=1e-9) and J > 1.0  # reversing: feedback
+    assert row["J_steer"] == pytest.approx(J, rel=1e-6) and J > 1.0  # reversing: feedback
     assert list(whole_logs(pooled)["log"]) == ["dock"]
 
 

@@ -148,7 +148,7 @@ def test_concurrent_write_export_never_deletes_a_whole_export(tmp_path):
     assert errors == []
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m"]
     assert sorted(p.name for p in (tmp_path / "m").iterdir()) == [
-        "can.csv", "meta.json", "tractor.csv", "trailer.csv"]
+        "can.csv.gz", "meta.json", "tractor.csv.gz", "trailer.csv.gz"]
 
 
 class HostileExecutor(Executor):

@@ -190,6 +190,27 @@ def _floor(vehicle: Vehicle, log: Run | None = None) -> Model:
     return _mbd(vehicle)
 
 
+def floor_replay(vehicle: Vehicle, log: Run) -> Model | None:
+    """The floor replaying the truth's own actuation, for the open-loop predictions.
+
+    The truth of ``log`` in the speed mode that made it (its driver's pedals),
+    wrapped to take at every step what it was given then
+    (:class:`artic.validation.criteria.prediction.Replay`): the reference of
+    what a perfect model could predict. ``None`` when the log holds no
+    recorded actuation (a log made before it was recorded): the floor then
+    predicts through the harness's speed follower.
+    """
+    from artic.validation.criteria.prediction import Replay, recorded_actuation
+
+    actuation = recorded_actuation(log.meta)
+    if actuation is None:
+        return None
+    from artic.validation.synthetic.truthplant import truth_model
+
+    return Replay(truth_model(vehicle, log.meta.get("truth") or {}, speed=actuation.speed),
+                  actuation)
+
+
 @dataclass(frozen=True)
 class ModelSpec:
     """One model of the registry.

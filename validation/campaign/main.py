@@ -988,7 +988,8 @@ def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
 
 
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
-           jobs: int, pool: Executor | None, scale: dict | None = None) -> pd.DataFrame:
+           jobs: int, pool: Executor | None, scale: dict | None = None,
+           samples: bool = True) -> pd.DataFrame:
     """The truth against the logs: the ``floor`` rows of the tables against logs.
 
     Each log's floor is the truth that made it (:func:`artic.validation.models.build`
@@ -1003,7 +1004,8 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
 
     return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
-                         executor=pool, label="references, the truth", scale=scale)
+                         executor=pool, label="references, the truth", scale=scale,
+                         samples=samples)
 
 
 def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
@@ -1014,7 +1016,8 @@ def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
 
     The same tuned vehicles, gain and ``eps_n_fixed`` scale as on the logs,
     so that a criterion's difference between a log and its twin is the
-    measurement's alone. Runs go to ``OUT/twins/runs``; no recordings.
+    measurement's alone. Runs go to ``OUT/twins/runs``, their metadata only
+    (the criteria; ``validate_runs(samples=False)``); no recordings.
     """
     twin_out = out_dir / TWINS
     validated = [log for log in twin_logs if log.name not in tuning_logs]
@@ -1025,9 +1028,10 @@ def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
             parts.append(validate_runs(group, vehicles[load], models, gain=gain,
                                        out_dir=twin_out, progress=stderr_progress,
                                        reuse_key=f"{key}.{load}.twins", jobs=jobs,
-                                       executor=pool, label=f"twins, {load}", scale=scale))
+                                       executor=pool, label=f"twins, {load}", scale=scale,
+                                       samples=False))
     parts.append(_floor(twin_out, validated, seed, truth, gain, f"{key}.twins", jobs, pool,
-                        scale))
+                        scale, samples=False))
     out = pd.concat(parts, ignore_index=True)
     out.attrs["reused"] = sum(p.attrs.get("reused", 0) for p in parts)
     return out
@@ -1043,6 +1047,8 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
     metadata. It ran forward open loop and in reverse under the harness; the
     reduced models run through the same harness against it. ``eps_n_fixed``
     uses ``scale``, the measured logs' (the same unit as against the logs).
+    Their run files hold the metadata only (``validate_runs(samples=False)``):
+    the tables read the criteria, and the plant's reference run is in ``runs``.
     """
     from artic.validation.logs.schema import COLUMNS
 
@@ -1069,7 +1075,7 @@ def _versus_plant(out_dir: Path, logs: list[Run], vehicles: dict[str, Vehicle],
                                        out_dir=out_dir / "vs_plant", progress=stderr_progress,
                                        reuse_key=f"{key}.{load}.vs_plant", jobs=jobs,
                                        label=f"references, {load}, against the plant",
-                                       scale=scale))
+                                       scale=scale, samples=False))
     if not parts:
         return None
     out = pd.concat(parts, ignore_index=True)

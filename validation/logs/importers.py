@@ -4,8 +4,9 @@ Accepted sources:
 
 - a canonical log, Parquet or CSV, in the signal schema (checked);
 - an OXTS-style export: a folder holding ``tractor.csv``, ``trailer.csv``
-  and ``can.csv`` (see :mod:`artic.validation.logs.oxts`), and optionally ``meta.json``
-  with the run's metadata (manoeuvre, load, ...);
+  and ``can.csv``, each possibly gzip-compressed (``tractor.csv.gz``; see
+  :mod:`artic.validation.logs.oxts`), and optionally ``meta.json`` with the
+  run's metadata (manoeuvre, load, ...);
 - a MATLAB ``.mat`` (v5) file with structs ``tractor``, ``trailer``, ``can``;
 - a CSV with its own column names, units and time stamps, or a ROS 1 bag, a
   ROS 2 bag (sqlite3 or MCAP storage) or an MCAP file, through a channel map
@@ -206,7 +207,10 @@ def import_source(path: Path, accept: Collection[str] = (), vehicle=None,
 def _import_export(path: Path, accept: tuple[str, ...], vehicle) -> tuple[Run, list[str]]:
     """An export in artic's own layouts: a canonical log, an OXTS folder, a ``.mat``."""
     if path.is_dir():
-        files = [path / f"{n}.csv" for n in ("tractor", "trailer", "can")]
+        # Each table as the logger wrote it, or gzip-compressed (the campaign's exports).
+        files = [path / f"{n}.csv" if not (path / f"{n}.csv.gz").is_file()
+                 or (path / f"{n}.csv").is_file() else path / f"{n}.csv.gz"
+                 for n in ("tractor", "trailer", "can")]
         missing = [f.name for f in files if not f.is_file()]
         if missing:
             raise LogError(f"{path}: an OXTS-style export folder needs tractor.csv, trailer.csv "

@@ -32,6 +32,7 @@ A ``.mat`` (v5) file holds the same channels as structs ``tractor``,
 
 from __future__ import annotations
 
+import gzip
 import math
 from pathlib import Path
 
@@ -229,8 +230,20 @@ def import_tables(tractor: pd.DataFrame, trailer: pd.DataFrame, can: pd.DataFram
     return Run(df, meta), lines
 
 
+GZIP_LEVEL = 6
+"""How :func:`export_oxts` compresses with ``compress=True``: gzip at this
+level, as loggers rotate their CSV files, with neither a time stamp nor a file
+name inside (the same run, the same bytes)."""
+
+
+def _write_csv(path: Path, table: pd.DataFrame, compress: bool) -> None:
+    text = table.to_csv(index=False).encode("utf-8")
+    path.write_bytes(gzip.compress(text, GZIP_LEVEL, mtime=0) if compress else text)
+
+
 def export_oxts(run: Run, out_dir: Path, origin_deg: tuple[float, float] = (51.45, 5.39),
-                can_rate: float = 10.0, can_step_deg: float = 0.1) -> dict[str, Path]:
+                can_rate: float = 10.0, can_step_deg: float = 0.1,
+                compress: bool = False) -> dict[str, Path]:
     """Write a canonical run as an OXTS-style export (the inverse of :func:`import_oxts`).
 
     Parameters
@@ -245,8 +258,12 @@ def export_oxts(run: Run, out_dir: Path, origin_deg: tuple[float, float] = (51.4
         CAN sample rate [Hz].
     can_step_deg : float
         CAN quantisation of the steering-wheel angle [deg]; 0 for none.
+    compress : bool
+        Write ``tractor.csv.gz`` and so on (:data:`GZIP_LEVEL`): the same tables in
+        about a third of the space; the importers read either.
     """
     df = run.frame
+    ext = ".csv.gz" if compress else ".csv"
     lat0, lon0 = math.radians(origin_deg[0]), math.radians(origin_deg[1])
     M, N = radii(lat0)
     paths = {}
@@ -259,15 +276,16 @@ def export_oxts(run: Run, out_dir: Path, origin_deg: tuple[float, float] = (51.4
             "AngleHeading": heading.round(5), "VelForward": df[f"v_x_{i}"].round(5),
             "VelLateral": (-df[f"v_y_{i}"]).round(5),
             "AngRateZ": (-np.degrees(df[f"r_{i}"])).round(5)})
-        paths[name] = atomic_write(Path(out_dir) / f"{name}.csv",
-                                   lambda p, tb=table: tb.to_csv(p, index=False))
+        paths[name] = atomic_write(Path(out_dir) / f"{name}{ext}",
+                                   lambda p, tb=table: _write_csv(p, tb, compress))
     step = max(1, int(round(RATE / can_rate)))
     can = df.iloc[::step]
     swa = np.degrees(can["delta_h"].to_numpy())
     if can_step_deg > 0:
         swa = np.round(swa / can_step_deg) * can_step_deg
     table = pd.DataFrame({"Time": can["t"].round(4), "SteeringWheelAngle": np.round(swa, 6)})
-    paths["can"] = atomic_write(Path(out_dir) / "can.csv", lambda p: table.to_csv(p, index=False))
+    paths["can"] = atomic_write(Path(out_dir) / f"can{ext}",
+                                lambda p: _write_csv(p, table, compress))
     return paths
 
 

@@ -65,12 +65,16 @@ from artic.validation.review.plantshape import (
     xyzw,
 )
 
-YARD_RATE = 10.0
-"""Samples per second of the 3-D yard [Hz]."""
+YARD_RATE = 5.0
+"""Samples per second of the 3-D yard [Hz]: at the yard's 1-10 km/h the
+combination moves at most 0.6 m between frames, and turns by well under a
+degree (yaw rates below 0.3 rad/s)."""
 
-PLOT_RATE = 10.0
-"""Samples per second of the plots [Hz]: the CAN steering comes at 10 Hz, and
-the yard's yaw rates and speeds change over seconds."""
+PLOT_RATE = 5.0
+"""Samples per second of the plots [Hz]: the yard's yaw rates and speeds
+change over seconds (the CAN steering's 10 Hz steps show every other one).
+With the yard's rate, half the recordings' size at 10 Hz less the fixed part:
+a manoeuvre's recording is about 1 MB."""
 
 FORCE_SCALE = 1.0 / 5000.0
 """Length of the tyre-force arrows per newton [m/N]: 1 m per 5 kN."""

@@ -38,6 +38,7 @@ from artic.validation.criteria.prediction import TruthStates, prediction_errors,
 from artic.validation.harness.loop import DEFAULT_GAIN, run_closed_loop
 from artic.validation.logs.runfile import (
     META_KEY,
+    SINGLE_SIGNALS,
     LogError,
     Run,
     atomic_write,
@@ -45,7 +46,7 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.models import build, close, spec
+from artic.validation.models import build, close, floor_replay, spec
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -62,7 +63,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                   progress: Callable[[str], None] | None = None,
                   reuse_key: str | None = None, jobs: int = 1,
                   executor: Executor | None = None, label: str = "validation",
-                  scale: Scale | None = None) -> pd.DataFrame:
+                  scale: Scale | None = None, samples: bool = True) -> pd.DataFrame:
     """Run every model on every log and compute the criteria.
 
     Parameters
@@ -78,6 +79,13 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         Reversing feedback gain K [rad/rad].
     out_dir : Path, optional
         If given, each model run is written to ``out_dir/runs/LOG.MODEL.parquet``.
+    samples : bool
+        With ``out_dir``: write the runs' samples (single precision, see
+        :data:`SINGLE`); ``False`` writes only their metadata (criteria, key,
+        status; ``meta["samples"]`` the rows the run had), which is all a
+        resumed campaign reads (the noise-free twins' runs: the tables need
+        their criteria only, and ``artic validate`` on a twin log makes a
+        twin run again).
     progress : callable, optional
         Receives progress lines (counts and the time left, see
         :class:`artic.validation.cli.progress.Counter`), one line for the runs reused,
@@ -161,9 +169,13 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             if key is not None:
                 meta["key"] = key
             meta["criteria"] = _criteria(log, run, _resolve(vehicle, log))
-            meta["rows"] = len(run.frame)
+            meta["rows"] = len(run.frame) if samples else 0
+            if not samples:
+                meta["samples"] = len(run.frame)
             if target is not None:
-                write_run(Run(_thin_extras(run.frame), meta), target)
+                kept = _thin_extras(run.frame) if samples else run.frame.iloc[:0]
+                write_run(Run(kept, meta), target,
+                          single=SINGLE if name != REFERENCE else REFERENCE_SINGLE)
         wall = float(meta["wall_s"])
         criteria = dict(meta["criteria"])
         duration = criteria.pop("duration_s")
@@ -338,17 +350,34 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str) -> dict:
     holds (:func:`artic.validation.criteria.prediction.truth_states`); a truth
     that has states (``set_full_state``) but whose log holds none leaves
     every start point out rather than start with its hidden states zeroed.
+    Started, it replays the truth's own recorded actuation
+    (:func:`artic.validation.models.floor_replay`); a log without one has it
+    driven by the harness's speed follower, and its note says so.
     """
+    replay = None
     try:
         states = truth_states(log.meta) if spec(name).reference else None
         if states is None and spec(name).reference and hasattr(model, "set_full_state"):
             states = TruthStates(np.zeros(0), np.zeros((0, 0)))
-        return prediction_errors(model, log, vehicle, states=states)
+        if states is not None and states.t.size:
+            replay = floor_replay(vehicle, log)  # the truth's own pedals and steering
+        out = prediction_errors(replay or model, log, vehicle, states=states)
+        if states is not None and states.t.size and replay is None and out["starts"]:
+            out["note"] = "; ".join(filter(None, [out["note"], FOLLOWED]))
+        return out
     except (MemoryError, RecursionError):
         raise
     except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point
         return {c: float("nan") for c in extra.COLUMNS if extra.COMPUTE[c] == "model"} | {
             "note": f"failed: {_one_line(exc)}"}
+    finally:
+        if replay is not None:
+            replay.close()
+
+
+FOLLOWED = ("the floor's speed follows the log through the harness's follower: the log "
+            "holds no recorded actuation of the truth (generate it again)")
+"""The floor's prediction note on a log made before the truth's actuation was recorded."""
 
 
 def _one_line(exc: BaseException) -> str:
@@ -367,12 +396,32 @@ def failed_run(log: Run, name: str, vehicle: Vehicle, gain: float, status: str) 
     return Run(frame, meta)
 
 
-EXTRAS_RATE = 10.0
+EXTRAS_RATE = 5.0
 """Samples per second at which run files keep the plant's extra columns [Hz].
 
 The harness records them at every sample; the recordings draw the yard and
-plot the tyres at 10 Hz, and the full rate would make a plant run file five
-times larger. The rows between hold NaN (stored as nulls)."""
+plot the tyres at 5 Hz (:data:`artic.validation.review.recording.YARD_RATE`),
+and the full rate would make a plant run file ten times larger. The rows
+between hold NaN (stored as nulls)."""
+
+
+SINGLE = (*SINGLE_SIGNALS, "delta", "delta_fb")
+"""A model run's columns its file stores in single precision (float32; why that
+suffices: :data:`artic.validation.logs.runfile.SINGLE_SIGNALS`): every signal
+but the time. Its criteria are computed from the run in double precision
+before it is written (``meta["criteria"]``, what the tables read); the file
+serves inspection, the recordings and the pooled criteria of ``artic
+validate``. The plant's runs, which the campaign reads back as a reference,
+stay in double (:data:`REFERENCE`)."""
+
+REFERENCE = "mbd"
+"""The model whose run files the campaign reads back as the reduced models'
+reference (``runs/LOG.mbd.parquet``, ``metrics_vs_plant.csv``): its signals stay
+in double, so that the comparisons against it are what they were computed
+from (in single precision a p value of two manoeuvres moved in its last digit)."""
+
+REFERENCE_SINGLE = ("delta", "delta_fb")
+"""What :data:`REFERENCE`'s run files store in single precision."""
 
 
 def _thin_extras(frame: pd.DataFrame) -> pd.DataFrame:

@@ -174,6 +174,10 @@ class TruthActuation:
         self.t = 0.0
         self.states: list[np.ndarray] | None = [] if record else None
         """The plant's full state at every :meth:`observe` since :meth:`reset` (``record``)."""
+        self.held: list[tuple[float, ...]] | None = [] if record else None
+        """What the plant was given at every step since :meth:`reset` (``record``):
+        its ``step`` arguments (road-wheel angle [rad], speed [m/s], its rate
+        [m/s^2]) and the pedals (throttle, brake) [-], zero without a driver."""
 
     def reset(self, initial: InitialState) -> None:
         """Reset the plant, the column and the driver."""
@@ -185,6 +189,7 @@ class TruthActuation:
         self.t = 0.0
         if self.states is not None:
             self.states = []
+            self.held = []
 
     def step_steering_wheel(self, dt: float, delta_h: float, u1: float, u1_dot: float) -> None:
         """Advance ``dt`` [s]: steering wheel at ``delta_h`` [rad], target speed ``u1``."""
@@ -194,6 +199,9 @@ class TruthActuation:
             self.plant.pedals = self.pedals.command(u1, math.copysign(1.0, u1) * u1_dot
                                                     if u1 else 0.0,
                                                     self.plant.sensor_speed())
+        if self.held is not None:
+            pedals = self.plant.pedals if self.pedals is not None else (0.0, 0.0)
+            self.held.append((delta, u1, u1_dot, *map(float, pedals)))
         self.plant.step(dt, delta, u1, u1_dot)
         self.t += dt
 

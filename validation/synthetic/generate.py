@@ -55,7 +55,12 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import PlantWarning
 from artic.validation.cli.progress import BUDGET, Counter
-from artic.validation.criteria.prediction import STATE_KEY, record_states
+from artic.validation.criteria.prediction import (
+    ACTUATION_KEY,
+    STATE_KEY,
+    record_actuation,
+    record_states,
+)
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
@@ -211,6 +216,10 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
             "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
     if plant.states:
         meta[STATE_KEY] = record_states(measured, plant.states)
+        # What the truth was given at every step, for the floor to replay
+        # (artic.validation.criteria.prediction.Replay); both drivers step 10 ms.
+        meta[ACTUATION_KEY] = record_actuation(plant.held, "pedals" if structural else "drive",
+                                               0.01, float(t[0]))
     run = Run(measured, meta)
     return (run, noise_free_twin(true, meta)) if twin else run
 
@@ -256,7 +265,9 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     The CAN file is written at the rate and resolution of the run's
     measurement chain (``meta["sensors"]``): 10 Hz in 0.1 deg steps by
     default, every sample unquantised for ideal sensors, whose logs must come
-    back as the truth was.
+    back as the truth was. The tables are gzip-compressed (``tractor.csv.gz``
+    and so on: a third of the plain CSV's size, the campaign writes two per
+    manoeuvre), ``meta.json`` is plain.
 
     The export is written into a uniquely named temporary folder and renamed
     into place. An existing export is first renamed aside under a unique
@@ -274,7 +285,7 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     can = {"can_rate": float(chain["can_rate"]),
            "can_step_deg": round(math.degrees(chain["can_step"]), 9)} if chain else {}
     try:
-        export_oxts(run, tmp, **can)
+        export_oxts(run, tmp, **can, compress=True)
         meta = {**run.meta, "name": name}
         (tmp / META_FILE).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n")
         public_mode(tmp)

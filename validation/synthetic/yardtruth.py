@@ -557,6 +557,10 @@ class YardSeat:
         self.t = 0.0
         self.states: list[np.ndarray] | None = [] if record else None
         """The truth's full state at every :meth:`observe` since :meth:`reset` (``record``)."""
+        self.held: list[tuple[float, ...]] | None = [] if record else None
+        """What the truth was given at every step since :meth:`reset` (``record``):
+        its ``step`` arguments (steering demand [rad], speed [m/s], its rate
+        [m/s^2]) and the pedals (throttle, brake) [-]."""
 
     def gear(self, delta_h: float) -> float:
         """The left wheel's angle the steering wheel at ``delta_h`` stands for [rad]."""
@@ -578,6 +582,7 @@ class YardSeat:
         self.t = 0.0
         if self.states is not None:
             self.states = []
+            self.held = []
 
     def step_steering_wheel(self, dt: float, delta_h: float, u1: float, u1_dot: float) -> None:
         """Advance ``dt`` [s] with the steering wheel at ``delta_h`` [rad], target speed ``u1``."""
@@ -586,6 +591,8 @@ class YardSeat:
         if self.pedals is not None:
             a = math.copysign(1.0, u1) * u1_dot if u1 else 0.0
             self.plant.pedals = self.pedals.command(u1, a, self.plant.sensor_speed())
+        if self.held is not None:
+            self.held.append((ref, u1, u1_dot, *map(float, self.plant.pedals)))
         self.plant.step(dt, ref, u1, u1_dot)
         self.t += dt
 
