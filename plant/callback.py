@@ -57,7 +57,8 @@ def _is_ours(cb) -> bool:
 def _refresh() -> None:
     if not _handlers:
         mujoco.set_mjcb_passive(_previous)
-    elif _previous is None and all(h is NATIVE for h in _handlers.values()):
+    elif (_previous is None and all(h is NATIVE for h in _handlers.values())
+          and ctyre.library() is not None):
         mujoco.set_mjcb_passive(ctyre.passive_function())
     else:
         mujoco.set_mjcb_passive(_dispatch)

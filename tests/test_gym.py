@@ -194,3 +194,17 @@ def test_the_examples_of_the_gym_names_run(name, tmp_path, monkeypatch):
     for test in tests:
         runner.run(test)
     assert runner.summarize(verbose=False).failed == 0
+
+
+def test_an_environment_dropped_without_close_stops_its_run():
+    import gc
+
+    from artic.plant import callback
+
+    before = callback.active()
+    env = DockEnv(scenario="straight", vehicle=VEHICLE)
+    env.reset(options={"start": 0})
+    assert callback.active() == before + 1  # the run's plant is open, waiting
+    del env
+    gc.collect()
+    assert callback.active() == before

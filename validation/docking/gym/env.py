@@ -33,6 +33,7 @@ of the environment's scenarios.
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 from typing import Any
 
@@ -206,6 +207,12 @@ class DockEnv(gym.Env):
     def close(self) -> None:
         """Stop an unfinished episode."""
         self._close_episode()
+
+    def __del__(self) -> None:
+        # An environment dropped without close(): its run's thread would wait for
+        # a command for ever, holding its plant open.
+        with contextlib.suppress(Exception):
+            self._close_episode()
 
     def _close_episode(self) -> None:
         if self._episode is not None:
