@@ -42,9 +42,14 @@ def named_modules(doc: str) -> set[str]:
 
 
 def exists(module: str, root: Path = ROOT) -> bool:
-    """Whether ``artic.a.b`` is a module or package of the tree at ``root``."""
+    """Whether ``artic.a.b`` is a module or package of the tree at ``root``.
+
+    The four rooms sit at the root (``artic.validation`` is ``validation/``); the
+    front door's own modules in ``artic/`` (``artic.gym`` is ``artic/gym.py``).
+    """
     rel = Path(*module.split(".")[1:])
-    return (root / rel).with_suffix(".py").is_file() or (root / rel / "__init__.py").is_file()
+    return any((base / rel).with_suffix(".py").is_file() or (base / rel / "__init__.py").is_file()
+               for base in (root, root / "artic"))
 
 
 def problems(root: Path = ROOT) -> list[str]:
