@@ -648,20 +648,7 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--remeasure", action="store_true",
                       help="compute the efficiency again from the validation runs' times on a "
                            "resumed run (it keeps the original run's figures otherwise)")
-    camp.add_argument("--executor", choices=("local", "dask"), default="local",
-                      help="where generation and validation run (default: %(default)s)")
-    camp.add_argument("--scheduler", default=None,
-                      help="address of a running Dask scheduler, tcp://HOST:PORT or "
-                           "tls://HOST:PORT (with --executor dask); a local cluster otherwise. "
-                           "The cluster must be trusted: its results are unpickled here")
-    camp.add_argument("--scheduler-timeout", type=options.TIMEOUT, default=10.0,
-                      help="seconds to wait for the scheduler (default: %(default)s)")
-    camp.add_argument("--tls-ca-file", type=Path, default=None,
-                      help="with a tls:// scheduler: the CA certificate (PEM)")
-    camp.add_argument("--tls-cert", type=Path, default=None,
-                      help="with a tls:// scheduler: this client's certificate (PEM)")
-    camp.add_argument("--tls-key", type=Path, default=None,
-                      help="with a tls:// scheduler: this client's private key (PEM)")
+    options.add_executor_options(camp, "generation and validation")
     camp.add_argument("--jobs", type=options.JOBS, default=JOBS,
                       help="processes and threads (default: the number of cores, %(default)s)")
     camp.set_defaults(func=_campaign)

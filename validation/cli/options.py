@@ -80,6 +80,35 @@ TIMEOUT = number(0.0, 3600.0, unit="s", lo_open=True)
 """A network timeout."""
 
 
+def add_executor_options(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--executor``, ``--scheduler`` and the Dask security options, as every command words them.
+
+    Parameters
+    ----------
+    parser : ArgumentParser
+        The command's parser.
+    what : str
+        What runs on the executor, for ``--executor``'s help (e.g. "a sweep's runs").
+    """
+    from pathlib import Path
+
+    parser.add_argument("--executor", choices=("local", "dask"), default="local",
+                        help=f"where {what} run: this machine's --jobs processes, or a Dask "
+                             "cluster (default: %(default)s)")
+    parser.add_argument("--scheduler", default=None,
+                        help="with --executor dask: a running scheduler, tcp://HOST:PORT or "
+                             "tls://HOST:PORT; a local cluster of --jobs workers otherwise. The "
+                             "cluster must be trusted: its results are unpickled here")
+    parser.add_argument("--scheduler-timeout", type=TIMEOUT, default=10.0,
+                        help="seconds to wait for the scheduler (default: %(default)s)")
+    parser.add_argument("--tls-ca-file", type=Path, default=None,
+                        help="with a tls:// scheduler: the CA certificate (PEM)")
+    parser.add_argument("--tls-cert", type=Path, default=None,
+                        help="with a tls:// scheduler: this client's certificate (PEM)")
+    parser.add_argument("--tls-key", type=Path, default=None,
+                        help="with a tls:// scheduler: this client's private key (PEM)")
+
+
 def available_memory() -> int:
     """Memory available to a new allocation now [B] (``MemAvailable`` on Linux)."""
     try:

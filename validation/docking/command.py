@@ -96,21 +96,7 @@ def add_parser(sub) -> None:
                    help="a robustness sweep: every run at each level of one axis (artic dock "
                         "--list names the axes); writes sweep.csv, sweep_pairs.csv, sweep.md "
                         "and sweep.png, and resumes an interrupted sweep in the same folder")
-    p.add_argument("--executor", choices=("local", "dask"), default="local",
-                   help="where a sweep's runs execute: this machine's --jobs processes, or a "
-                        "Dask cluster (default: %(default)s)")
-    p.add_argument("--scheduler", default=None,
-                   help="with --executor dask: a running scheduler, tcp://HOST:PORT or "
-                        "tls://HOST:PORT; a local cluster of --jobs workers otherwise. The "
-                        "cluster must be trusted: its results are unpickled here")
-    p.add_argument("--scheduler-timeout", type=options.TIMEOUT, default=10.0,
-                   help="seconds to wait for the scheduler (default: %(default)s)")
-    p.add_argument("--tls-ca-file", type=Path, default=None,
-                   help="with a tls:// scheduler: the CA certificate (PEM)")
-    p.add_argument("--tls-cert", type=Path, default=None,
-                   help="with a tls:// scheduler: this client's certificate (PEM)")
-    p.add_argument("--tls-key", type=Path, default=None,
-                   help="with a tls:// scheduler: this client's private key (PEM)")
+    options.add_executor_options(p, "a sweep's runs")
     p.set_defaults(func=run)
 
 
