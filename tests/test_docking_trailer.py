@@ -326,12 +326,12 @@ def test_the_adaptive_controller_is_built_in_and_docks_a_straight_start():
 
 @pytest.mark.slow
 def test_the_adaptive_controller_docks_a_short_bogie_in_the_alley():
-    """Seed 0 draws the bogie 0.90 m forward: the reference controller, on the file's
+    """Seed 6 draws the bogie 0.72 m forward: the reference controller, on the file's
     semitrailer, jackknifes after the cusp; planning again at the cusp for the
     identified one docks."""
-    row = drive(scenario("alley"), "gosar2022-loaded", "reference-adaptive", 0,
+    row = drive(scenario("alley"), "gosar2022-loaded", "reference-adaptive", 6,
                 trailer="unknown").row
-    assert row["trailer_length_error_m"] < -0.8
+    assert row["trailer_length_error_m"] < -0.7
     assert row["success"], row["failure"]
 
 
