@@ -66,7 +66,10 @@ class BuildExt(build_ext):
         root = os.path.dirname(os.path.abspath(__file__))
         where = root if (self.inplace or getattr(self, "editable_mode", False)) else self.build_lib
         env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
-        env["PYTHONPATH"] = os.path.abspath(where)
+        # Keep what the build environment put on the path (pip's isolated build
+        # reaches its numba and numpy through PYTHONPATH), after the package.
+        env["PYTHONPATH"] = os.pathsep.join(
+            p for p in (os.path.abspath(where), os.environ.get("PYTHONPATH", "")) if p)
         print(f"artic: filling numba's cache of KIN and the STM under {where}")
         done = subprocess.run([sys.executable, "-m", "artic.reduced.precompile"], env=env,
                               cwd=where, check=False)
