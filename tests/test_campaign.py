@@ -12,7 +12,7 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.validation.campaign.main import run_campaign
-from artic.validation.logs.runfile import read_run
+from artic.validation.logs.importers import import_source
 from artic.validation.review.recording import PLOT_RATE, read_rows
 from artic.validation.synthetic.testmatrix import MATRIX, TUNING
 
@@ -28,7 +28,7 @@ def check_recordings(out):
         if path.stem == "campaign":
             assert rows["/criteria/eps_n/kin"] == metrics.log.nunique()
             continue
-        log = read_run(out / "logs" / f"{path.stem}.parquet")
+        log, _ = import_source(out / "synthetic" / path.stem)
         # One plot row per PLOT_RATE sample of the log, every model's line in it.
         every = round(1.0 / (PLOT_RATE * 0.01))
         assert rows["/signals/articulation"] == math.ceil(len(log.frame) / every), path.name

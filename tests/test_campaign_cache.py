@@ -19,7 +19,7 @@ from artic.mjcf.errors import UserError
 from artic.validation.campaign.cache import StageCache, StageResult
 from artic.validation.campaign.config import CampaignConfig
 from artic.validation.campaign.main import run_campaign
-from artic.validation.logs.runfile import read_run
+from artic.validation.logs.importers import import_source
 
 SMALL = {"models": ("kin",), "only": ("00-", "28-"), "jobs": 2, "sweep_models": ("kin",),
          "recordings": False, "closing": False}
@@ -73,17 +73,19 @@ def test_a_corrupted_entry_or_output_is_computed_again(made, tmp_path, capsys):
     out = tmp_path / "out"
     shutil.copytree(made, out)
     (out / "cache" / "tuning.json").write_text('{"key": "cut sh')  # a crash mid-write
-    log = next((out / "logs").glob("28-*.parquet"))
-    expected = read_run(log).frame
-    log.write_bytes(log.read_bytes()[:100])  # an output cut short
+    export = next((out / "synthetic").glob("28-*"))
+    expected = import_source(export)[0].frame
+    table = export / "tractor.csv.gz"
+    table.write_bytes(table.read_bytes()[:100])  # an output cut short
     capsys.readouterr()
     run_campaign(CampaignConfig(out, **SMALL))
     reused = json.loads((out / "timings.json").read_text())["reused"]
     err = capsys.readouterr().err
     assert "tuning.json: unreadable (JSONDecodeError)" in err
-    assert f"logs/{log.name} changed since it was made" in err
+    assert f"synthetic/{export.name}/tractor.csv.gz changed since it was made" in err
+    assert f"{export}: does not import" in err  # and so it is generated again
     assert not reused["logs"] and not reused["tuning"]
-    assert read_run(log).frame.equals(expected)  # imported again from its export
+    assert import_source(export)[0].frame.equals(expected)  # the same seed, the same log
     # The stages after them read the same inputs under the same keys: reused.
     assert reused["validation"] and reused["references"]
     assert (out / "metrics.csv").read_bytes() == (made / "metrics.csv").read_bytes()

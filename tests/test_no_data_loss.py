@@ -24,7 +24,7 @@ from artic.mjcf import load_vehicle
 from artic.mjcf.writer import updated, write_vehicle
 from artic.validation.cli.commands import main
 from artic.validation.logs.oxts import export_oxts
-from artic.validation.logs.runfile import Run, atomic_write_text, read_run, write_run
+from artic.validation.logs.runfile import Run, atomic_write_text, write_run
 from artic.validation.runs.outputs import LOCK_NAME, OutDirLock, clean_stale
 from artic.validation.synthetic import generate
 from artic.validation.synthetic.testmatrix import MATRIX, TUNING
@@ -268,20 +268,31 @@ def test_tuning_resumes_per_model_and_load(tmp_path, monkeypatch):
     assert len(calls) == 4
 
 
-def test_a_damaged_cached_log_is_imported_again(tmp_path, monkeypatch, capsys):
+def test_a_damaged_export_is_generated_again(tmp_path, monkeypatch, capsys):
+    # The campaign keeps no imported copy of a log: it imports the export each time.
+    # An export that no longer imports (a table cut short by a crash) is generated
+    # again, once, and gives the same log.
     from artic.validation.campaign import main as campaign
 
     export = tmp_path / "synthetic" / "run"
-    export_oxts(slalom(), export)
-    (export / "meta.json").write_text(json.dumps({"load": "unloaded"}))
-    monkeypatch.setattr(campaign, "generate_campaign", lambda *a, **kw: [export])
+    made = []
+
+    def generate(*args, **kwargs):  # as generate_campaign: what lacks its meta.json
+        if not (export / "meta.json").is_file():
+            export_oxts(slalom(), export)
+            (export / "meta.json").write_text(json.dumps({"load": "unloaded"}))
+            made.append(export)
+        return [export]
+
+    monkeypatch.setattr(campaign, "generate_campaign", generate)
     first = campaign.load_logs(tmp_path)[0]
-    cached = tmp_path / "logs" / "run.parquet"
-    cached.write_bytes(cached.read_bytes()[:100])  # truncated by a crash
+    table = export / "tractor.csv"
+    table.write_bytes(table.read_bytes()[:100])  # cut short by a crash
     again = campaign.load_logs(tmp_path)[0]
-    assert "re-importing run: " in capsys.readouterr().err
+    assert f"{export}: does not import" in capsys.readouterr().err
+    assert len(made) == 2
     assert again.frame.equals(first.frame)
-    assert read_run(cached).frame.equals(first.frame)
+    assert not (tmp_path / "logs").exists()  # nothing but the exports
 
 
 def test_a_resumed_validation_takes_the_criteria_from_the_footer(tmp_path, monkeypatch):

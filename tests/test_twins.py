@@ -7,8 +7,14 @@ import json
 
 import numpy as np
 import pandas as pd
+import pytest
 
-from artic.validation.synthetic.generate import generate_campaign, simulate_manoeuvre
+from artic.validation.logs.importers import import_source
+from artic.validation.synthetic.generate import (
+    TRUTH_RECORDS,
+    generate_campaign,
+    simulate_manoeuvre,
+)
 from artic.validation.synthetic.sensors import SensorModel
 from artic.validation.synthetic.testmatrix import MATRIX
 
@@ -55,3 +61,58 @@ def test_generate_exports_each_twin_and_reuses_both(tmp_path):
     (twins / m.name).rmdir()
     generate_campaign(out, only=[m.name], twins=twins)
     assert (twins / m.name / "meta.json").is_file()
+
+
+@pytest.fixture(scope="module")
+def reverse_exports(tmp_path_factory):
+    """A reverse manoeuvre's export and its twin's (reverse logs hold the truth's records)."""
+    m = next(m for m in MATRIX if m.kind == "ramp-steer-reverse")
+    root = tmp_path_factory.mktemp("twins")
+    out, twins = root / "synthetic", root / "twins"
+    [path] = generate_campaign(out, only=[m.name], twins=twins)
+    return path, twins / m.name
+
+
+def test_a_twin_export_takes_the_truths_records_from_its_log(reverse_exports):
+    # The twin's export leaves the truth's records to its log's meta.json (the same
+    # truth run), and the importer reads them from there: the twin imports with them.
+    path, twin_path = reverse_exports
+    meta = json.loads((twin_path / "meta.json").read_text())
+    assert not set(TRUTH_RECORDS) & set(meta)
+    assert meta["meta_from"] == f"../../synthetic/{path.name}/meta.json"
+    log, _ = import_source(path)
+    twin, report = import_source(twin_path)
+    assert report == [] and "meta_from" not in twin.meta
+    for k in TRUTH_RECORDS:
+        assert twin.meta[k] == log.meta[k]
+    assert twin.meta["sensors"]["pos_sigma"] == 0.0  # its own metadata wins
+
+
+def test_a_twin_whose_log_is_gone_imports_without_the_records_and_says_so(reverse_exports,
+                                                                          tmp_path):
+    import shutil
+
+    twin_path = shutil.copytree(reverse_exports[1], tmp_path / "elsewhere" / "twin")
+    twin, report = import_source(twin_path)
+    assert not set(TRUTH_RECORDS) & set(twin.meta)
+    assert len(report) == 1 and "meta_from" in report[0] and "without" in report[0], report
+
+
+def test_the_truths_states_cover_every_candidate_of_the_log_and_of_its_twin(reverse_exports):
+    # The floor starts from the truth's recorded state at each start-point
+    # candidate; the twin's travelled distance differs from the log's by the
+    # sensors' noise, so its marks fall on other samples: both sets are recorded.
+    from artic.validation.criteria.metrics import travelled
+    from artic.validation.criteria.prediction import candidates, truth_states
+
+    path, twin_path = reverse_exports
+    log, _ = import_source(path)
+    twin, _ = import_source(twin_path)
+    states = truth_states(log.meta)
+    marks = {}
+    for run in (log, twin):
+        k = candidates(travelled(run.frame))
+        t = run.frame["t"].to_numpy()[k]
+        marks[run.meta["sensors"]["pos_sigma"]] = set(np.round(t, 6))
+        assert len(k) > 3 and all(states.at(float(v)) is not None for v in t), run.name
+    assert marks[0.0] != marks[0.01]  # other samples: the test sees the case it is for

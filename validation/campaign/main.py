@@ -3,8 +3,9 @@
 Stages, each timed and each resumable:
 
 1. **logs**: the synthetic measured campaign (:mod:`artic.validation.synthetic.generate`),
-   generated on first use into ``OUT/synthetic`` and imported through the
-   same importer as real logs into ``OUT/logs``; meanwhile numba compiles
+   generated on first use into ``OUT/synthetic`` and imported in memory through
+   the same importer as real logs (no imported copy is kept: importing an
+   export takes as long as reading one); meanwhile numba compiles
    the reduced models ahead in a process of its own (:mod:`artic.validation.runs.warmup`);
 2. **tuning**: every model's parameters fitted per load condition on its 4
    forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`); ``OUT/tuning.json``,
@@ -50,8 +51,8 @@ files, each carrying the stage's key), so an interrupted campaign picks up
 where it stopped. ``report.md`` is deleted when a run starts and written only
 when every stage has finished, and every file is written atomically, so no
 half-written result looks complete. Tuning is saved after every (load, model)
-fit, so a campaign killed while tuning keeps the fits it finished. A cached
-log that no longer reads is imported again from its export.
+fit, so a campaign killed while tuning keeps the fits it finished. An
+export that no longer imports (a table cut short) is generated again.
 
 Several trucks: ``seeds=N`` (``artic campaign --seeds N``) runs one such
 campaign per seed in ``OUT/seed-K`` and pools them in ``OUT``
@@ -73,6 +74,7 @@ import dataclasses
 import json
 import threading
 import time
+import zlib
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
@@ -98,7 +100,6 @@ from artic.validation.logs.runfile import (
     atomic_write_text,
     check_frame,
     read_run,
-    write_run,
 )
 from artic.validation.models import code_of
 from artic.validation.review.tables import (
@@ -116,7 +117,7 @@ from artic.validation.runs.validate import (
     write_metrics,
 )
 from artic.validation.runs.workers import completed
-from artic.validation.synthetic.generate import generate_campaign
+from artic.validation.synthetic.generate import META_FILE, generate_campaign
 from artic.validation.synthetic.sensors import SensorModel
 from artic.validation.synthetic.testmatrix import TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
@@ -223,49 +224,55 @@ def _sensor_model(sensors: str) -> SensorModel:
 def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
                executor: Executor | None, truth: str = DEFAULT_TRUTH,
                sensors: str = "default", drift: bool = True, twins: bool = True
-               ) -> tuple[list[Run], bool, list[Run] | None]:
-    """:func:`load_logs`, whether every log was reused as it was, and the twins.
+               ) -> tuple[list[Run], list[Run] | None]:
+    """:func:`load_logs` and the twins.
 
     With noisy sensors every log's noise-free twin (the same truth run
     measured with ideal sensors) is exported into ``OUT/twins/synthetic`` by
-    the same simulation and imported into ``OUT/twins/logs``; with ideal
-    sensors the logs are noise-free themselves and there are no twins (``None``);
-    ``twins=False`` makes none either.
+    the same simulation; with ideal sensors the logs are noise-free
+    themselves and there are no twins (``None``); ``twins=False`` makes none
+    either. The exports are imported in memory, through the same importer as
+    real logs, every time the stage computes: importing one takes as long as
+    reading a stored import, which the campaign therefore does not keep. An
+    export that no longer imports (a table cut short) is generated again.
     """
     chain = _sensor_model(sensors)
     where = None if chain.is_ideal or not twins else out_dir / TWINS / "synthetic"
-    exports = generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
-                                jobs=jobs, only=only, executor=executor, truth=truth,
-                                sensors=chain, drift=drift, twins=where)
-    logs, reused = _import(exports, out_dir / "logs")
-    if where is None:
-        return logs, reused, None
-    twin_logs, twins_reused = _import([where / f.name for f in exports],
-                                      out_dir / TWINS / "logs")
-    return logs, reused and twins_reused, twin_logs
+
+    def generate() -> list[Path]:
+        return generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
+                                 jobs=jobs, only=only, executor=executor, truth=truth,
+                                 sensors=chain, drift=drift, twins=where)
+
+    exports = generate()
+    folders = exports + ([where / f.name for f in exports] if where is not None else [])
+    runs, damaged = _import(folders)
+    if damaged:  # generated again (export and twin together), then imported once more
+        for folder in damaged:
+            (folder / META_FILE).unlink(missing_ok=True)
+        generate()
+        again, still = _import(damaged)
+        if still:
+            raise LogError(f"{still[0]}: generated again, and still does not import")
+        runs.update(again)
+    logs = [runs[f] for f in exports]
+    return logs, (None if where is None else [runs[where / f.name] for f in exports])
 
 
-def _import(exports: list[Path], into: Path) -> tuple[list[Run], bool]:
-    """Import exports into ``into`` (or reuse the imports); and whether all were reused."""
-    logs, imported = [], 0
+def _import(exports: list[Path]) -> tuple[dict[Path, Run], list[Path]]:
+    """Import exports in memory; the runs by folder, and the folders that did not import."""
+    runs, damaged = {}, []
     for folder in exports:
-        target = into / f"{folder.name}.parquet"
-        if target.is_file() and target.stat().st_mtime >= (folder / "meta.json").stat().st_mtime:
-            try:
-                logs.append(read_run(target))
-                continue
-            except LogError as exc:  # a damaged cache: the export is the source
-                stderr_progress(f"re-importing {folder.name}: {exc}")
-        run, report = import_source(folder)
+        try:
+            run, report = import_source(folder)
+        except (LogError, OSError, EOFError, ValueError, zlib.error) as exc:
+            stderr_progress(f"{folder}: does not import ({exc}); generated again")
+            damaged.append(folder)
+            continue
         for line in report:
             stderr_progress(f"repaired: {line}")
-        write_run(run, target)
-        logs.append(run)
-        imported += 1
-    if imported < len(exports):
-        stderr_progress(f"{len(exports) - imported} of {len(exports)} imported logs reused from "
-                        f"{into}")
-    return logs, imported == 0
+        runs[folder] = run
+    return runs, damaged
 
 
 def _read_json(path: Path) -> dict | None:
@@ -615,33 +622,43 @@ class _Campaign:
 
 
 def _stage_logs(c: _Campaign) -> StageResult:
-    """Stage 1: the logs (and their noise-free twins); value ``(logs, twin_logs)``."""
+    """Stage 1: the logs (and their noise-free twins); value ``(logs, twin_logs)``.
+
+    Its outputs are the exports' files; reused, the exports are imported again
+    (the campaign keeps no imported copy, see :func:`_load_logs`).
+    """
     key = c.cache.key("logs", c.fields("seed", "only", "truth", "sensors", "drift"))
 
     def compute():
         cfg = c.config
-        logs, _, twin_logs = _load_logs(c.out_dir, cfg.seed, c.jobs,
-                                        list(cfg.only) if cfg.only else None, c.pool, cfg.truth,
-                                        cfg.sensors, cfg.drift)
-        return _log_files(c.out_dir, logs, twin_logs), {}, (logs, twin_logs)
+        logs, twin_logs = _load_logs(c.out_dir, cfg.seed, c.jobs,
+                                     list(cfg.only) if cfg.only else None, c.pool, cfg.truth,
+                                     cfg.sensors, cfg.drift)
+        return (_export_files(c.out_dir, logs, twin_logs), {"twins": twin_logs is not None},
+                (logs, twin_logs))
 
     def restore(entry: Entry):
-        logs = [read_run(p) for n, p in entry.outputs.items() if n.startswith("log:")]
-        twins = [read_run(p) for n, p in entry.outputs.items() if n.startswith("twin:")]
-        return logs, (twins if entry.data.get("twins") else None)
+        folders = {kind: list(dict.fromkeys(p.parent for n, p in entry.outputs.items()
+                                            if n.startswith(f"{kind}:")))
+                   for kind in ("log", "twin")}
+        runs, damaged = _import(folders["log"] + folders["twin"])
+        if damaged:
+            raise LogError(f"{damaged[0]}: does not import")
+        twins = [runs[f] for f in folders["twin"]]
+        return [runs[f] for f in folders["log"]], (twins if entry.data.get("twins") else None)
 
-    def compute_marked():
-        outputs, _, value = compute()
-        return outputs, {"twins": value[1] is not None}, value
-
-    return c.run("logs", key, compute_marked, restore)
+    return c.run("logs", key, compute, restore)
 
 
-def _log_files(out_dir: Path, logs: list[Run], twin_logs: list[Run] | None) -> dict[str, Path]:
-    """The imported logs' files (and their twins') by name, in the logs' order."""
-    files = {f"log:{log.name}": out_dir / "logs" / f"{log.name}.parquet" for log in logs}
-    for log in twin_logs or []:
-        files[f"twin:{log.name}"] = out_dir / TWINS / "logs" / f"{log.name}.parquet"
+def _export_files(out_dir: Path, logs: list[Run], twin_logs: list[Run] | None
+                  ) -> dict[str, Path]:
+    """The exports' files (and their twins') by name, in the logs' order."""
+    files = {}
+    for kind, root, runs in (("log", out_dir / "synthetic", logs),
+                             ("twin", out_dir / TWINS / "synthetic", twin_logs or [])):
+        for log in runs:
+            for f in sorted((root / log.name).iterdir()):
+                files[f"{kind}:{log.name}/{f.name}"] = f
     return files
 
 
@@ -719,8 +736,10 @@ def _stage_references(c: _Campaign, logs: StageResult, tuning: StageResult,
     load_of = {log.name: log.meta.get("load") for log in logs.value[0]}
 
     def tables() -> tuple[pd.DataFrame, pd.DataFrame | None, pd.DataFrame]:
+        # The floor's runs as their metadata (criteria, key): the tables read no
+        # more, and no recording draws them.
         floor = _floor(c.out_dir, validated, cfg.seed, cfg.truth, cfg.gain, key, c.jobs, c.pool,
-                       scale)
+                       scale, samples=False)
         both = pd.concat([metrics, floor], ignore_index=True)
         both["load"] = both["log"].map(load_of)
         vs_plant = None

@@ -191,7 +191,8 @@ class TruthStates:
 
 
 def record_states(frame: pd.DataFrame, states: Sequence[np.ndarray],
-                  spacing: float = SPACING, margin: int = STATE_MARGIN) -> dict:
+                  spacing: float = SPACING, margin: int = STATE_MARGIN,
+                  also: Sequence[pd.DataFrame] = ()) -> dict:
     """The truth's states at a log's start-point candidates, as JSON-ready metadata.
 
     Parameters
@@ -204,6 +205,11 @@ def record_states(frame: pd.DataFrame, states: Sequence[np.ndarray],
         Distance between start points [m].
     margin : int
         Neighbours kept either side of each candidate (:data:`STATE_MARGIN`).
+    also : sequence of DataFrame
+        Other measurements of the same run on the same samples (its noise-free
+        twin): their candidates are kept too, so that the floor finds its
+        state at every start point of each (their travelled distances differ
+        by the sensors' noise, and so do the samples the marks fall on).
 
     Returns
     -------
@@ -212,9 +218,10 @@ def record_states(frame: pd.DataFrame, states: Sequence[np.ndarray],
         (the states, float64 little-endian, base64): exact, and about a
         kilobyte per sample kept.
     """
-    if len(states) != len(frame):
-        raise ValueError(f"{len(states)} states for a log of {len(frame)} samples")
-    k = candidates(travelled(frame), spacing)
+    if len(states) != len(frame) or any(len(f) != len(frame) for f in also):
+        raise ValueError(f"{len(states)} states and measurements of "
+                         f"{[len(f) for f in (frame, *also)]} samples: expected the same")
+    k = np.concatenate([candidates(travelled(f), spacing) for f in (frame, *also)])
     keep = np.unique(np.clip((k[:, None] + np.arange(-margin, margin + 1)).ravel(), 0,
                              len(frame) - 1)) if k.size else np.zeros(0, dtype=int)
     x = np.array([states[i] for i in keep], dtype="<f8").reshape(len(keep), -1)

@@ -122,6 +122,28 @@ def _meta_json(path: Path) -> dict:
     return parse_meta(raw, str(path))
 
 
+def _with_included(meta: dict, folder: Path, report: list[str]) -> dict:
+    """``meta`` with the keys it lacks from the file its ``meta_from`` names.
+
+    An export may leave metadata it shares with another export to that one's
+    ``meta.json`` (a noise-free twin the truth's records of its measured log,
+    :func:`artic.validation.synthetic.generate.write_export`), naming it
+    relative to its own folder. Where that file is gone, the import goes on
+    without those keys and its report says so.
+    """
+    ref = meta.pop("meta_from", None)
+    if not isinstance(ref, str):
+        return meta
+    other = folder / ref
+    try:
+        shared = _meta_json(other)
+    except LogError as exc:
+        report.append(f"{folder / 'meta.json'}: meta_from {ref}: {exc}; imported without "
+                      "the metadata it holds")
+        return meta
+    return {**shared, **meta}
+
+
 def source_name(path: Path) -> str:
     """The name a source's canonical log gets: its file stem or folder name."""
     path = Path(path)
@@ -218,7 +240,7 @@ def _import_export(path: Path, accept: tuple[str, ...], vehicle) -> tuple[Run, l
         run, report = import_oxts(*files, accept=accept, vehicle=vehicle)
         meta = path / "meta.json"
         if meta.is_file():
-            run.meta = {**_meta_json(meta), **run.meta}
+            run.meta = {**_with_included(_meta_json(meta), path, report), **run.meta}
     elif path.suffix == ".mat":
         run, report = import_mat(path, accept=accept, vehicle=vehicle)
     elif path.suffix == ".parquet":

@@ -49,6 +49,7 @@ from concurrent.futures import Executor
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
@@ -214,17 +215,19 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
             "seed": seed, "truth": truth, "slope": where, "source": "synthetic",
             "peak_articulation": float(np.max(np.abs(obs[:, 12]))),
             "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
+    # The noise-free measurement: the twin, and where the floor starts on it.
+    ideal = measure(true, np.random.default_rng(0), SensorModel.ideal())  # draws nothing
     if plant.states:
-        meta[STATE_KEY] = record_states(measured, plant.states)
+        meta[STATE_KEY] = record_states(measured, plant.states, also=[ideal])
         # What the truth was given at every step, for the floor to replay
         # (artic.validation.criteria.prediction.Replay); both drivers step 10 ms.
         meta[ACTUATION_KEY] = record_actuation(plant.held, "pedals" if structural else "drive",
                                                0.01, float(t[0]))
     run = Run(measured, meta)
-    return (run, noise_free_twin(true, meta)) if twin else run
+    return (run, noise_free_twin(true, meta, ideal)) if twin else run
 
 
-def noise_free_twin(true, meta: dict) -> Run:
+def noise_free_twin(true, meta: dict, frame: pd.DataFrame | None = None) -> Run:
     """The noise-free twin of a measured run: the same truth run through ideal sensors.
 
     Parameters
@@ -233,6 +236,8 @@ def noise_free_twin(true, meta: dict) -> Run:
         The truth's signals as :func:`artic.validation.logs.runfile.new_frame` makes them.
     meta : dict
         The measured run's metadata.
+    frame : DataFrame, optional
+        ``true`` measured with ideal sensors already (what this computes).
 
     Returns
     -------
@@ -244,12 +249,19 @@ def noise_free_twin(true, meta: dict) -> Run:
         measured run's chain.
     """
     ideal = SensorModel.ideal()
-    frame = measure(true, np.random.default_rng(0), ideal)  # ideal: draws nothing
+    if frame is None:
+        frame = measure(true, np.random.default_rng(0), ideal)  # ideal: draws nothing
     return Run(frame, {**meta, "sensors": dataclasses.asdict(ideal),
                        "twin_of": meta["sensors"]})
 
 
-def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
+TRUTH_RECORDS = ("truth_state", "truth_actuation")
+"""The metadata a twin's export leaves to its measured log's (the same truth run, 6.7 MB
+in the default campaign): its ``meta.json`` names the log's in ``meta_from`` instead."""
+
+
+def write_export(run: Run, out_dir: Path, name: str | None = None,
+                 meta_from: Path | None = None) -> Path:
     """Export a measured run into ``out_dir/NAME``, whole or not at all.
 
     Parameters
@@ -261,6 +273,11 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     name : str, optional
         The folder's name; ``run.meta["name"]`` by default. The campaign passes
         the name of the manoeuvre it submitted, never one a worker returned.
+    meta_from : Path, optional
+        Another export's folder whose ``meta.json`` holds this run's
+        :data:`TRUTH_RECORDS` (a twin's measured log): they are left out here
+        and ``meta_from`` names that file, relative to this export, for the
+        importer to read them from (:func:`artic.validation.logs.importers.import_source`).
 
     The CAN file is written at the rate and resolution of the run's
     measurement chain (``meta["sensors"]``): 10 Hz in 0.1 deg steps by
@@ -287,6 +304,10 @@ def write_export(run: Run, out_dir: Path, name: str | None = None) -> Path:
     try:
         export_oxts(run, tmp, **can, compress=True)
         meta = {**run.meta, "name": name}
+        if meta_from is not None:
+            meta = {k: v for k, v in meta.items() if k not in TRUTH_RECORDS}
+            meta["meta_from"] = Path(os.path.relpath(Path(meta_from) / META_FILE, final)
+                                     ).as_posix()
         (tmp / META_FILE).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n")
         public_mode(tmp)
         _rename_into_place(tmp, final)
@@ -427,7 +448,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
             t = run.frame["t"]
             BUDGET.add("multibody", float(t.iloc[-1] - t.iloc[0]) if len(t) > 1 else 0.0)
             if twin is not None:  # first: a complete export then implies its twin
-                write_export(twin, twins, name=m.name)
+                write_export(twin, twins, name=m.name, meta_from=out_dir / m.name)
             write_export(run, out_dir, name=m.name)
             counter.step(f"{m.name} ({wall:.1f} s)")
     return [out_dir / m.name for m in todo]
