@@ -67,4 +67,8 @@ def test_the_fast_tests_of_the_compiled_parts_pass_without_them():
     out = subprocess.run([sys.executable, "-m", "pytest", "-m", "not slow", "-q", "-rs",
                           "-p", "no:cacheprovider", *files], env=_env(), cwd=ROOT,
                          capture_output=True, text=True)
-    assert out.returncode == 0, out.stdout[-5000:]
+    # On a failure, what failed first: its traceback and the summary's FAILED lines
+    # (the skip reasons, -rs, would otherwise fill the message's tail).
+    failures = out.stdout.partition("= FAILURES =")[2][:6000]
+    failed = [line for line in out.stdout.splitlines() if line.startswith(("FAILED", "ERROR"))]
+    assert out.returncode == 0, "\n".join([*failed, failures, out.stdout[-1500:]])
