@@ -215,8 +215,10 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
             "seed": seed, "truth": truth, "slope": where, "source": "synthetic",
             "peak_articulation": float(np.max(np.abs(obs[:, 12]))),
             "sensors": dataclasses.asdict(sensors), "generator": fingerprint.code()}
-    # The noise-free measurement: the twin, and where the floor starts on it.
-    ideal = measure(true, np.random.default_rng(0), SensorModel.ideal())  # draws nothing
+    # The noise-free measurement, where needed: the twin, and where the floor starts on
+    # it (a reverse run's states are kept there too, with a twin or without).
+    ideal = measure(true, np.random.default_rng(0), SensorModel.ideal()) \
+        if twin or plant.states else None  # ideal sensors draw nothing
     if plant.states:
         meta[STATE_KEY] = record_states(measured, plant.states, also=[ideal])
         # What the truth was given at every step, for the floor to replay
