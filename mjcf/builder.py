@@ -37,6 +37,7 @@ import mujoco
 import numpy as np
 
 from artic.mjcf import naming as nm
+from artic.mjcf.compiling import compile_spec
 from artic.mjcf.linkage import Trapezoid, left_range
 from artic.mjcf.masses import AxleLayout, Body, layout
 from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
@@ -319,5 +320,5 @@ def build_model(v: Vehicle, scene: bool = True) -> mujoco.MjSpec:
 def to_xml(v: Vehicle, scene: bool = True) -> str:
     """Canonical MJCF of the combination (and the yard), as MuJoCo writes it."""
     spec = build_model(v, scene)
-    spec.compile()
+    compile_spec(spec)
     return spec.to_xml()

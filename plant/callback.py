@@ -102,21 +102,3 @@ def python_installed() -> bool:
 def active() -> int:
     """Number of models served now."""
     return len(_handlers)
-
-
-def compile_spec(spec: mujoco.MjSpec) -> mujoco.MjModel:
-    """Compile a spec, with MuJoCo's global passive callback suspended if it is Python.
-
-    The compiler runs a forward pass on a model that has no Python wrapper
-    yet; a Python passive callback installed at that moment (a numpy plant's)
-    makes the compilation fail, so it is suspended, which is not safe while
-    another thread steps a plant. The compiled C callback needs no suspension.
-    """
-    saved = mujoco.get_mjcb_passive()
-    if saved is None or isinstance(saved, ctypes._CFuncPtr):
-        return spec.compile()
-    mujoco.set_mjcb_passive(None)
-    try:
-        return spec.compile()
-    finally:
-        mujoco.set_mjcb_passive(saved)

@@ -54,6 +54,7 @@ import numpy as np
 
 from artic.mjcf import naming as nm
 from artic.mjcf.builder import build_model, linkage
+from artic.mjcf.compiling import compile_spec
 from artic.mjcf.errors import PlantError, UserError
 from artic.mjcf.interface import InitialState, rotate, wrap_angle
 from artic.mjcf.masses import layout
@@ -305,7 +306,7 @@ class Plant:
             if spec.numerics:
                 raise UserError("the plant's spec must not carry numerics of its own")
             self._add_block(spec, n_wheels, len(files))
-        self.model = callback.compile_spec(spec)
+        self.model = compile_spec(spec)
         if timestep is not None:
             self.model.opt.timestep = timestep
         self.data = mujoco.MjData(self.model)

@@ -24,6 +24,7 @@ import mujoco
 import numpy as np
 
 from artic.mjcf import naming as nm
+from artic.mjcf.compiling import compile_spec, load_xml
 from artic.mjcf.vehicle import Vehicle
 from artic.plant import callback, ctyre
 from artic.plant.plant import Plant
@@ -40,7 +41,7 @@ def to_xml(vehicle: Vehicle) -> str:
     follower = spec.actuator(nm.SPEED_SERVO)
     follower.gainprm = [0.0] * len(follower.gainprm)
     follower.biasprm = [0.0] * len(follower.biasprm)
-    spec.compile()
+    compile_spec(spec)
     return spec.to_xml()
 
 
@@ -57,7 +58,7 @@ def load(path: str | Path) -> tuple[mujoco.MjModel, mujoco.MjData]:
     """
     if ctyre.library() is None:
         raise RuntimeError(ctyre.unavailable_reason())
-    m = mujoco.MjModel.from_xml_path(str(path))
+    m = load_xml(str(path))
     if m.nnumeric < 1 or m.numeric(0).name != ctyre.BLOCK:
         raise ctyre.TyreBlockError(f"{path}: no '{ctyre.BLOCK}' numeric: not written by "
                                    "'artic mjcf'")

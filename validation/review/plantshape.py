@@ -28,6 +28,7 @@ import numpy as np
 
 from artic.mjcf import naming as nm
 from artic.mjcf.builder import build_vehicle
+from artic.mjcf.compiling import compile_spec
 from artic.mjcf.masses import layout
 from artic.mjcf.vehicle import Vehicle
 
@@ -121,7 +122,7 @@ def _geoms(m: mujoco.MjModel, body: int) -> tuple[Geom, ...]:
 
 def plant_shape(vehicle: Vehicle) -> list[Part]:
     """The plant's drawn parts, from its compiled MJCF (see the module docstring)."""
-    m = build_vehicle(vehicle).compile()
+    m = compile_spec(build_vehicle(vehicle))
     d = mujoco.MjData(m)
     mujoco.mj_kinematics(m, d)
     parts = [Part(nm.TRACTOR, _geoms(m, m.body(nm.TRACTOR).id)),

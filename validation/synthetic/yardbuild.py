@@ -33,6 +33,7 @@ import math
 import mujoco
 import numpy as np
 
+from artic.mjcf.compiling import compile_spec
 from artic.mjcf.errors import UnsupportedVehicleError
 from artic.mjcf.vehicle import Vehicle
 
@@ -345,7 +346,7 @@ def build(v: Vehicle, tyre_radius: dict[str, float], timestep: float = TIMESTEP
         if b.name not in ("rear", "front", "cab", "trailer") and b.name != "world":
             b.ipos = [0.0, 0.0, 0.0]
             b.iquat = [1.0, 0.0, 0.0, 0.0]
-    model = spec.compile()
+    model = compile_spec(spec)
     for e in ends:
         e["hub_site"] = model.site(f"hub.{e['axle']}.{e['side']}").id
         spin = model.joint(f"spin.{e['axle']}.{e['side']}")
