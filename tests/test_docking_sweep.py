@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -244,6 +245,9 @@ def test_a_killed_sweep_resumes_without_redoing_finished_runs(tmp_path, monkeypa
     other = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(2), realtime=False)
     assert sw.done_runs(tmp_path / sw.RUNS_DIR, other) == {}
     assert len(sw.done_runs(tmp_path / sw.RUNS_DIR, specs)) == 4
+    # Nor is a run that other code made (artic's or the controller module's changed).
+    edited = [dataclasses.replace(s, code="0" * 16) for s in specs]
+    assert sw.done_runs(tmp_path / sw.RUNS_DIR, edited) == {}
     # A run its supervisor failed (a hang: a first call compiling on a loaded machine)
     # is run again on resumption; the run's own failures are results.
     sw.write_run(tmp_path / sw.RUNS_DIR, specs[0], rows[0] | {
@@ -356,3 +360,16 @@ def test_the_sweep_s_sensor_set_and_semitrailer_reach_every_run(monkeypatch):
     sw.run_one(spec)
     assert seen[0]["sensor_set"] == "camera" and seen[0]["trailer"] == "unknown"
     assert seen[0]["articulation_noise_deg"] == 1.5
+
+
+def test_the_code_fingerprint_follows_a_controller_module_s_source(tmp_path, monkeypatch):
+    module = tmp_path / "yard_ctl_fp.py"
+    module.write_text("class C:\n    pass\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    first = sw.code_fingerprint("yard_ctl_fp:C")
+    assert sw.code_fingerprint("yard_ctl_fp:C") == first  # the same file, the same key
+    module.write_text("class C:\n    gain = 2.0\n")
+    assert sw.code_fingerprint("yard_ctl_fp:C") != first
+    # Built-in controllers are artic's code: one key for all, artic's.
+    assert sw.code_fingerprint("reference") == sw.code_fingerprint("mpc-kin")
+    assert sw.code_fingerprint("no_such_module_xyz:C") == sw.code_fingerprint("reference")

@@ -15,7 +15,8 @@ to the campaign's Dask executor
 or ``--scheduler ADDRESS`` with its TLS options; the cluster must be trusted).
 Each finished run is written at once, atomically, as
 ``sweep_runs/AXIS=LEVEL-SCENARIO-VEHICLE-CONTROLLER-SEED.json`` holding what
-was asked (:class:`RunSpec`, with the vehicle's fingerprint) and its row; a
+was asked (:class:`RunSpec`, with fingerprints of the vehicle's numbers and of the
+code the run executes) and its row; a
 sweep started again into the same folder skips every run whose file holds
 the same request, so a killed sweep resumes where it stopped; a run that its
 supervisor failed (a hang, a crashed worker, a lost cluster worker:
@@ -274,6 +275,9 @@ class RunSpec:
     """The sensor set of every run (``artic dock --sensors``) unless the axis sweeps it."""
     trailer: str = "nominal"
     """The plant's semitrailer (``artic dock --trailer``) unless the axis gives one."""
+    code: str = ""
+    """:func:`code_fingerprint` of the run's controller: a run made by other code is not
+    reused."""
 
     @property
     def name(self) -> str:
@@ -293,6 +297,29 @@ def vehicle_fingerprint(vehicle: str) -> str:
     from artic.mjcf.vehicle import load_vehicle
 
     return hashlib.sha256(repr(load_vehicle(vehicle)).encode()).hexdigest()[:16]
+
+
+def code_fingerprint(controller: str) -> str:
+    """A short hash of the code a run of ``controller`` executes.
+
+    artic's computing code (:func:`artic.validation.runs.fingerprint.code`, the
+    campaign's cache key: the plant, the models, the benchmark and the built-in
+    controllers) and, for a ``module:Class`` controller, its module's source file
+    (found without importing the module itself; a module that cannot be found adds nothing, and
+    its runs fail on their own).
+    """
+    from artic.validation.docking.controllers import BUILTIN
+    from artic.validation.runs import fingerprint
+
+    h = hashlib.sha256(fingerprint.code().encode())
+    if controller not in BUILTIN and ":" in controller:
+        try:
+            found = importlib.util.find_spec(controller.partition(":")[0])
+        except (ImportError, ValueError):
+            found = None
+        if found is not None and found.origin and Path(found.origin).is_file():
+            h.update(Path(found.origin).read_bytes())
+    return h.hexdigest()[:16]
 
 
 def check_base(axis: Axis, sensors: str = "full", trailer: str = "nominal") -> None:
@@ -322,8 +349,9 @@ def plan(axis: Axis, levels: Sequence[float | str], scenarios: Sequence[str],
     """Every run of a sweep, level by level, in the order of the tables (see :func:`check_base`)."""
     check_base(axis, sensors, trailer)
     prints = {v: vehicle_fingerprint(v) for v in vehicles}
+    codes = {c: code_fingerprint(c) for c in controllers}
     return [RunSpec(axis.name, lv, s, v, c, int(seed), prints[v], truth, realtime, sensors,
-                    trailer)
+                    trailer, codes[c])
             for lv in levels for s in scenarios for v in vehicles for c in controllers
             for seed in seeds]
 
