@@ -270,6 +270,32 @@ def test_a_docking_recording_holds_the_yard_the_plan_the_plant_and_the_scores(tm
     assert "/yard" in read_views(path)
     # Spy intends nothing: it still records, without a horizon or a tracked plan.
     assert "/yard/horizon" not in rows and "/yard/plan/tracked" not in rows
+    # What it saw, at every sample: the articulation and the rear point, and the path.
+    assert rows["/signals/articulation/seen"] == rows["/yard/seen/rear"] == len(r.trace.t_ctrl)
+    assert rows["/yard/seen/rear_path"] == 0
+
+
+def test_a_docking_recording_draws_the_estimate_where_the_estimator_put_it(tmp_path):
+    """With tractor-only sensing the recording's rear point is the estimate, not the plant."""
+    from artic.validation.docking.geometry import Frames
+    from artic.validation.docking.scores import rear_point
+    from artic.validation.review.recording import read_column, read_times
+
+    path = tmp_path / "run.rrd"
+    r = drive(scenario("straight"), VEHICLE, "reference", 0, record=path, sensor_set="camera")
+    points = np.array([p[0][:2] for p in read_column(path, "/yard/seen/rear",
+                                                     "Points3D:positions")])
+    assert read_times(path, "/yard/seen/rear") == pytest.approx(r.trace.t_ctrl, abs=1e-6)
+    fr = Frames.of(load_vehicle(VEHICLE))
+    seen = rear_point(fr, np.asarray(r.trace.measured))
+    true = rear_point(fr, np.asarray(r.trace.true)[r.trace.seen_at])
+    # Float32 in the file: millimetres at yard coordinates of tens of metres.
+    assert points == pytest.approx(seen, abs=1e-3)
+    # It is the estimate: off the plant's rear by the estimator's error, which
+    # the run's row reports (RMS over the same samples).
+    err = np.hypot(*(points - true).T)
+    assert np.sqrt(np.mean(err ** 2)) == pytest.approx(r.row["rear_est_rms_m"], rel=1e-3)
+    assert r.row["rear_est_rms_m"] > 0.01
 
 
 def test_a_docking_recording_holds_what_the_controller_intended_at_every_sample(tmp_path):

@@ -52,7 +52,7 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf.errors import UserError
-from artic.mjcf.interface import InitialState
+from artic.mjcf.interface import OBS_INDEX, InitialState
 from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
 from artic.plant.plant import PlantError
@@ -333,7 +333,7 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
            "l2_updates": identifier.updates, **draw.row()}
     result = Result(row, trace, plan, yard, start)
     if record is not None:
-        write_recording(result, plant_vehicle, Path(record))
+        write_recording(result, plant_vehicle, Path(record), seen_vehicle=vehicle)
     return result
 
 
@@ -561,15 +561,20 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
     return vt, build
 
 
-def write_recording(result: Result, vehicle, path: Path) -> Path:
+def write_recording(result: Result, vehicle, path: Path, seen_vehicle=None) -> Path:
     """The run's Rerun recording (:func:`artic.validation.review.recording.record_docking`).
 
     The yard and its obstacles, the plan, the plant drawn from its bodies at
     every controller sample, its paths and swept envelope, what the
     controller intended at every sample (its predicted horizon and the
     plan's points it tracked, ``Command.horizon`` and ``Command.reference``),
-    the steering wheel, speed and articulation, and the scores.
+    the steering wheel, speed and articulation, and the scores. What the
+    controller saw at every sample (the measured signals with ``--sensors full``,
+    the estimator's otherwise) is drawn beside the plant: the articulation and the
+    semitrailer's rear where the geometry of ``seen_vehicle`` (the vehicle file the
+    controller knows; ``vehicle`` if not given) places it.
     """
+    from artic.validation.docking.scores import rear_point
     from artic.validation.review.recording import record_docking
 
     tr = result.trace
@@ -589,12 +594,17 @@ def write_recording(result: Result, vehicle, path: Path) -> Path:
                         else seg.states[:, :2])
     horizons = list(zip(tr.t_ctrl, tr.horizons, strict=True))
     references = list(zip(tr.t_ctrl, tr.references, strict=True))
+    m = a["measured"]
+    seen = None
+    if len(m):
+        seen = (a["t_ctrl"], m[:, OBS_INDEX["gamma"]],
+                rear_point(Frames.of(seen_vehicle or vehicle), m))
     row = result.row
     name = run_name(row["scenario"], row["vehicle"], row["controller"], row["seed"])
     obstacles = [(b.name, b.x_min, b.x_max, b.y_min, b.y_max) for b in result.yard.obstacles]
     return record_docking(path, name, frame, vehicle, obstacles, result.yard.doors,
                           (result.yard.x_dock, result.yard.y_dock), plan, horizons,
-                          scores_text(row), references)
+                          scores_text(row), references, seen)
 
 
 def scores_text(row: dict) -> str:

@@ -283,14 +283,18 @@ def estimate_scores(trace, seen: Frames, true: Frames) -> dict:
     t = a["true"][np.asarray(trace.seen_at, dtype=int)]
     g = OBS_INDEX["gamma"]
     dg = np.degrees(np.remainder(m[:, g] - t[:, g] + np.pi, 2 * np.pi) - np.pi)
-    d = np.hypot(*(_rear(seen, m) - _rear(true, t)).T)
+    d = np.hypot(*(rear_point(seen, m) - rear_point(true, t)).T)
     return {"gamma_est_rms_deg": float(np.sqrt(np.mean(dg ** 2))),
             "gamma_est_stop_deg": float(dg[-1]),
             "rear_est_rms_m": float(np.sqrt(np.mean(d ** 2))), "rear_est_stop_m": float(d[-1])}
 
 
-def _rear(frames: Frames, signals: np.ndarray) -> np.ndarray:
-    """The semitrailer's rear ``(x, y)`` [m] of signals (n, 13), by its unit's signals."""
+def rear_point(frames: Frames, signals: np.ndarray) -> np.ndarray:
+    """The semitrailer's rear ``(x, y)`` [m] of signals ``(n, 13)``, by its unit's signals.
+
+    The dock point, where ``frames``' geometry places it: the estimate's, with the
+    geometry the controller knows; the plant's, with the plant's.
+    """
     _, k = frames.unit_poses_of_signals(signals)
     return k[:, :2] - frames.rear * np.column_stack([np.cos(k[:, 2]), np.sin(k[:, 2])])
 

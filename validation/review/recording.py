@@ -608,7 +608,8 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
                    doors: Sequence[float], dock_face: tuple[float, float],
                    plan: Sequence[np.ndarray],
                    horizons: Sequence[tuple[float, np.ndarray | None]], text: str,
-                   references: Sequence[tuple[float, np.ndarray | None]] = ()) -> Path:
+                   references: Sequence[tuple[float, np.ndarray | None]] = (),
+                   seen: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> Path:
     """Write one docking run's recording.
 
     Parameters
@@ -641,6 +642,12 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         sample, the one it tracked then first: one row per sample of
         ``/yard/plan/tracked`` (the points) and ``/yard/plan/point`` (the
         first), empty where ``None``.
+    seen : tuple of ndarray, optional
+        What the controller saw at its samples: their times [s], the articulation
+        [rad] and the semitrailer's rear ``(n, 2)`` [m]. Drawn as
+        ``/signals/articulation/seen`` beside the plant's, and as the point
+        ``/yard/seen/rear`` at every sample with its whole path
+        ``/yard/seen/rear_path`` (orange).
     """
     f = frame
     t = f["t"].to_numpy()
@@ -699,9 +706,31 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         _series(rec, "/signals/speed", ts, 3.6 * f["v_x_1"].to_numpy()[::pe], "v_x_1", colour)
         _series(rec, "/signals/articulation", ts, np.degrees(f["gamma"].to_numpy()[::pe]),
                 "gamma", colour)
+        if seen is not None:
+            _log_seen(rec, seen, t, s)
         rec.log("/description", rr.TextDocument(text, media_type=rr.MediaType.MARKDOWN),
                 static=True)
     return Path(path)
+
+
+SEEN_COLOUR = (255, 150, 0)
+"""What the controller saw (measured or estimated), in a docking recording."""
+
+
+def _log_seen(rec: rr.RecordingStream, seen: tuple[np.ndarray, np.ndarray, np.ndarray],
+              t: np.ndarray, s: np.ndarray) -> None:
+    """The controller's view of the articulation and the semitrailer's rear, per sample."""
+    tc, gamma, rear = (np.asarray(x, dtype=float) for x in seen)
+    times = _timelines(tc, np.interp(tc, t, s))
+    _series(rec, "/signals/articulation/seen", times, np.degrees(gamma), "gamma seen",
+            SEEN_COLOUR)
+    rec.send_columns("/yard/seen/rear", indexes=times, columns=rr.Points3D.columns(
+        positions=np.column_stack([rear, np.full(len(rear), 0.2)])))
+    rec.log("/yard/seen/rear", rr.Points3D.from_fields(colors=[SEEN_COLOUR], radii=[0.2]),
+            static=True)
+    rec.log("/yard/seen/rear_path", rr.LineStrips3D(
+        [np.column_stack([rear, np.full(len(rear), 0.1)])], colors=[SEEN_COLOUR],
+        radii=0.03), static=True)
 
 
 def _log_intent(rec: rr.RecordingStream, entity: str,
