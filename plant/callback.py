@@ -11,6 +11,17 @@ last serves every model. This module decides what is set:
   plant, and whatever callback was installed before artic's for other models.
 
 When the last plant closes, that previous callback is restored.
+
+Plants may step on other threads while one opens or closes, so the callback
+changes only in ways a step in flight survives. MuJoCo's bindings keep a Python
+callback as two globals, the C trampoline MuJoCo calls and the Python object the
+trampoline then calls; a step that has read the trampoline and then finds the
+object replaced by a C function (or by nothing) fails with "Python exception
+raised" and MuJoCo ends the process. So once :func:`_dispatch` serves, it stays
+until the last plant closes, even when the plants still open are all compiled
+(they then run through it, slower, but right). From the C function to
+:func:`_dispatch` is safe: a step reads either the C function or the trampoline,
+and the trampoline finds :func:`_dispatch`.
 """
 
 from __future__ import annotations
@@ -57,6 +68,8 @@ def _is_ours(cb) -> bool:
 def _refresh() -> None:
     if not _handlers:
         mujoco.set_mjcb_passive(_previous)
+    elif mujoco.get_mjcb_passive() is _dispatch:
+        pass  # never from Python back to C while plants are open: see below
     elif (_previous is None and all(h is NATIVE for h in _handlers.values())
           and ctyre.library() is not None):
         mujoco.set_mjcb_passive(ctyre.passive_function())

@@ -119,8 +119,12 @@ def test_native_callback_installed_and_restored(unloaded):
         assert not callback.python_installed()
         with Plant(unloaded, backend="python"):
             assert callback.python_installed()  # the dispatcher serves both
-        assert not callback.python_installed()
+        # ... and stays while a plant is open: from Python back to C is the change a
+        # step in flight on another thread does not survive (test_callback_threads).
+        assert callback.python_installed()
     assert mujoco.get_mjcb_passive() is None
+    with Plant(unloaded, backend="compiled"):  # the next compiled plant alone: C again
+        assert not callback.python_installed()
 
 
 def test_models_without_the_block_get_no_force(unloaded):
