@@ -7,7 +7,7 @@ Plain MuJoCo loads it; :func:`load` attaches artic's compiled tyre callback,
 and then MuJoCo alone simulates the truck::
 
     m, d = plant.load("truck.xml")
-    mujoco.mj_step(m, d, nstep=2000)
+    mujoco.mj_step(m, d, nstep=1000)  # 10 s at the file's 10 ms step
 
 A written block is unsealed (the callback follows only blocks sealed by its
 own process); :func:`load` checks it against the model it came with and seals

@@ -36,9 +36,20 @@ def test_bad_loads_and_missing_files_are_one_line(tmp_path, capsys):
     assert main(["tyre", "curves", "--fz", "1e4,-5", "--out", str(tmp_path)]) == 2
     assert main(["tyre", "curves", "--tyre", "nope.tir", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 2 and "nope.tir" in err[-1]
+    # A bare name: neither here nor shipped; the line names the shipped ones, and no
+    # made-up path (the tyre is looked for beside the current folder).
+    assert len(err) == 2 and err[-1].startswith("artic: error: --tyre nope.tir: no such file")
+    assert "artic-truck-315-80R22.5.tir" in err[-1] and "command-line" not in err[-1]
     missing = str(tmp_path / "gone" / "x.tir")
     assert main(["tyre", "curves", "--tyre", missing, "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == [f"artic: error: --tyre {missing}: no such file; give a .tir file or the name "
-                   "of a tyre shipped with artic"]
+    assert err == [f"artic: error: --tyre {missing}: no such file, nor a tyre shipped with "
+                   "artic (artic-trailer-385-65R22.5.tir, artic-truck-315-80R22.5.tir); give a "
+                   ".tir file or one of those names"]
+    # An output that is a file: named, with the fix, and left as it was.
+    a_file = tmp_path / "afile"
+    a_file.write_text("x")
+    assert main(["tyre", "curves", "--out", str(a_file)]) == 2
+    assert capsys.readouterr().err.strip() == (f"artic: error: --out {a_file}: exists and is "
+                                               "not a folder; choose a folder")
+    assert a_file.read_text() == "x"

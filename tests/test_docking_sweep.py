@@ -373,3 +373,14 @@ def test_the_code_fingerprint_follows_a_controller_module_s_source(tmp_path, mon
     # Built-in controllers are artic's code: one key for all, artic's.
     assert sw.code_fingerprint("reference") == sw.code_fingerprint("mpc-kin")
     assert sw.code_fingerprint("no_such_module_xyz:C") == sw.code_fingerprint("reference")
+
+
+def test_the_list_gives_the_articulation_noise_s_nominal_as_the_sensors_own():
+    # Not 0: with --sensors tractor or camera the nominal is that sensor's noise.
+    from artic.validation.docking.command import list_all
+    from artic.validation.docking.sensing import articulation_model
+
+    line = next(ln for ln in list_all().splitlines() if ln.strip().startswith("articulation_noise"))
+    camera = math.degrees(articulation_model("camera").noise_rms)
+    assert 1.0 <= camera <= 1.5  # the published 1.0-1.5 deg RMS
+    assert "nominal the sensor's (tractor " in line and f"camera {camera:.2g} deg" in line

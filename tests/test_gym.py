@@ -159,15 +159,35 @@ def test_the_sensor_set_reaches_the_run():
 
 
 def test_bad_options_are_one_line():
-    with pytest.raises(UserError, match="no such scenario"):
+    # Named as the Python caller gave them (keywords), not as command-line options.
+    with pytest.raises(UserError, match="^scenario 'nowhere': no such scenario"):
         DockEnv(scenario="nowhere")
-    with pytest.raises(UserError, match="no such sensor set"):
+    with pytest.raises(UserError, match="^sensors lidar: no such sensor set"):
         DockEnv(sensors="lidar")
     with pytest.raises(UserError, match="render_mode"):
         DockEnv(render_mode="human")
     env = DockEnv(scenario="straight", yard_model="kin")
     with pytest.raises(RuntimeError, match="reset"):
         env.step(np.zeros(2))
+    with pytest.raises(UserError, match=r"^options\['scenario'\] 'alle': no such scenario"):
+        env.reset(options={"scenario": "alle"})
+    for timeout in (-1.0, 0.0, math.nan):
+        with pytest.raises(UserError, match="time limit must be a positive number of seconds"):
+            DockEnv(scenario="straight", yard_model="kin", timeout=timeout).reset(seed=0)
+
+
+def test_an_action_of_another_shape_or_not_finite_is_one_line():
+    env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model="kin")
+    env.reset(options={"start": 0})
+    for action in ([0.0], [0.0, 0.0, 0.0], np.zeros((1, 2))):
+        with pytest.raises(UserError, match=r"expected shape \(2,\)"):
+            env.step(action)
+    with pytest.raises(UserError, match="not finite"):
+        env.step([math.nan, 0.0])
+    # Refused before it reached the run: the episode goes on.
+    obs, reward_, terminated, truncated, info = env.step(np.array([0.0, -0.5]))
+    assert not terminated and not truncated and info["reason"] == ""
+    env.close()
 
 
 def test_an_unfinished_episode_is_stopped_by_reset_and_close():

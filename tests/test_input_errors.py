@@ -296,3 +296,46 @@ def test_canonical_parquet_of_absurd_size_is_refused_at_import(capsys, tmp_path,
     p = write_run(type(run)(f, run.meta), tmp_path / "absurd.parquet")
     line = fails(capsys, "logs", "import", p, "--out-dir", tmp_path / "o")
     assert str(p) in line and words in line, line
+
+
+def test_an_empty_output_path_is_refused_not_the_current_folder(capsys, tmp_path, monkeypatch):
+    # Path("") is ".": an unset shell variable would write into the working folder.
+    monkeypatch.chdir(tmp_path)
+    for argv in (("dock", "--scenario", "straight", "--seeds", "1", "--out-dir", ""),
+                 ("logs", "generate", "--out-dir", " "),
+                 (*SIM, "--out", "")):
+        assert "no path given; name a folder or file" in fails(capsys, *argv)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_refused_command_leaves_no_folder_behind(capsys, tmp_path, monkeypatch):
+    import importlib.util
+
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,x\n")
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "distributed" else real(name, *a))
+    cases = [
+        (("logs", "import", tmp_path / "nothere", "--out-dir", tmp_path / "o1"),
+         f"{tmp_path / 'nothere'}: no such file or folder"),
+        (("logs", "import", bad, "--out-dir", tmp_path / "o2"), "bad.csv"),
+        (("validate", tmp_path / "nope.parquet", "--models", "kin", "--out-dir",
+          tmp_path / "o3"), "nope.parquet"),
+        (("logs", "generate", "--only", "zz-", "--out-dir", tmp_path / "o4"),
+         "--only: no manoeuvre matches zz-"),
+        (("campaign", "--only", "zz-", "--out-dir", tmp_path / "o5"),
+         "--only: no manoeuvre matches zz-"),
+        (("dock", "--sweep", "friction=1,0.6", "--executor", "dask", "--scenario", "straight",
+          "--seeds", "1", "--no-recordings", "--out-dir", tmp_path / "o6"),
+         "needs the 'distributed' package"),
+    ]
+    for argv, words in cases:
+        assert words in fails(capsys, *argv), argv
+    # Every input is checked before the output folder is made: none was.
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.csv"]
+
+
+def test_an_integer_option_s_bounds_are_integers(capsys, tmp_path):
+    line = fails(capsys, "logs", "generate", "--seed", "-1", "--out-dir", tmp_path / "g")
+    assert "argument --seed: -1 is outside [0, 9223372036854775807];" in line

@@ -21,7 +21,7 @@ from artic.mjcf.errors import UserError
 from artic.validation.campaign.executors import DaskOptions
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import MATRIX, TUNING
+from artic.validation.synthetic.testmatrix import MATRIX, TUNING, check_only
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 SENSORS = ("default", "ideal")
@@ -188,6 +188,7 @@ def check_selection(only: tuple[str, ...] | list[str] | None) -> None:
     """
     if not only:
         return
+    check_only(only)
     chosen = [m.name for m in MATRIX if any(m.name.startswith(o) for o in only)]
     if chosen and all(n in TUNING for n in chosen):
         first = next(m.name for m in MATRIX if m.name not in TUNING)

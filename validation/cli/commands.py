@@ -61,6 +61,7 @@ from artic.validation.runs.outputs import (
     check_output_dir,
     check_output_file,
     clean_stale,
+    path_arg,
 )
 from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
 from artic.validation.synthetic.truth import TRUTHS
@@ -400,7 +401,7 @@ def _logs_generate(args: argparse.Namespace) -> int:
 def _tyre_curves(args: argparse.Namespace) -> int:
     import math
 
-    from artic.mjcf.vehicle import resolve_tyre_file
+    from artic.mjcf.vehicle import resolve_tyre_file, tyre_names
     from artic.plant.curves import curves, plot_curves
     from artic.plant.tyre import TyreParams
     from artic.validation.logs.runfile import atomic_write
@@ -413,12 +414,14 @@ def _tyre_curves(args: argparse.Namespace) -> int:
     if not loads or not all(math.isfinite(f) and f > 0.0 for f in loads):
         raise UserError(f"--fz {args.fz!r}: every load must be a positive number of newtons")
     given = Path(args.tyre)
-    if given.parent != Path(".") and not given.is_file():  # a path, not a shipped name
-        raise UserError(f"--tyre {args.tyre}: no such file; give a .tir file or the name of "
-                         "a tyre shipped with artic")
+    shipped = tyre_names()
+    if not given.is_file() and (given.parent != Path(".") or given.name not in shipped):
+        raise UserError(f"--tyre {args.tyre}: no such file, nor a tyre shipped with artic "
+                        f"({', '.join(shipped)}); give a .tir file or one of those names")
+    # Here or shipped: the current folder stands where a vehicle file's would.
     path = resolve_tyre_file(args.tyre, Path.cwd() / "command-line", "--tyre")
     p = TyreParams.from_tir(path)  # a TirError (a ValueError) names the file and key
-    out = Path(args.out)
+    out = check_output_dir(args.out, "--out")
     out.mkdir(parents=True, exist_ok=True)
     table = curves(p, loads)
     csv = atomic_write(out / f"{path.stem}.curves.csv",
@@ -517,7 +520,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="speed [km/h], positive (default 5 forward, 3 reverse)")
     sim.add_argument("--side", choices=("left", "right"), default="left")
     sim.add_argument("--duration", type=options.DURATION, default=None, help="length [s]")
-    sim.add_argument("--out", required=True, type=Path, help="output .parquet")
+    sim.add_argument("--out", required=True, type=path_arg, help="output .parquet")
     sim.set_defaults(func=_simulate)
 
     val = sub.add_parser("validate", help="validate models against logs")
@@ -528,7 +531,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default: %(default)s)")
     val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
-    val.add_argument("--out-dir", required=True, type=Path)
+    val.add_argument("--out-dir", required=True, type=path_arg)
     val.add_argument("--gain-sweep", action="store_true",
                      help="also sweep K over the reverse logs; marks the stability bound")
     val.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
@@ -554,7 +557,7 @@ def build_parser() -> argparse.ArgumentParser:
     tun.add_argument("logs", nargs="+", type=Path, help="forward logs (.parquet)")
     _add_vehicle(tun)
     tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
-    tun.add_argument("--out", required=True, type=Path, help="tuned vehicle file (.toml)")
+    tun.add_argument("--out", required=True, type=path_arg, help="tuned vehicle file (.toml)")
     tun.add_argument("--jobs", type=options.JOBS, default=JOBS,
                      help="threads for the plant (default: the number of cores, %(default)s)")
     _add_accept(tun)
@@ -562,7 +565,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
     _add_vehicle(mj)
-    mj.add_argument("-o", "--output", required=True, type=Path, help="output .xml")
+    mj.add_argument("-o", "--output", required=True, type=path_arg, help="output .xml")
     mj.add_argument("--no-scene", action="store_true", help="the vehicle only, no yard")
     mj.set_defaults(func=_mjcf)
 
@@ -570,7 +573,7 @@ def build_parser() -> argparse.ArgumentParser:
     lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path, help=SOURCES)
-    imp.add_argument("--out-dir", required=True, type=Path)
+    imp.add_argument("--out-dir", required=True, type=path_arg)
     imp.add_argument("--vehicle", default=None,
                      help="preset name or TOML file for the steering and hitch checks, and "
                           "whose geometry derives the semitrailer's channels of a tractor-only "
@@ -583,8 +586,12 @@ def build_parser() -> argparse.ArgumentParser:
     _add_accept(imp)
     imp.set_defaults(func=_logs_import)
     gen = lsub.add_parser("generate", help="the synthetic measured campaign")
-    gen.add_argument("--seed", type=options.SEED, default=0)
-    gen.add_argument("--out-dir", type=Path, default=Path("artic-out/synthetic"))
+    gen.add_argument("--seed", type=options.SEED, default=0,
+                     help="the truth's draw and the sensors' noise: the same seed gives the "
+                          "same logs (default: %(default)s)")
+    gen.add_argument("--out-dir", type=path_arg, default=Path("artic-out/synthetic"),
+                     help="the folder of the exports and the truth files (default: "
+                          "%(default)s)")
     gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
     gen.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
                      help="the vehicle that made the logs: one with its own tyre and steering "
@@ -609,12 +616,12 @@ def build_parser() -> argparse.ArgumentParser:
                          "%(default)s)")
     tc.add_argument("--fz", default="10e3,30e3,50e3",
                     help="comma-separated vertical loads [N] (default: %(default)s)")
-    tc.add_argument("--out", required=True, type=Path, help="output folder")
+    tc.add_argument("--out", required=True, type=path_arg, help="output folder")
     tc.set_defaults(func=_tyre_curves)
 
     camp = sub.add_parser("campaign", help="the main job: generate the synthetic measured "
                                            "campaign and validate every model on it")
-    camp.add_argument("--out-dir", type=Path, default=Path("artic-out"),
+    camp.add_argument("--out-dir", type=path_arg, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
     camp.add_argument("--models", default="kin,stm,mbd",
                       help="comma-separated: kin, stm, mbd and registered models "

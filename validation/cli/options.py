@@ -48,8 +48,8 @@ def number(lo: float, hi: float, *, unit: str = "", lo_open: bool = False,
         if not math.isfinite(x):
             raise argparse.ArgumentTypeError(f"expected a finite number{shown}, got {text!r}")
         if x < lo or x > hi or (lo_open and x == lo):
-            raise argparse.ArgumentTypeError(
-                f"{text} is outside {left}{lo:g}, {hi:g}]{shown}")
+            bounds = f"{int(lo)}, {int(hi)}" if integer else f"{lo:g}, {hi:g}"
+            raise argparse.ArgumentTypeError(f"{text} is outside {left}{bounds}]{shown}")
         return x
 
     return convert

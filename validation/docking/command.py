@@ -45,6 +45,7 @@ import sys
 from pathlib import Path
 
 from artic.mjcf.errors import UserError
+from artic.validation.runs.outputs import path_arg
 
 DEFAULT_VEHICLES = "gosar2022-unloaded,gosar2022-loaded,six-axle"
 
@@ -68,7 +69,7 @@ def add_parser(sub) -> None:
                         "(default: %(default)s)")
     p.add_argument("--seeds", type=options.number(1, 10000, integer=True), default=10,
                    help="seeded starts per scenario and vehicle, 0 to N-1 (default: %(default)s)")
-    p.add_argument("--out-dir", type=Path, default=None, help="output folder")
+    p.add_argument("--out-dir", type=path_arg, default=None, help="output folder")
     p.add_argument("--jobs", type=options.JOBS, default=_cores(),
                    help="processes (default: the cores this process may run on, %(default)s; "
                         "under taskset -c 0, one, so that the compute times are the "
@@ -147,7 +148,7 @@ def list_all() -> str:
     for a in AXES.values():
         unit = f" [{a.unit}]" if a.unit and a.unit != "-" else ""
         why = a.missing()
-        lines.append(f"  {a.name:<{width}}  {a.description}{unit}; nominal {a.nominal}"
+        lines.append(f"  {a.name:<{width}}  {a.description}{unit}; nominal {a.shown_nominal()}"
                      + (f" (not available yet: {why})" if why else ""))
     return "\n".join(lines)
 

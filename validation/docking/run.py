@@ -304,6 +304,9 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     frames = Frames.of(plant_vehicle)  # the true geometry: placing, collisions, scores
     planner = planner or HybridAStar()
     timeout = scen.timeout if timeout is None else float(timeout)
+    if not (math.isfinite(timeout) and timeout > 0.0):
+        raise UserError(f"timeout {timeout:g}: a run's time limit must be a positive number "
+                        "of seconds")
     trace = Trace()
     t0 = time.perf_counter()
     plan: Plan | None = None

@@ -213,8 +213,8 @@ SCENARIOS: dict[str, Scenario] = {s.name: s for s in (
 """The scenarios by name."""
 
 
-def scenario(name: str) -> Scenario:
-    """The scenario called ``name``.
+def scenario(name: str, given: str = "--scenario") -> Scenario:
+    """The scenario called ``name``; ``given`` names what gave it, for the message.
 
     Raises
     ------
@@ -224,5 +224,5 @@ def scenario(name: str) -> Scenario:
     try:
         return SCENARIOS[name]
     except KeyError:
-        raise UserError(f"--scenario {name!r}: no such scenario; choose one of "
+        raise UserError(f"{given} {name!r}: no such scenario; choose one of "
                          f"{', '.join(SCENARIOS)}") from None

@@ -162,8 +162,10 @@ SENSOR_SETS = {
 """``artic dock --sensors``: what each set puts on the combination."""
 
 
-def sensor_set(name: str) -> str:
+def sensor_set(name: str, given: str = "--sensors") -> str:
     """``name`` if it is one of :data:`SENSOR_SETS`; else one line naming the choices.
+
+    ``given`` names what gave it (the option, or a keyword), for the message.
 
     Raises
     ------
@@ -171,7 +173,7 @@ def sensor_set(name: str) -> str:
         For any other name.
     """
     if name not in SENSOR_SETS:
-        raise UserError(f"--sensors {name}: no such sensor set; choose one of "
+        raise UserError(f"{given} {name}: no such sensor set; choose one of "
                         f"{', '.join(SENSOR_SETS)}")
     return name
 

@@ -154,6 +154,9 @@ class Axis:
         A level to :func:`~artic.validation.docking.run.drive`'s keyword arguments.
     missing : callable
         ``None`` when the axis can run, else what this artic lacks for it.
+    nominal_text : callable, optional
+        The nominal as ``artic dock --list`` shows it, where ``nominal`` alone would
+        mislead (the articulation's noise is the sensor set's own).
     """
 
     name: str
@@ -163,11 +166,25 @@ class Axis:
     parse: Callable[[str], float | str]
     keywords: Callable[[float | str], dict]
     missing: Callable[[], str | None] = _available
+    nominal_text: Callable[[], str] | None = None
+
+    def shown_nominal(self) -> str:
+        """The nominal level as ``artic dock --list`` prints it."""
+        return self.nominal_text() if self.nominal_text is not None else str(self.nominal)
 
     @property
     def categorical(self) -> bool:
         """Whether the levels are names rather than numbers."""
         return isinstance(self.nominal, str)
+
+
+def _sensor_noise() -> str:
+    """The articulation sensors' own noise RMS, the nominal of ``articulation_noise``."""
+    from artic.validation.docking.sensing import articulation_model
+
+    rms = {s: math.degrees(articulation_model(s).noise_rms) for s in ("tractor", "camera")}
+    return ("the sensor's (" + ", ".join(f"{s} {v:.2g} deg" for s, v in rms.items())
+            + "; full measures none)")
 
 
 AXES: dict[str, Axis] = {a.name: a for a in (
@@ -185,7 +202,7 @@ AXES: dict[str, Axis] = {a.name: a for a in (
          "dock", 0.0, _number(-15.0, 15.0, "%"), lambda x: {"grade": float(x)}),
     Axis("articulation_noise", "deg", "noise of the articulation measurement (RMS)", 0.0,
          _number(0.0, 20.0, "deg"), lambda x: {"articulation_noise_deg": float(x)},
-         _drive_takes("articulation_noise_deg", "the sensor sets")),
+         _drive_takes("articulation_noise_deg", "the sensor sets"), _sensor_noise),
     Axis("sensors", "", "sensor set: full (RTK/INS on both units), tractor (and a hitch "
          "encoder), camera (a rear-facing articulation sensor)", "full",
          _choice(("full", "tractor", "camera")), lambda x: {"sensor_set": str(x)},

@@ -185,6 +185,8 @@ def import_runs(path: Path, accept: Collection[str] = (), vehicle=None,
     """
     path = Path(path)
     accept = tuple(accept)
+    if not path.exists():
+        raise LogError(f"{path}: no such file or folder")
     if channels is None and is_bag(path):
         raise LogError(f"{path}: a ROS bag or MCAP file is read through a channel map that "
                        "names a topic and field per channel: pass --channels MAP.toml (the "
@@ -286,6 +288,9 @@ def import_sources(paths: list[Path], out_dir: Path, accept: Collection[str] = (
                            f"{Path(out_dir) / (name + '.parquet')}; rename one of them or "
                            "import them into different folders")
         targets[name] = Path(p)
+    for p in paths:  # all there before anything is written
+        if not Path(p).exists():
+            raise LogError(f"{p}: no such file or folder")
     out = []
     written: dict[str, Path] = {}
     for p in paths:

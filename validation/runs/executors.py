@@ -33,12 +33,17 @@ seconds in one line, instead of a traceback or a wait without end.
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 from collections.abc import Iterator
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
 
 from artic.mjcf.errors import UserError
+
+NO_DISTRIBUTED = ("the dask executor needs the 'distributed' package: "
+                  'pip install "artic[distributed]"')
+"""The one line for ``--executor dask`` where ``distributed`` is not installed."""
 
 EXECUTORS = ("local", "dask")
 
@@ -85,6 +90,8 @@ class DaskOptions:
         for opt, p in zip(("--tls-ca-file", "--tls-cert", "--tls-key"), self.tls, strict=True):
             if p is not None and not Path(p).is_file():
                 raise UserError(f"{opt} {p}: no such file")
+        if kind == "dask" and importlib.util.find_spec("distributed") is None:
+            raise UserError(NO_DISTRIBUTED)
 
     def security(self):
         """A ``distributed.Security`` for the TLS files, or ``None`` without them."""
@@ -131,8 +138,7 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
     try:
         from distributed import Client, LocalCluster
     except ImportError as exc:
-        raise UserError("the dask executor needs the 'distributed' package: "
-                         'pip install "artic[distributed]"') from exc
+        raise UserError(NO_DISTRIBUTED) from exc
     cluster = None if address else LocalCluster(n_workers=max(1, jobs), threads_per_worker=1,
                                                 processes=True, dashboard_address=None)
     try:

@@ -1,8 +1,9 @@
 """Output folders and files: checked before the work, locked while in use, tidy after a crash.
 
 - :func:`check_output_dir` and :func:`check_output_file` try the output
-  location before any long computation, so a read-only, missing or wrong-type
-  path is a one-line error at once, not a traceback an hour later.
+  location before any long computation, so a read-only or wrong-type path is a
+  one-line error at once, not a traceback an hour later; they make nothing, so
+  a command refused for another input leaves no folder behind.
 - :class:`OutDirLock` holds ``DIR/.artic.lock`` while a command writes into
   ``DIR``. A second command on the same folder is refused with the holder's
   process id, host, command and start time. The lock is an advisory
@@ -34,7 +35,8 @@ from artic.mjcf.errors import UserError
 from artic.mjcf.files import TEMP_SUFFIX, public_mode, umask
 
 __all__ = ["LOCK_NAME", "TEMP_SUFFIX", "LockedError", "OutDirLock", "OutputError",
-           "check_output_dir", "check_output_file", "clean_stale", "public_mode", "umask"]
+           "check_output_dir", "check_output_file", "clean_stale", "path_arg", "public_mode",
+           "umask"]
 
 LOCK_NAME = ".artic.lock"
 """The lock file in an output folder."""
@@ -47,14 +49,37 @@ def _describe(exc: OSError) -> str:
     return exc.strerror or str(exc)
 
 
+def path_arg(text: str) -> Path:
+    """An output path from the command line: refuses an empty one (argparse's ``type``).
+
+    ``Path("")`` is the current folder, so an empty ``--out-dir ""`` (an unset shell
+    variable) would otherwise write there.
+    """
+    import argparse
+
+    if not text.strip():
+        raise argparse.ArgumentTypeError("no path given; name a folder or file")
+    return Path(text)
+
+
 def check_output_dir(path: Path | str, option: str = "--out-dir") -> Path:
-    """Create ``path`` if needed and prove it writable; one-line :class:`OutputError` if not."""
+    """Prove ``path`` is, or can be made, a writable folder; one-line :class:`OutputError` if not.
+
+    Nothing is made: the folder is created by what first writes into it (the
+    command's :class:`OutDirLock`, or the writer itself), after every input is
+    checked, so a refused command leaves no empty folder behind. Where ``path``
+    does not exist yet, the nearest folder above it that does must be writable.
+    """
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise OutputError(f"{option} {path}: exists and is not a folder; choose a folder")
+    there = path
+    while not there.exists() and there != there.parent:
+        there = there.parent
+    if not there.is_dir():
+        raise OutputError(f"{option} {path}: {there} is a file, not a folder; choose a folder")
     try:
-        path.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=".artic-probe.", suffix=TEMP_SUFFIX, dir=path)
+        fd, probe = tempfile.mkstemp(prefix=".artic-probe.", suffix=TEMP_SUFFIX, dir=there)
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:

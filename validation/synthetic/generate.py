@@ -72,7 +72,7 @@ from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, Tr
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.manoeuvres import make_profile
 from artic.validation.synthetic.sensors import SensorModel, measure
-from artic.validation.synthetic.testmatrix import MATRIX, Manoeuvre
+from artic.validation.synthetic.testmatrix import MATRIX, Manoeuvre, check_only
 from artic.validation.synthetic.truth import (
     DEFAULT,
     TRUTHS,
@@ -415,14 +415,11 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     """
     sensors = sensors or SensorModel()
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     if truth not in TRUTHS:
         raise UserError(f"truth {truth!r}: expected one of {', '.join(TRUTHS)}")
+    check_only(only)  # before anything is made
+    out_dir.mkdir(parents=True, exist_ok=True)
     write_truth_files(out_dir, seed, truth)
-    unknown = [o for o in only or [] if not any(m.name.startswith(o) for m in MATRIX)]
-    if unknown:
-        raise UserError(f"no manoeuvre matches {', '.join(unknown)}; names look like "
-                         f"{MATRIX[0].name}")
     todo = [m for m in MATRIX if not only or any(m.name.startswith(o) for o in only)]
     config = truth_configuration(seed, truth, drift)
     missing = []

@@ -31,7 +31,10 @@ figure-of-8) and all 33 reverse ones.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
+
+from artic.mjcf.errors import UserError
 
 TUNING_SLALOM = (360.0, 8.0)
 """The tuning slaloms' steering-wheel amplitude [deg] and speed [km/h]: an
@@ -130,3 +133,17 @@ cornering (left against right separates the offset from the asymmetry q), the
 slaloms the yaw and lateral-velocity response to a changing steer, at another
 amplitude and speed, which separates the cornering stiffness f (whose effect
 grows with the square of the speed) from i_s."""
+
+
+def check_only(only: Sequence[str] | None) -> None:
+    """Refuse an ``--only`` prefix that names no manoeuvre, before anything is made.
+
+    Raises
+    ------
+    UserError
+        Naming the prefixes and what manoeuvre names look like.
+    """
+    unknown = [o for o in only or [] if not any(m.name.startswith(o) for m in MATRIX)]
+    if unknown:
+        raise UserError(f"--only: no manoeuvre matches {', '.join(unknown)}; names look like "
+                        f"{MATRIX[0].name} (the campaign guide lists the test matrix)")

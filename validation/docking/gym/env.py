@@ -108,7 +108,7 @@ class DockEnv(gym.Env):
                  recording_dir: str | Path = "recordings", **drive_options: Any) -> None:
         names = list(SCENARIOS) if scenario == "all" else \
             [s.strip() for s in scenario.split(",") if s.strip()]
-        self._scenarios = [find_scenario(n) for n in names]
+        self._scenarios = [find_scenario(n, "scenario") for n in names]
         if not self._scenarios:
             raise UserError("scenario: give at least one name (artic dock --list) or 'all'")
         if render_mode not in (None, "rerun"):
@@ -120,7 +120,7 @@ class DockEnv(gym.Env):
         self.yard_model = yard_model
         self.render_mode = render_mode
         self.recording_dir = Path(recording_dir)
-        self._options = {"sensor_set": sensor_set(sensors), **drive_options}
+        self._options = {"sensor_set": sensor_set(sensors, "sensors"), **drive_options}
         self.scale = ActionScale.of(self.vehicle)
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, (len(OBSERVATION_NAMES),),
                                                 np.float64)
@@ -137,8 +137,10 @@ class DockEnv(gym.Env):
         super().reset(seed=seed)
         options = dict(options or {})
         self._close_episode()
-        scen = find_scenario(options["scenario"]) if "scenario" in options else \
-            self._scenarios[int(self.np_random.integers(len(self._scenarios)))]
+        if "scenario" in options:
+            scen = find_scenario(options["scenario"], "options['scenario']")
+        else:
+            scen = self._scenarios[int(self.np_random.integers(len(self._scenarios)))]
         start = options.get("start")
         for _ in range(100):  # a start the planner finds no path from is drawn again
             k = int(self.np_random.integers(_STARTS)) if start is None else int(start)

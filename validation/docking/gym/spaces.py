@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from artic.mjcf.errors import UserError
 from artic.mjcf.interface import OBSERVATION
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.docking.controllers.base import Command, Controller, Observation
@@ -126,8 +127,21 @@ class ActionScale:
         return cls(offset, left, right, SPEED_MAX)
 
     def command(self, action: np.ndarray) -> Command:
-        """The command of an action (clipped to [-1, 1])."""
-        a = np.clip(np.asarray(action, float).reshape(2), -1.0, 1.0)
+        """The command of an action (clipped to [-1, 1]).
+
+        Raises
+        ------
+        UserError
+            For an action of another shape than ``(2,)``, or not finite.
+        """
+        a = np.asarray(action, dtype=float)
+        if a.shape != (2,):
+            raise UserError(f"action of shape {a.shape}: expected shape (2,), the steering "
+                            "wheel and the speed, each in [-1, 1]")
+        if not np.isfinite(a).all():
+            raise UserError(f"action {a.tolist()}: not finite; expected the steering wheel "
+                            "and the speed, each in [-1, 1]")
+        a = np.clip(a, -1.0, 1.0)
         side = self.left if a[0] >= 0.0 else self.right
         return Command(self.offset + float(a[0]) * side, float(a[1]) * self.speed)
 
