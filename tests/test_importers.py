@@ -165,7 +165,10 @@ def test_cli_imports_folder_and_mat(canonical, tmp_path, capsys):
     assert read_run(out / "run1.parquet").meta["source"] == "measured"
     assert len(read_run(out / "run2.parquet").frame) == len(canonical.frame)
     assert main(["logs", "import", str(tmp_path / "nothing.txt"), "--out-dir", str(out)]) == 2
-    assert "not a log" in capsys.readouterr().err
+    assert "nothing.txt: no such file or folder" in capsys.readouterr().err
+    (tmp_path / "notes.txt").write_text("a note, not a log")
+    assert main(["logs", "import", str(tmp_path / "notes.txt"), "--out-dir", str(out)]) == 2
+    assert "notes.txt: not a log" in capsys.readouterr().err
 
 
 def test_an_export_given_where_a_canonical_log_is_read_says_import_it(canonical, tmp_path,
