@@ -4,12 +4,11 @@ A numpy plant installs a Python ``mjcb_passive``; MuJoCo's compiler ends with a
 forward pass through that callback, which the bindings cannot serve for a model
 that has no Python object yet. :func:`artic.mjcf.compiling.compile_spec` keeps the
 callback out of the compilation without touching the process-global callback, so
-a plant stepping on another thread keeps its tyre forces.
+a plant stepping on another thread keeps its tyre forces (tested in
+``test_callback_threads.py``).
 """
 
 from __future__ import annotations
-
-import threading
 
 import mujoco
 import numpy as np
@@ -17,8 +16,6 @@ import pytest
 
 from artic.mjcf.builder import build_model
 from artic.mjcf.compiling import compile_spec
-from artic.mjcf.interface import InitialState
-from artic.plant import Plant
 
 
 def _bytes(m: mujoco.MjModel) -> bytes:
@@ -59,38 +56,3 @@ def test_compile_spec_gives_the_plain_model_without_calling_the_callback(unloade
     # Byte for byte: the disabled springs and dampers changed nothing the compiler
     # computes, and the flags are the spec's again.
     assert _bytes(model) == plain
-
-
-def _drive(plant: Plant, n: int) -> np.ndarray:
-    plant.reset(InitialState(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.8, 0.05))
-    out = []
-    for _ in range(n):
-        plant.step(0.01, 0.05, -0.8, 0.0)
-        out.append(plant.data.qpos.copy())
-    return np.array(out)
-
-
-def test_a_numpy_plant_keeps_its_forces_while_another_thread_compiles(unloaded):
-    # The race that made a validation run on two threads fail with "py_mjcb_passive
-    # is null" when the compiled parts were absent: one thread compiled a model
-    # (and switched the global callback off meanwhile) while the other stepped.
-    with Plant(unloaded, backend="python") as p:
-        alone = _drive(p, 150)
-    stop = threading.Event()
-    compiled = []
-
-    def compile_meanwhile():
-        while not stop.is_set():
-            compiled.append(compile_spec(build_model(unloaded)))
-
-    with Plant(unloaded, backend="python") as p:
-        other = threading.Thread(target=compile_meanwhile)
-        other.start()
-        try:
-            beside = _drive(p, 150)
-        finally:
-            stop.set()
-            other.join()
-    assert len(compiled) >= 2  # the compilations overlapped the steps
-    # Bitwise: the same inputs give the same numbers, compilations or not.
-    np.testing.assert_array_equal(beside, alone)
