@@ -61,7 +61,6 @@ from artic.validation.runs.outputs import (
     check_output_dir,
     check_output_file,
     clean_stale,
-    path_arg,
 )
 from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
 from artic.validation.synthetic.truth import TRUTHS
@@ -520,7 +519,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="speed [km/h], positive (default 5 forward, 3 reverse)")
     sim.add_argument("--side", choices=("left", "right"), default="left")
     sim.add_argument("--duration", type=options.DURATION, default=None, help="length [s]")
-    sim.add_argument("--out", required=True, type=path_arg, help="output .parquet")
+    sim.add_argument("--out", required=True, type=options.output_path, help="output .parquet")
     sim.set_defaults(func=_simulate)
 
     val = sub.add_parser("validate", help="validate models against logs")
@@ -531,7 +530,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default: %(default)s)")
     val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
-    val.add_argument("--out-dir", required=True, type=path_arg)
+    val.add_argument("--out-dir", required=True, type=options.output_path)
     val.add_argument("--gain-sweep", action="store_true",
                      help="also sweep K over the reverse logs; marks the stability bound")
     val.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
@@ -557,7 +556,8 @@ def build_parser() -> argparse.ArgumentParser:
     tun.add_argument("logs", nargs="+", type=Path, help="forward logs (.parquet)")
     _add_vehicle(tun)
     tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
-    tun.add_argument("--out", required=True, type=path_arg, help="tuned vehicle file (.toml)")
+    tun.add_argument("--out", required=True, type=options.output_path,
+                     help="tuned vehicle file (.toml)")
     tun.add_argument("--jobs", type=options.JOBS, default=JOBS,
                      help="threads for the plant (default: the number of cores, %(default)s)")
     _add_accept(tun)
@@ -565,7 +565,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
     _add_vehicle(mj)
-    mj.add_argument("-o", "--output", required=True, type=path_arg, help="output .xml")
+    mj.add_argument("-o", "--output", required=True, type=options.output_path, help="output .xml")
     mj.add_argument("--no-scene", action="store_true", help="the vehicle only, no yard")
     mj.set_defaults(func=_mjcf)
 
@@ -573,7 +573,7 @@ def build_parser() -> argparse.ArgumentParser:
     lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path, help=SOURCES)
-    imp.add_argument("--out-dir", required=True, type=path_arg)
+    imp.add_argument("--out-dir", required=True, type=options.output_path)
     imp.add_argument("--vehicle", default=None,
                      help="preset name or TOML file for the steering and hitch checks, and "
                           "whose geometry derives the semitrailer's channels of a tractor-only "
@@ -589,7 +589,7 @@ def build_parser() -> argparse.ArgumentParser:
     gen.add_argument("--seed", type=options.SEED, default=0,
                      help="the truth's draw and the sensors' noise: the same seed gives the "
                           "same logs (default: %(default)s)")
-    gen.add_argument("--out-dir", type=path_arg, default=Path("artic-out/synthetic"),
+    gen.add_argument("--out-dir", type=options.output_path, default=Path("artic-out/synthetic"),
                      help="the folder of the exports and the truth files (default: "
                           "%(default)s)")
     gen.add_argument("--only", default="", help="comma-separated manoeuvre names or prefixes")
@@ -616,12 +616,12 @@ def build_parser() -> argparse.ArgumentParser:
                          "%(default)s)")
     tc.add_argument("--fz", default="10e3,30e3,50e3",
                     help="comma-separated vertical loads [N] (default: %(default)s)")
-    tc.add_argument("--out", required=True, type=path_arg, help="output folder")
+    tc.add_argument("--out", required=True, type=options.output_path, help="output folder")
     tc.set_defaults(func=_tyre_curves)
 
     camp = sub.add_parser("campaign", help="the main job: generate the synthetic measured "
                                            "campaign and validate every model on it")
-    camp.add_argument("--out-dir", type=path_arg, default=Path("artic-out"),
+    camp.add_argument("--out-dir", type=options.output_path, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
     camp.add_argument("--models", default="kin,stm,mbd",
                       help="comma-separated: kin, stm, mbd and registered models "

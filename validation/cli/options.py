@@ -12,6 +12,7 @@ import argparse
 import math
 import os
 from collections.abc import Callable
+from pathlib import Path
 
 from artic.mjcf.errors import UserError
 
@@ -53,6 +54,17 @@ def number(lo: float, hi: float, *, unit: str = "", lo_open: bool = False,
         return x
 
     return convert
+
+
+def output_path(text: str) -> Path:
+    """An output file or folder: refuses an empty one.
+
+    ``Path("")`` is the current folder, so an empty ``--out-dir ""`` (an unset shell
+    variable) would otherwise write there.
+    """
+    if not text.strip():
+        raise argparse.ArgumentTypeError("no path given; name a folder or file")
+    return Path(text)
 
 
 SPEED_KPH = number(0.0, 60.0, unit="km/h", lo_open=True)

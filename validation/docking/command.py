@@ -45,7 +45,6 @@ import sys
 from pathlib import Path
 
 from artic.mjcf.errors import UserError
-from artic.validation.runs.outputs import path_arg
 
 DEFAULT_VEHICLES = "gosar2022-unloaded,gosar2022-loaded,six-axle"
 
@@ -69,7 +68,7 @@ def add_parser(sub) -> None:
                         "(default: %(default)s)")
     p.add_argument("--seeds", type=options.number(1, 10000, integer=True), default=10,
                    help="seeded starts per scenario and vehicle, 0 to N-1 (default: %(default)s)")
-    p.add_argument("--out-dir", type=path_arg, default=None, help="output folder")
+    p.add_argument("--out-dir", type=options.output_path, default=None, help="output folder")
     p.add_argument("--jobs", type=options.JOBS, default=_cores(),
                    help="processes (default: the cores this process may run on, %(default)s; "
                         "under taskset -c 0, one, so that the compute times are the "

@@ -35,8 +35,7 @@ from artic.mjcf.errors import UserError
 from artic.mjcf.files import TEMP_SUFFIX, public_mode, umask
 
 __all__ = ["LOCK_NAME", "TEMP_SUFFIX", "LockedError", "OutDirLock", "OutputError",
-           "check_output_dir", "check_output_file", "clean_stale", "path_arg", "public_mode",
-           "umask"]
+           "check_output_dir", "check_output_file", "clean_stale", "public_mode", "umask"]
 
 LOCK_NAME = ".artic.lock"
 """The lock file in an output folder."""
@@ -47,19 +46,6 @@ class OutputError(UserError):
 
 def _describe(exc: OSError) -> str:
     return exc.strerror or str(exc)
-
-
-def path_arg(text: str) -> Path:
-    """An output path from the command line: refuses an empty one (argparse's ``type``).
-
-    ``Path("")`` is the current folder, so an empty ``--out-dir ""`` (an unset shell
-    variable) would otherwise write there.
-    """
-    import argparse
-
-    if not text.strip():
-        raise argparse.ArgumentTypeError("no path given; name a folder or file")
-    return Path(text)
 
 
 def check_output_dir(path: Path | str, option: str = "--out-dir") -> Path:
