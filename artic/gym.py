@@ -5,7 +5,9 @@ Importing this module registers
 - ``artic/Dock-v0``: the docking scenarios on the multibody plant;
 - ``artic/DockKIN-v0``: the same on KIN, for fast prototyping.
 
-``gymnasium.make("artic.gym:artic/Dock-v0")`` imports it for you. The
+``gymnasium.make("artic.gym:artic/Dock-v0")`` imports it for you, and
+``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")`` gives
+:class:`DockVectorEnv`, the environments stepped side by side in one process. The
 environment is :class:`~artic.validation.docking.gym.env.DockEnv`; a trained
 policy goes back into ``artic dock --controller`` through
 :func:`policy_controller`. The docking guide shows the round trip.
@@ -23,8 +25,9 @@ from artic.validation.docking.gym.spaces import (
     ActionScale,
     observation_vector,
 )
+from artic.validation.docking.gym.vector import DockVectorEnv
 
-__all__ = ["DockEnv", "PolicyController", "policy_controller", "ActionScale",
+__all__ = ["DockEnv", "DockVectorEnv", "PolicyController", "policy_controller", "ActionScale",
            "OBSERVATION_NAMES", "OBSERVATION_UNITS", "observation_vector", "ENVIRONMENTS"]
 
 ENVIRONMENTS = {"artic/Dock-v0": "mbd", "artic/DockKIN-v0": "kin"}
@@ -33,4 +36,5 @@ ENVIRONMENTS = {"artic/Dock-v0": "mbd", "artic/DockKIN-v0": "kin"}
 for _id, _model in ENVIRONMENTS.items():
     if _id not in gym.registry:
         gym.register(id=_id, entry_point="artic.validation.docking.gym.env:DockEnv",
+                     vector_entry_point="artic.validation.docking.gym.vector:DockVectorEnv",
                      kwargs={"yard_model": _model})

@@ -28,12 +28,19 @@ evaluated on the other).
 
 ``reset(seed=s)`` seeds the draw of the start; ``options={"start": k}`` takes
 ``artic dock``'s start ``k`` (its ``--seeds``) instead, and ``"scenario"`` another
-of the environment's scenarios.
+of the environment's scenarios; any other key is refused (:data:`RESET_OPTIONS`).
+
+The environment holds its state in its own copies: the arrays it returns are the
+caller's, to scale or overwrite, and change nothing of the episode.
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import inspect
+import math
+import numbers
 from pathlib import Path
 from typing import Any
 
@@ -51,13 +58,77 @@ from artic.validation.docking.gym.spaces import (
     observation_vector,
     stopped_at_dock,
 )
-from artic.validation.docking.run import run_name
+from artic.validation.docking.run import drive, run_name
 from artic.validation.docking.scenarios import SCENARIOS
 from artic.validation.docking.scenarios import scenario as find_scenario
 from artic.validation.docking.sensing import sensor_set
 
 _TRUNCATIONS = ("timeout",)
 _STARTS = 2**31 - 1
+
+RESET_OPTIONS = ("start", "scenario")
+"""The keys ``reset(options=...)`` reads."""
+
+_SET_BY_ENV = {"scen": "scenario", "vehicle_name": "vehicle", "controller": None,
+               "seed": "reset(options={'start': k})", "yard_model": "the environment's id",
+               "record": "render_mode='rerun' with recording_dir",
+               "realtime": None, "sensor_set": "sensors"}
+# drive()'s parameters the environment sets itself, and the keyword that sets them.
+
+DRIVE_OPTIONS = tuple(p for p in inspect.signature(drive).parameters
+                      if p not in _SET_BY_ENV and p != "sensors")  # `sensors` is the set here
+"""The keywords of :func:`~artic.validation.docking.run.drive` an environment passes on."""
+
+
+def check_drive_options(options: dict[str, Any]) -> None:
+    """Refuse a keyword ``drive`` would not take, or a time limit that is not one.
+
+    Raises
+    ------
+    UserError
+        One line naming the keyword and the accepted ones (or what sets it).
+    """
+    for key in options:
+        if key in _SET_BY_ENV:
+            by = _SET_BY_ENV[key]
+            raise UserError(f"keyword {key!r}: the environment sets it itself"
+                            + (f"; use {by}" if by else ""))
+        if key not in DRIVE_OPTIONS:
+            raise UserError(f"keyword {key!r}: not an option of the docking environment; "
+                            f"expected scenario, vehicle, sensors, render_mode, recording_dir "
+                            f"or one of drive()'s: {', '.join(DRIVE_OPTIONS)}")
+    timeout = options.get("timeout")
+    if timeout is not None:
+        try:
+            ok = math.isfinite(float(timeout)) and float(timeout) > 0.0
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise UserError(f"timeout {timeout!r}: a run's time limit must be a positive "
+                            "number of seconds")
+
+
+def check_reset_options(options: dict[str, Any]) -> int | None:
+    """The start ``options`` asks for (``None``: draw one), the keys checked.
+
+    Raises
+    ------
+    UserError
+        One line for a key not in :data:`RESET_OPTIONS`, or a start that is not an
+        integer in [0, 2**31 - 2].
+    """
+    for key in options:
+        if key not in RESET_OPTIONS:
+            raise UserError(f"options[{key!r}]: not a reset option; expected "
+                            + " or ".join(repr(k) for k in RESET_OPTIONS))
+    start = options.get("start")
+    if start is None:
+        return None
+    if isinstance(start, bool) or not isinstance(start, numbers.Integral) \
+            or not 0 <= int(start) < _STARTS:
+        raise UserError(f"options['start'] {start!r}: expected an integer from 0 to "
+                        f"{_STARTS - 1} (artic dock's start, its --seeds)")
+    return int(start)
 
 
 class DockEnv(gym.Env):
@@ -120,6 +191,7 @@ class DockEnv(gym.Env):
         self.yard_model = yard_model
         self.render_mode = render_mode
         self.recording_dir = Path(recording_dir)
+        check_drive_options(drive_options)
         self._options = {"sensor_set": sensor_set(sensors, "sensors"), **drive_options}
         self.scale = ActionScale.of(self.vehicle)
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, (len(OBSERVATION_NAMES),),
@@ -134,16 +206,16 @@ class DockEnv(gym.Env):
     def reset(self, *, seed: int | None = None,
               options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict]:
         """Start an episode at a seeded start; the first observation and ``info``."""
-        super().reset(seed=seed)
         options = dict(options or {})
+        start = check_reset_options(options)
+        super().reset(seed=seed)
         self._close_episode()
         if "scenario" in options:
             scen = find_scenario(options["scenario"], "options['scenario']")
         else:
             scen = self._scenarios[int(self.np_random.integers(len(self._scenarios)))]
-        start = options.get("start")
         for _ in range(100):  # a start the planner finds no path from is drawn again
-            k = int(self.np_random.integers(_STARTS)) if start is None else int(start)
+            k = int(self.np_random.integers(_STARTS)) if start is None else start
             record = None
             if self.render_mode == "rerun":
                 name = run_name(scen.name, self.vehicle.name, "gym", k)
@@ -164,22 +236,45 @@ class DockEnv(gym.Env):
         vector = observation_vector(first.observation, self._helper)
         self._last = (vector, first.observation)
         info = {"t": first.observation.t, "scenario": scen.name, "start": k, "reason": ""}
-        return vector, info
+        return vector.copy(), info  # the caller's copy: the episode reads its own
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
         """Hold ``action`` for 0.1 s: observation, reward, terminated, truncated, info."""
+        self.post(action)
+        return self.receive()
+
+    def post(self, action: np.ndarray) -> None:
+        """The first half of :meth:`step`: hand ``action`` to the run and return at once.
+
+        The run computes the next 0.1 s on its own thread until :meth:`receive`
+        collects it: the vector environment posts to all its episodes, then
+        receives from each, so their plants step side by side.
+
+        Raises
+        ------
+        UserError
+            For an action of another shape than ``(2,)`` or not finite; the episode
+            goes on, as if the step had not been asked for.
+        """
         if self._episode is None or self._last is None:
             raise RuntimeError("call reset() before step()")
         before, _ = self._last
         cmd = self.scale.command(action)
         if stopped_at_dock(cmd, float(before[-3])):
             cmd = type(cmd)(cmd.delta_h, 0.0, done=True)
-        got: Step = self._episode.send(cmd)
+        self._episode.post(cmd)
+
+    def receive(self) -> tuple[np.ndarray, float, bool, bool, dict]:
+        """The second half of :meth:`step`: observation, reward, terminated, truncated, info."""
+        if self._episode is None or self._last is None:
+            raise RuntimeError("call post() before receive()")
+        before, _ = self._last
+        got: Step = self._episode.receive()
         if got.observation is not None:
             vector = observation_vector(got.observation, self._helper)
             self._last = (vector, got.observation)
             reward = step_reward(tuple(before[-3:]), tuple(vector[-3:]))
-            return vector, reward, False, False, {"t": got.observation.t, "reason": ""}
+            return vector.copy(), reward, False, False, {"t": got.observation.t, "reason": ""}
         row = got.result.row
         self._episode = None
         reason = "docked" if row["success"] else str(row["failure"]).split(":")[0]
@@ -190,10 +285,14 @@ class DockEnv(gym.Env):
 
     @property
     def observation(self) -> Observation:
-        """The last :class:`~artic.validation.docking.controllers.Observation` a controller gets."""
+        """The last :class:`~artic.validation.docking.controllers.Observation` a controller gets.
+
+        A copy: the run keeps its own (its trace scores what the controller saw).
+        """
         if self._last is None:
             raise RuntimeError("call reset() first")
-        return self._last[1]
+        obs = self._last[1]
+        return dataclasses.replace(obs, signals=np.array(obs.signals, dtype=float))
 
     @property
     def task(self) -> Task:

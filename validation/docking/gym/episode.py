@@ -26,8 +26,14 @@ from artic.validation.docking.run import Result, drive
 from artic.validation.docking.scenarios import Scenario
 
 
-class _Closed(Exception):
-    """The caller left the episode before it ended (the run fails and is discarded)."""
+class _Closed(KeyboardInterrupt):
+    """The caller left the episode before it ended.
+
+    :func:`~artic.validation.docking.run.drive` passes a ``KeyboardInterrupt`` on
+    instead of failing the run with it, so an abandoned run is neither scored nor
+    recorded (a recording of a run the caller threw away would be an empty file
+    left in ``recording_dir``), and its plant is closed on the way out.
+    """
 
 
 @dataclass(frozen=True)
@@ -138,9 +144,22 @@ class Episode:
 
     def send(self, cmd: Command) -> Step:
         """Answer the last observation with ``cmd``; the next observation or the end."""
+        self.post(cmd)
+        return self.receive()
+
+    def post(self, cmd: Command) -> None:
+        """Answer the last observation with ``cmd`` and return at once.
+
+        The run computes its next sample on its own thread meanwhile (the plant's
+        steps release the GIL), so episodes posted one after another step side by
+        side; :meth:`receive` waits for what it reports.
+        """
         if self._thread is None:
             raise RuntimeError("the episode is not waiting for a command (not started, or ended)")
         self._to_run.put(cmd)
+
+    def receive(self) -> Step:
+        """The next observation or the end, after :meth:`post`."""
         return self._next()
 
     def close(self) -> None:
