@@ -38,17 +38,24 @@ def episode(env: DockEnv, act, start: int, name: str = "straight") -> tuple[dict
 
 
 @pytest.mark.parametrize("env_id", list(artic.gym.ENVIRONMENTS))
-def test_gymnasium_s_checker_passes(env_id):
+def test_gymnasium_s_checker_passes(env_id, tmp_path, monkeypatch):
     from gymnasium.utils.env_checker import check_env
 
+    monkeypatch.chdir(tmp_path)
     env = gym.make(env_id, scenario="straight")
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         # The observation is positions in the yard, velocities and angles: a Box
         # without finite bounds, which the checker notes but allows.
         warnings.filterwarnings("ignore", message=".*Box observation space m")
         check_env(env.unwrapped)
     assert env.observation_space.shape == (len(OBSERVATION_NAMES),)
     env.close()
+    # The checker resets an environment with render_mode="rerun" and closes it
+    # unfinished (issue 46, item 15): an abandoned run writes no recording, so no
+    # empty folder and none of numpy's warnings about an empty run.
+    assert [str(w.message) for w in caught] == []
+    assert not (tmp_path / "recordings").exists()
 
 
 @pytest.mark.parametrize("yard_model", ["mbd", "kin"])
@@ -228,3 +235,45 @@ def test_an_environment_dropped_without_close_stops_its_run():
     del env
     gc.collect()
     assert callback.active() == before
+
+
+def test_the_environment_keeps_its_own_copies():
+    # A wrapper that normalises the observation in place, or writes NaN into it,
+    # changes nothing of the episode (issue 46, item 2: a 20-step reward sum went
+    # from 0.51 to -244.7); nor does a change to the Observation it shows.
+    def rewards(scribble: bool) -> list[float]:
+        env = gym.make("artic/DockKIN-v0", scenario="straight")
+        obs, _ = env.reset(seed=3)
+        out = []
+        for _ in range(20):
+            if scribble:
+                obs *= 100.0
+                obs[-3] = math.nan
+                env.unwrapped.observation.signals[:] = math.nan
+            obs, r, *_ = env.step(np.array([0.0, -0.5]))
+            out.append(r)
+        env.close()
+        return out
+
+    assert rewards(True) == rewards(False)
+
+
+def test_bad_reset_options_and_keywords_are_one_line_at_the_right_time():
+    # Issue 46, item 10: each refused where it is given, naming the key.
+    with pytest.raises(UserError, match=r"^keyword 'foo': not an option .*timeout"):
+        gym.make("artic/DockKIN-v0", foo=1)  # at make, not at the first reset
+    with pytest.raises(UserError, match=r"^keyword 'seed': the environment sets it itself"):
+        gym.make("artic/DockKIN-v0", seed=1)
+    with pytest.raises(UserError, match="^timeout 'x': a run's time limit"):
+        gym.make("artic/DockKIN-v0", timeout="x")
+    env = DockEnv(scenario="straight", vehicle=VEHICLE, yard_model="kin")
+    with pytest.raises(UserError, match=r"^options\['strat'\]: not a reset option; "
+                                        r"expected 'start' or 'scenario'"):
+        env.reset(options={"strat": 3})  # a misspelt start drew a random one
+    for start in (2.7, -1, 2**31 - 1, True, "2"):
+        with pytest.raises(UserError, match=r"^options\['start'\] .*: expected an integer "
+                                            r"from 0 to 2147483646"):
+            env.reset(options={"start": start})
+    obs, info = env.reset(options={"start": np.int64(2)})  # numpy's integers are integers
+    assert info["start"] == 2 and obs.shape == (17,)
+    env.close()
