@@ -36,5 +36,5 @@ ENVIRONMENTS = {"artic/Dock-v0": "mbd", "artic/DockKIN-v0": "kin"}
 for _id, _model in ENVIRONMENTS.items():
     if _id not in gym.registry:
         gym.register(id=_id, entry_point="artic.validation.docking.gym.env:DockEnv",
-                     vector_entry_point="artic.validation.docking.gym.vector:DockVectorEnv",
+                     vector_entry_point="artic.validation.docking.gym.vector:vector_env",
                      kwargs={"yard_model": _model})

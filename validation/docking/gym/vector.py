@@ -40,6 +40,21 @@ from gymnasium.vector.utils import batch_space
 
 from artic.mjcf.errors import UserError
 from artic.validation.docking.gym.env import DockEnv
+from artic.validation.docking.gym.kinbatch import KinVectorEnv, batchable
+
+
+def vector_env(num_envs: int = 1, **kwargs: Any) -> VectorEnv:
+    """``make_vec``'s ``vector_entry_point``: batched on KIN where it can be, else threaded.
+
+    :class:`~artic.validation.docking.gym.kinbatch.KinVectorEnv` for the
+    configurations :func:`~artic.validation.docking.gym.kinbatch.batchable` covers
+    (``artic/DockKIN-v0`` with the full sensor set, unrecorded, ``timeout`` the only
+    ``drive`` option), :class:`DockVectorEnv` for the others. Both give what the
+    single environments give, bit for bit.
+    """
+    if batchable(kwargs):
+        return KinVectorEnv(num_envs, **kwargs)
+    return DockVectorEnv(num_envs, **kwargs)
 
 
 class DockVectorEnv(VectorEnv):
