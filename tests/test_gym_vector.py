@@ -10,10 +10,10 @@ import pytest
 gym = pytest.importorskip("gymnasium", reason="the gym extra (pip install 'artic[gym]') "
                                               "is not installed")
 
-import artic.gym  # noqa: E402 - registers the environments
+import artic.gym  # noqa: E402, F401 - registers the environments
 from artic.mjcf.errors import UserError  # noqa: E402
-from artic.validation.docking.gym.scripted import scripted_policy  # noqa: E402
 from artic.validation.docking.gym.kinbatch import KinVectorEnv  # noqa: E402
+from artic.validation.docking.gym.scripted import scripted_policy  # noqa: E402
 from artic.validation.docking.gym.vector import DockVectorEnv  # noqa: E402
 
 TIMINGS = ("solve_ms", "solve_ms_p50", "solve_ms_p99", "plan_ms", "late_commands")
