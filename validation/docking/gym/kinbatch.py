@@ -44,7 +44,6 @@ from artic.mjcf.interface import OBS_INDEX, InitialState, wrap_angle
 from artic.reduced import integrate
 from artic.reduced.control import KIN
 from artic.reduced.models import Driven
-from artic.validation.docking.controllers.base import Task
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.gym.env import (
     _STARTS,
@@ -63,7 +62,6 @@ from artic.validation.docking.run import (
     PLANT_DT,
     SENSOR_STREAM,
     SETTLE,
-    SPEED,
     SPEED_MAX,
     STEER_RATE,
     Trace,
@@ -73,7 +71,7 @@ from artic.validation.docking.scores import estimate_scores, score
 from artic.validation.docking.sensing import SensorStream
 from artic.validation.docking.variants import Draw, effective_wheelbase
 from artic.validation.harness.steering import SteeringMap
-from artic.validation.synthetic.sensors import SensorModel, can_quantise, can_sample
+from artic.validation.synthetic.sensors import SensorModel
 
 N_SUB = round(DT / PLANT_DT)
 """Plant steps per controller period."""
@@ -134,56 +132,35 @@ def _periods(kind, P, s1, s2, live, x, wheel, u, t, wheel_target, u_target, stee
                 break
 
 
+@njit(cache=True)
+def _first_hits(live, tractor, trailer, tractor_box, trailer_box, boxes, n_boxes, hits):
+    """:func:`~artic.validation.docking.geometry.first_hit` of each live run over its period.
+
+    ``tractor, trailer`` (n, N_SUB, 3), ``boxes`` (n, m, 4) with ``n_boxes`` of each
+    run's used; ``hits`` (n, 3) receives each run's ``(sample, box, unit)``.
+    """
+    for i in range(live.size):
+        hits[i, 0] = hits[i, 1] = hits[i, 2] = -1
+        if live[i]:
+            k, j, unit = first_hit(tractor[i], trailer[i], tractor_box, trailer_box,
+                                   boxes[i, :n_boxes[i]])
+            hits[i, 0], hits[i, 1], hits[i, 2] = k, j, unit
+
+
 class _Run:
-    """One sub-environment's episode: its yard, start, plan, noise and trace."""
+    """One sub-environment's episode: its yard, start, plan and noise.
+
+    ``periods`` and ``samples`` are its first entries of the vector environment's
+    logs (global counts), where its trace begins.
+    """
 
     def __init__(self, scen, k: int, yard, start, plan, plan_ms: float, noise: np.ndarray,
-                 n_ctrl: int, timeout: float) -> None:
+                 timeout: float, true0: np.ndarray, periods: int, samples: int) -> None:
         self.scen, self.k, self.yard, self.start = scen, k, yard, start
-        self.plan, self.plan_ms, self.noise = plan, plan_ms, noise
-        self.n_ctrl, self.timeout = n_ctrl, timeout
-        self.trace = Trace()
-        self.blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
-        self.ctrl = 0  # the controller sample the run is at
-        self.settle_until: float | None = None
-        self.signals: np.ndarray | None = None  # what the sensors reported at ``ctrl``
-        self.wheel0 = 0.0
-        self.steps = 0  # plant steps taken
-        self.asked = 0.0  # when the agent got the last observation (perf_counter) [s]
-
-    def wheel_at(self, step: int) -> float:
-        """The steering wheel at plant step ``step`` [rad]."""
-        if step == 0:
-            return self.wheel0
-        return float(self.blocks[(step - 1) // N_SUB][2][(step - 1) % N_SUB])
-
-    def finish(self, vehicle, frames: Frames, start_frames: Frames) -> dict:
-        """The scores row ``drive`` writes for this run."""
-        tr = self.trace
-        tr.t.append(0.0)  # the start, as drive's trace begins
-        tr.true.append(self.true0)
-        tr.steering_wheel.append(self.wheel0)
-        tr.speed.append(0.0)
-        for t0, true, wheel, speed in self.blocks:
-            tr.t.extend(t0.tolist())
-            tr.true.extend(true)
-            tr.steering_wheel.extend(wheel.tolist())
-            tr.speed.extend(speed.tolist())
-        identifier = WheelbaseIdentifier(vehicle)
-        for now, signals in zip(tr.t_ctrl, tr.measured, strict=True):
-            identifier.update(now, signals)
-        plan = self.plan
-        return {"scenario": self.scen.name, "vehicle": vehicle.name, "controller": CONTROLLER,
-                "plant": "kin", "seed": self.k,
-                **score(tr, self.yard, vehicle, frames, self.start),
-                "late_commands": tr.late, "plan_ms": self.plan_ms,
-                "plan_expansions": plan.expansions, "plan_direction_changes":
-                plan.direction_changes, "plan_length_m": plan.length, "sensors": "full",
-                **estimate_scores(tr, start_frames, frames), "trailer": "nominal",
-                "l2_nominal_m": effective_wheelbase(vehicle),
-                "l2_true_m": effective_wheelbase(vehicle),
-                "l2_identified_m": identifier.L2 if identifier.updates else math.nan,
-                "l2_updates": identifier.updates, **Draw().row()}
+        self.plan, self.plan_ms, self.noise, self.timeout = plan, plan_ms, noise, timeout
+        self.true0 = true0
+        self.periods, self.samples = periods, samples
+        self.failure = ""
 
 
 class KinVectorEnv(VectorEnv):
@@ -196,6 +173,12 @@ class KinVectorEnv(VectorEnv):
     **kwargs
         The keywords of :class:`~artic.validation.docking.gym.env.DockEnv`
         that :func:`batchable` accepts.
+
+    Notes
+    -----
+    Each run's trace (every 10 ms step, for its scores at the end) is kept in logs
+    shared by the runs, a record per period: memory grows with the longest
+    running episode, about 1.3 kB per environment and step.
     """
 
     metadata = {"render_modes": ["rerun"], "render_fps": 10,
@@ -235,14 +218,31 @@ class KinVectorEnv(VectorEnv):
         self._sensors = SensorModel()
         self._rngs: list[np.random.Generator | None] = [None] * n
         self._runs: list[_Run | None] = [None] * n
+        # The runs' state, one row each.
         self._x = np.zeros((n, 4))
-        self._wheel = np.zeros(n)
-        self._u = np.zeros(n)
-        self._t = np.zeros(n)
-        self._wheel_target = np.zeros(n)
-        self._u_target = np.zeros(n)
+        self._wheel, self._u, self._t = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._wheel_target, self._u_target = np.zeros(n), np.zeros(n)
+        self._true = np.zeros((n, 13))  # the plant's signals now
+        self._last_wheels = np.zeros((n, N_SUB))  # the last period's steering wheel
+        self._signals = np.zeros((n, 13))  # what the sensors reported at the sample
+        self._ctrl = np.zeros(n, np.int64)  # the controller's sample
+        self._n_ctrl = np.zeros(n, np.int64)
+        self._steps = np.zeros(n, np.int64)  # plant steps taken
+        self._settle_until = np.full(n, np.nan)  # NaN: not settling
+        self._done = np.zeros(n, np.bool_)
+        self._late = np.zeros(n, np.int64)
+        self._asked = np.zeros(n)  # when the agent got its observation [s, perf_counter]
+        self._t_obs = np.zeros(n)
+        self._dock = np.zeros((n, 2))
+        self._boxes = np.zeros((n, 1, 4))
+        self._n_boxes = np.zeros(n, np.int64)
         self._last = np.zeros((n, *probe.observation_space.shape))
         self._autoreset = np.zeros(n, np.bool_)
+        # The logs: one record per period, one per controller sample, from the
+        # oldest running episode's first on (``_base``: the global count of the first).
+        self._period_log: list[tuple] = []
+        self._sample_log: list[tuple] = []
+        self._base = [0, 0]
 
     # ------------------------------------------------------------- episodes
     def _rng(self, i: int, seed: int | None) -> np.random.Generator:
@@ -250,8 +250,8 @@ class KinVectorEnv(VectorEnv):
             self._rngs[i], _ = seeding.np_random(seed)
         return self._rngs[i]
 
-    def _reset_one(self, i: int, seed: int | None, options: dict[str, Any]) -> tuple:
-        """``DockEnv.reset`` for sub-environment ``i``: its first observation and info."""
+    def _reset_one(self, i: int, seed: int | None, options: dict[str, Any]) -> dict:
+        """``DockEnv.reset`` for sub-environment ``i``: its info (the observation in place)."""
         start_k = check_reset_options(options)
         rng = self._rng(i, seed)
         if "scenario" in options:
@@ -259,10 +259,10 @@ class KinVectorEnv(VectorEnv):
         else:
             scen = self._scenarios[int(rng.integers(len(self._scenarios)))]
         v = self.vehicle
-        for _ in range(100):
+        timeout = scen.timeout if self._timeout is None else float(self._timeout)
+        for _ in range(100):  # a start the planner finds no path from is drawn again
             k = int(rng.integers(_STARTS)) if start_k is None else start_k
             yard, start = scen.yard(v), scen.start(k)
-            timeout = scen.timeout if self._timeout is None else float(self._timeout)
             t0 = time.perf_counter()
             try:
                 plan = HybridAStar().plan(yard, v, start)  # drive's, anew each run
@@ -279,59 +279,127 @@ class KinVectorEnv(VectorEnv):
         stream = SensorStream(self._sensors,
                               np.random.default_rng([k, scen.number, SENSOR_STREAM]),
                               n_ctrl + 1, DT, PLANT_DT)
-        run = _Run(scen, k, yard, start, plan, plan_ms, stream.noise, n_ctrl, timeout)
-        run.boxes = box_array(yard.obstacles)
-        run.task = Task(v, yard, plan, DT, SPEED, SPEED_MAX, ACCEL_MAX, STEER_RATE)
         x0 = self._frames.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma)
         xs, ys = self._frames.tractor_sensor_of_kin(x0)
         plant = Driven(self._model)
         plant.reset(InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0))
+        true0 = plant.observe()
+        self._runs[i] = _Run(scen, k, yard, start, plan, plan_ms, stream.noise, timeout,
+                             true0, self._base[0] + len(self._period_log),
+                             self._base[1] + len(self._sample_log))
+        boxes = box_array(yard.obstacles)
+        if len(boxes) > self._boxes.shape[1]:
+            grown = np.zeros((self.num_envs, len(boxes), 4))
+            grown[:, :self._boxes.shape[1]] = self._boxes
+            self._boxes = grown
+        self._boxes[i, :len(boxes)] = boxes
+        self._n_boxes[i] = len(boxes)
         self._x[i] = plant.x
-        self._wheel[i] = run.wheel0 = self._wheel0
-        self._u[i] = self._t[i] = 0.0
-        self._wheel_target[i], self._u_target[i] = self._wheel0, 0.0
-        run.true0 = plant.observe()
-        self._runs[i] = run
-        obs = self._observe(np.array([i]))[0]
-        run.asked = time.perf_counter()
-        info = {"t": 0.0, "scenario": scen.name, "start": k, "reason": ""}
-        return obs, info
+        self._wheel[i] = self._wheel_target[i] = self._wheel0
+        self._u[i] = self._t[i] = self._u_target[i] = 0.0
+        self._true[i] = true0
+        self._ctrl[i] = self._steps[i] = self._late[i] = 0
+        self._n_ctrl[i] = n_ctrl
+        self._settle_until[i] = math.nan
+        self._done[i] = False
+        self._dock[i] = (yard.x_dock, yard.y_dock)
+        self._observe(np.array([i]))
+        self._asked[i] = time.perf_counter()
+        return {"t": 0.0, "scenario": scen.name, "start": k, "reason": ""}
 
-    def _true_last(self, i: int) -> np.ndarray:
-        run = self._runs[i]
-        if not run.blocks:
-            return run.true0
-        _, true, _, _ = run.blocks[-1]
-        return true[-1]
+    def _wheel_at(self, i: int, step: int) -> float:
+        """Run ``i``'s steering wheel at plant step ``step`` [rad] (last period, or the log)."""
+        if step == 0:
+            return self._wheel0
+        back = int(self._steps[i]) - step
+        if 0 <= back < N_SUB:
+            return float(self._last_wheels[i, N_SUB - 1 - back])
+        run, taken = self._runs[i], 0
+        for live, steps, _, _, wheels, _ in self._period_log[run.periods - self._base[0]:]:
+            if live[i]:
+                if step <= taken + steps[i]:
+                    return float(wheels[i, step - taken - 1])
+                taken += int(steps[i])
+        raise IndexError(step)
 
-    def _observe(self, idx: np.ndarray) -> np.ndarray:
-        """The observation vectors of runs ``idx`` at their sample (``SensorStream.observe``)."""
+    def _observe(self, idx: np.ndarray) -> None:
+        """The observation vectors of runs ``idx`` at their sample, into ``_last``.
+
+        ``SensorStream.observe`` (the noise, the articulation from the noisy headings,
+        the CAN bus's sample and step) and ``Controller.dock_errors``, as arrays.
+        """
         m = self._sensors
-        signals = np.array([self._true_last(i) for i in idx], dtype=float)
-        noise = np.array([self._runs[i].noise[self._runs[i].ctrl] for i in idx])
-        signals[:, :12] += noise
+        signals = self._true[idx].copy()
+        signals[:, :12] += np.array([self._runs[i].noise[c]
+                                     for i, c in zip(idx, self._ctrl[idx], strict=True)])
         signals[:, OBS_INDEX["gamma"]] = wrap_angle(signals[:, 2] - signals[:, 8])
-        dh = np.empty(len(idx))
-        for n, i in enumerate(idx):
-            run = self._runs[i]
-            j = run.steps
-            held = run.wheel_at(min(max(can_sample(j, PLANT_DT, m), 0), j))
-            dh[n] = float(can_quantise(held, m))
+        j = self._steps[idx]
+        every = max(1, round(1.0 / (m.can_rate * PLANT_DT)))
+        held_at = np.minimum(np.maximum((j // every) * every - round(m.can_delay / PLANT_DT),
+                                        0), j)
+        back = j - held_at
+        held = np.where(held_at == 0, self._wheel0, self._last_wheels[
+            idx, np.clip(N_SUB - 1 - back, 0, N_SUB - 1)])
+        for n in np.flatnonzero((held_at > 0) & (back >= N_SUB)):  # not the default bus's
+            held[n] = self._wheel_at(int(idx[n]), int(held_at[n]))
+        dh = np.round(held / m.can_step) * m.can_step if m.can_step > 0 else held
         _, trailer = self._frames.unit_poses_of_signals(signals)
         rear = self._frames.rear
-        x = trailer[:, 0] - rear * np.cos(trailer[:, 2])
-        y = trailer[:, 1] - rear * np.sin(trailer[:, 2])
-        dock = np.array([[self._runs[i].yard.x_dock, self._runs[i].yard.y_dock] for i in idx])
-        out = np.empty((len(idx), 17))
-        out[:, :13] = signals
-        out[:, 13] = dh
-        out[:, 14] = x - dock[:, 0]
-        out[:, 15] = y - dock[:, 1]
-        out[:, 16] = wrap_angle(trailer[:, 2])
-        for n, i in enumerate(idx):
-            self._runs[i].signals = signals[n]
-        self._last[idx] = out
-        return out
+        out = self._last
+        out[idx, :13] = signals
+        out[idx, 13] = dh
+        out[idx, 14] = trailer[:, 0] - rear * np.cos(trailer[:, 2]) - self._dock[idx, 0]
+        out[idx, 15] = trailer[:, 1] - rear * np.sin(trailer[:, 2]) - self._dock[idx, 1]
+        out[idx, 16] = wrap_angle(trailer[:, 2])
+        self._signals[idx] = signals
+
+    def _finish(self, i: int) -> dict:
+        """The scores row ``drive`` writes for run ``i``, from the logs."""
+        run = self._runs[i]
+        tr = Trace(t=[0.0], true=[run.true0], steering_wheel=[self._wheel0], speed=[0.0])
+        for live, steps, times, true, wheels, speeds in \
+                self._period_log[run.periods - self._base[0]:]:
+            if live[i]:
+                k = int(steps[i])
+                tr.t.extend(times[i, :k].tolist())
+                tr.true.extend(true[i, :k])
+                tr.steering_wheel.extend(wheels[i, :k].tolist())
+                tr.speed.extend(speeds[i, :k].tolist())
+        for mask, t_ctrl, measured, seen_at, commands, solve_ms in \
+                self._sample_log[run.samples - self._base[1]:]:
+            if mask[i]:
+                tr.t_ctrl.append(float(t_ctrl[i]))
+                tr.measured.append(measured[i])
+                tr.seen_at.append(int(seen_at[i]))
+                tr.commands.append((float(commands[i, 0]), float(commands[i, 1])))
+                tr.solve_ms.append(float(solve_ms[i]))
+                tr.horizons.append(None)
+                tr.references.append(None)
+        tr.failure, tr.done, tr.late = run.failure, bool(self._done[i]), int(self._late[i])
+        v, frames = self.vehicle, self._frames
+        identifier = WheelbaseIdentifier(v)
+        for now, signals in zip(tr.t_ctrl, tr.measured, strict=True):
+            identifier.update(now, signals)
+        plan = run.plan
+        return {"scenario": run.scen.name, "vehicle": v.name, "controller": CONTROLLER,
+                "plant": "kin", "seed": run.k, **score(tr, run.yard, v, frames, run.start),
+                "late_commands": tr.late, "plan_ms": run.plan_ms,
+                "plan_expansions": plan.expansions,
+                "plan_direction_changes": plan.direction_changes,
+                "plan_length_m": plan.length, "sensors": "full",
+                **estimate_scores(tr, frames, frames), "trailer": "nominal",
+                "l2_nominal_m": effective_wheelbase(v), "l2_true_m": effective_wheelbase(v),
+                "l2_identified_m": identifier.L2 if identifier.updates else math.nan,
+                "l2_updates": identifier.updates, **Draw().row()}
+
+    def _trim(self) -> None:
+        """Drop the logs' records older than every running episode's first."""
+        runs = [r for r in self._runs if r is not None]
+        for which, log, first in ((0, self._period_log, [r.periods for r in runs]),
+                                  (1, self._sample_log, [r.samples for r in runs])):
+            keep = min(first, default=self._base[which] + len(log))
+            del log[:keep - self._base[which]]
+            self._base[which] = keep
 
     # ------------------------------------------------------------------ API
     def reset(self, *, seed: int | list[int | None] | None = None,
@@ -347,9 +415,9 @@ class KinVectorEnv(VectorEnv):
         check_reset_options(options)
         infos: dict[str, Any] = {}
         for i in np.flatnonzero(mask):
-            _, info = self._reset_one(int(i), seeds[i], options)
-            infos = self._add_info(infos, info, int(i))
+            infos = self._add_info(infos, self._reset_one(int(i), seeds[i], options), int(i))
         self._autoreset[mask] = False
+        self._trim()
         return self._last.copy(), infos
 
     def step(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray,
@@ -361,131 +429,128 @@ class KinVectorEnv(VectorEnv):
         rewards = np.zeros(n)
         terminated = np.zeros(n, np.bool_)
         truncated = np.zeros(n, np.bool_)
-        infos: dict[str, Any] = {}
-        stepping = np.flatnonzero(~self._autoreset)
+        stepping = ~self._autoreset
         before = self._last.copy()
-        ends: dict[int, None] = {}
-        if stepping.size:
-            self._command(stepping, a[stepping], before[stepping], now_wall)
-            ends = self._advance(stepping)
-        going = np.array([i for i in stepping if i not in ends], dtype=int)
+        ended = np.zeros(n, np.bool_)
+        if stepping.any():
+            self._command(stepping, a, before, now_wall)
+            ended = self._advance(stepping)
+        going = np.flatnonzero(stepping & ~ended)
         if going.size:
-            after = self._observe(going)
-            for n_, i in enumerate(going):
-                rewards[i] = step_reward(tuple(before[i, -3:]), tuple(after[n_, -3:]))
-                self._runs[i].asked = time.perf_counter()
-        for i in range(n):
+            self._observe(going)
+            after = self._last
+            for i in going:
+                rewards[i] = step_reward(tuple(before[i, -3:]), tuple(after[i, -3:]))
+            self._asked[going] = time.perf_counter()
+        # The infos: the running ones' as arrays, the ended and reset ones' one by one
+        # (in the order of the sub-environments, as SyncVectorEnv adds them).
+        infos: dict[str, Any] = {}
+        if going.size:
+            t = np.zeros(n)
+            t[going] = self._ctrl[going] * DT
+            reason = np.full(n, None, dtype=object)
+            reason[going] = ""
+            mask = np.zeros(n, np.bool_)
+            mask[going] = True
+            infos = {"t": t, "_t": mask, "reason": reason, "_reason": mask.copy()}
+        for i in np.flatnonzero(~stepping | ended):
+            i = int(i)
             if self._autoreset[i]:
-                _, info = self._reset_one(i, None, {})
-            elif i in ends:
-                run = self._runs[i]
-                row = run.finish(self.vehicle, self._frames, self._frames)
-                reason = "docked" if row["success"] else str(row["failure"]).split(":")[0]
-                truncated[i] = reason in _TRUNCATIONS
-                terminated[i] = not truncated[i]
-                rewards[i] = outcome_reward(bool(row["success"]), reason)
-                self._last[i] = before[i]
-                info = {"t": run.t_obs, "reason": reason, "scores": row}
-                self._runs[i] = None
+                info = self._reset_one(i, None, {})
             else:
-                info = {"t": self._runs[i].ctrl * DT, "reason": ""}
+                row = self._finish(i)
+                reason_ = "docked" if row["success"] else str(row["failure"]).split(":")[0]
+                truncated[i] = reason_ in _TRUNCATIONS
+                terminated[i] = not truncated[i]
+                rewards[i] = outcome_reward(bool(row["success"]), reason_)
+                self._last[i] = before[i]
+                info = {"t": float(self._t_obs[i]), "reason": reason_, "scores": row}
+                self._runs[i] = None
             infos = self._add_info(infos, info, i)
         self._autoreset = terminated | truncated
+        if len(self._sample_log) > 256:
+            self._trim()
         return self._last.copy(), rewards, terminated, truncated, infos
 
-    def _command(self, idx: np.ndarray, a: np.ndarray, before: np.ndarray,
+    def _command(self, live: np.ndarray, a: np.ndarray, before: np.ndarray,
                  now_wall: float) -> None:
-        """The actions of runs ``idx`` as ``drive`` takes a controller's commands."""
+        """The actions of runs ``live`` as ``drive`` takes a controller's commands."""
         s = self.scale
         a = np.clip(a, -1.0, 1.0)
-        side = np.where(a[:, 0] >= 0.0, s.left, s.right)
-        delta_h = s.offset + a[:, 0] * side
+        delta_h = s.offset + a[:, 0] * np.where(a[:, 0] >= 0.0, s.left, s.right)
         u1 = a[:, 1] * s.speed
         d = before[:, -3]
-        done = (np.abs(u1) < STOP_SPEED) & (np.abs(d) < STOP_DISTANCE) & np.isfinite(d)
+        done = live & (np.abs(u1) < STOP_SPEED) & (np.abs(d) < STOP_DISTANCE) & np.isfinite(d)
         u1 = np.where(done, 0.0, u1)
-        for n, i in enumerate(idx):
-            run = self._runs[i]
-            tr = run.trace
-            now = run.ctrl * DT
-            solve_ms = 1e3 * (now_wall - run.asked)
-            tr.solve_ms.append(solve_ms)
-            if run.ctrl > 0 and solve_ms > 1e3 * DT:
-                tr.late += 1
-            tr.t_ctrl.append(now)
-            tr.measured.append(run.signals)
-            tr.seen_at.append(run.steps)
-            tr.commands.append((float(delta_h[n]), float(u1[n])))
-            tr.horizons.append(None)
-            tr.references.append(None)
-            run.t_obs = now
-            if done[n]:
-                tr.done = True
-                run.settle_until = now + SETTLE
-            self._wheel_target[i] = delta_h[n]
-            self._u_target[i] = 0.0 if run.settle_until is not None else \
-                min(max(float(u1[n]), -SPEED_MAX), SPEED_MAX)
+        now = self._ctrl * DT
+        solve_ms = 1e3 * (now_wall - self._asked)
+        self._late += live & (self._ctrl > 0) & (solve_ms > 1e3 * DT)
+        self._sample_log.append((live.copy(), now, self._signals.copy(), self._steps.copy(),
+                                 np.column_stack([delta_h, u1]), solve_ms))
+        self._t_obs = np.where(live, now, self._t_obs)
+        self._done |= done
+        self._settle_until = np.where(done, now + SETTLE, self._settle_until)
+        self._wheel_target = np.where(live, delta_h, self._wheel_target)
+        settling = ~np.isnan(self._settle_until)
+        self._u_target = np.where(live, np.where(settling, 0.0, np.minimum(
+            np.maximum(u1, -SPEED_MAX), SPEED_MAX)), self._u_target)
 
-    def _advance(self, idx: np.ndarray) -> dict[int, None]:
-        """Step runs ``idx`` to their next sample, or to their end; the ended ones."""
+    def _advance(self, live: np.ndarray) -> np.ndarray:
+        """Step runs ``live`` to their next sample, or to their end; the ended ones."""
         n = self.num_envs
-        live = np.zeros(n, np.bool_)
-        live[idx] = True
-        ends: dict[int, None] = {}
-        true = np.empty((n, N_SUB, 13))
-        wheels, speeds, times = np.empty((n, N_SUB)), np.empty((n, N_SUB)), np.empty((n, N_SUB))
-        steps = np.zeros(n, np.int64)
-        m = self._model
+        live = live.copy()
+        ended = np.zeros(n, np.bool_)
+        m, f = self._model, self._frames
         i_s, q, offset = self._map
+        hits = np.empty((n, 3), np.int64)
         while live.any():
+            true = np.zeros((n, N_SUB, 13))
+            wheels, speeds, times = np.zeros((n, N_SUB)), np.zeros((n, N_SUB)), \
+                np.zeros((n, N_SUB))
+            steps = np.zeros(n, np.int64)
             _periods(m.kind, m.P, m._s1, m._s2, live, self._x, self._wheel, self._u, self._t,
                      self._wheel_target, self._u_target, STEER_RATE * PLANT_DT,
-                     ACCEL_MAX * PLANT_DT, PLANT_DT, i_s, q, offset,
-                     self.vehicle.gamma_max, true, wheels, speeds, times, steps)
+                     ACCEL_MAX * PLANT_DT, PLANT_DT, i_s, q, offset, self.vehicle.gamma_max,
+                     true, wheels, speeds, times, steps)
+            self._period_log.append((live.copy(), steps, times, true, wheels, speeds))
             rows = np.flatnonzero(live)
-            tractor, trailer = self._frames.unit_poses_of_signals(
-                true[rows].reshape(-1, 13))
-            tractor = tractor.reshape(len(rows), N_SUB, 3)
-            trailer = trailer.reshape(len(rows), N_SUB, 3)
-            for r, i in enumerate(rows):
+            self._steps[rows] += steps[rows]
+            self._true[rows] = true[rows, steps[rows] - 1]
+            self._last_wheels[rows] = wheels[rows]
+            tractor, trailer = f.unit_poses_of_signals(true.reshape(-1, 13))
+            jack = live & (steps < N_SUB)
+            _first_hits(live & ~jack, tractor.reshape(n, N_SUB, 3),
+                        trailer.reshape(n, N_SUB, 3), f.tractor_box, f.trailer_box,
+                        self._boxes, self._n_boxes, hits)
+            hit = hits[:, 0] >= 0
+            for i in np.flatnonzero(jack | hit):
                 run = self._runs[i]
-                k = int(steps[i])
-                run.blocks.append((times[i, :k].copy(), true[i, :k].copy(),
-                                   wheels[i, :k].copy(), speeds[i, :k].copy()))
-                run.steps += k
-                if k < N_SUB:
+                if jack[i]:
                     gamma = float(wrap_angle(float(self._x[i, 3])))
-                    run.trace.failure = (
+                    run.failure = (
                         f"jackknife: |gamma| {math.degrees(abs(gamma)):.1f} deg beyond "
                         f"{math.degrees(self.vehicle.gamma_max):.1f} deg at "
-                        f"t = {float(times[i, k - 1]):.2f} s")
-                    ends[i] = None
-                    live[i] = False
-                    continue
-                f = self._frames
-                j, b, unit = first_hit(tractor[r], trailer[r], f.tractor_box, f.trailer_box,
-                                       run.boxes)
-                if j >= 0:
-                    run.trace.failure = (
+                        f"t = {float(times[i, steps[i] - 1]):.2f} s")
+                else:
+                    k, b, unit = hits[i]
+                    run.failure = (
                         f"collision: {('tractor', 'semitrailer')[unit]} hit "
-                        f"{run.yard.obstacles[b].name} at t = {float(times[i, j]):.2f} s")
-                    ends[i] = None
-                    live[i] = False
-                    continue
-                run.ctrl += 1
-                now = run.ctrl * DT
-                if run.ctrl >= run.n_ctrl:  # drive's loop ends: a timeout unless settling
-                    if run.settle_until is None:
-                        run.trace.failure = f"timeout: not docked after {run.timeout:.0f} s"
-                    ends[i] = None
-                    live[i] = False
-                elif run.settle_until is None:
-                    live[i] = False  # the agent's turn
-                elif now >= run.settle_until or (abs(float(self._u[i])) < 1e-9
-                                                 and abs(float(true[i, k - 1, 3])) < 0.01):
-                    ends[i] = None
-                    live[i] = False
-        return ends
+                        f"{run.yard.obstacles[b].name} at t = {float(times[i, k]):.2f} s")
+            on = live & ~jack & ~hit
+            self._ctrl[on] += 1
+            out_of_time = on & (self._ctrl >= self._n_ctrl)  # drive's loop ends
+            settling = ~np.isnan(self._settle_until)
+            for i in np.flatnonzero(out_of_time & ~settling):
+                run = self._runs[i]
+                run.failure = f"timeout: not docked after {run.timeout:.0f} s"
+            now = self._ctrl * DT
+            with np.errstate(invalid="ignore"):
+                rest = (now >= self._settle_until) | ((np.abs(self._u) < 1e-9)
+                                                      & (np.abs(self._true[:, 3]) < 0.01))
+            stop = on & ~out_of_time & settling & rest
+            ended |= jack | hit | out_of_time | stop
+            live = on & ~out_of_time & settling & ~rest  # the others: the agent's turn
+        return ended
 
     def render(self) -> None:
         """Nothing to draw: the batched runs are not recorded (``DockVectorEnv`` records)."""
