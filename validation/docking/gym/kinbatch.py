@@ -52,7 +52,7 @@ from artic.validation.docking.gym.env import (
     check_drive_options,
     check_reset_options,
 )
-from artic.validation.docking.gym.reward import outcome_reward, step_reward
+from artic.validation.docking.gym.reward import outcome_reward, step_rewards
 from artic.validation.docking.gym.spaces import STOP_DISTANCE, STOP_SPEED, ActionScale
 from artic.validation.docking.identify import WheelbaseIdentifier
 from artic.validation.docking.planner import HybridAStar, PlanningError
@@ -148,16 +148,16 @@ def _first_hits(live, tractor, trailer, tractor_box, trailer_box, boxes, n_boxes
 
 
 class _Run:
-    """One sub-environment's episode: its yard, start, plan and noise.
+    """One sub-environment's episode: its yard, start and plan.
 
     ``periods`` and ``samples`` are its first entries of the vector environment's
     logs (global counts), where its trace begins.
     """
 
-    def __init__(self, scen, k: int, yard, start, plan, plan_ms: float, noise: np.ndarray,
-                 timeout: float, true0: np.ndarray, periods: int, samples: int) -> None:
+    def __init__(self, scen, k: int, yard, start, plan, plan_ms: float, timeout: float,
+                 true0: np.ndarray, periods: int, samples: int) -> None:
         self.scen, self.k, self.yard, self.start = scen, k, yard, start
-        self.plan, self.plan_ms, self.noise, self.timeout = plan, plan_ms, noise, timeout
+        self.plan, self.plan_ms, self.timeout = plan, plan_ms, timeout
         self.true0 = true0
         self.periods, self.samples = periods, samples
         self.failure = ""
@@ -235,6 +235,7 @@ class KinVectorEnv(VectorEnv):
         self._t_obs = np.zeros(n)
         self._dock = np.zeros((n, 2))
         self._boxes = np.zeros((n, 1, 4))
+        self._noise = np.zeros((n, 1, 12))  # each run's sensor noise per sample (padded)
         self._n_boxes = np.zeros(n, np.int64)
         self._last = np.zeros((n, *probe.observation_space.shape))
         self._autoreset = np.zeros(n, np.bool_)
@@ -284,9 +285,14 @@ class KinVectorEnv(VectorEnv):
         plant = Driven(self._model)
         plant.reset(InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0))
         true0 = plant.observe()
-        self._runs[i] = _Run(scen, k, yard, start, plan, plan_ms, stream.noise, timeout,
+        self._runs[i] = _Run(scen, k, yard, start, plan, plan_ms, timeout,
                              true0, self._base[0] + len(self._period_log),
                              self._base[1] + len(self._sample_log))
+        if n_ctrl + 1 > self._noise.shape[1]:  # the longest run so far: room for its noise
+            grown = np.zeros((self.num_envs, n_ctrl + 1, 12))
+            grown[:, :self._noise.shape[1]] = self._noise
+            self._noise = grown
+        self._noise[i, :n_ctrl + 1] = stream.noise
         boxes = box_array(yard.obstacles)
         if len(boxes) > self._boxes.shape[1]:
             grown = np.zeros((self.num_envs, len(boxes), 4))
@@ -330,8 +336,7 @@ class KinVectorEnv(VectorEnv):
         """
         m = self._sensors
         signals = self._true[idx].copy()
-        signals[:, :12] += np.array([self._runs[i].noise[c]
-                                     for i, c in zip(idx, self._ctrl[idx], strict=True)])
+        signals[:, :12] += self._noise[idx, self._ctrl[idx]]
         signals[:, OBS_INDEX["gamma"]] = wrap_angle(signals[:, 2] - signals[:, 8])
         j = self._steps[idx]
         every = max(1, round(1.0 / (m.can_rate * PLANT_DT)))
@@ -438,9 +443,7 @@ class KinVectorEnv(VectorEnv):
         going = np.flatnonzero(stepping & ~ended)
         if going.size:
             self._observe(going)
-            after = self._last
-            for i in going:
-                rewards[i] = step_reward(tuple(before[i, -3:]), tuple(after[i, -3:]))
+            rewards[going] = step_rewards(before[going, -3:], self._last[going, -3:])
             self._asked[going] = time.perf_counter()
         # The infos: the running ones' as arrays, the ended and reset ones' one by one
         # (in the order of the sub-environments, as SyncVectorEnv adds them).

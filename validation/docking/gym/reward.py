@@ -17,7 +17,7 @@ truncation, not an outcome).
 
 from __future__ import annotations
 
-import math
+import numpy as np
 
 HEADING_LENGTH = 5.0
 """Metres of position error that one radian of heading error weighs as much as [m/rad]:
@@ -38,12 +38,24 @@ CRASHES = ("collision", "jackknife")
 
 def potential(distance: float, lateral: float, heading: float) -> float:
     """The potential Phi of the dock errors [m, m, rad]."""
-    return -(math.hypot(distance, lateral) + HEADING_LENGTH * abs(heading))
+    # numpy's hypot, not math's: the vector environment computes the same for a
+    # batch (potentials), and the two must agree to the bit.
+    return -(float(np.hypot(distance, lateral)) + HEADING_LENGTH * abs(heading))
+
+
+def potentials(errors: np.ndarray) -> np.ndarray:
+    """:func:`potential` of rows of dock errors ``(n, 3)`` [m, m, rad], the same to the bit."""
+    return -(np.hypot(errors[:, 0], errors[:, 1]) + HEADING_LENGTH * np.abs(errors[:, 2]))
 
 
 def step_reward(before: tuple[float, float, float], after: tuple[float, float, float]) -> float:
     """Shaped reward of a step from dock errors ``before`` to ``after`` [m, m, rad]."""
     return potential(*after) - potential(*before) - TIME_COST
+
+
+def step_rewards(before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """:func:`step_reward` of rows of dock errors ``(n, 3)``, the same to the bit."""
+    return potentials(after) - potentials(before) - TIME_COST
 
 
 def outcome_reward(success: bool, reason: str) -> float:
