@@ -9,8 +9,12 @@ planning and the end's scoring count). Rows:
 
 - ``single``: one environment in this process;
 - ``native xN``: ``make_vec(..., vectorization_mode="vector_entry_point")``,
-  :class:`artic.gym.DockVectorEnv`, ``N`` environments in this process, their
-  runs stepping side by side on threads;
+  ``N`` environments in this process: for ``Dock-v0`` their runs stepping side by
+  side on threads (:class:`artic.gym.DockVectorEnv`), for ``DockKIN-v0`` in one
+  batched step (:class:`~artic.validation.docking.gym.kinbatch.KinVectorEnv`);
+- ``... ends``: the same with a 10 s time limit, so that every environment's
+  episode ends and is reset every 100 steps (the planner, the noise's draw and the
+  scores count); the other rows' episodes mostly run on;
 - ``async xC``: Gymnasium's ``AsyncVectorEnv``, one environment per worker
   process, one per core this process may use;
 - ``model``: the environment steps per second the model alone allows (ten
@@ -19,7 +23,7 @@ planning and the end's scoring count). Rows:
 
 Each figure is environment steps per second (summed over the vector's
 environments), the median and range of :data:`ROUNDS` rounds, by the wall clock
-and per CPU second of this process and its workers' (``per core``: the rate one
+and per CPU second of this process and its workers (``per core``: the rate one
 core gives, which is what a loaded or a many-core machine multiplies).
 
 Run: ``python benchmarks/run.py`` (or this file alone). Needs ``artic[gym]``.
@@ -27,6 +31,7 @@ Run: ``python benchmarks/run.py`` (or this file alone). Needs ``artic[gym]``.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import os
 import resource
@@ -42,12 +47,25 @@ SCENARIO = "straight"
 NATIVE = {"artic/Dock-v0": (2, 8), "artic/DockKIN-v0": (16, 1024)}
 """The native vector environment's sizes per environment."""
 
+ENDS = 10.0
+"""The time limit of the rows whose episodes end [s]: 100 steps."""
+
 
 def _cpu() -> float:
-    """CPU seconds of this process and its finished children."""
+    """CPU seconds of this process and its worker processes, running or finished."""
     own = resource.getrusage(resource.RUSAGE_SELF)
     kids = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+    total = own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+    try:
+        import psutil
+
+        for child in psutil.Process().children(recursive=True):
+            with contextlib.suppress(psutil.Error):
+                times = child.cpu_times()
+                total += times.user + times.system
+    except ImportError:  # the running workers' time is then left out
+        pass
+    return total
 
 
 def _rate(make, n_envs: int, vector: bool) -> tuple[float, float]:
@@ -99,7 +117,7 @@ def _model_rate(env_id: str) -> tuple[float, float]:
 
 def _row(label: str, runs: list[tuple[float, float]]) -> str:
     wall, cpu = [r[0] for r in runs], [r[1] for r in runs]
-    return (f"    {label:11s} {statistics.median(wall):9.0f} ({min(wall):.0f}-{max(wall):.0f})"
+    return (f"    {label:17s} {statistics.median(wall):9.0f} ({min(wall):.0f}-{max(wall):.0f})"
             f"   {statistics.median(cpu):9.0f} ({min(cpu):.0f}-{max(cpu):.0f})")
 
 
@@ -121,13 +139,19 @@ def main() -> None:
             rows.append((f"native x{n}", lambda env_id=env_id, n=n: gym.make_vec(
                 env_id, num_envs=n, vectorization_mode="vector_entry_point",
                 scenario=SCENARIO), n, True))
-        rows.append((f"async x{cores}", lambda env_id=env_id: gym.make_vec(
-            env_id, num_envs=cores, vectorization_mode="async", scenario=SCENARIO),
-            cores, True))
+        n = NATIVE[env_id][-1]
+        rows += [
+            ("single ends", lambda env_id=env_id: gym.make(env_id, scenario=SCENARIO,
+                                                           timeout=ENDS), 1, False),
+            (f"native x{n} ends", lambda env_id=env_id, n=n: gym.make_vec(
+                env_id, num_envs=n, vectorization_mode="vector_entry_point", scenario=SCENARIO,
+                timeout=ENDS), n, True),
+            (f"async x{cores}", lambda env_id=env_id: gym.make_vec(
+                env_id, num_envs=cores, vectorization_mode="async", scenario=SCENARIO),
+             cores, True)]
         for label, make, n, vector in rows:
             print(_row(label, [_rate(make, n, vector) for _ in range(ROUNDS)]), flush=True)
         print(_row("model", [_model_rate(env_id) for _ in range(ROUNDS)]), flush=True)
-
 
 if __name__ == "__main__":
     main()

@@ -1,9 +1,11 @@
 """Many docking environments in one process: a native Gymnasium ``VectorEnv``.
 
 ``gymnasium.make_vec("artic.gym:artic/Dock-v0", num_envs=N,
-vectorization_mode="vector_entry_point")`` (or ``artic/DockKIN-v0``) returns a
-:class:`DockVectorEnv`: ``N`` :class:`~artic.validation.docking.gym.env.DockEnv`
-in one process, without a worker process each. Every episode already runs its
+vectorization_mode="vector_entry_point")`` returns a :class:`DockVectorEnv`:
+``N`` :class:`~artic.validation.docking.gym.env.DockEnv` in one process, without
+a worker process each (``artic/DockKIN-v0`` gets the batched
+:class:`~artic.validation.docking.gym.kinbatch.KinVectorEnv` where it covers the
+options, :func:`vector_env`). Every episode already runs its
 ``artic dock`` loop on a thread of its own
 (:class:`~artic.validation.docking.gym.episode.Episode`); a vector step hands
 each episode its action first (:meth:`DockEnv.post`) and then collects the
