@@ -150,6 +150,8 @@ def test_bad_vector_arguments_are_one_line():
     with pytest.raises(UserError, match="^keyword 'foo'"):
         make("artic/DockKIN-v0", "vector_entry_point", 2, foo=1)
     envs = make("artic/DockKIN-v0", "vector_entry_point", 2, scenario="straight")
+    with pytest.raises(RuntimeError, match="reset"):
+        envs.step(np.zeros((2, 2)))
     with pytest.raises(UserError, match="^seed: a list of 3 seeds for 2 environments"):
         envs.reset(seed=[1, 2, 3])
     with pytest.raises(UserError, match=r"^options\['strat'\]: not a reset option"):

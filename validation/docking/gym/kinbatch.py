@@ -430,6 +430,8 @@ class KinVectorEnv(VectorEnv):
         """Hold each sub-environment's action for 0.1 s (resetting those that ended)."""
         now_wall = time.perf_counter()
         n = self.num_envs
+        if self._runs.count(None) > int(np.count_nonzero(self._autoreset)):
+            raise RuntimeError("call reset() before step()")
         a = _checked(actions, n, self._autoreset)
         rewards = np.zeros(n)
         terminated = np.zeros(n, np.bool_)
