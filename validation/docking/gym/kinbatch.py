@@ -178,7 +178,7 @@ class KinVectorEnv(VectorEnv):
     -----
     Each run's trace (every 10 ms step, for its scores at the end) is kept in logs
     shared by the runs, a record per period: memory grows with the longest
-    running episode, about 1.3 kB per environment and step.
+    running episode, about 1.4 kB per environment and step.
     """
 
     metadata = {"render_modes": ["rerun"], "render_fps": 10,
