@@ -157,3 +157,24 @@ def test_bad_vector_arguments_are_one_line():
     with pytest.raises(UserError, match=r"^options\['strat'\]: not a reset option"):
         envs.reset(options={"strat": 1})
     envs.close()
+
+
+@pytest.mark.parametrize("env_id", list(artic.gym.ENVIRONMENTS))
+def test_a_partial_reset_and_a_given_start_are_sync_vector_env_s(env_id):
+    # options["reset_mask"] resets those sub-environments alone (their seeds from the
+    # list), and options["start"] gives every reset one artic dock start.
+    kwargs = {"scenario": "straight,offset", "timeout": 5.0}
+    native, sync = make(env_id, "vector_entry_point", 3, **kwargs), make(env_id, "sync", 3,
+                                                                       **kwargs)
+    same(native.reset(seed=2), sync.reset(seed=2))
+    a = np.array([[0.0, -0.5], [0.3, -0.5], [-0.3, -0.5]])
+    for _ in range(3):
+        same(native.step(a), sync.step(a))
+    mask = np.array([False, True, True])
+    same(native.reset(seed=[None, 11, 12], options={"reset_mask": mask.copy()}),
+         sync.reset(seed=[None, 11, 12], options={"reset_mask": mask.copy()}))
+    same(native.reset(options={"start": 4}), sync.reset(options={"start": 4}))
+    for _ in range(3):
+        same(native.step(a), sync.step(a))
+    native.close()
+    sync.close()
