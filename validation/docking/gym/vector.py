@@ -73,11 +73,11 @@ class DockVectorEnv(VectorEnv):
     --------
     >>> import gymnasium as gym
     >>> import numpy as np
-    >>> envs = gym.make_vec("artic.gym:artic/DockKIN-v0", num_envs=2,
+    >>> envs = gym.make_vec("artic.gym:artic/Dock-v0", num_envs=2,
     ...                     vectorization_mode="vector_entry_point", scenario="straight")
     >>> observations, infos = envs.reset(seed=0)
-    >>> observations.shape, infos["start"].shape
-    ((2, 17), (2,))
+    >>> type(envs.unwrapped).__name__, observations.shape, infos["start"].shape
+    ('DockVectorEnv', (2, 17), (2,))
     >>> observations, rewards, terminated, truncated, infos = envs.step(
     ...     np.array([[0.0, -0.5], [0.1, -0.5]]))
     >>> rewards.shape, terminated.tolist()
