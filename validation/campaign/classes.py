@@ -55,10 +55,11 @@ ANSWER_CRITERIA = {
     "steer_fb": "the steering correction the feedback added (road-wheel angle, RMS)",
     "eps_p": "the lateral position error of the two sensor points",
     "eps_gamma": "the articulation error",
-    "dock_lat": "the semitrailer's lateral error at the dock",
 }
 """The absolute criteria the answer for docking and parking is stated in: control
-needs the correction small, planning the path and the articulation close."""
+needs the correction small, planning the path and the articulation close. (The
+dock errors ``dock_*`` are signed, so their means are biases, not errors to rank:
+they stay in the tables.)"""
 
 
 def tuning_classes(tuning_logs: Iterable[str]) -> tuple[str, ...]:
@@ -104,14 +105,14 @@ def by_class(metrics: pd.DataFrame, direction: str, tuning: Iterable[str] = ()) 
     return pd.concat(parts) if parts else pd.DataFrame()
 
 
-def class_markdown(table: pd.DataFrame) -> str:
-    """A :func:`by_class` table in Markdown: one section per class."""
+def class_markdown(table: pd.DataFrame, level: int = 2) -> str:
+    """A :func:`by_class` table in Markdown: one section per class, headed at ``level``."""
     if table.empty:
         return "(no class has results)"
     out = []
     for name, g in table.groupby(CLASS, sort=False):
         g = g.drop(columns=CLASS).dropna(axis=1, how="all")
-        out += [f"## {name}", "", markdown(g), ""]
+        out += [f"{'#' * level} {name}", "", markdown(g), ""]
     return "\n".join(out)
 
 
@@ -166,7 +167,7 @@ def carried_by(pairs: pd.DataFrame, metrics: pd.DataFrame, twins: pd.DataFrame |
 
 
 _CLASS_SENTENCE = Template(
-    "**$kind** ($n manoeuvres, reverse under the feedback): $criteria.")
+    "**$kind** ($n $manoeuvres, reverse under the feedback): $criteria.")
 _CRITERION_CLAUSE = Template("$what, $criterion [$unit]: $values; $ranking")
 
 
@@ -224,6 +225,8 @@ def answer(table: pd.DataFrame, pairs: dict[str, pd.DataFrame],
                 what=what, criterion=c, unit=UNITS.get(c, ""), values=_values(t, c),
                 ranking=ranking))
         if clauses:
-            out.append(_CLASS_SENTENCE.substitute(kind=kind, n=int(t["n"].max()),
-                                                  criteria="; ".join(clauses)))
+            n = int(t["n"].max())
+            out.append(_CLASS_SENTENCE.substitute(
+                kind=kind, n=n, manoeuvres="manoeuvre" if n == 1 else "manoeuvres",
+                criteria="; ".join(clauses)))
     return out

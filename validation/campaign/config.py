@@ -74,6 +74,10 @@ class CampaignConfig:
         noise-free twin) or ``ideal`` (the truth's own signals).
     drift : bool
         ``False`` stills the steering column's drifting zero.
+    oracle : bool
+        Run KIN, the STM and the plant also untuned with the truth's own
+        parameters (:mod:`artic.validation.campaign.oracle`), on the validated
+        logs: the rows ``kin-oracle``, ``stm-oracle``, ``mbd-oracle``.
 
     Raises
     ------
@@ -111,6 +115,7 @@ class CampaignConfig:
     closing: bool = True
     sensors: str = "default"
     drift: bool = True
+    oracle: bool = True
 
     def __post_init__(self) -> None:
         # Sequences given as lists (the command line's, a user's) become tuples:

@@ -372,7 +372,9 @@ def paired_markdown(table: pd.DataFrame) -> str:
     With ``p_adj`` the adjusted p value (:data:`CORRECTION` over the table's
     rows) and whether the ranking is resolved after it; with ``finding``,
     whether it is a finding (resolved after the correction on the logs and
-    on their noise-free twins), and the twins' difference.
+    on their noise-free twins), and the twins' difference; with ``carried_by``
+    (:func:`artic.validation.campaign.classes.carried_by`), the manoeuvre classes
+    whose removal loses each finding.
     """
     adj = "p_adj" in table
     twins = "finding" in table
@@ -383,6 +385,9 @@ def paired_markdown(table: pd.DataFrame) -> str:
         head += ["a - b on the twins", f"twins p ({CORRECTION})"]
     if twins:
         head.append("finding")
+    carried = "carried_by" in table
+    if carried:
+        head.append("carried by (leave one class out)")
     head.append("lower")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in table.itertuples(index=False):
@@ -402,6 +407,8 @@ def paired_markdown(table: pd.DataFrame) -> str:
             if hasattr(r, "seeds_findings"):
                 mark += f" ({r.seeds_findings} of {r.seeds} trucks)"
             cells.append(mark)
+        if carried:
+            cells.append(str(r.carried_by) or "-")
         cells.append(str(r.lower))
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
