@@ -29,7 +29,7 @@ correction leaves it NaN, and a NaN is not below the level.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from string import Template
 
 import pandas as pd
@@ -87,8 +87,13 @@ def _of(metrics: pd.DataFrame | None, kind: str) -> pd.DataFrame | None:
     return None if metrics is None else metrics[metrics["manoeuvre"] == kind]
 
 
-def by_class(metrics: pd.DataFrame, direction: str, tuning: Iterable[str] = ()) -> pd.DataFrame:
+def by_class(metrics: pd.DataFrame, direction: str, tuning: Iterable[str] = (),
+             summarise: Callable[[pd.DataFrame, str], pd.DataFrame] = summary) -> pd.DataFrame:
     """:func:`~artic.validation.review.tables.summary` of each class, stacked.
+
+    ``summarise`` makes each class's table: ``summary`` for one truck, or
+    :func:`~artic.validation.review.tables.pooled` over several (``metrics``
+    with a ``seed`` column).
 
     Returns
     -------
@@ -98,7 +103,7 @@ def by_class(metrics: pd.DataFrame, direction: str, tuning: Iterable[str] = ()) 
     """
     parts = []
     for kind in classes_of(metrics, direction):
-        t = summary(_of(metrics, kind), direction)
+        t = summarise(_of(metrics, kind), direction)
         if len(t):
             t.insert(0, CLASS, class_name(kind, tuning))
             parts.append(t)
@@ -116,21 +121,27 @@ def class_markdown(table: pd.DataFrame, level: int = 2) -> str:
     return "\n".join(out)
 
 
+Pairing = Callable[[pd.DataFrame, str], pd.DataFrame]
+"""A paired table of a direction: ``paired_table`` (one truck) or ``pooled_paired`` (several)."""
+
+
 def paired_by_class(metrics: pd.DataFrame, twins: pd.DataFrame | None, direction: str,
-                    tuning: Iterable[str] = ()) -> dict[str, pd.DataFrame]:
+                    tuning: Iterable[str] = (), pair: Pairing = paired_table
+                    ) -> dict[str, pd.DataFrame]:
     """Each class's paired table, Holm over its own rows, marked for findings; by class name."""
     out = {}
     for kind in classes_of(metrics, direction):
         twin = _of(twins, kind)
-        pairs = findings.mark(paired_table(_of(metrics, kind), direction),
-                              paired_table(twin, direction) if twin is not None else None)
+        pairs = findings.mark(pair(_of(metrics, kind), direction),
+                              pair(twin, direction) if twin is not None else None)
         if len(pairs):
             out[class_name(kind, tuning)] = pairs
     return out
 
 
 def carried_by(pairs: pd.DataFrame, metrics: pd.DataFrame, twins: pd.DataFrame | None,
-               direction: str, tuning: Iterable[str] = ()) -> pd.DataFrame:
+               direction: str, tuning: Iterable[str] = (), pair: Pairing = paired_table
+               ) -> pd.DataFrame:
     """``pairs`` (a pooled paired table, marked) with ``carried_by``: leave one class out.
 
     For every class of the direction, the paired table and its findings are
@@ -152,8 +163,8 @@ def carried_by(pairs: pd.DataFrame, metrics: pd.DataFrame, twins: pd.DataFrame |
     for kind in kinds:
         rest = metrics[metrics["manoeuvre"] != kind]
         rest_twins = None if twins is None else twins[twins["manoeuvre"] != kind]
-        again = findings.mark(paired_table(rest, direction),
-                              paired_table(rest_twins, direction)
+        again = findings.mark(pair(rest, direction),
+                              pair(rest_twins, direction)
                               if rest_twins is not None else None) if len(kinds) > 1 else None
         held = set() if again is None or again.empty else {
             tuple(r) for r in again.loc[again["finding"].astype(bool), keys].itertuples(

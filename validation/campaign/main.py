@@ -300,7 +300,7 @@ def start_from(model: str, fitted: dict[str, dict[str, float]]) -> dict[str, flo
 
 
 def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
-          jobs: int) -> dict:
+          jobs: int, names: Sequence[str] = TUNING) -> dict:
     """Tuning per load condition, resumable per (load, model) from ``tuning.json``.
 
     Each load condition is tuned on its own tuning manoeuvres with its own
@@ -326,7 +326,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
         saved["reused"] = True
         return saved
     run = _Tuning(path, {"key": key, "loads": {}, "complete": False})
-    todo = _tuning_plan(logs, saved, run.out)
+    todo = _tuning_plan(logs, saved, run.out, names)
     side_by_side = min(len(todo), max(1, jobs))
     threads = max(1, jobs // side_by_side)
     if side_by_side > 1:
@@ -343,7 +343,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
             _tune_load(run, models, *t, threads)
     if not run.out["loads"]:
         raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
-                        f"({', '.join(TUNING[:2])}, ...)")
+                        f"({', '.join(names[:2])}, ...)")
     run.out["complete"] = True
     run.save()
     run.out["reused"] = False
@@ -366,7 +366,7 @@ class _Tuning:
         atomic_write_text(self.path, json.dumps(self.out, indent=1) + "\n")
 
 
-def _tuning_plan(logs: list[Run], saved: dict, out: dict
+def _tuning_plan(logs: list[Run], saved: dict, out: dict, names: Sequence[str] = TUNING
                  ) -> list[tuple[str, Vehicle, list[Run], dict | None]]:
     """Each load condition to tune: its preset, tuning logs and the saved part to resume.
 
@@ -375,17 +375,17 @@ def _tuning_plan(logs: list[Run], saved: dict, out: dict
     """
     todo = []
     for load in LOADS:
-        tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
+        tuning = [log for log in logs if log.name in names and log.meta.get("load") == load]
         if not tuning:
             stderr_progress(f"{load}: no tuning manoeuvre among the logs; the preset's "
                             "parameters are used untuned")
             continue
-        names = [log.name for log in tuning]
+        fitted_on = [log.name for log in tuning]
         part = saved["loads"].get(load)
-        if not (isinstance(part, dict) and part.get("logs") == names):
+        if not (isinstance(part, dict) and part.get("logs") == fitted_on):
             part = None
         vehicle = load_vehicle(PRESET.format(load=load))
-        out["loads"][load] = {"logs": names, "rows": [], "summary": [], "fitted": {},
+        out["loads"][load] = {"logs": fitted_on, "rows": [], "summary": [], "fitted": {},
                               "truth": tuning[0].meta.get("truth", {}),
                               "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
         todo.append((load, vehicle, tuning, part))
@@ -663,7 +663,7 @@ def _export_files(out_dir: Path, logs: list[Run], twin_logs: list[Run] | None
 
 
 def _tuning_key(c: _Campaign, logs_key: str) -> str:
-    return c.cache.key("tuning", c.fields("models", "seed"), [logs_key])
+    return c.cache.key("tuning", c.fields("models", "seed", "tuning"), [logs_key])
 
 
 def _stage_tuning(c: _Campaign, logs: StageResult) -> StageResult:
@@ -674,7 +674,7 @@ def _stage_tuning(c: _Campaign, logs: StageResult) -> StageResult:
         return tuned, vehicles, {n for part in tuned["loads"].values() for n in part["logs"]}
 
     def compute():
-        tuned = _tune(c.out_dir, logs.value[0], c.models, key, c.jobs)
+        tuned = _tune(c.out_dir, logs.value[0], c.models, key, c.jobs, c.config.tuning_logs())
         vehicles = _tuned_vehicles(c.out_dir, tuned, c.config.seed)
         outputs = {"tuning": c.out_dir / "tuning.json"}
         outputs |= {f"params:{load}": Path(v.path) for load, v in vehicles.items()

@@ -33,7 +33,7 @@ models has: they stay in the form's share.
 from __future__ import annotations
 
 import copy
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -151,7 +151,8 @@ def oracle_metrics(metrics: pd.DataFrame, oracle: pd.DataFrame | None) -> pd.Dat
     return pd.concat([metrics, oracle], ignore_index=True)
 
 
-def split(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
+def split(metrics: pd.DataFrame, direction: str,
+          summarise: Callable[[pd.DataFrame, str], pd.DataFrame] | None = None) -> pd.DataFrame:
     """Each model's error split into form and parameters, per criterion, with intervals.
 
     Parameters
@@ -160,6 +161,9 @@ def split(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
         Rows of the tuned models, the floor and the oracle rows (:func:`oracle_metrics`).
     direction : str
         ``forward`` or ``reverse``.
+    summarise : callable, optional
+        What makes a table of the differences: ``summary`` (the default, one
+        truck) or ``pooled`` (several trucks, ``metrics`` with ``seed``).
 
     Returns
     -------
@@ -173,6 +177,7 @@ def split(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
     """
     from artic.validation.review.tables import differences, summary
 
+    summarise = summarise or summary
     present = set(metrics["model"])
     parts = []
     for m in MODELS:
@@ -181,12 +186,12 @@ def split(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
             continue
         form = differences(metrics[metrics["model"].isin([o, FLOOR])], direction, FLOOR)
         if len(form):
-            t = summary(form, direction)
+            t = summarise(form, direction)
             parts.append(t.rename(index={o: f"{m} form"}))
         if m in present:
             params = differences(metrics[metrics["model"].isin([m, o])], direction, o)
             if len(params):
-                t = summary(params, direction)
+                t = summarise(params, direction)
                 parts.append(t.rename(index={m: f"{m} parameters"}))
     if not parts:
         return pd.DataFrame()
@@ -195,12 +200,14 @@ def split(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
     return out
 
 
-def form_pairs(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
+def form_pairs(metrics: pd.DataFrame, direction: str,
+               pair: Callable[[pd.DataFrame, str], pd.DataFrame] | None = None) -> pd.DataFrame:
     """The paired table of the oracle rows and the floor: the findings on model form.
 
     Holm over this table's own rows; the oracle rows run on the logs only (not
     on their twins), so a finding here is a ranking resolved after the
     correction on the logs (:func:`artic.validation.campaign.findings.mark` without twins).
+    ``pair`` makes the paired table: ``paired_table`` (the default) or ``pooled_paired``.
     """
     from artic.validation.campaign.findings import mark
     from artic.validation.review.tables import paired_table
@@ -209,4 +216,4 @@ def form_pairs(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
     part = metrics[keep]
     if not part["model"].str.endswith(ORACLE).any():
         return pd.DataFrame()
-    return mark(paired_table(part, direction), None)
+    return mark((pair or paired_table)(part, direction), None)

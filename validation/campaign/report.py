@@ -498,10 +498,15 @@ _FORM = Template(
 
 def large_articulation(r: CampaignResults) -> list[str]:
     """The answer for docking and parking on their own: tuned rows, then the oracle rows."""
+    return articulation_lines(r.classes, r.form)
+
+
+def articulation_lines(classes: dict[str, Any], forms: dict[str, Any]) -> list[str]:
+    """:func:`large_articulation` from the tables' dicts (one truck or pooled)."""
     from artic.validation.criteria.multiplicity import CORRECTION
 
-    tuned = (r.classes.get("reverse") or {}).get("answer") or []
-    form = (r.form.get("reverse") or {}).get("answer") or []
+    tuned = (classes.get("reverse") or {}).get("answer") or []
+    form = (forms.get("reverse") or {}).get("answer") or []
     if not tuned and not form:
         return []
     out = ["## Docking and parking on their own", ""]
@@ -514,15 +519,20 @@ def large_articulation(r: CampaignResults) -> list[str]:
 
 def class_sections(r: CampaignResults) -> list[str]:
     """The tables per manoeuvre class, and which classes carry the pooled findings."""
+    return class_lines(r.classes, r.paired)
+
+
+def class_lines(classes: dict[str, Any], paired: dict[str, pd.DataFrame]) -> list[str]:
+    """:func:`class_sections` from the tables' dicts (one truck or pooled)."""
     from artic.validation.campaign.classes import CARRIED, class_markdown
 
     out: list[str] = []
     for d in ("forward", "reverse"):
-        part = r.classes.get(d)
+        part = classes.get(d)
         if not part or part["table"].empty:
             continue
         if not out:
-            tuning = ", ".join(r.classes.get("tuning", ())) or "none"
+            tuning = ", ".join(classes.get("tuning", ())) or "none"
             out += ["## Per manoeuvre class", "",
                     "Each table of the direction again, one class at a time (a class the "
                     f"tuning fitted on is named so; tuning classes: {tuning}). A normalised "
@@ -530,7 +540,7 @@ def class_sections(r: CampaignResults) -> list[str]:
                     "beside it (steer_fb [deg], eps_p [m]) are the ones to compare across "
                     "classes. `table2_forward_by_class.md`, `table3_reverse_by_class.md`, "
                     "`paired_*_by_class.md`.", ""]
-        pairs = r.paired.get(d)
+        pairs = paired.get(d)
         if pairs is not None and CARRIED in pairs:
             found = pairs[pairs["finding"].astype(bool)]
             lines = [f"- {rk.criterion}: {label(rk.a)} against {label(rk.b)}, carried by "
@@ -545,9 +555,14 @@ def class_sections(r: CampaignResults) -> list[str]:
 
 def form_sections(r: CampaignResults) -> list[str]:
     """Each model's error split into form (oracle row) and parameters (tuned row)."""
+    return form_lines(r.form)
+
+
+def form_lines(forms: dict[str, Any]) -> list[str]:
+    """:func:`form_sections` from the tables' dict (one truck or pooled)."""
     out: list[str] = []
     for d in ("forward", "reverse"):
-        part = r.form.get(d)
+        part = forms.get(d)
         if not part:
             continue
         if not out:
@@ -568,6 +583,13 @@ def form_sections(r: CampaignResults) -> list[str]:
                     out.append(f"- {c}, the oracle rows: {ranking_text(pairs, c)}.")
             out.append("")
     return out
+
+
+_TUNED_ON = Template(
+    "Each load condition fitted on its own forward tuning manoeuvres ($n in all, none of "
+    "them validated; `artic campaign --tuning` chooses the set, "
+    "`validation/synthetic/testmatrix.py`'s `TUNING_SETS`), by the normalised criteria "
+    "of eq. (9) (see `validation/campaign/tuning.py`): $logs.")
 
 
 def render(r: CampaignResults) -> str:
@@ -611,12 +633,11 @@ def render(r: CampaignResults) -> str:
         lines += ["## Per load condition, against the logs", ""]
     for load, table in r.per_load.items():
         lines += [f"### {load}", "", markdown(table), ""]
-    lines += ["## Tuning", "",
-              "Each load condition fitted on its own 4 forward tuning manoeuvres (8 in "
-              "all, as in the paper), of two kinds: constant steers at 200 deg and 5 km/h "
-              "and slaloms at 360 deg and 8 km/h, left and right, none of them validated "
-              "(`validation/synthetic/testmatrix.py`), by the normalised criteria of eq. "
-              "(9) (see `validation/campaign/tuning.py`).", "", *_tuning_text(r), ""]
+    lines += ["## Tuning", "", _TUNED_ON.substitute(
+        logs="; ".join(f"{load}: {', '.join(part.get('logs', []))}"
+                       for load, part in r.tuned.items()) or "none",
+        n=sum(len(part.get("logs", [])) for part in r.tuned.values())), "",
+        *_tuning_text(r), ""]
     if r.efficiency is not None:
         lines += ["## Computational efficiency", "",
                   "The validation runs themselves, timed as they ran (every model on the "
