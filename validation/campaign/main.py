@@ -7,8 +7,9 @@ Stages, each timed and each resumable:
    the same importer as real logs (no imported copy is kept: importing an
    export takes as long as reading one); meanwhile numba compiles
    the reduced models ahead in a process of its own (:mod:`artic.validation.runs.warmup`);
-2. **tuning**: every model's parameters fitted per load condition on its 4
-   forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`); ``OUT/tuning.json``,
+2. **tuning**: every model's parameters fitted per load condition on its
+   forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`; which
+   ones, ``CampaignConfig.tuning``, ``--tuning``); ``OUT/tuning.json``,
    and one tuned vehicle file per load condition in ``OUT/params``;
 3. **validation**: every model through the closed-loop harness on every other
    log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``
@@ -27,12 +28,18 @@ Stages, each timed and each resumable:
    noise-free twins of the validated logs, the same truth runs measured with
    ideal sensors (made by the logs' own simulations), into
    ``OUT/twins/metrics.csv``; no recordings;
+   **oracle**: KIN, the STM and the plant untuned with the truth's own
+   parameters (:mod:`artic.validation.campaign.oracle`) on the validated logs,
+   rows ``kin-oracle``, ... in ``metrics_oracle.csv`` (``--no-oracle`` skips it);
 5. **tables**: the paper's Table 2 and Table 3 columns, overall and per load,
    with the floor row (``table2_forward``, ``table3_reverse``), and the same
    against the plant (``table2_vs_plant``, ``table3_vs_plant``), ``.csv`` and ``.md``;
    the paired comparisons with Holm's correction and the findings
    (:mod:`artic.validation.campaign.findings`), and the noise share of every
-   criterion (``noise_share_forward``, ``noise_share_reverse``);
+   criterion (``noise_share_forward``, ``noise_share_reverse``); the same per
+   manoeuvre class, with the classes that carry each pooled finding
+   (:mod:`artic.validation.campaign.classes`, ``*_by_class``), and each model's
+   error split into form and parameters (``form_forward``, ``form_reverse``);
 6. **efficiency**: wall time per simulated second of each model, from the
    validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);

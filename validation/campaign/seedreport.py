@@ -210,6 +210,10 @@ def _command(r: SeedResults, seeds: list[int]) -> str:
         parts.append(f"--sensors {c['sensors']}")
     if c.get("drift") is False:
         parts.append("--no-drift")
+    if c.get("tuning", "default") != "default":
+        parts.append(f"--tuning {c['tuning']}")
+    if c.get("oracle") is False:
+        parts.append("--no-oracle")
     return " ".join(parts)
 
 
