@@ -255,4 +255,6 @@ def test_pooled_files_per_class_and_with_oracle_rows(tmp_path, manoeuvres, capsy
         excess, rel=1e-4)
     text = (tmp_path / "report.md").read_text()
     assert "## Docking and parking on their own" in text and "**docking** (30 manoeuvres" in text
+    answer = (tmp_path / "docking_parking.md").read_text()
+    assert answer.count("**docking**") == 2  # the tuned rows, then the oracle rows
     assert not re.search(r"(?i)\bnan\b", text)

@@ -910,6 +910,7 @@ def _stage_tables(c: _Campaign, metrics: pd.DataFrame, vs_plant: pd.DataFrame | 
                     if len(t := summary(metrics[metrics["load"] == load], d))}
         per_class = _by_class(out_dir, metrics, vs_plant, twins, paired, tuning_logs, files)
         form = _form(out_dir, metrics, oracle_rows, files)
+        _write_answer(out_dir, per_class, form, files)
         return _Tables(forward, reverse, forward_p, reverse_p, paired, shares, headlines,
                        per_load, files, per_class, form)
 
@@ -996,6 +997,22 @@ def _by_class(out_dir: Path, metrics: pd.DataFrame, vs_plant: pd.DataFrame | Non
                     f"{d.capitalize()} driving per manoeuvre class, against the plant",
                     classes.class_markdown(against))
     return out
+
+
+ANSWER = "docking_parking.md"
+"""The paper's question answered for docking and parking on their own (the report's section)."""
+
+
+def _write_answer(out_dir: Path, per_class: dict[str, Any], form: dict[str, Any],
+                  files: dict[str, Path]) -> None:
+    """``docking_parking.md``: the report's answer for docking and parking, on its own."""
+    from artic.validation.campaign.report import articulation_lines
+
+    lines = articulation_lines(per_class, form)
+    if lines:
+        files["docking_parking"] = atomic_write_text(
+            out_dir / ANSWER, "# " + lines[0].removeprefix("## ") + "\n" +
+            "\n".join(lines[1:]) + "\n")
 
 
 def _form(out_dir: Path, metrics: pd.DataFrame, oracle_rows: pd.DataFrame | None,

@@ -244,6 +244,11 @@ def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.D
         frame = _first_columns(pd.concat(oracles, ignore_index=True))
         paths["metrics_oracle"] = write_metrics(frame, out_dir / "metrics_oracle.csv")
         results.extra += _pooled_form(out_dir, logs, frame, paths, len(walls))
+    answer = _sections(results.extra, "## Docking and parking on their own")
+    if answer:
+        paths["docking_parking"] = atomic_write_text(
+            out_dir / "docking_parking.md", f"# Docking and parking on their own, pooled over "
+            f"{len(walls)} trucks\n\n" + "\n".join(answer) + "\n")
     text = seedreport.render(results, logs)
     paths["report"] = atomic_write_text(out_dir / "report.md", text)
     print(seedreport.closing(results, paths["report"]))
@@ -321,6 +326,18 @@ def _pooled_form(out_dir: Path, logs: pd.DataFrame, oracle_rows: pd.DataFrame,
             forms[d]["answer"] = classes.answer(
                 table, classes.paired_by_class(rows, None, d, pair=pooled_paired))
     return [*articulation_lines({}, forms), *form_lines(forms)]
+
+
+def _sections(lines: list[str], heading: str) -> list[str]:
+    """The body lines of every section of ``lines`` headed ``heading``, in order."""
+    out, inside = [], False
+    for line in lines:
+        if line.startswith("## "):
+            inside = line == heading
+            continue
+        if inside:
+            out.append(line)
+    return out
 
 
 def _first_columns(df: pd.DataFrame) -> pd.DataFrame:

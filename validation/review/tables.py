@@ -152,20 +152,20 @@ def summary(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
     DataFrame
         Indexed by model: per criterion ``col``, ``col_lo``, ``col_hi`` (95 %
         interval over manoeuvres) and, where fewer runs have it than ``n``,
-        ``col_n``; then ``n`` and ``off_run``, the runs that did not follow
-        their log (:func:`progress`: their path criteria count as their
-        ``eps_cover``, which puts the model last on them).
+        ``col_n``; then ``off_run``, the runs that did not follow their log
+        (:func:`progress`: their path criteria count as their ``eps_cover``,
+        which puts the model last on them), and ``n``.
     """
     def row_of(g: pd.DataFrame, cols: list[str]) -> dict:
         row: dict = {}
         for c in cols:
             _interval_columns(row, c, mean_ci(pd.to_numeric(g[c], errors="coerce")), len(g))
-        row["n"] = len(g)
         if OFF_RUN in g:
             row[OFF_RUN] = int(g[OFF_RUN].sum())
+        row["n"] = len(g)
         return row
 
-    return _per_model(metrics, direction, row_of, ("n", OFF_RUN))
+    return _per_model(metrics, direction, row_of, (OFF_RUN, "n"))
 
 
 def _per_model(metrics: pd.DataFrame, direction: str, row_of, tail: tuple[str, ...]
@@ -498,12 +498,12 @@ def pooled(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
             row[f"{c}_sd_manoeuvres"] = math.sqrt(within) if math.isfinite(within) else math.nan
             if int(v.notna().sum()) != len(g):
                 row[f"{c}_n"] = int(v.notna().sum())
-        row["n"], row["seeds"] = len(g), int(g["seed"].nunique())
         if OFF_RUN in g:
             row[OFF_RUN] = int(g[OFF_RUN].sum())
+        row["n"], row["seeds"] = len(g), int(g["seed"].nunique())
         return row
 
-    return _per_model(metrics, direction, row_of, ("n", "seeds", OFF_RUN))
+    return _per_model(metrics, direction, row_of, (OFF_RUN, "n", "seeds"))
 
 
 def spread_markdown(table: pd.DataFrame) -> str:
