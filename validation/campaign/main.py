@@ -473,7 +473,7 @@ def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict
         :class:`~artic.validation.campaign.config.CampaignConfig` (``models``,
         ``seed``, ``jobs``, ``only``, ``gain``, ``sweep_models``, ``recordings``,
         ``executor``, ``scheduler``, ``dask``, ``truth``, ``remeasure``,
-        ``seeds``, ``closing``, ``sensors``, ``drift``).
+        ``seeds``, ``closing``, ``sensors``, ``drift``, ``oracle``, ``tuning``).
 
     Returns
     -------
@@ -831,7 +831,9 @@ def _stage_oracle(c: _Campaign, logs: StageResult, validation: StageResult) -> S
     _, scale, validated = validation.value
     load_of = {log.name: log.meta.get("load") for log in logs.value[0]}
 
-    def table() -> tuple[pd.DataFrame, dict[str, Path]]:
+    def table(saved: dict[str, Path] | None = None) -> tuple[pd.DataFrame, dict[str, Path]]:
+        # Computing, the oracle vehicles are written; restoring, read back (writing
+        # them again would change the outputs the cache entry checks).
         parts, files = [], {}
         for load in LOADS:
             group = [log for log in validated if log.meta.get("load") == load]
@@ -839,7 +841,8 @@ def _stage_oracle(c: _Campaign, logs: StageResult, validation: StageResult) -> S
                 continue
             path = c.out_dir / "params" / f"oracle-{load}.toml"
             files[f"params_oracle:{load}"] = path
-            vehicle = oracle.oracle_vehicle(load, cfg.seed, cfg.truth, path)
+            vehicle = load_vehicle(saved[f"params_oracle:{load}"]) if saved is not None \
+                else oracle.oracle_vehicle(load, cfg.seed, cfg.truth, path)
             parts.append(validate_runs(group, vehicle, models, gain=cfg.gain,
                                        out_dir=c.out_dir / ORACLE_DIR, progress=stderr_progress,
                                        reuse_key=f"{key}.{load}.oracle", jobs=c.jobs,
@@ -856,7 +859,7 @@ def _stage_oracle(c: _Campaign, logs: StageResult, validation: StageResult) -> S
         files["metrics_oracle"] = write_metrics(rows, c.out_dir / "metrics_oracle.csv")
         return files, {}, rows
 
-    return c.run("oracle", key, compute, lambda entry: table()[0])
+    return c.run("oracle", key, compute, lambda entry: table(entry.outputs)[0])
 
 
 @dataclasses.dataclass
