@@ -98,6 +98,7 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     assert "carried_by" in pairs
     answer = (out / "docking_parking.md").read_text()  # the same answer, on its own
     assert answer.count("**docking** (1 manoeuvre,") == 2 and "steer_fb [deg]" in answer
+    assert (out / "noise_share_reverse_by_class.md").is_file()
     by_class = pd.read_csv(out / "table3_reverse_by_class.csv", index_col=0)
     assert set(by_class["class"]) == {"ramp-steer-reverse", "docking"}
     oracle = pd.read_csv(paths["metrics_oracle"])

@@ -65,3 +65,5 @@ def test_a_part_campaign_writes_class_tables_and_oracle_rows(tmp_path):
         assert section in text
     assert "tuning classes: slalom" in text
     assert (out / "params" / "oracle-unloaded.toml").is_file()
+    share = (out / "noise_share_reverse_by_class.md").read_text()
+    assert "## ramp-steer-reverse" in share and "steer_fb [deg]" in share

@@ -959,7 +959,8 @@ def _by_class(out_dir: Path, metrics: pd.DataFrame, vs_plant: pd.DataFrame | Non
     """The tables per manoeuvre class (:mod:`artic.validation.campaign.classes`).
 
     ``table2_forward_by_class``, ``table3_reverse_by_class`` (and against the
-    plant), ``paired_DIRECTION_by_class``; the pooled paired tables gain
+    plant), ``paired_DIRECTION_by_class``, ``noise_share_DIRECTION_by_class``
+    (with twins); the pooled paired tables gain
     ``carried_by`` (leave one class out) and are written again. Their files go
     into ``files``.
     """
@@ -983,6 +984,20 @@ def _by_class(out_dir: Path, metrics: pd.DataFrame, vs_plant: pd.DataFrame | Non
                 both.set_index("criterion"), out_dir / f"paired_{d}_by_class",
                 f"Paired comparisons per manoeuvre class, {d}; {CORRECTION} over each "
                 "class's own table", text)
+        if twins is not None:
+            shares = {}
+            for kind in classes.classes_of(metrics, d):
+                share = findings.noise_share(metrics[metrics["manoeuvre"] == kind],
+                                             twins[twins["manoeuvre"] == kind], d)
+                if len(share):
+                    shares[classes.class_name(kind, tuning)] = share
+            if shares:
+                files[f"noise_share_{d}_by_class"], _ = write_table(
+                    pd.concat([v.assign(**{classes.CLASS: k}) for k, v in shares.items()])
+                    .set_index("model"), out_dir / f"noise_share_{d}_by_class",
+                    f"Noise share per manoeuvre class, {d}",
+                    "\n\n".join(f"## {k}\n\n{findings.share_markdown(v)}"
+                                for k, v in shares.items()))
         if d in paired and len(paired[d]):
             paired[d] = classes.carried_by(paired[d], metrics, twins, d, tuning)
             files[f"paired_{d}"], _ = write_table(
