@@ -58,17 +58,19 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     t2 = pd.read_csv(out / "table2_forward.csv", index_col=0)
     t3 = pd.read_csv(out / "table3_reverse.csv", index_col=0)
     # Each mean with its 95 % interval over the manoeuvres.
-    # The paper's columns first, then the criteria beyond them that the runs
-    # have (the articulation error and the fixed-scale eps_n in both
-    # directions), then the count.
+    # The paper's columns first, each normalised one with its absolute counterpart
+    # beside it (steer_fb [deg] beside J_steer, eps_p [m] beside eps_n), then the
+    # criteria beyond them that the runs have (the articulation error and the
+    # fixed-scale eps_n in both directions), the runs off their log, the count.
     from artic.validation.criteria.columns import COLUMNS as EXTRA
 
     for table, paper in ((t2, ("eps_a", "eps_v", "eps_p", "eps_n")),
-                         (t3, ("eps_a", "eps_v", "J_steer", "eps_n"))):
+                         (t3, ("eps_a", "eps_v", "J_steer", "steer_fb", "eps_n", "eps_p"))):
         cols = list(table.columns)
-        assert cols[:12] == [f"{c}{s}" for c in paper for s in ("", "_lo", "_hi")]
-        assert cols[-1] == "n"
-        extra = [c for c in cols[12:-1] if not c.endswith(("_lo", "_hi", "_n"))]
+        k = 3 * len(paper)
+        assert cols[:k] == [f"{c}{s}" for c in paper for s in ("", "_lo", "_hi")]
+        assert cols[-2:] == ["off_run", "n"] and (table["off_run"] == 0).all()
+        extra = [c for c in cols[k:-2] if not c.endswith(("_lo", "_hi", "_n"))]
         assert {"eps_gamma", "eps_n_fixed"} <= set(extra) <= set(EXTRA)
         assert all(f"{c}_lo" in cols and f"{c}_hi" in cols for c in extra)
     for c in ("eps_n", "J_steer"):
@@ -89,6 +91,18 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     assert "## Headline" in report and "## Noise share" in report
     assert not list((out / "recordings").glob("*twin*"))  # the twins have no recordings
     assert "## Model-form error" in report and "nan" not in report.lower().split()
+    # Per manoeuvre class, the classes that carry the findings, and docking on its own.
+    for heading in ("## Per manoeuvre class", "## Docking and parking on their own",
+                    "## Model form and parameters"):
+        assert heading in report
+    assert "carried_by" in pairs
+    answer = (out / "docking_parking.md").read_text()  # the same answer, on its own
+    assert answer.count("**docking** (1 manoeuvre,") == 2 and "steer_fb [deg]" in answer
+    assert (out / "noise_share_reverse_by_class.md").is_file()
+    by_class = pd.read_csv(out / "table3_reverse_by_class.csv", index_col=0)
+    assert set(by_class["class"]) == {"ramp-steer-reverse", "docking"}
+    oracle = pd.read_csv(paths["metrics_oracle"])
+    assert set(oracle.model) == {"kin-oracle", "stm-oracle", "mbd-oracle"}
     assert not (out / "seed-0").exists()  # one truck: today's layout
     assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
     eff = pd.read_csv(out / "efficiency.csv", index_col=0)

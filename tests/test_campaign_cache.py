@@ -24,9 +24,10 @@ from artic.validation.logs.importers import import_source
 SMALL = {"models": ("kin",), "only": ("00-", "28-"), "jobs": 2, "sweep_models": ("kin",),
          "recordings": False, "closing": False}
 """The smallest campaign with every cached stage: logs with twins, tuning, validation,
-references, twins, efficiency and the gain sweep."""
+references, twins, the oracle rows, efficiency and the gain sweep."""
 
-CACHED = ("logs", "tuning", "validation", "references", "twins", "efficiency", "gain sweep")
+CACHED = ("logs", "tuning", "validation", "references", "twins", "oracle", "efficiency",
+          "gain sweep")
 
 
 @pytest.fixture(scope="module")
@@ -60,8 +61,8 @@ def test_a_changed_gain_reruns_validation_and_what_depends_on_it(made, tmp_path,
     reused, _ = again(made, tmp_path / "out", capsys, gain=2.0)
     # K enters the harness, not the logs nor the tuning (open loop, forward).
     assert reused["logs"] and reused["tuning"]
-    assert not any(reused[s] for s in ("validation", "references", "twins", "gain sweep",
-                                       "efficiency", "tables", "report"))
+    assert not any(reused[s] for s in ("validation", "references", "twins", "oracle",
+                                       "gain sweep", "efficiency", "tables", "report"))
     before = pd.read_csv(made / "metrics.csv").set_index(["log", "model"])
     after = pd.read_csv(tmp_path / "out" / "metrics.csv").set_index(["log", "model"])
     reverse = before.direction == "reverse"

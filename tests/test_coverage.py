@@ -3,8 +3,8 @@
 On a straight log the coverage has closed forms (a constant offset, standing
 still, stopping part-way); a model that never moves passes the paper's
 position error but fails the plugin's assertions and ranks last on
-``eps_cover`` in the campaign's tables, built here from ``validate_runs`` on
-two short synthetic logs.
+``eps_cover`` and, marked off the run, on the path criteria in the campaign's
+tables, built here from ``validate_runs`` on two short synthetic logs.
 """
 
 from __future__ import annotations
@@ -17,11 +17,11 @@ import pytest
 from artic.mjcf.vehicle import load_vehicle
 from artic.reduced import KIN, Driven
 from artic.validation.criteria import columns
-from artic.validation.criteria.coverage import eps_cover
+from artic.validation.criteria.coverage import FOLLOW_BOUND, eps_cover
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.criteria.pooled import RMS
 from artic.validation.models import register_model, unregister_model
-from artic.validation.review.tables import paired_table, summary
+from artic.validation.review.tables import OFF_RUN, markdown, paired_table, summary
 from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.generate import simulate_manoeuvre
 from artic.validation.synthetic.sensors import SensorModel
@@ -130,10 +130,21 @@ def test_a_model_that_never_moves_fails_assert_tracks_and_kin_passes(still, synt
     assert "eps_p" in str(failed.value) and " pass" in str(failed.value)
 
 
-def test_the_default_limit_is_a_lane_per_unit_or_the_position_limit():
+def test_the_default_limit_is_a_lane_per_unit_whatever_the_position_limit():
     assert default_limits({"eps_n": 40.0}) == {"eps_cover": COVER_LIMIT} == {"eps_cover": 7.0}
-    assert default_limits({"eps_p": 12.0}) == {"eps_cover": 12.0}
+    # A loose position limit does not loosen the progress bound.
+    assert default_limits({"eps_p": 12.0}) == {"eps_cover": COVER_LIMIT}
     assert default_limits({"eps_cover": 1.0}) == {}
+    # The plugin's number (kept a literal so the plugin loads no pandas) is the tables' bound.
+    assert COVER_LIMIT == FOLLOW_BOUND
+
+
+def test_a_loose_position_limit_still_fails_a_model_that_never_moves(still, synthetic_logs):
+    forward = synthetic_logs[0]
+    v = load_vehicle(forward.meta["vehicle"])
+    # 1 km of eps_p would once have made the progress limit 1 km too.
+    with pytest.raises(AssertionError, match=r"eps_cover .* 7 m \(default\)\s+FAIL"):
+        assert_tracks(still, forward, within={"eps_p": 1000.0}, vehicle=v)
 
 
 def test_the_model_that_never_moves_ranks_last_in_the_tables(still, synthetic_logs):
@@ -144,11 +155,26 @@ def test_the_model_that_never_moves_ranks_last_in_the_tables(still, synthetic_lo
     for direction in ("forward", "reverse"):
         table = summary(metrics, direction)
         assert "eps_cover" in table
-        # Last on the progress term, by a wide margin; first on eps_p forward.
+        # Last on the progress term, by a wide margin.
         assert table["eps_cover"].idxmax() == still
         others = table.drop(index=still)["eps_cover"]
         assert table.loc[still, "eps_cover"] > 10.0 * others.max()
-    assert summary(metrics, "forward")["eps_p"].idxmin() == still
+    # Its own eps_p is the smallest forward (it sits on the measured path at the
+    # start), but its runs are off the run: marked, and last on the path criteria.
+    assert metrics[metrics["model"] == still].groupby("direction")["eps_p"].mean()["forward"] \
+        < metrics[metrics["model"] != still].groupby("direction")["eps_p"].mean()["forward"]
+    for direction in ("forward", "reverse"):
+        table = summary(metrics, direction)
+        n_still = int(((metrics["model"] == still) & (metrics["direction"] == direction)).sum())
+        assert table.loc[still, OFF_RUN] == n_still
+        assert (table.drop(index=still)[OFF_RUN] == 0).all()
+        assert table["eps_p"].idxmax() == still
+        # Its path error is at least the bound, where every model that follows is within it.
+        assert table.loc[still, "eps_p"] > FOLLOW_BOUND > table.drop(index=still)["eps_p"].max()
+        assert f"{still} (**off the run** on {n_still} of {n_still})" in markdown(table)
+    eps_p = paired_table(metrics, "forward", ["eps_p"])
+    mine = eps_p[(eps_p["a"] == still) | (eps_p["b"] == still)]
+    assert len(mine) == 2 and (mine["lower"] != still).all()
     # On the three forward manoeuvres the paired comparison resolves the model
     # that never moves above each other model on eps_cover.
     pairs = paired_table(metrics, "forward", ["eps_cover"])

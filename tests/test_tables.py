@@ -67,7 +67,9 @@ def test_summary_carries_an_interval_per_mean(manoeuvres):
     half = stats.t.ppf(0.975, N - 1) * np.std(manoeuvres["stm"], ddof=1) / math.sqrt(N)
     width = t.loc["stm", "eps_n_hi"] - t.loc["stm", "eps_n_lo"]
     assert 0.7 * 2 * half < width < 1.3 * 2 * half
-    assert "J_steer" in t and "eps_p" not in t  # the reverse table's columns
+    # The reverse table's columns: eps_p [m] joins beside eps_n as its absolute counterpart.
+    cols = [c for c in t.columns if c in T.UNITS]
+    assert "J_steer" in t and cols.index("eps_p") == cols.index("eps_n") + 1
 
 
 def test_extra_criteria_join_when_present_and_only_then(manoeuvres):
@@ -211,3 +213,48 @@ def test_pooled_files_and_report_over_three_trucks(tmp_path, manoeuvres, capsys)
     assert "KIN below STM" not in text and "STM below KIN" not in text
     assert "trucks / manoeuvres" in text and "seed-1/report.md" in text
     assert "pooled over 3 trucks" in capsys.readouterr().out
+
+
+def test_pooled_files_per_class_and_with_oracle_rows(tmp_path, manoeuvres, capsys):
+    # Three trucks whose reverse manoeuvres are 10 ramp steers and 10 dockings, with
+    # oracle rows: the pooled per-class tables and the form split are written, and
+    # the report answers for docking on its own.
+    from artic.validation.campaign.seeds import write_pooled
+
+    rng = np.random.default_rng(5)
+    kinds = np.array(["ramp-steer-reverse"] * 10 + ["docking"] * 10)
+    trucks, oracles = [], []
+    for s in range(3):
+        per = {k: v + rng.normal(0, 0.5, N) for k, v in manoeuvres.items() if k != "mbd"}
+        per["floor"] = manoeuvres["kin"] - 5.0
+        t = frame(per, seed=s).assign(manoeuvre=np.tile(kinds, len(per)),
+                                     steer_fb=lambda d: 0.02 * d["eps_n"])
+        trucks.append(t)
+        o = t[t["model"] != "floor"].assign(model=lambda d: d["model"] + "-oracle",
+                                            eps_n=lambda d: d["eps_n"] + 1.0)
+        oracles.append(o)
+    paths = write_pooled(tmp_path, trucks, [], {0: 1.0, 1: 1.0, 2: 1.0},
+                         {s: tmp_path / f"seed-{s}" / "report.md" for s in range(3)},
+                         {"gain": 3.0}, oracles=oracles)
+    for stem in ("table3_reverse_by_class", "paired_reverse_by_class", "form_reverse",
+                 "paired_reverse_oracle"):
+        assert stem in paths and (tmp_path / f"{stem}.md").is_file()
+    by_class = pd.read_csv(paths["table3_reverse_by_class"], index_col="model")
+    pooled_table = pd.read_csv(paths["table3_reverse"], index_col="model")
+    for m in ("kin", "stm", "floor"):  # the pooled mean weighs the class means by their counts
+        rows = by_class.loc[[m]]
+        # rel 1e-5: the CSV files keep 6 significant digits
+        assert float((rows["eps_n"] * rows["n"]).sum() / rows["n"].sum()) == pytest.approx(
+            pooled_table.loc[m, "eps_n"], rel=1e-5)
+    form = pd.read_csv(paths["form_reverse"], index_col="model")
+    # The oracle rows are one point above the tuned ones; form and parameters add up
+    # to the tuned row's excess over the floor.
+    assert form.loc["kin parameters", "eps_n"] == pytest.approx(-1.0, rel=1e-5)
+    excess = pooled_table.loc["kin", "eps_n"] - pooled_table.loc["floor", "eps_n"]
+    assert form.loc["kin form", "eps_n"] + form.loc["kin parameters", "eps_n"] == pytest.approx(
+        excess, rel=1e-4)
+    text = (tmp_path / "report.md").read_text()
+    assert "## Docking and parking on their own" in text and "**docking** (30 manoeuvres" in text
+    answer = (tmp_path / "docking_parking.md").read_text()
+    assert answer.count("**docking**") == 2  # the tuned rows, then the oracle rows
+    assert not re.search(r"(?i)\bnan\b", text)

@@ -21,7 +21,7 @@ from artic.mjcf.errors import UserError
 from artic.validation.campaign.executors import DaskOptions
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import MATRIX, TUNING, check_only
+from artic.validation.synthetic.testmatrix import MATRIX, check_only, tuning_set
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 SENSORS = ("default", "ideal")
@@ -74,6 +74,16 @@ class CampaignConfig:
         noise-free twin) or ``ideal`` (the truth's own signals).
     drift : bool
         ``False`` stills the steering column's drifting zero.
+    oracle : bool
+        Run KIN, the STM and the plant also untuned with the truth's own
+        parameters (:mod:`artic.validation.campaign.oracle`), on the validated
+        logs: the rows ``kin-oracle``, ``stm-oracle``, ``mbd-oracle``.
+    tuning : str
+        Which forward manoeuvres every model is tuned on, none of them
+        validated (:data:`artic.validation.synthetic.testmatrix.TUNING_SETS`):
+        ``default`` (constant steers at 200 deg and 5 km/h and the tuning
+        slaloms), ``slaloms`` (the tuning slaloms alone) or ``transient``
+        (the tuning slaloms, the paper's slalom and its figure-8).
 
     Raises
     ------
@@ -111,6 +121,8 @@ class CampaignConfig:
     closing: bool = True
     sensors: str = "default"
     drift: bool = True
+    oracle: bool = True
+    tuning: str = "default"
 
     def __post_init__(self) -> None:
         # Sequences given as lists (the command line's, a user's) become tuples:
@@ -127,7 +139,8 @@ class CampaignConfig:
             raise UserError(f"--seeds {self.seeds}: a campaign needs at least one truck")
         if self.sensors not in SENSORS:
             raise UserError(f"--sensors {self.sensors}: expected default or ideal")
-        check_selection(self.only)
+        tuning_set(self.tuning)
+        check_selection(self.only, self.tuning)
 
     def resolved(self) -> CampaignConfig:
         """The campaign with its defaults filled: every registered model, every core."""
@@ -164,9 +177,15 @@ class CampaignConfig:
         c = self.resolved()
         outside = {m: code for m in c.models or () if (code := code_of(m))}
         chain = c.chain()
+        tuning = {"tuning": c.tuning} if c.tuning != "default" else {}
         return fingerprint.key(c.seed, list(c.models or ()), c.gain,
                                list(c.only) if c.only else None, c.truth,
-                               *([outside] if outside else []), *([chain] if chain else []))
+                               *([outside] if outside else []), *([chain] if chain else []),
+                               *([tuning] if tuning else []))
+
+    def tuning_logs(self) -> tuple[str, ...]:
+        """The names of the manoeuvres :attr:`tuning` fits on."""
+        return tuning_set(self.tuning)
 
     def options(self) -> dict[str, Any]:
         """The choices as a dict of plain values (the pooled report names them)."""
@@ -174,12 +193,13 @@ class CampaignConfig:
                 if f.name not in ("out_dir", "dask")}
 
 
-def check_selection(only: tuple[str, ...] | list[str] | None) -> None:
+def check_selection(only: tuple[str, ...] | list[str] | None, tuning: str = "default") -> None:
     """Refuse an ``--only`` that leaves nothing to validate, before any work.
 
-    The tuning manoeuvres (:data:`~artic.validation.synthetic.testmatrix.TUNING`)
-    are fitted on and never validated; a selection of them alone would tune
-    and then have no log for the tables.
+    The tuning manoeuvres (``tuning``'s set of
+    :data:`~artic.validation.synthetic.testmatrix.TUNING_SETS`) are fitted on and
+    never validated; a selection of them alone would tune and then have no log
+    for the tables.
 
     Raises
     ------
@@ -189,9 +209,10 @@ def check_selection(only: tuple[str, ...] | list[str] | None) -> None:
     if not only:
         return
     check_only(only)
+    names = tuning_set(tuning)
     chosen = [m.name for m in MATRIX if any(m.name.startswith(o) for o in only)]
-    if chosen and all(n in TUNING for n in chosen):
-        first = next(m.name for m in MATRIX if m.name not in TUNING)
+    if chosen and all(n in names for n in chosen):
+        first = next(m.name for m in MATRIX if m.name not in names)
         raise UserError(f"--only {','.join(only)}: selects only tuning manoeuvres "
                         f"({', '.join(chosen)}), which are fitted on and never validated, "
                         "so there would be nothing to validate; add a validation manoeuvre "

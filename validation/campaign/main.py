@@ -7,8 +7,9 @@ Stages, each timed and each resumable:
    the same importer as real logs (no imported copy is kept: importing an
    export takes as long as reading one); meanwhile numba compiles
    the reduced models ahead in a process of its own (:mod:`artic.validation.runs.warmup`);
-2. **tuning**: every model's parameters fitted per load condition on its 4
-   forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`); ``OUT/tuning.json``,
+2. **tuning**: every model's parameters fitted per load condition on its
+   forward tuning manoeuvres (:mod:`artic.validation.campaign.tuning`; which
+   ones, ``CampaignConfig.tuning``, ``--tuning``); ``OUT/tuning.json``,
    and one tuned vehicle file per load condition in ``OUT/params``;
 3. **validation**: every model through the closed-loop harness on every other
    log, with its load condition's tuned vehicle; ``OUT/runs``, ``metrics.csv``
@@ -27,12 +28,18 @@ Stages, each timed and each resumable:
    noise-free twins of the validated logs, the same truth runs measured with
    ideal sensors (made by the logs' own simulations), into
    ``OUT/twins/metrics.csv``; no recordings;
+   **oracle**: KIN, the STM and the plant untuned with the truth's own
+   parameters (:mod:`artic.validation.campaign.oracle`) on the validated logs,
+   rows ``kin-oracle``, ... in ``metrics_oracle.csv`` (``--no-oracle`` skips it);
 5. **tables**: the paper's Table 2 and Table 3 columns, overall and per load,
    with the floor row (``table2_forward``, ``table3_reverse``), and the same
    against the plant (``table2_vs_plant``, ``table3_vs_plant``), ``.csv`` and ``.md``;
    the paired comparisons with Holm's correction and the findings
    (:mod:`artic.validation.campaign.findings`), and the noise share of every
-   criterion (``noise_share_forward``, ``noise_share_reverse``);
+   criterion (``noise_share_forward``, ``noise_share_reverse``); the same per
+   manoeuvre class, with the classes that carry each pooled finding
+   (:mod:`artic.validation.campaign.classes`, ``*_by_class``), and each model's
+   error split into form and parameters (``form_forward``, ``form_reverse``);
 6. **efficiency**: wall time per simulated second of each model, from the
    validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
@@ -300,7 +307,7 @@ def start_from(model: str, fitted: dict[str, dict[str, float]]) -> dict[str, flo
 
 
 def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
-          jobs: int) -> dict:
+          jobs: int, names: Sequence[str] = TUNING) -> dict:
     """Tuning per load condition, resumable per (load, model) from ``tuning.json``.
 
     Each load condition is tuned on its own tuning manoeuvres with its own
@@ -326,7 +333,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
         saved["reused"] = True
         return saved
     run = _Tuning(path, {"key": key, "loads": {}, "complete": False})
-    todo = _tuning_plan(logs, saved, run.out)
+    todo = _tuning_plan(logs, saved, run.out, names)
     side_by_side = min(len(todo), max(1, jobs))
     threads = max(1, jobs // side_by_side)
     if side_by_side > 1:
@@ -343,7 +350,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
             _tune_load(run, models, *t, threads)
     if not run.out["loads"]:
         raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
-                        f"({', '.join(TUNING[:2])}, ...)")
+                        f"({', '.join(names[:2])}, ...)")
     run.out["complete"] = True
     run.save()
     run.out["reused"] = False
@@ -366,7 +373,7 @@ class _Tuning:
         atomic_write_text(self.path, json.dumps(self.out, indent=1) + "\n")
 
 
-def _tuning_plan(logs: list[Run], saved: dict, out: dict
+def _tuning_plan(logs: list[Run], saved: dict, out: dict, names: Sequence[str] = TUNING
                  ) -> list[tuple[str, Vehicle, list[Run], dict | None]]:
     """Each load condition to tune: its preset, tuning logs and the saved part to resume.
 
@@ -375,17 +382,17 @@ def _tuning_plan(logs: list[Run], saved: dict, out: dict
     """
     todo = []
     for load in LOADS:
-        tuning = [log for log in logs if log.name in TUNING and log.meta.get("load") == load]
+        tuning = [log for log in logs if log.name in names and log.meta.get("load") == load]
         if not tuning:
             stderr_progress(f"{load}: no tuning manoeuvre among the logs; the preset's "
                             "parameters are used untuned")
             continue
-        names = [log.name for log in tuning]
+        fitted_on = [log.name for log in tuning]
         part = saved["loads"].get(load)
-        if not (isinstance(part, dict) and part.get("logs") == names):
+        if not (isinstance(part, dict) and part.get("logs") == fitted_on):
             part = None
         vehicle = load_vehicle(PRESET.format(load=load))
-        out["loads"][load] = {"logs": names, "rows": [], "summary": [], "fitted": {},
+        out["loads"][load] = {"logs": fitted_on, "rows": [], "summary": [], "fitted": {},
                               "truth": tuning[0].meta.get("truth", {}),
                               "nominal": {"i_s": vehicle.steering_for("mbd").i_s}}
         todo.append((load, vehicle, tuning, part))
@@ -466,7 +473,7 @@ def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict
         :class:`~artic.validation.campaign.config.CampaignConfig` (``models``,
         ``seed``, ``jobs``, ``only``, ``gain``, ``sweep_models``, ``recordings``,
         ``executor``, ``scheduler``, ``dask``, ``truth``, ``remeasure``,
-        ``seeds``, ``closing``, ``sensors``, ``drift``).
+        ``seeds``, ``closing``, ``sensors``, ``drift``, ``oracle``, ``tuning``).
 
     Returns
     -------
@@ -663,7 +670,7 @@ def _export_files(out_dir: Path, logs: list[Run], twin_logs: list[Run] | None
 
 
 def _tuning_key(c: _Campaign, logs_key: str) -> str:
-    return c.cache.key("tuning", c.fields("models", "seed"), [logs_key])
+    return c.cache.key("tuning", c.fields("models", "seed", "tuning"), [logs_key])
 
 
 def _stage_tuning(c: _Campaign, logs: StageResult) -> StageResult:
@@ -674,7 +681,7 @@ def _stage_tuning(c: _Campaign, logs: StageResult) -> StageResult:
         return tuned, vehicles, {n for part in tuned["loads"].values() for n in part["logs"]}
 
     def compute():
-        tuned = _tune(c.out_dir, logs.value[0], c.models, key, c.jobs)
+        tuned = _tune(c.out_dir, logs.value[0], c.models, key, c.jobs, c.config.tuning_logs())
         vehicles = _tuned_vehicles(c.out_dir, tuned, c.config.seed)
         outputs = {"tuning": c.out_dir / "tuning.json"}
         outputs |= {f"params:{load}": Path(v.path) for load, v in vehicles.items()
@@ -789,6 +796,72 @@ def _stage_twins(c: _Campaign, logs: StageResult, tuning: StageResult,
     return c.run("twins", key, compute, lambda entry: table())
 
 
+ORACLE_DIR = "oracle"
+"""The folder of the oracle rows' runs (their metadata) under the campaign's output folder."""
+
+
+def _has_oracle(c: _Campaign) -> bool:
+    """Whether the campaign runs oracle rows: asked for, a truth that has them, a model of them."""
+    from artic.validation.campaign import oracle
+
+    if not c.config.oracle:
+        return False
+    if not oracle.applies(c.config.truth):
+        stderr_progress(f"oracle rows: the {c.config.truth} truth has no TMeasy tyres to take "
+                        "the cornering stiffness from; no oracle rows")
+        return False
+    return any(m in oracle.MODELS for m in c.models)
+
+
+def _stage_oracle(c: _Campaign, logs: StageResult, validation: StageResult) -> StageResult:
+    """Stage 4c: KIN, the STM and the plant untuned with the truth's own parameters.
+
+    On the validated logs only, not on their twins (the form's findings are
+    resolved on the logs, see :func:`artic.validation.campaign.oracle.form_pairs`);
+    the oracle vehicles go to ``OUT/params/oracle-LOAD.toml``, the runs' metadata
+    to ``OUT/oracle/runs``, the rows (``kin-oracle``, ...) to ``metrics_oracle.csv``.
+    Value: those rows.
+    """
+    from artic.validation.campaign import oracle
+
+    cfg = c.config
+    models = [m for m in c.models if m in oracle.MODELS]
+    key = c.cache.key("oracle", c.fields("models", "gain", "seed", "truth", "oracle"),
+                      [logs, validation])
+    _, scale, validated = validation.value
+    load_of = {log.name: log.meta.get("load") for log in logs.value[0]}
+
+    def table(saved: dict[str, Path] | None = None) -> tuple[pd.DataFrame, dict[str, Path]]:
+        # Computing, the oracle vehicles are written; restoring, read back (writing
+        # them again would change the outputs the cache entry checks).
+        parts, files = [], {}
+        for load in LOADS:
+            group = [log for log in validated if log.meta.get("load") == load]
+            if not group:
+                continue
+            path = c.out_dir / "params" / f"oracle-{load}.toml"
+            files[f"params_oracle:{load}"] = path
+            vehicle = load_vehicle(saved[f"params_oracle:{load}"]) if saved is not None \
+                else oracle.oracle_vehicle(load, cfg.seed, cfg.truth, path)
+            parts.append(validate_runs(group, vehicle, models, gain=cfg.gain,
+                                       out_dir=c.out_dir / ORACLE_DIR, progress=stderr_progress,
+                                       reuse_key=f"{key}.{load}.oracle", jobs=c.jobs,
+                                       executor=c.pool, label=f"oracle, {load}", scale=scale,
+                                       samples=False))
+        rows = pd.concat(parts, ignore_index=True)
+        files |= _run_files(c.out_dir / ORACLE_DIR, rows)
+        rows["model"] = rows["model"] + oracle.ORACLE
+        rows["load"] = rows["log"].map(load_of)
+        return rows, files
+
+    def compute():
+        rows, files = table()
+        files["metrics_oracle"] = write_metrics(rows, c.out_dir / "metrics_oracle.csv")
+        return files, {}, rows
+
+    return c.run("oracle", key, compute, lambda entry: table(entry.outputs)[0])
+
+
 @dataclasses.dataclass
 class _Tables:
     """What the tables stage computed, for the report."""
@@ -802,11 +875,21 @@ class _Tables:
     headlines: dict[str, Any]
     per_load: dict[str, pd.DataFrame]
     files: dict[str, Path]
+    classes: dict[str, Any] = dataclasses.field(default_factory=dict)
+    """Per direction: ``table`` (per class), ``paired`` (per class), ``answer`` (docking,
+    parking), and ``tuning`` (the tuning classes)."""
+    oracle: dict[str, Any] = dataclasses.field(default_factory=dict)
+    """Per direction: ``split`` (form and parameters) and ``pairs`` (the form's findings)."""
 
 
 def _stage_tables(c: _Campaign, metrics: pd.DataFrame, vs_plant: pd.DataFrame | None,
-                  twins: pd.DataFrame | None) -> StageResult:
-    """Stage 5: Tables 2 and 3 (and against the plant), paired comparisons, noise share."""
+                  twins: pd.DataFrame | None, oracle_rows: pd.DataFrame | None = None,
+                  tuning_logs: set[str] | frozenset[str] = frozenset()) -> StageResult:
+    """Stage 5: Tables 2 and 3 (and against the plant), paired comparisons, noise share.
+
+    Then the same per manoeuvre class, with the classes that carry each pooled
+    finding, and each model's error split into form and parameters.
+    """
     out_dir = c.out_dir
 
     def make() -> _Tables:
@@ -828,8 +911,11 @@ def _stage_tables(c: _Campaign, metrics: pd.DataFrame, vs_plant: pd.DataFrame | 
         paired, shares, headlines = _paired(out_dir, metrics, vs_plant, twins, files)
         per_load = {f"{load}, {d}": t for load in LOADS for d in ("forward", "reverse")
                     if len(t := summary(metrics[metrics["load"] == load], d))}
+        per_class = _by_class(out_dir, metrics, vs_plant, twins, paired, tuning_logs, files)
+        form = _form(out_dir, metrics, oracle_rows, files)
+        _write_answer(out_dir, per_class, form, files)
         return _Tables(forward, reverse, forward_p, reverse_p, paired, shares, headlines,
-                       per_load, files)
+                       per_load, files, per_class, form)
 
     result = c.derived("tables", make)
     return dataclasses.replace(result, outputs=result.value.files)
@@ -865,6 +951,119 @@ def _paired(out_dir: Path, metrics: pd.DataFrame, vs_plant: pd.DataFrame | None,
                    if twins is not None and "_vs_plant" not in name else
                    "resolved after it"), paired_markdown(pairs))
     return paired, shares, headlines
+
+
+def _by_class(out_dir: Path, metrics: pd.DataFrame, vs_plant: pd.DataFrame | None,
+              twins: pd.DataFrame | None, paired: dict[str, pd.DataFrame],
+              tuning_logs: set[str] | frozenset[str], files: dict[str, Path]) -> dict[str, Any]:
+    """The tables per manoeuvre class (:mod:`artic.validation.campaign.classes`).
+
+    ``table2_forward_by_class``, ``table3_reverse_by_class`` (and against the
+    plant), ``paired_DIRECTION_by_class``, ``noise_share_DIRECTION_by_class``
+    (with twins); the pooled paired tables gain
+    ``carried_by`` (leave one class out) and are written again. Their files go
+    into ``files``.
+    """
+    from artic.validation.campaign import classes
+
+    tuning = classes.tuning_classes(tuning_logs)
+    out: dict[str, Any] = {"tuning": tuning}
+    stems = {"forward": "table2_forward", "reverse": "table3_reverse"}
+    for d, stem in stems.items():
+        table = classes.by_class(metrics, d, tuning)
+        if table.empty:
+            continue
+        files[f"{stem}_by_class"], _ = write_table(
+            table, out_dir / f"{stem}_by_class",
+            f"{d.capitalize()} driving per manoeuvre class", classes.class_markdown(table))
+        per = classes.paired_by_class(metrics, twins, d, tuning)
+        if per:
+            text = "\n\n".join(f"## {k}\n\n{paired_markdown(p)}" for k, p in per.items())
+            both = pd.concat([p.assign(**{classes.CLASS: k}) for k, p in per.items()])
+            files[f"paired_{d}_by_class"], _ = write_table(
+                both.set_index("criterion"), out_dir / f"paired_{d}_by_class",
+                f"Paired comparisons per manoeuvre class, {d}; {CORRECTION} over each "
+                "class's own table", text)
+        if twins is not None:
+            shares = {}
+            for kind in classes.classes_of(metrics, d):
+                share = findings.noise_share(metrics[metrics["manoeuvre"] == kind],
+                                             twins[twins["manoeuvre"] == kind], d)
+                if len(share):
+                    shares[classes.class_name(kind, tuning)] = share
+            if shares:
+                files[f"noise_share_{d}_by_class"], _ = write_table(
+                    pd.concat([v.assign(**{classes.CLASS: k}) for k, v in shares.items()])
+                    .set_index("model"), out_dir / f"noise_share_{d}_by_class",
+                    f"Noise share per manoeuvre class, {d}",
+                    "\n\n".join(f"## {k}\n\n{findings.share_markdown(v)}"
+                                for k, v in shares.items()))
+        if d in paired and len(paired[d]):
+            paired[d] = classes.carried_by(paired[d], metrics, twins, d, tuning)
+            files[f"paired_{d}"], _ = write_table(
+                paired[d].set_index("criterion"), out_dir / f"paired_{d}",
+                f"Paired comparisons, {d}; {CORRECTION} over the table's {len(paired[d])} "
+                "comparisons; the classes that carry each finding (leave one class out)",
+                paired_markdown(paired[d]))
+        out[d] = {"table": table, "paired": per,
+                  "answer": classes.answer(table, per, tuning=tuning) if d == "reverse" else []}
+        if vs_plant is not None:
+            against = classes.by_class(vs_plant, d, tuning)
+            if len(against):
+                files[f"{stem}_vs_plant_by_class"], _ = write_table(
+                    against, out_dir / f"{stem}_vs_plant_by_class",
+                    f"{d.capitalize()} driving per manoeuvre class, against the plant",
+                    classes.class_markdown(against))
+    return out
+
+
+ANSWER = "docking_parking.md"
+"""The paper's question answered for docking and parking on their own (the report's section)."""
+
+
+def _write_answer(out_dir: Path, per_class: dict[str, Any], form: dict[str, Any],
+                  files: dict[str, Path]) -> None:
+    """``docking_parking.md``: the report's answer for docking and parking, on its own."""
+    from artic.validation.campaign.report import articulation_lines
+
+    lines = articulation_lines(per_class, form)
+    if lines:
+        files["docking_parking"] = atomic_write_text(
+            out_dir / ANSWER, "# " + lines[0].removeprefix("## ") + "\n" +
+            "\n".join(lines[1:]) + "\n")
+
+
+def _form(out_dir: Path, metrics: pd.DataFrame, oracle_rows: pd.DataFrame | None,
+          files: dict[str, Path]) -> dict[str, Any]:
+    """Each model's error split into form and parameters, and the form's findings."""
+    from artic.validation.campaign import oracle
+
+    if oracle_rows is None or oracle_rows.empty:
+        return {}
+    both = oracle.oracle_metrics(metrics, oracle_rows)
+    out: dict[str, Any] = {}
+    for d in ("forward", "reverse"):
+        split, pairs = oracle.split(both, d), oracle.form_pairs(both, d)
+        if split.empty:
+            continue
+        files[f"form_{d}"], _ = write_table(
+            split, out_dir / f"form_{d}",
+            f"{d.capitalize()}: each model's excess over the floor split into its form "
+            "(the oracle row minus the floor) and its parameters (the tuned row minus the "
+            "oracle row), paired per manoeuvre")
+        if len(pairs):
+            files[f"paired_{d}_oracle"], _ = write_table(
+                pairs.set_index("criterion"), out_dir / f"paired_{d}_oracle",
+                f"Paired comparisons of the oracle rows (model form), {d}; {CORRECTION} over "
+                f"the table's {len(pairs)} comparisons, on the logs", paired_markdown(pairs))
+        rows = both[both["model"].str.endswith(oracle.ORACLE) | (both["model"] == "floor")]
+        out[d] = {"split": split, "pairs": pairs, "table": summary(rows, d)}
+        if d == "reverse":  # the form's answer for docking and parking, from the oracle rows
+            from artic.validation.campaign import classes
+
+            per_class = classes.by_class(rows, d)
+            out[d]["answer"] = classes.answer(per_class, classes.paired_by_class(rows, None, d))
+    return out
 
 
 def _stage_efficiency(c: _Campaign, metrics: pd.DataFrame) -> StageResult:
@@ -956,13 +1155,15 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     references = _stage_references(c, logs, tuning, validation)
     metrics, vs_plant = references.value
     twins = _stage_twins(c, logs, tuning, validation) if logs.value[1] is not None else None
-    tables = _stage_tables(c, metrics, vs_plant, twins.value if twins is not None else None)
+    oracle = _stage_oracle(c, logs, validation) if _has_oracle(c) else None
+    tables = _stage_tables(c, metrics, vs_plant, twins.value if twins is not None else None,
+                           oracle.value if oracle is not None else None, tuning.value[2])
     efficiency = _stage_efficiency(c, metrics)
     sweep = _stage_sweep(c, logs, tuning) if cfg.sweep_models else None
     recordings = _stage_recordings(c, logs, tuning, references) if cfg.recordings else None
     # The result files by name (a stage's single runs and recordings are not named here).
-    paths = {k: v for r in (tuning, validation, references, twins, tables, efficiency, sweep,
-                            recordings) if r is not None
+    paths = {k: v for r in (tuning, validation, references, twins, oracle, tables, efficiency,
+                            sweep, recordings) if r is not None
              for k, v in r.outputs.items() if ":" not in k and k != "gain_sweep_plot"}
     return _report(c, paths, tables.value, tuning.value[0], efficiency.value,
                    sweep.value if sweep is not None else None, metrics, vs_plant,
@@ -984,7 +1185,8 @@ def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
         files={k: str(v.relative_to(out_dir)) for k, v in paths.items()},
         forward_vs_plant=t.forward_p, reverse_vs_plant=t.reverse_p, truth=cfg.truth,
         metrics_vs_plant=vs_plant, paired=t.paired, twins=twins, noise_share=t.shares,
-        headline_criteria=t.headlines, sensors=cfg.sensors, drift=cfg.drift)
+        headline_criteria=t.headlines, sensors=cfg.sensors, drift=cfg.drift,
+        classes=t.classes, form=t.oracle)
 
     def draft() -> None:
         text = rep.render(results)  # the summary recording's copy, before the last timing

@@ -21,10 +21,19 @@ FLOOR = "floor"
 """The reference row: the truth itself, without its random processes."""
 
 
+ORACLE = "-oracle"
+"""The suffix of a model's row run with the truth's own parameters (``kin-oracle``)."""
+
+
 def label(model: str) -> str:
-    """A model's name in prose: its registry label (KIN, STM, MBD, floor, or a registered one's)."""
+    """A model's name in prose: its registry label (KIN, STM, MBD, floor, or a registered one's).
+
+    A row with the truth's own parameters is its model's label and ``-oracle`` (``KIN-oracle``).
+    """
     from artic.validation import models
 
+    if model.endswith(ORACLE):
+        return models.label(model.removesuffix(ORACLE)) + ORACLE
     return models.label(model)
 
 

@@ -13,6 +13,8 @@ import os
 import platform
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
+from string import Template
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -75,6 +77,10 @@ class CampaignResults:
     headline_criteria: dict[str, pd.DataFrame] = field(default_factory=dict)
     sensors: str = "default"
     drift: bool = True
+    classes: dict[str, Any] = field(default_factory=dict)
+    """Per direction, the tables per manoeuvre class (see ``campaign/main.py``'s ``_by_class``)."""
+    form: dict[str, Any] = field(default_factory=dict)
+    """Per direction, the oracle rows' split into form and parameters (``_form``)."""
 
     def __post_init__(self) -> None:
         for d in ("forward", "reverse"):
@@ -480,6 +486,112 @@ def budget_table(stages: dict[str, float], budget: dict[str, dict]) -> list[str]
     return lines
 
 
+_LARGE = Template(
+    "The paper's question, which model for planning and control in reverse, asked of "
+    "docking and parking on their own (reversing at large articulation), in absolute "
+    "units, each class's findings from its own paired table ($correction over it, on the "
+    "logs and their noise-free twins). With the tuned parameters:")
+_FORM = Template(
+    "With the truth's own parameters (the oracle rows, untuned: what each model's form "
+    "allows; findings resolved after $correction on the logs):")
+
+
+def large_articulation(r: CampaignResults) -> list[str]:
+    """The answer for docking and parking on their own: tuned rows, then the oracle rows."""
+    return articulation_lines(r.classes, r.form)
+
+
+def articulation_lines(classes: dict[str, Any], forms: dict[str, Any]) -> list[str]:
+    """:func:`large_articulation` from the tables' dicts (one truck or pooled)."""
+    from artic.validation.criteria.multiplicity import CORRECTION
+
+    tuned = (classes.get("reverse") or {}).get("answer") or []
+    form = (forms.get("reverse") or {}).get("answer") or []
+    if not tuned and not form:
+        return []
+    out = ["## Docking and parking on their own", ""]
+    if tuned:
+        out += [_LARGE.substitute(correction=CORRECTION), "", *[f"- {t}" for t in tuned], ""]
+    if form:
+        out += [_FORM.substitute(correction=CORRECTION), "", *[f"- {t}" for t in form], ""]
+    return out
+
+
+def class_sections(r: CampaignResults) -> list[str]:
+    """The tables per manoeuvre class, and which classes carry the pooled findings."""
+    return class_lines(r.classes, r.paired)
+
+
+def class_lines(classes: dict[str, Any], paired: dict[str, pd.DataFrame]) -> list[str]:
+    """:func:`class_sections` from the tables' dicts (one truck or pooled)."""
+    from artic.validation.campaign.classes import CARRIED, class_markdown
+
+    out: list[str] = []
+    for d in ("forward", "reverse"):
+        part = classes.get(d)
+        if not part or part["table"].empty:
+            continue
+        if not out:
+            tuning = ", ".join(classes.get("tuning", ())) or "none"
+            out += ["## Per manoeuvre class", "",
+                    "Each table of the direction again, one class at a time (a class the "
+                    f"tuning fitted on is named so; tuning classes: {tuning}). A normalised "
+                    "criterion divides by the class's own signals, so the absolute columns "
+                    "beside it (steer_fb [deg], eps_p [m]) are the ones to compare across "
+                    "classes. `table2_forward_by_class.md`, `table3_reverse_by_class.md`, "
+                    "`paired_*_by_class.md`.", ""]
+        pairs = paired.get(d)
+        if pairs is not None and CARRIED in pairs:
+            found = pairs[pairs["finding"].astype(bool)]
+            lines = [f"- {rk.criterion}: {label(rk.a)} against {label(rk.b)}, carried by "
+                     f"{getattr(rk, CARRIED)}" for rk in found.itertuples(index=False)]
+            if lines:
+                out += [f"The classes whose removal loses each pooled {d} finding:", "",
+                        *lines, ""]
+        out += [f"### {d.capitalize()}", "",
+                class_markdown(part["table"], level=4), ""]
+    return out
+
+
+def form_sections(r: CampaignResults) -> list[str]:
+    """Each model's error split into form (oracle row) and parameters (tuned row)."""
+    return form_lines(r.form)
+
+
+def form_lines(forms: dict[str, Any]) -> list[str]:
+    """:func:`form_sections` from the tables' dict (one truck or pooled)."""
+    out: list[str] = []
+    for d in ("forward", "reverse"):
+        part = forms.get(d)
+        if not part:
+            continue
+        if not out:
+            out += ["## Model form and parameters", "",
+                    "Every model again, untuned, with the truth's own parameters (the "
+                    "oracle rows: geometry, masses, centres of gravity, steering gear, and "
+                    "the cornering stiffness equivalent to the truth's tyres; "
+                    "`validation/campaign/oracle.py`). `MODEL form` is the oracle row minus "
+                    "the floor, `MODEL parameters` the tuned row minus the oracle row, "
+                    "paired per manoeuvre; the two add up to the tuned row's excess over "
+                    "the floor.", ""]
+        out += [f"### {d.capitalize()}", "", markdown(part["split"]), ""]
+        pairs = part.get("pairs")
+        crits = KEY_CRITERIA[d] + (("steer_fb",) if d == "reverse" else ("eps_gamma",))
+        if pairs is not None and len(pairs):
+            for c in crits:
+                if c in set(pairs["criterion"]):
+                    out.append(f"- {c}, the oracle rows: {ranking_text(pairs, c)}.")
+            out.append("")
+    return out
+
+
+_TUNED_ON = Template(
+    "Each load condition fitted on its own forward tuning manoeuvres ($n in all, none of "
+    "them validated; `artic campaign --tuning` chooses the set, "
+    "`validation/synthetic/testmatrix.py`'s `TUNING_SETS`), by the normalised criteria "
+    "of eq. (9) (see `validation/campaign/tuning.py`): $logs.")
+
+
 def render(r: CampaignResults) -> str:
     """The whole report as Markdown."""
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
@@ -512,18 +624,20 @@ def render(r: CampaignResults) -> str:
                   "Forward (Table 2 columns):", "", markdown(r.forward_vs_plant), ""]
     if r.reverse_vs_plant is not None:
         lines += ["Reverse (Table 3 columns):", "", markdown(r.reverse_vs_plant), ""]
+    lines += large_articulation(r)
+    lines += class_sections(r)
+    lines += form_sections(r)
     lines += paired_sections(r)
     lines += noise_sections(r)
     if r.per_load:
         lines += ["## Per load condition, against the logs", ""]
     for load, table in r.per_load.items():
         lines += [f"### {load}", "", markdown(table), ""]
-    lines += ["## Tuning", "",
-              "Each load condition fitted on its own 4 forward tuning manoeuvres (8 in "
-              "all, as in the paper), of two kinds: constant steers at 200 deg and 5 km/h "
-              "and slaloms at 360 deg and 8 km/h, left and right, none of them validated "
-              "(`validation/synthetic/testmatrix.py`), by the normalised criteria of eq. "
-              "(9) (see `validation/campaign/tuning.py`).", "", *_tuning_text(r), ""]
+    lines += ["## Tuning", "", _TUNED_ON.substitute(
+        logs="; ".join(f"{load}: {', '.join(part.get('logs', []))}"
+                       for load, part in r.tuned.items()) or "none",
+        n=sum(len(part.get("logs", [])) for part in r.tuned.values())), "",
+        *_tuning_text(r), ""]
     if r.efficiency is not None:
         lines += ["## Computational efficiency", "",
                   "The validation runs themselves, timed as they ran (every model on the "

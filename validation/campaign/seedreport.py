@@ -59,6 +59,9 @@ class SeedResults:
     stages: dict[int, dict] = field(default_factory=dict)
     noise_share: dict[str, pd.DataFrame] = field(default_factory=dict)
     headline_criteria: dict[str, pd.DataFrame] = field(default_factory=dict)
+    extra: list[str] = field(default_factory=list)
+    """Sections made elsewhere (per manoeuvre class, docking and parking, form and
+    parameters: ``seeds._pooled_classes``, ``seeds._pooled_form``), after the headline."""
 
     def summed_stages(self) -> tuple[dict[str, float], dict[str, dict]]:
         """Stage wall times and simulated times, each summed over the trucks."""
@@ -117,6 +120,7 @@ def render(r: SeedResults, metrics: pd.DataFrame) -> str:
                       "Spread of the excess between trucks / between manoeuvres:", "",
                       spread_markdown(ex), ""]
     lines += _headline(r)
+    lines += r.extra
     lines += ["## Rankings", ""]
     for (ref, direction), pairs in r.paired.items():
         if len(pairs):
@@ -206,6 +210,10 @@ def _command(r: SeedResults, seeds: list[int]) -> str:
         parts.append(f"--sensors {c['sensors']}")
     if c.get("drift") is False:
         parts.append("--no-drift")
+    if c.get("tuning", "default") != "default":
+        parts.append(f"--tuning {c['tuning']}")
+    if c.get("oracle") is False:
+        parts.append("--no-oracle")
     return " ".join(parts)
 
 

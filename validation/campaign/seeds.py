@@ -28,6 +28,7 @@ import json
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -91,6 +92,7 @@ def run_seeds(config: CampaignConfig,
         (out_dir / "report.md").unlink(missing_ok=True)
         counter = Counter(seeds, "trucks", progress, every=0.0)
         metrics, vs_plant, walls, reports, stages, twins = [], [], {}, {}, {}, []
+        oracles: list[pd.DataFrame] = []
         marked: dict[str, list[pd.DataFrame]] = {}
         for k in range(seeds):
             s = seed + k
@@ -104,6 +106,8 @@ def run_seeds(config: CampaignConfig,
                 vs_plant.append(pd.read_csv(paths["metrics_vs_plant"]).assign(seed=s))
             if "metrics_twins" in paths:
                 twins.append(pd.read_csv(paths["metrics_twins"]).assign(seed=s))
+            if "metrics_oracle" in paths:
+                oracles.append(pd.read_csv(paths["metrics_oracle"]).assign(seed=s))
             for d in ("forward", "reverse"):
                 if f"paired_{d}" in paths:
                     marked.setdefault(d, []).append(
@@ -114,7 +118,7 @@ def run_seeds(config: CampaignConfig,
             counter.step(f"seed {s} in {walls[s]:.0f} s; reverse eps_n {_eps_n_line(m)}",
                          always=True)
         return write_pooled(out_dir, metrics, vs_plant, walls, reports, campaign, stages,
-                            twins, marked)
+                            twins, marked, oracles)
 
 
 def _wall(where: Path, measured: float) -> float:
@@ -168,7 +172,8 @@ def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.D
                  walls: dict[int, float], reports: dict[int, Path],
                  campaign: dict, stages: dict[int, dict] | None = None,
                  twins: list[pd.DataFrame] | None = None,
-                 marked: dict[str, list[pd.DataFrame]] | None = None) -> dict[str, Path]:
+                 marked: dict[str, list[pd.DataFrame]] | None = None,
+                 oracles: list[pd.DataFrame] | None = None) -> dict[str, Path]:
     """The pooled files and ``report.md`` from every truck's metrics (see the module docstring).
 
     With the trucks' twin metrics (``twins``) the pooled paired tables mark the
@@ -234,10 +239,105 @@ def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.D
             excess = pooled(differences(frame, direction), direction) if ref == "logs" \
                 else None
             results.add(ref, direction, table, seeds, pairs, excess)
+    results.extra = _pooled_classes(out_dir, logs, twin_frame, results, campaign, paths)
+    if oracles:
+        frame = _first_columns(pd.concat(oracles, ignore_index=True))
+        paths["metrics_oracle"] = write_metrics(frame, out_dir / "metrics_oracle.csv")
+        results.extra += _pooled_form(out_dir, logs, frame, paths, len(walls))
+    answer = _sections(results.extra, "## Docking and parking on their own")
+    if answer:
+        paths["docking_parking"] = atomic_write_text(
+            out_dir / "docking_parking.md", f"# Docking and parking on their own, pooled over "
+            f"{len(walls)} trucks\n\n" + "\n".join(answer) + "\n")
     text = seedreport.render(results, logs)
     paths["report"] = atomic_write_text(out_dir / "report.md", text)
     print(seedreport.closing(results, paths["report"]))
     return paths
+
+
+def _pooled_classes(out_dir: Path, logs: pd.DataFrame, twins: pd.DataFrame | None,
+                    results, campaign: dict, paths: dict[str, Path]) -> list[str]:
+    """The pooled tables per manoeuvre class, ``carried_by``, and the report's lines on them.
+
+    As one truck's (:mod:`artic.validation.campaign.classes`), with the pooled
+    tables and paired comparisons (intervals over trucks).
+    """
+    from artic.validation.campaign import classes
+    from artic.validation.campaign.report import articulation_lines, class_lines
+    from artic.validation.synthetic.testmatrix import tuning_set
+
+    tuning = classes.tuning_classes(tuning_set(str(campaign.get("tuning", "default"))))
+    found: dict[str, Any] = {"tuning": tuning}
+    paired: dict[str, pd.DataFrame] = {}
+    for d in ("forward", "reverse"):
+        table = classes.by_class(logs, d, tuning, summarise=pooled)
+        if table.empty:
+            continue
+        stem = TABLES["logs", d]
+        paths[f"{stem}_by_class"], _ = write_table(
+            table, out_dir / f"{stem}_by_class", f"{TITLES[d]} per manoeuvre class, pooled "
+            "over trucks", classes.class_markdown(table))
+        per = classes.paired_by_class(logs, twins, d, tuning, pair=pooled_paired)
+        if per:
+            both = pd.concat([p.assign(**{classes.CLASS: k}) for k, p in per.items()])
+            paths[f"paired_{d}_by_class"], _ = write_table(
+                both.set_index("criterion"), out_dir / f"paired_{d}_by_class",
+                f"Paired comparisons per manoeuvre class, {d}, pooled over trucks",
+                "\n\n".join(f"## {k}\n\n{paired_markdown(p)}" for k, p in per.items()))
+        pairs = results.paired.get(("logs", d))
+        if pairs is not None and len(pairs):
+            pairs = classes.carried_by(pairs, logs, twins, d, tuning, pair=pooled_paired)
+            results.paired[("logs", d)] = paired[d] = pairs
+            paths[f"paired_{d}"], _ = write_table(
+                pairs.set_index("criterion"), out_dir / f"paired_{d}",
+                f"Paired comparisons, {d}, against the logs, pooled over trucks; the classes "
+                "that carry each finding (leave one class out)", paired_markdown(pairs))
+        found[d] = {"table": table, "paired": per,
+                    "answer": classes.answer(table, per, tuning=tuning) if d == "reverse"
+                    else []}
+    return [*articulation_lines(found, {}), *class_lines(found, paired)]
+
+
+def _pooled_form(out_dir: Path, logs: pd.DataFrame, oracle_rows: pd.DataFrame,
+                 paths: dict[str, Path], trucks: int) -> list[str]:
+    """The oracle rows pooled over trucks: form and parameters, the form's findings."""
+    from artic.validation.campaign import classes, oracle
+    from artic.validation.campaign.report import articulation_lines, form_lines
+
+    both = oracle.oracle_metrics(logs, oracle_rows)
+    forms: dict[str, Any] = {}
+    for d in ("forward", "reverse"):
+        split = oracle.split(both, d, summarise=pooled)
+        if split.empty:
+            continue
+        pairs = oracle.form_pairs(both, d, pair=pooled_paired)
+        paths[f"form_{d}"], _ = write_table(
+            split, out_dir / f"form_{d}", f"{TITLES[d]}: form (oracle row minus floor) and "
+            f"parameters (tuned row minus oracle row), pooled over {trucks} trucks")
+        if len(pairs):
+            paths[f"paired_{d}_oracle"], _ = write_table(
+                pairs.set_index("criterion"), out_dir / f"paired_{d}_oracle",
+                f"Paired comparisons of the oracle rows, {d}, pooled over trucks",
+                paired_markdown(pairs))
+        forms[d] = {"split": split, "pairs": pairs}
+        if d == "reverse":
+            rows = both[both["model"].str.endswith(oracle.ORACLE) | (both["model"] == "floor")]
+            table = classes.by_class(rows, d, summarise=pooled)
+            forms[d]["answer"] = classes.answer(
+                table, classes.paired_by_class(rows, None, d, pair=pooled_paired))
+    return [*articulation_lines({}, forms), *form_lines(forms)]
+
+
+def _sections(lines: list[str], heading: str) -> list[str]:
+    """The body lines of every section of ``lines`` headed ``heading``, in order."""
+    out, inside = [], False
+    for line in lines:
+        if line.startswith("## "):
+            inside = line == heading
+            continue
+        if inside:
+            out.append(line)
+    return out
 
 
 def _first_columns(df: pd.DataFrame) -> pd.DataFrame:

@@ -449,7 +449,7 @@ def _campaign(args: argparse.Namespace) -> int:
                             recordings=args.recordings, executor=args.executor,
                             scheduler=args.scheduler, dask=dask, truth=args.truth,
                             remeasure=args.remeasure, seeds=args.seeds, sensors=args.sensors,
-                            drift=args.drift)
+                            drift=args.drift, oracle=args.oracle, tuning=args.tuning)
     run_campaign(dataclasses.replace(config, out_dir=check_output_dir(args.out_dir)))
     return 0
 
@@ -643,6 +643,16 @@ def build_parser() -> argparse.ArgumentParser:
     camp.add_argument("--drift", action=argparse.BooleanOptionalAction, default=True,
                       help="let the steering column's zero drift; --sensors ideal --no-drift "
                            "runs the campaign on the logs the floor replays (default: on)")
+    camp.add_argument("--tuning", choices=("default", "slaloms", "transient"),
+                      default="default",
+                      help="the forward manoeuvres every model is tuned on, none validated: "
+                           "constant steers at 200 deg and 5 km/h and the tuning slaloms; the "
+                           "tuning slaloms alone; or those with the paper's slalom and "
+                           "figure-8 (default: %(default)s)")
+    camp.add_argument("--oracle", action=argparse.BooleanOptionalAction, default=True,
+                      help="also run KIN, the STM and the plant untuned with the truth's own "
+                           "parameters (rows kin-oracle, ...), on the logs, to split each "
+                           "model's error into form and parameters (default: on)")
     camp.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                       help="reversing feedback gain K [rad/rad] (default: %(default)s)")
     camp.add_argument("--sweep-models", default="kin,stm",

@@ -19,6 +19,8 @@ their columns, units, computation and pooling), each in its own module:
 - ``eps_gamma`` [rad], the articulation error: :mod:`~artic.validation.criteria.articulation`;
 - ``eps_cover`` [m], the progress term (how far the measured path lies from the
   model's): :mod:`~artic.validation.criteria.coverage`;
+- ``steer_fb`` [deg], the steering correction in degrees of road-wheel angle,
+  ``J_steer``'s absolute counterpart: :mod:`~artic.validation.criteria.correction`;
 - ``eps_n_fixed`` [%], ``eps_n`` with one fixed scale per direction:
   :mod:`~artic.validation.criteria.fixedscale`, with
   :mod:`~artic.validation.criteria.direction` (a log's direction of travel);

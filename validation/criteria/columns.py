@@ -6,6 +6,8 @@ criteria (:data:`artic.validation.criteria.metrics.CRITERIA`), in the order of
 
 - ``eps_gamma`` [rad]: :mod:`artic.validation.criteria.articulation`;
 - ``eps_cover`` [m], the progress term: :mod:`artic.validation.criteria.coverage`;
+- ``steer_fb`` [deg], the steering correction (``J_steer``'s absolute counterpart):
+  :mod:`artic.validation.criteria.correction`;
 - ``eps_n_fixed`` [%]: :mod:`artic.validation.criteria.fixedscale`;
 - ``pred_p_2m``, ``pred_p_5m``, ``pred_p_10m`` [m] and ``pred_gamma_2m``,
   ``pred_gamma_5m``, ``pred_gamma_10m`` [rad]:
@@ -81,6 +83,7 @@ class Criterion:
 TABLE: tuple[Criterion, ...] = (
     Criterion({"eps_gamma": "rad"}, "artic.validation.criteria.articulation:of_run", "rms"),
     Criterion({"eps_cover": "m"}, "artic.validation.criteria.coverage:of_run", "rms"),
+    Criterion({"steer_fb": "deg"}, "artic.validation.criteria.correction:of_run", "rms"),
     Criterion({"eps_n_fixed": "%"}, "set", "set"),
     Criterion({c: prediction.UNITS[c] for c in prediction.COLUMNS}, "model", "mean"),
     Criterion({c: dock.UNITS[c] for c in dock.COLUMNS}, "artic.validation.criteria.dock:of_run",
@@ -99,6 +102,13 @@ POOL = {c: row.pool for row in TABLE for c in row.units}
 
 COMPUTE = {c: row.compute for row in TABLE for c in row.units}
 """How each added column is computed."""
+
+COUNTERPARTS = {"J_steer": "steer_fb", "eps_n": "eps_p"}
+"""Each normalised criterion's absolute counterpart, shown beside it in every table:
+``J_steer`` [%] beside ``steer_fb`` [deg] (the RMS feedback part of the road-wheel
+angle), ``eps_n`` [%] beside the lateral position error ``eps_p`` [m]. A normalised
+criterion divides by a mean of the manoeuvre's own signals, so it cannot be
+compared across manoeuvre classes; its counterpart can."""
 
 
 def of_run(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:

@@ -60,6 +60,27 @@ if TYPE_CHECKING:
 
 UNIT = "m"
 
+FOLLOW_BOUND = 7.0
+"""Largest ``eps_cover`` of a run that follows its log [m]: a lane's width, 3.5 m,
+per sensor point.
+
+``eps_cover`` sums the tractor's and the semitrailer's distances from the
+measured path to the model's. A model that drives the run stays, for each of
+the two points, within its lateral error of where the truck went, which the
+harness keeps to metres (KIN on the constant steer: 2.8 m, reversing 1.4 m,
+both units together); a model that stops, or turns off, leaves places of the
+run farther than a traffic lane (3.5 m, the usual width of a road's lane) from
+anything it drove. Standing still at the start of a straight run of ``L``
+scores ``2 L / sqrt(3)``, beyond this bound from ``L`` = 6.1 m on. The tables
+mark a run beyond it and put it last on the path criteria
+(:func:`artic.validation.review.tables.progress`); ``assert_tracks`` fails it
+(:data:`artic.validation.testing.COVER_LIMIT`)."""
+
+PATH_CRITERIA = ("eps_y1", "eps_y2", "eps_p")
+"""The path criteria a run that does not follow its log cannot win: the paper's
+position errors, one direction of the path distance (each model point's distance
+to the measured path), which a model that never leaves the start scores near zero."""
+
 
 def eps_cover(measured: pd.DataFrame, model: pd.DataFrame) -> float:
     """The progress term of a model run against its log [m] (see the module docstring).

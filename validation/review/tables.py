@@ -67,18 +67,70 @@ SPREADS = ("sd_trucks", "sd_manoeuvres")
 
 
 def _ok(metrics: pd.DataFrame) -> pd.DataFrame:
-    """The rows with results (status not ``failed: ...`` or ``refused: ...``)."""
-    if "status" not in metrics:
+    """The rows with results (status not ``failed`` or ``refused``), with :func:`progress`."""
+    if "status" in metrics:
+        metrics = metrics[~metrics["status"].astype(str).str.startswith(("failed", "refused"))]
+    return progress(metrics)
+
+
+OFF_RUN = "off_run"
+"""The column that counts a model's runs that did not follow their log."""
+
+
+def progress(metrics: pd.DataFrame) -> pd.DataFrame:
+    """Runs that do not follow their log, marked and put last on the path criteria.
+
+    A run whose ``eps_cover`` exceeds
+    :data:`artic.validation.criteria.coverage.FOLLOW_BOUND` (a lane per sensor
+    point) left places of the run farther than a lane from anything it drove.
+    Its position errors (:data:`~artic.validation.criteria.coverage.PATH_CRITERIA`)
+    measure only the model's points against the measured path, so a model
+    that never leaves the start scores near zero there. Such a run's path
+    criteria become at least its ``eps_cover`` (``eps_y1``, ``eps_y2`` and
+    ``eps_p`` each ``max(own, eps_cover)``): more than the bound, more than a
+    run that follows scores. The column ``off_run`` is 1 for such a run, 0
+    otherwise; ``metrics.csv`` keeps the values as computed.
+    """
+    from artic.validation.criteria.coverage import FOLLOW_BOUND, PATH_CRITERIA
+
+    if "eps_cover" not in metrics or OFF_RUN in metrics:
         return metrics
-    return metrics[~metrics["status"].astype(str).str.startswith(("failed", "refused"))]
+    cover = pd.to_numeric(metrics["eps_cover"], errors="coerce")
+    off = cover > FOLLOW_BOUND
+    out = metrics.copy()
+    out[OFF_RUN] = off.astype(int)
+    if off.any():
+        for c in PATH_CRITERIA:
+            if c in out:
+                v = pd.to_numeric(out[c], errors="coerce")
+                out[c] = v.where(~off, np.fmax(v, cover))
+    return out
 
 
 def columns(metrics: pd.DataFrame, direction: str) -> list[str]:
-    """The criteria of one direction's table: the paper's, then the extras with values."""
-    cols = list(FORWARD_COLUMNS if direction == "forward" else REVERSE_COLUMNS)
+    """The criteria of one direction's table: the paper's, then the extras with values.
+
+    Each normalised criterion of the table is followed by its absolute
+    counterpart (:data:`artic.validation.criteria.columns.COUNTERPARTS`), which
+    joins the table only beside it: ``steer_fb`` [deg] beside ``J_steer``,
+    ``eps_p`` [m] beside ``eps_n``.
+    """
+    paper = list(FORWARD_COLUMNS if direction == "forward" else REVERSE_COLUMNS)
     part = metrics[metrics["direction"] == direction] if "direction" in metrics else metrics
+
+    def has(c: str) -> bool:
+        return c in part and bool(pd.to_numeric(part[c], errors="coerce").notna().any())
+
+    absolute = {k: v for k, v in extra.COUNTERPARTS.items() if k in paper and has(v)}
+    cols: list[str] = []
+    for c in paper:
+        if c in cols:
+            continue
+        cols.append(c)
+        if c in absolute and absolute[c] not in cols:
+            cols.append(absolute[c])
     for c in EXTRA_COLUMNS:
-        if c in part and pd.to_numeric(part[c], errors="coerce").notna().any():
+        if c not in cols and c not in extra.COUNTERPARTS.values() and has(c):
             cols.append(c)
     return cols
 
@@ -100,16 +152,20 @@ def summary(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
     DataFrame
         Indexed by model: per criterion ``col``, ``col_lo``, ``col_hi`` (95 %
         interval over manoeuvres) and, where fewer runs have it than ``n``,
-        ``col_n``; then ``n``.
+        ``col_n``; then ``off_run``, the runs that did not follow their log
+        (:func:`progress`: their path criteria count as their ``eps_cover``,
+        which puts the model last on them), and ``n``.
     """
     def row_of(g: pd.DataFrame, cols: list[str]) -> dict:
         row: dict = {}
         for c in cols:
             _interval_columns(row, c, mean_ci(pd.to_numeric(g[c], errors="coerce")), len(g))
+        if OFF_RUN in g:
+            row[OFF_RUN] = int(g[OFF_RUN].sum())
         row["n"] = len(g)
         return row
 
-    return _per_model(metrics, direction, row_of, ("n",))
+    return _per_model(metrics, direction, row_of, (OFF_RUN, "n"))
 
 
 def _per_model(metrics: pd.DataFrame, direction: str, row_of, tail: tuple[str, ...]
@@ -183,8 +239,15 @@ def markdown(df: pd.DataFrame, digits: int = 4) -> str:
                         and s != "-" else "")
         return cell(row[c], digits)
 
+    def name(idx, row: pd.Series) -> str:
+        off = row.get(OFF_RUN) if OFF_RUN in row else None
+        if off is not None and pd.notna(off) and int(off) > 0:
+            n = f" of {int(row['n'])}" if "n" in row and pd.notna(row["n"]) else ""
+            return f"{cell(idx)} (**off the run** on {int(off)}{n})"
+        return cell(idx)
+
     for idx, row in df.iterrows():
-        lines.append("| " + " | ".join([cell(idx), *(text(row, c) for c in shown)]) + " |")
+        lines.append("| " + " | ".join([name(idx, row), *(text(row, c) for c in shown)]) + " |")
     return "\n".join(lines)
 
 
@@ -309,7 +372,9 @@ def paired_markdown(table: pd.DataFrame) -> str:
     With ``p_adj`` the adjusted p value (:data:`CORRECTION` over the table's
     rows) and whether the ranking is resolved after it; with ``finding``,
     whether it is a finding (resolved after the correction on the logs and
-    on their noise-free twins), and the twins' difference.
+    on their noise-free twins), and the twins' difference; with ``carried_by``
+    (:func:`artic.validation.campaign.classes.carried_by`), the manoeuvre classes
+    whose removal loses each finding.
     """
     adj = "p_adj" in table
     twins = "finding" in table
@@ -320,6 +385,9 @@ def paired_markdown(table: pd.DataFrame) -> str:
         head += ["a - b on the twins", f"twins p ({CORRECTION})"]
     if twins:
         head.append("finding")
+    carried = "carried_by" in table
+    if carried:
+        head.append("carried by (leave one class out)")
     head.append("lower")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in table.itertuples(index=False):
@@ -339,6 +407,8 @@ def paired_markdown(table: pd.DataFrame) -> str:
             if hasattr(r, "seeds_findings"):
                 mark += f" ({r.seeds_findings} of {r.seeds} trucks)"
             cells.append(mark)
+        if carried:
+            cells.append(str(r.carried_by) or "-")
         cells.append(str(r.lower))
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
@@ -364,6 +434,9 @@ def differences(metrics: pd.DataFrame, direction: str, of: str = "floor") -> pd.
         common = vals.index.intersection(ref.index)
         d = (vals.loc[common] - ref.loc[common]).reset_index()
         d["model"], d["direction"] = model, direction
+        # the model's own runs off their log (the differences are not criteria to mark)
+        d[OFF_RUN] = g.set_index(keys)[OFF_RUN].reindex(common).to_numpy() \
+            if OFF_RUN in g else 0
         rows.append(d)
     return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame()
 
@@ -425,10 +498,12 @@ def pooled(metrics: pd.DataFrame, direction: str) -> pd.DataFrame:
             row[f"{c}_sd_manoeuvres"] = math.sqrt(within) if math.isfinite(within) else math.nan
             if int(v.notna().sum()) != len(g):
                 row[f"{c}_n"] = int(v.notna().sum())
+        if OFF_RUN in g:
+            row[OFF_RUN] = int(g[OFF_RUN].sum())
         row["n"], row["seeds"] = len(g), int(g["seed"].nunique())
         return row
 
-    return _per_model(metrics, direction, row_of, ("n", "seeds"))
+    return _per_model(metrics, direction, row_of, (OFF_RUN, "n", "seeds"))
 
 
 def spread_markdown(table: pd.DataFrame) -> str:

@@ -135,6 +135,38 @@ amplitude and speed, which separates the cornering stiffness f (whose effect
 grows with the square of the speed) from i_s."""
 
 
+TUNING_SETS: dict[str, tuple[str, ...]] = {
+    "default": TUNING,
+    "slaloms": tuple(m.name for m in MATRIX if m.index >= PAPER),
+    "transient": tuple(m.name for m in MATRIX
+                       if m.index >= PAPER or m.kind in ("slalom", "figure-8")),
+}
+"""The campaign's choices of tuning manoeuvres (``artic campaign --tuning``), 4 to 6 per
+direction's forward logs, none validated:
+
+- ``default``: :data:`TUNING`, the constant steers at 200 deg and 5 km/h and the tuning
+  slaloms (8); the validated forward logs are then 19 constant steers of the tuning
+  logs' family, the slalom and the figure-8;
+- ``slaloms``: the 4 tuning slaloms alone; every constant steer is validated, and no
+  validated class is a tuning class;
+- ``transient``: the 4 tuning slaloms, the paper's slalom and its figure-8 (6): the
+  fit sees every transient forward manoeuvre, and the forward validation keeps the
+  24 constant steers alone."""
+
+
+def tuning_set(name: str) -> tuple[str, ...]:
+    """The tuning manoeuvres of a choice of :data:`TUNING_SETS`.
+
+    Raises
+    ------
+    UserError
+        An unknown choice, naming the choices.
+    """
+    if name not in TUNING_SETS:
+        raise UserError(f"--tuning {name}: choose from {', '.join(TUNING_SETS)}")
+    return TUNING_SETS[name]
+
+
 def check_only(only: Sequence[str] | None) -> None:
     """Refuse an ``--only`` prefix that names no manoeuvre, before anything is made.
 
