@@ -134,3 +134,4 @@ def test_a_row_not_testable_is_never_a_finding():
     assert np.isnan(row["p_adj"]) and not row["resolved_adj"] and not row["finding"]
     assert np.isfinite(row["diff_lo"])
     assert "not testable at n = 20" in paired_markdown(pairs)
+    assert "not testable at n = 20" in ranking_text(pairs, "eps_n")
