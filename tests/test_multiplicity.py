@@ -6,15 +6,17 @@ import math
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from artic.validation.criteria.multiplicity import (
-    P_MIN,
     benjamini_hochberg,
-    bootstrap_p,
+    hall_p,
     holm,
     paired_p,
+    paired_test,
+    sign_flip_p,
+    truck_p,
 )
-from artic.validation.criteria.statistics import mean_ci
 
 # A family of five p values, adjusted by hand.
 P = [0.01, 0.04, 0.03, 0.005, 0.20]
@@ -48,23 +50,44 @@ def test_adjustments_leave_nan_out_of_the_family_and_cap_at_one():
     assert len(holm([])) == 0
 
 
-@pytest.mark.parametrize("seed", range(6))
-def test_the_p_value_is_the_one_the_interval_inverts(seed):
-    # p < 1 - confidence exactly where mean_ci's interval at that confidence
-    # excludes zero: a 2 % wider or narrower level flips the verdict.
+def test_benjamini_hochberg_leaves_nan_out_of_the_family():
+    got = benjamini_hochberg([0.02, math.nan, 0.04])
+    assert math.isnan(got[1]) and got[[0, 2]] == pytest.approx([0.04, 0.04])  # m = 2
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_p_value_is_the_larger_of_the_sign_flip_and_halls(seed):
     rng = np.random.default_rng(seed)
-    n = (5, 9, 17, 33, 33, 50)[seed]  # Student's t below 8 values, BCa from it on
-    x = (rng.gamma(2.0, 1.0, n) - 2.0) * (1 if seed % 2 else -1) + rng.normal(0.0, 1.0, n)
-    x += 2.0 * x.std() / math.sqrt(n) - np.mean(x)  # t near 2: a p near the usual levels
-    p = paired_p(x)
-    assert 1e-3 < p < 0.9, p
-    assert not mean_ci(x, confidence=1.0 - 0.98 * p).excludes(0.0)
-    assert mean_ci(x, confidence=1.0 - 1.02 * p).excludes(0.0)
+    n = (9, 17, 33, 50)[seed]  # exact enumeration up to 34 values, random patterns above
+    x = rng.normal(0.5, 1.0, n)
+    t = paired_test(x)
+    assert t.testable and t.n == n
+    assert t.p == max(sign_flip_p(x), hall_p(x))
+    # Hall's correction is zero for a sample without skewness: Student's t
+    sym = np.concatenate([x - x.mean(), x.mean() - x]) + 0.3
+    assert hall_p(sym) == pytest.approx(stats.ttest_1samp(sym, 0.0).pvalue, rel=1e-9)
+
+
+def test_halls_correction_moves_the_p_value_away_from_the_long_tail():
+    # Right-skewed differences with a negative mean: the t test overstates the
+    # evidence for "below zero" (a sample that lacks the long tail); Hall's p is larger.
+    x = np.array([-0.9, -0.8, -0.85, -0.7, -0.95, -0.6, -0.75, -0.5, -0.88, -0.3, -0.65,
+                  -0.92, -0.4, -0.8, 0.9, -0.7, 0.4])
+    assert stats.skew(x, bias=False) > 0 and x.mean() < 0
+    assert hall_p(x) > stats.ttest_1samp(x, 0.0).pvalue
 
 
 def test_p_value_edges():
     assert math.isnan(paired_p([1.0]))
-    assert paired_p([2.0, 2.0, 2.0]) == 0.0  # no spread, not zero: its interval is the value
-    assert paired_p([0.0, 0.0]) == 1.0
-    far = np.linspace(10.0, 11.0, 20)  # every resample on one side
-    assert bootstrap_p(far) == P_MIN
+    assert not paired_test([1.0, 2.0]).testable  # no skewness from two values
+    # Equal differences: the sign-flip test alone, 2 of 2^n patterns as extreme.
+    assert paired_p([2.0, 2.0, 2.0]) == pytest.approx(2 / 8)
+    assert paired_p([0.0, 0.0, 0.0]) == 1.0
+    assert paired_p([1.0, -1.0, 1.0, -1.0]) == 1.0  # a mean of zero
+    assert sign_flip_p(np.linspace(10.0, 11.0, 20)) == pytest.approx(2 / 2 ** 20)
+
+
+def test_means_over_trucks_take_students_t():
+    x = [0.3, 0.5, 0.1, 0.4, 0.35]
+    assert truck_p(x) == pytest.approx(stats.ttest_1samp(x, 0.0).pvalue)
+    assert math.isnan(truck_p([0.3]))

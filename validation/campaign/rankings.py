@@ -61,6 +61,8 @@ def ranked(r) -> bool:
 
 def why_not(r) -> str:
     """Why a row that :func:`ranked` refuses is not a ranking, in a few words."""
+    if str(getattr(r, "test", "")).startswith("not testable"):
+        return r.test  # "not testable at n = ... (why)": its interval stands, no test
     if not r.resolved:
         return "not resolved"
     if hasattr(r, "resolved_adj") and not r.resolved_adj:

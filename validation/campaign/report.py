@@ -109,7 +109,11 @@ STATISTICS = (
     "(Student's t below 8 values; see `validation/criteria/statistics.py`), printed as "
     "value ± half-width, or [lo, hi] where the interval is skewed, with only the digits "
     "the interval supports. Two models are compared paired per manoeuvre: the mean of "
-    "their differences on the same logs, with its interval and the p value it inverts. "
+    "their differences on the same logs, with its interval and the p value of a test "
+    "calibrated at the levels the correction uses (the exact sign-flip test and Student's "
+    "t with Hall's skewness correction, both required; a row too skewed for any test at "
+    "its number of manoeuvres is \"not testable\", shown with its interval, never a "
+    "finding). "
     "A paired table holds some 40 (forward) to 90 (reverse) comparisons, so a few would "
     "resolve by chance: the p values are adjusted by Holm's method over each table (the "
     "family-wise error rate 5 % under any dependence; "
@@ -134,9 +138,11 @@ def headline_section(r: CampaignResults) -> list[str]:
         out += [
             "The criteria that rank models rather than sensors: a finding between the models "
             "(resolved after the correction on the logs and, with the same sign, on the "
-            "noise-free twins), and what the sensor noise adds to any model's score at most "
-            f"{findings.NOISE_FRACTION:g} of the smallest difference the findings state "
-            "(\"Which criteria rank models\" below). Their findings:", ""]
+            "noise-free twins). Beside each, what the sensor noise adds to a model's score at "
+            "most, as a ratio of the smallest difference its findings state, with the "
+            "interval of that ratio (\"Which criteria rank models\" below): near or above 1 "
+            "the measurement chain moves the scores as much as the models differ. Their "
+            "findings:", ""]
     any_line = False
     for d in ("forward", "reverse"):
         crit = r.headline_criteria.get(d)
@@ -145,7 +151,8 @@ def headline_section(r: CampaignResults) -> list[str]:
             continue
         heads = [c for c in crit.index if crit.loc[c, "headline"]]
         if not heads:
-            out += [f"- **{d.capitalize()}**: no criterion qualifies.", ""]
+            out += [f"- **{d.capitalize()}**: no criterion has a finding between models.",
+                    ""]
             continue
         for c in heads:
             found = [v for v, row in zip(verdicts(pairs, c), _model_rows(pairs, c), strict=True)
@@ -154,7 +161,8 @@ def headline_section(r: CampaignResults) -> list[str]:
             noise = ""
             if share is not None and len(share):
                 noise = (f"; the noise adds at most {crit.loc[c, 'noise']:.2g} to a model's "
-                         f"score, {crit.loc[c, 'ratio']:.2f} of the smallest finding")
+                         f"score, {findings.ratio_text(crit.loc[c])} times the smallest "
+                         "finding")
             made = int(crit.loc[c, "noise_made"])
             if made:
                 noise += (f"; the noise also makes {made} ranking(s) that the twins do not "
@@ -162,22 +170,7 @@ def headline_section(r: CampaignResults) -> list[str]:
             out.append(f"- **{d.capitalize()}, {c}**: " + "; ".join(found) + noise + ".")
             any_line = True
         out.append("")
-    others = []
-    for d in ("forward", "reverse"):
-        crit, pairs = r.headline_criteria.get(d), r.paired.get(d)
-        if crit is None or pairs is None:
-            continue
-        for c in crit.index:
-            if crit.loc[c, "headline"] or not crit.loc[c, "findings"]:
-                continue
-            found = [v for v, row in zip(verdicts(pairs, c), _model_rows(pairs, c), strict=True)
-                     if ranked(row)]
-            why = f"noise addition {crit.loc[c, 'ratio']:.2f} of the smallest finding"
-            others.append(f"- {d}, {c} ({why}): " + "; ".join(found) + ".")
-    if others:
-        out += ["Findings on criteria that do not carry conclusions (they hold on the twins, "
-                "but the noise is not small against them):", "", *others, ""]
-    if not any_line and not others:
+    if not any_line:
         out += ["No ranking between models is a finding.", ""]
     paper = []
     for d, cols in (("forward", PAPER_FORWARD.columns), ("reverse", PAPER_REVERSE.columns)):
@@ -210,8 +203,11 @@ def noise_sections(r: CampaignResults) -> list[str]:
            "Per criterion: the findings between models, the rankings resolved after the "
            "correction on the logs that do not hold on the noise-free twins (made by the "
            "noise), the smallest difference a finding states, the largest noise addition to "
-           "a model's score, their ratio, and whether the criterion carries conclusions "
-           f"(a finding, and the ratio at most {findings.NOISE_FRACTION:g}).", ""]
+           "a model's score (each the magnitude with its bounds over the 95 % interval), "
+           "and their ratio with the interval those bounds give (the noise's over the "
+           "finding's: both hold at least 90 % of the time). The ratio is stated, not cut: "
+           "a criterion with a finding carries it, and the ratio says how much the sensors "
+           "move the scores beside it.", ""]
     for d in ("forward", "reverse"):
         crit = r.headline_criteria.get(d)
         if crit is not None and len(crit):

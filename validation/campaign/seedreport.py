@@ -162,10 +162,10 @@ def _headline(r: SeedResults) -> list[str]:
     from artic.validation.campaign.rankings import label, ranked
 
     out = ["## Headline, pooled over trucks", "",
-           "The criteria that rank models rather than sensors (pooled: a finding, and the "
-           "noise addition at most "
-           f"{findings.NOISE_FRACTION:g} of the smallest finding), their pooled findings, and "
-           "on how many trucks each is a finding of that truck's own campaign.", ""]
+           "The criteria that rank models rather than sensors (pooled: a finding between "
+           "models, held on the twins), their pooled findings, on how many trucks each is a "
+           "finding of that truck's own campaign, and what the noise adds to a model's score "
+           "as a ratio of the smallest finding, with its interval.", ""]
     n = len(r.walls)
     for d in ("forward", "reverse"):
         crit, pairs = r.headline_criteria.get(d), r.paired.get(("logs", d))
@@ -179,7 +179,7 @@ def _headline(r: SeedResults) -> list[str]:
             texts = [f"{label(p.a if p.diff < 0 else p.b)} below "
                      f"{label(p.b if p.diff < 0 else p.a)} by {abs(p.diff):.3g} "
                      f"({p.seeds_findings} of {n} trucks)" for p in rows]
-            tag = "headline" if crit.loc[c, "headline"] else "not a headline criterion"
+            tag = f"noise ratio {findings.ratio_text(crit.loc[c])}"
             out.append(f"- {d}, {c} ({tag}): " + "; ".join(texts) + ".")
     out += ["", "Which criteria rank models, pooled:", ""]
     for d in ("forward", "reverse"):

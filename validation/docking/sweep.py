@@ -40,12 +40,13 @@ not listed.
   vehicle, over the same starts: success by McNemar's exact test (the
   binomial test of the discordant pairs: the starts one docked and the other
   did not), the |lateral| and |heading| errors over the starts both finished
-  by the mean paired difference with its interval and the p value that
-  interval inverts (:func:`artic.validation.criteria.multiplicity.paired_p`),
-  so ``p < 0.05`` exactly where the interval excludes zero. Holm's correction
-  over the whole sweep's family (every level, pair, metric, scenario and
-  vehicle) gives ``p_holm``; a comparison is a ``finding`` only where
-  ``p_holm < 0.05``;
+  by the mean paired difference with its interval and the p value of the
+  campaign's paired test (:func:`artic.validation.criteria.multiplicity.paired_test`:
+  the sign-flip test and Hall's t; NaN, and ``test`` says "not testable",
+  where the differences are too skewed for any test at their number). Holm's
+  correction over the whole sweep's family (every level, pair, metric,
+  scenario and vehicle; the rows not testable left out) gives ``p_holm``; a
+  comparison is a ``finding`` only where ``p_holm < 0.05``;
 - ``sweep.md``: the table and the findings in words; ``sweep.png``: success
   and errors against the level, one line per controller
   (:func:`artic.validation.docking.plots.plot_sweep`).
@@ -600,7 +601,7 @@ def mcnemar_p(a_only: int, b_only: int) -> float:
 
 def compare(rows: pd.DataFrame, controllers: Sequence[str]) -> pd.DataFrame:
     """``sweep_pairs.csv``: every two controllers at each level, over the same starts."""
-    from artic.validation.criteria.multiplicity import ALPHA, holm, paired_p
+    from artic.validation.criteria.multiplicity import ALPHA, holm, paired_test
     from artic.validation.criteria.statistics import paired
 
     out = []
@@ -631,19 +632,19 @@ def compare(rows: pd.DataFrame, controllers: Sequence[str]) -> pd.DataFrame:
                     xa = scale * np.abs(ra.loc[common, col].to_numpy(dtype=float))
                     xb = scale * np.abs(rb.loc[common, col].to_numpy(dtype=float))
                     p = paired(xa, xb, (a, b))
-                    d = xa - xb
+                    test = paired_test(xa - xb)
                     out.append(head | {
                         "metric": name, "pairs": len(common), "a_only": math.nan,
                         "b_only": math.nan, "difference": p.diff.mean, "low": p.diff.lo,
-                        "high": p.diff.hi, "test": f"paired mean ({p.diff.method})",
-                        "p": paired_p(d)})
+                        "high": p.diff.hi, "test": f"paired mean ({p.diff.method})"
+                        + ("" if test.testable else f": {test.status}"), "p": test.p})
     cols = ["axis", "level", "scenario", "vehicle", "a", "b", "metric", "pairs", "a_only",
             "b_only", "difference", "low", "high", "test", "p", "p_holm", "finding"]
     if not out:
         return pd.DataFrame(columns=cols)
     t = pd.DataFrame(out)
     t["p_holm"] = holm(t["p"].to_numpy(dtype=float))
-    t["finding"] = t["p_holm"] < ALPHA
+    t["finding"] = t["p_holm"] < ALPHA  # NaN (not testable): never a finding
     return t[cols]
 
 
@@ -696,9 +697,13 @@ def markdown(summary: pd.DataFrame, pairs: pd.DataFrame) -> str:
         recs.append(rec)
     text = md_table(pd.DataFrame(recs)) if recs else ""
     n = len(pairs)
+    tested = int(np.isfinite(pairs["p"].to_numpy(dtype=float)).sum()) if n else 0
+    untested = (f" ({n - tested} not testable at their number of starts: `test` in "
+                "sweep_pairs.csv says why; their intervals stand, no finding)") \
+        if tested < n else ""
     found = findings(pairs)
     text += (f"\nPaired comparisons: {n} (success by McNemar's exact test, errors by the "
              "paired mean difference over the starts both finished); Holm's correction over "
-             f"all {n}. Findings (Holm p < 0.05): "
+             f"the {tested} tested{untested}. Findings (Holm p < 0.05): "
              + ("none." if not found else "\n\n" + "\n".join(f"- {f}" for f in found)) + "\n")
     return text

@@ -33,7 +33,14 @@ import numpy as np
 import pandas as pd
 
 from artic.validation.criteria import columns as extra
-from artic.validation.criteria.multiplicity import ALPHA, CORRECTION, holm, paired_p
+from artic.validation.criteria.multiplicity import (
+    ALPHA,
+    CORRECTION,
+    NOT_TESTABLE,
+    holm,
+    paired_test,
+    truck_p,
+)
 from artic.validation.criteria.statistics import (
     Interval,
     format_ci,
@@ -312,7 +319,7 @@ def _model_pairs(metrics: pd.DataFrame, direction: str, criteria: list[str] | No
 
 
 PAIRED_COLUMNS = ["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi", "resolved", "lower",
-                  "p", "p_adj", "resolved_adj"]
+                  "test", "p", "p_adj", "resolved_adj"]
 """The columns of :func:`paired_table`."""
 
 
@@ -321,7 +328,9 @@ def corrected(rows: pd.DataFrame) -> pd.DataFrame:
 
     The family is the whole table: every pair of models and every criterion
     of one direction against one reference
-    (:mod:`artic.validation.criteria.multiplicity` says why Holm).
+    (:mod:`artic.validation.criteria.multiplicity` says why Holm). A row not
+    testable (NaN ``p``) is left out of the family and is never resolved after
+    the correction.
     """
     out = rows.copy()
     out["p_adj"] = holm(out["p"].to_numpy(dtype=float)) if len(out) else []
@@ -341,10 +350,12 @@ def paired_table(metrics: pd.DataFrame, direction: str,
         have), ``diff`` (mean of ``a - b``), ``diff_lo``, ``diff_hi`` (95 %
         interval), ``resolved`` (the interval excludes zero) and ``lower``:
         the model with the smaller error where resolved, ``not resolved``
-        otherwise. Smaller is better for every criterion. Then ``p`` (the
-        p value the interval inverts), ``p_adj`` (Holm over the rows of this
-        table, :func:`corrected`) and ``resolved_adj`` (resolved after the
-        correction). :func:`artic.validation.campaign.findings.mark` adds
+        otherwise. Smaller is better for every criterion. Then ``test``
+        (``tested``, or ``not testable at n = ...`` and why:
+        :func:`artic.validation.criteria.multiplicity.paired_test`), ``p``
+        (its p value, NaN where not testable), ``p_adj`` (Holm over the rows
+        of this table, :func:`corrected`) and ``resolved_adj`` (resolved after
+        the correction). :func:`artic.validation.campaign.findings.mark` adds
         whether each is a finding.
     """
     rows = []
@@ -353,16 +364,17 @@ def paired_table(metrics: pd.DataFrame, direction: str,
         p = paired(x, y, (a, b))
         if p.diff.n == 0:
             continue
+        test = paired_test(x - y)
         rows.append({"criterion": c, "a": a, "b": b, "n": p.diff.n, "diff": p.diff.mean,
                      "diff_lo": p.diff.lo, "diff_hi": p.diff.hi, "resolved": p.resolved,
-                     "lower": p.lower or "not resolved", "p": paired_p(x - y)})
+                     "lower": p.lower or "not resolved", "test": test.status, "p": test.p})
     return corrected(pd.DataFrame(rows, columns=PAIRED_COLUMNS[:-2]))
 
 
-def _p_text(p: float) -> str:
-    """A p value in two significant digits; ``-`` without one."""
+def _p_text(p: float, test: str = "") -> str:
+    """A p value in two significant digits; the test's status where not testable, else ``-``."""
     if not math.isfinite(p):
-        return "-"
+        return test if str(test).startswith(NOT_TESTABLE) else "-"
     return f"{p:.2g}" if p >= 1e-3 else f"{p:.1e}"
 
 
@@ -398,7 +410,8 @@ def paired_markdown(table: pd.DataFrame) -> str:
         cells = [f"{r.criterion}{unit}", r.a, r.b, diff, str(int(r.n)),
                  f"{'yes' if r.resolved else 'no'}{extra}"]
         if adj:
-            cells += [_p_text(r.p_adj), "yes" if r.resolved_adj else "no"]
+            cells += [_p_text(r.p_adj, getattr(r, "test", "")),
+                      "yes" if r.resolved_adj else "no"]
         if twins and "twin_diff" in table:
             cells += [format_ci(r.twin_diff, r.twin_diff_lo, r.twin_diff_hi, int(r.n))
                       if math.isfinite(r.twin_diff) else "-", _p_text(r.twin_p_adj)]
@@ -524,8 +537,11 @@ def pooled_paired(metrics: pd.DataFrame, direction: str,
 
     The difference ``a - b`` is averaged per seed over the manoeuvres both
     have; the interval is over those per-seed means (as in :func:`pooled`), and
-    decides ``resolved``. ``seeds_resolved`` counts the seeds whose own paired
-    comparison resolves it with the pooled sign.
+    decides ``resolved``; ``p`` is Student's t over them
+    (:func:`artic.validation.criteria.multiplicity.truck_p`: a truck's mean
+    over its manoeuvres is nearer normal than they are, and the sign-flip test
+    cannot resolve a few values). ``seeds_resolved`` counts the seeds whose
+    own paired comparison resolves it with the pooled sign.
     """
     rows = []
     for c, a, b, table in _model_pairs(metrics, direction, criteria, ("seed", "log")):
@@ -541,7 +557,9 @@ def pooled_paired(metrics: pd.DataFrame, direction: str,
         rows.append({"criterion": c, "a": a, "b": b, "n": len(d), "diff": float(d.mean()),
                      "diff_lo": iv.lo, "diff_hi": iv.hi, "resolved": resolved,
                      "lower": (a if sign < 0 else b) if resolved else "not resolved",
-                     "p": paired_p(per_seed.to_numpy()),
+                     "test": ("Student t over trucks" if len(per_seed) > 1
+                              else f"{NOT_TESTABLE} at n = 1 (one truck)"),
+                     "p": truck_p(per_seed.to_numpy()),
                      "seeds_resolved": int(alone), "seeds": len(per_seed)})
     cols = [*PAIRED_COLUMNS[:-2], "seeds_resolved", "seeds"]
     return corrected(pd.DataFrame(rows, columns=cols))
