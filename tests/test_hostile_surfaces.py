@@ -9,7 +9,7 @@ import pytest
 from artic.mjcf.vehicle import resolve_vehicle_path
 from artic.validation.cli.commands import main
 from artic.validation.logs import consistency
-from artic.validation.logs.runfile import write_run
+from artic.validation.logs.runfile import Run, write_run
 from tests.hostile_logs import docking, slalom
 
 
@@ -79,6 +79,22 @@ def test_a_tuning_only_campaign_is_one_line_before_any_work(capsys, tmp_path, on
     assert f"--only {only}: selects only tuning manoeuvres (00-constant-steer" in line, line
     assert "nothing to validate; add a validation manoeuvre" in line
     assert not out.exists()
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_campaign_without_tuning_manoeuvres_keeps_the_presets(capsys, tmp_path, jobs):
+    # artic campaign --only 02- (issue 46, item 1): no tuning log, nothing to fit; it was a
+    # ZeroDivisionError (jobs // 0 threads) and, past it, a refusal that --only's help
+    # contradicts ("include tuning manoeuvres ... to tune").
+    from artic.validation.campaign import main as campaign
+
+    logs = [Run(slalom().frame, {"name": "02-constant-steer-unloaded", "load": "unloaded"})]
+    tuned = campaign._tune(tmp_path, logs, ("kin",), "key", jobs)
+    assert tuned["complete"] and tuned["loads"] == {}
+    assert "unloaded: no tuning manoeuvre among the logs; the preset's parameters are used " \
+           "untuned" in capsys.readouterr().err
+    vehicles = campaign._tuned_vehicles(tmp_path, tuned, 0)
+    assert {v.name for v in vehicles.values()} == {"gosar2022-unloaded", "gosar2022-loaded"}
 
 
 @pytest.mark.parametrize("key, value, words", [
