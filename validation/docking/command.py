@@ -31,7 +31,9 @@ A name given twice in a list is refused (its runs would count twice). A
 controller module that cannot be imported is one line naming the module and
 the error; a controller that exits, crashes or hangs fails its run and the
 benchmark goes on. Temporaries of an interrupted benchmark, and recordings of
-runs the new table does not list, are removed.
+runs the new table does not list, are removed. The exit is 1, after the tables,
+when no run docked or a recording could not be written (a full disk: the run
+keeps its scores).
 
 The parser is built without importing the benchmark (numba, the plant), so
 that every other command starts as fast as before.
@@ -266,7 +268,7 @@ def run(args: argparse.Namespace) -> int:
     docked = int(frame["success"].sum())
     print(md, end="")
     print(f"wrote {csv}: {docked} of {len(frame)} runs docked; {out / 'dock_table.md'}")
-    return 0
+    return _exit_code(rows, out)
 
 
 def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
@@ -311,6 +313,29 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
     print(md, end="")
     print(f"wrote {csv}: {int(frame['success'].sum())} of {len(frame)} runs docked; "
           f"{out / 'sweep_pairs.csv'}, {out / 'sweep.md'}, {out / 'sweep.png'}")
+    return _exit_code(rows, out)
+
+
+def _exit_code(rows: list[dict], out: Path) -> int:
+    """0, or 1 with one line when the command did not produce what it was asked for.
+
+    A recording that could not be written (a full disk) is an output error: its run keeps
+    its scores. A benchmark in which no run docked measured nothing but the failure: the
+    tables are written, and the first failure is named (a missing dependency, a controller
+    that fails at once).
+    """
+    from artic.validation.docking.run import RECORDING_ERROR
+
+    unwritten = [r[RECORDING_ERROR] for r in rows if r.get(RECORDING_ERROR)]
+    if unwritten:
+        print(f"artic: error: {len(unwritten)} of {len(rows)} recording(s) not written "
+              f"(first: {unwritten[0]}); the runs' scores are in {out}: free space there, "
+              "or give --no-recordings", file=sys.stderr)
+        return 1
+    if rows and not any(bool(r["success"]) for r in rows):
+        print(f"artic: error: none of the {len(rows)} run(s) docked (first: "
+              f"{rows[0]['failure']}); see {out / 'dock.csv'}", file=sys.stderr)
+        return 1
     return 0
 
 

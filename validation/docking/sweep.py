@@ -417,7 +417,8 @@ died, a cluster worker lost. Their runs are run again when the sweep resumes."""
 def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
     """The rows of ``specs`` already in ``folder``, by run name: same request, same file.
 
-    A run failed by its supervisor or the cluster (:data:`RETRIED`) is not done.
+    A run failed by its supervisor or the cluster (:data:`RETRIED`) is not done, nor one
+    whose recording could not be written (a full disk): the resumed sweep records it.
     """
     out = {}
     for spec in specs:
@@ -427,7 +428,8 @@ def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
         except (OSError, ValueError):
             continue  # not run, or unreadable: run it (again)
         if stored.get("spec") == json.loads(json.dumps(spec.as_dict())) \
-                and not str(stored["row"].get("failure") or "").startswith(RETRIED):
+                and not str(stored["row"].get("failure") or "").startswith(RETRIED) \
+                and not stored["row"].get("recording_error"):
             out[spec.name] = stored["row"]
     return out
 
