@@ -270,7 +270,8 @@ def check_tir_file(path: Path, context: str) -> Path:
     return path
 
 
-def check_tyre_data(v: Vehicle, model: str) -> None:
+def check_tyre_data(v: Vehicle, model: str,
+                    instead: str = "KIN needs none: use --models kin") -> None:
     """Refuse to build ``model`` on tyre data that the vehicle lacks or that does not fit it.
 
     KIN needs no tyre data and works at any scale. The STM needs ``[tyre] f`` and
@@ -287,6 +288,9 @@ def check_tyre_data(v: Vehicle, model: str) -> None:
         The vehicle.
     model : str
         ``"stm"`` or ``"mbd"`` (anything else needs no tyre data).
+    instead : str
+        What the caller can do instead, ending the message (the commands that take
+        ``--models`` name KIN; ``artic dock``, which drives the plant, asks for tyre data).
 
     Raises
     ------
@@ -300,14 +304,14 @@ def check_tyre_data(v: Vehicle, model: str) -> None:
         raise VehicleFileError(
             f"{where} 'tyre.f': vehicle {v.name} (class {v.vehicle_class}) has no tyre data; "
             "the STM needs [tyre] f [1/rad] and sigma_alpha [m] measured on its own tyres (a "
-            "full-size truck's do not fit a scale model); KIN needs none: use --models kin")
+            f"full-size truck's do not fit a scale model); {instead}")
     if model != "mbd":
         return
     if not v.tyre_file:
         raise VehicleFileError(
             f"{where} 'tyre.file': vehicle {v.name} (class {v.vehicle_class}) has no tyre "
             "file; the plant needs a PAC2002 .tir of its own tyres whose load range FZMIN to "
-            "FZMAX holds its wheel loads; KIN needs none: use --models kin")
+            f"FZMAX holds its wheel loads; {instead}")
     for axle, fz in zip(v.axles, v.static_loads, strict=True):
         path = v.tyre_file_for(axle)
         tir = read_tir(path)
@@ -319,5 +323,4 @@ def check_tyre_data(v: Vehicle, model: str) -> None:
                 f"{where} '{key}': the static load of a tyre on axle '{axle.name}' of vehicle "
                 f"{v.name} (class {v.vehicle_class}) is {per_tyre:.4g} N, outside the load "
                 f"range FZMIN = {lo:g} N to FZMAX = {hi:g} N of {path}: that tyre data does "
-                "not fit this vehicle; give a .tir of its own tyres (KIN needs none: use "
-                "--models kin)")
+                f"not fit this vehicle; give a .tir of its own tyres ({instead})")

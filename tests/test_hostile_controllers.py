@@ -269,3 +269,34 @@ def test_a_recording_that_cannot_be_written_is_an_output_error_not_a_failed_run(
     assert line.startswith("artic: error: 1 of 1 recording(s) not written (first: "), line
     assert "No space left on device" in line and "give --no-recordings" in line
     assert not any(out.glob("recordings/*.rrd"))
+
+
+@pytest.mark.parametrize("controller", ["mpc-kin", "mpc-stm"])
+def test_the_mpcs_without_casadi_are_refused_before_any_run(tmp_path, monkeypatch, controller):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "casadi", None)  # as if not installed: find_spec is None
+    out = tmp_path / "out"
+    code, _, err = artic("dock", "--scenario", "straight", "--vehicle", VEHICLE, "--controller",
+                         f"reference,{controller}", "--seeds", "1", "--out-dir", out)
+    line = one_line(code, err)
+    assert line == (f"artic: error: --controller '{controller}': needs casadi, which is not "
+                    'installed: pip install "artic[mpc]"'), line
+    assert not out.exists()  # not even the reference's runs started
+
+
+def test_a_preset_the_plant_cannot_be_built_for_is_marked_and_refused(tmp_path):
+    code, listing, err = artic("dock", "--list")
+    assert code == 0, err
+    marked = [x for x in listing.splitlines() if "cannot dock" in x]
+    assert [x.split()[0] for x in marked] == ["scale-model-1to14"], listing
+    assert "has no tyre file; the plant needs one" in marked[0]
+    out = tmp_path / "out"
+    code, _, err = artic("dock", "--scenario", "straight", "--vehicle",
+                         f"{VEHICLE},scale-model-1to14", "--seeds", "1", "--out-dir", out)
+    line = one_line(code, err)
+    assert "scale-model-1to14" in line and "has no tyre file" in line, line
+    # the advice is one artic dock has (it once said "use --models kin")
+    assert "--models" not in line and line.endswith("(artic dock --list marks the presets that "
+                                                    "cannot dock)"), line
+    assert not out.exists()

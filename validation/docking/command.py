@@ -141,7 +141,7 @@ def list_all() -> str:
     lines += ["controllers (or package.module:Class):"]
     lines += [f"  {n:<{width}}  {text}" for n, (_, text) in BUILTIN.items()]
     lines += ["vehicles (or a vehicle file):"]
-    lines += [f"  {n}" for n in preset_names()]
+    lines += [f"  {n}{_cannot_dock(n)}" for n in preset_names()]
     from artic.validation.docking.sweep import AXES
 
     width = max(len(n) for n in AXES)
@@ -152,6 +152,25 @@ def list_all() -> str:
         lines.append(f"  {a.name:<{width}}  {a.description}{unit}; nominal {a.shown_nominal()}"
                      + (f" (not available yet: {why})" if why else ""))
     return "\n".join(lines)
+
+
+NO_PLANT = ("artic dock drives the plant: give a vehicle file with tyre data that fits it "
+            "(artic dock --list marks the presets that cannot dock)")
+"""The end of the refusal of a vehicle the plant cannot be built for."""
+
+
+def _cannot_dock(preset: str) -> str:
+    """``""``, or why the plant cannot be built for ``preset`` (for ``--list``)."""
+    from artic.mjcf.plausible import check_tyre_data
+    from artic.mjcf.schema import VehicleFileError
+    from artic.mjcf.vehicle import load_vehicle
+
+    try:
+        check_tyre_data(load_vehicle(preset), "mbd", "")
+    except VehicleFileError as exc:
+        why = str(exc).split("; ", 1)[0].split("': ", 1)[-1]
+        return f"  (cannot dock: {why}; the plant needs one)"
+    return ""
 
 
 def run(args: argparse.Namespace) -> int:
@@ -182,6 +201,7 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("artic dock: give --out-dir (or --list)")
     import pandas as pd
 
+    from artic.mjcf.plausible import check_tyre_data
     from artic.mjcf.vehicle import load_vehicle
     from artic.validation.cli.progress import stderr
     from artic.validation.docking.controllers import load
@@ -205,6 +225,8 @@ def run(args: argparse.Namespace) -> int:
             from artic.validation.docking.run import truth_yard
 
             truth_yard(vehicle, 0, 0, 0)
+        else:  # the plant needs tyre data that fits: refused now, not in every run
+            check_tyre_data(vehicle, "mbd", NO_PLANT)
     _once(loaded, "--vehicle", vehicles)  # a preset and its file are one vehicle
     from artic.validation.docking.variants import check_trailer
 
