@@ -680,6 +680,25 @@ def _warning_line(message, category, filename, lineno, line=None) -> str:
     return f"artic: warning: {_one_line(message)}\n"
 
 
+def _resume_hint(args: argparse.Namespace) -> str:
+    """How an interrupted command goes on: ``""`` for those that start again from scratch.
+
+    A docking sweep keeps each finished run's file, a campaign each finished stage: the same
+    command resumes them.
+    """
+    out = getattr(args, "out_dir", None)
+    if out is None:
+        return ""
+    if getattr(args, "func", None) is dock_command.run and getattr(args, "sweep", None):
+        from artic.validation.docking.sweep import RUNS_DIR
+
+        return (f"; the finished runs are kept in {Path(out) / RUNS_DIR}: the same command "
+                "resumes the sweep")
+    if getattr(args, "func", None) is _campaign:
+        return f"; the finished stages are kept in {out}: the same command resumes"
+    return ""
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``artic``; returns the exit code."""
     try:
@@ -706,6 +725,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except PlantError as exc:
         print(f"artic: simulation failed: {_one_line(exc)}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:  # Ctrl-C: one line, and how to go on where there is a way
+        print(f"artic: interrupted{_resume_hint(args)}", file=sys.stderr)
+        return 130  # the shell's code for a process ended by SIGINT
     except Exception:
         traceback.print_exc()
         print(REPORT, file=sys.stderr)

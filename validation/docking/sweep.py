@@ -387,6 +387,20 @@ def run_one(spec: RunSpec, recordings: str | None = None) -> dict:
     return _stored({"axis": spec.axis, "level": spec.level, **row})
 
 
+def run_in_child(spec: RunSpec, recordings: str | None = None) -> dict:
+    """:func:`run_one` in a forked child (a cluster's task): a run that ends it is a row.
+
+    A controller that ends its process then fails its run with the exit code or the
+    signal, as on the local executor, instead of killing the cluster's worker.
+    """
+    from artic.validation.docking.supervise import ChildEnded, in_child
+
+    try:
+        return in_child(run_one, spec, recordings)  # type: ignore[return-value]
+    except ChildEnded as exc:
+        return _failed(spec, str(exc))
+
+
 def _failed(spec: RunSpec, reason: str) -> dict:
     from artic.validation.docking.run import failed_row
 
@@ -482,7 +496,7 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
     from artic.validation.runs.executors import cluster_executor
 
     with cluster_executor(executor, jobs, scheduler, dask) as pool:
-        futures = {pool.submit(run_one, s, rec): s for s in specs}
+        futures = {pool.submit(run_in_child, s, rec): s for s in specs}
         try:
             for f in concurrent.futures.as_completed(futures):
                 s = futures[f]
