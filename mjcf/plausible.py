@@ -118,6 +118,13 @@ VEHICLE_RANGES: dict[str, Range] = {
     "trailer.L2": Range(1.0, 3.0, 15.0, 30.0, "m"),
     "trailer.j": Range(0.0, 0.0, 2.5, 5.0, "m"),
     "trailer.h2": Range(0.1, 0.5, 2.6, 5.0, "m"),
+    # Axles per unit: a road tractor has 2 to 3 (4x2, 6x4; 8x4 heavy haul 4), a semitrailer
+    # 1 to 4 (EU 96/53/EC sets the weights of up to 3; four-axle ones run in Scandinavia);
+    # heavy-haul low-bed semitrailers reach 8. Beyond that it is a modular trailer (its own
+    # steering, no fifth wheel), not a tractor-semitrailer that KIN, the STM and the plant
+    # describe.
+    "tractor.axle (number)": Range(1.0, 2.0, 3.0, 5.0, "axles"),
+    "trailer.axle (number)": Range(1.0, 1.0, 4.0, 8.0, "axles"),
     "axle.track": Range(0.5, 1.5, 2.6, 5.0, "m"),
     "axle.unsprung_mass": Range(1.0, 100.0, 3000.0, 10000.0, "kg"),
     "axle.suspension_stiffness": Range(1e3, 5e4, 1e7, 1e9, "N/m"),
@@ -189,6 +196,10 @@ def _values(v: Vehicle) -> list[tuple[str, str, float]]:
         ("trailer.L2", "trailer.L2", v.L2),
         ("trailer.j", "trailer.j", v.j),
         ("trailer.h2", "trailer.h2", v.h2),
+        ("tractor.axle (number)", "tractor.axle",
+         sum(a.unit == 1 for a in v.axles)),
+        ("trailer.axle (number)", "trailer.axle",
+         sum(a.unit == 2 for a in v.axles)),
         ("tyre.f", "tyre.f", v.f),
         ("tyre.sigma_alpha", "tyre.sigma_alpha", v.sigma_alpha),
         ("limits.gamma_max", "limits.gamma_max", v.gamma_max),
