@@ -4,6 +4,8 @@ written."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from artic.mjcf.vehicle import resolve_vehicle_path
@@ -41,6 +43,27 @@ def test_metadata_that_contradicts_the_motion_is_refused(capsys, tmp_path, make,
     assert f"its metadata says {says}, but the tractor covers only" in line, line
     assert "--accept metadata" in line and str(log) in line
     assert not out.exists() or not any(out.glob("*.csv"))
+
+
+@pytest.mark.parametrize("key, value, must", [
+    ("direction", "sideways", '"forward" or "reverse"'),
+    ("sensor_noise", "loud", "an object of channels"),
+    ("manoeuvre", 7, "a string"),
+])
+def test_a_metadata_value_artic_reads_but_cannot_use_is_refused(capsys, tmp_path, key, value,
+                                                                 must):
+    # direction "sideways" left the log out of every table without a word; sensor_noise
+    # "loud" was read as none declared (issue 46, items 4 and 5).
+    run = slalom()
+    run.meta[key] = value
+    log = tmp_path / "log.parquet"
+    write_run(run, log)  # written as given: the reader judges it
+    out = tmp_path / "val"
+    line = fails(capsys, "validate", log, "--models", "kin", "--no-recordings", "--out-dir",
+                 out)
+    assert line.startswith(f"artic: error: {log}: Parquet metadata"), line
+    assert f"metadata {key!r} is {json.dumps(value)}; it must be {must}" in line, line
+    assert not out.exists()
 
 
 def test_metadata_that_agrees_passes_and_the_share_is_the_distances():
