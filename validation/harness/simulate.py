@@ -22,7 +22,7 @@ from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.loop import LoopInputs, run_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.models import Model, driven
+from artic.validation.models import Model, driven, steering_for
 from artic.validation.synthetic.manoeuvres import Profile
 
 
@@ -53,7 +53,7 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
     >>> run.frame.shape[0], bool(run.frame["gamma"].abs().max() > 0.01)  # it turned [rad]
     (801, True)
     """
-    steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
+    steering = SteeringMap.from_steering(steering_for(vehicle, model))
     steering.check_range(profile.delta_h, f"manoeuvre {profile.kind}")
     u1_dot = np.zeros_like(profile.u1)
     u1_dot[:-1] = np.diff(profile.u1) / np.diff(profile.t)
@@ -119,7 +119,7 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
     Run
         Signal schema with ``delta_h`` as the driver turned the wheel.
     """
-    steering = steering or SteeringMap.from_steering(vehicle.steering_for(model.name))
+    steering = steering or SteeringMap.from_steering(steering_for(vehicle, model))
     n = t.size
     model = driven(model)
     model.reset(InitialState(0.0, 0.0, 0.0, float(gamma_ref[0]), u1=float(u1[0])))
