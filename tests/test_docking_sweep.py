@@ -449,3 +449,28 @@ def test_a_controller_that_ends_its_dask_worker_is_named_as_locally(tmp_path, ca
     assert rows[0]["failure"].startswith("controller ended the run's process (exit code 7)")
     err = capfd.readouterr().err
     assert "KilledWorker" not in err and "Restarting worker" not in err, err
+
+
+def test_a_sweep_into_another_sweep_s_folder_mixes_nothing(tmp_path):
+    # A sweep of another axis left the first sweep's run files there, unlisted (issue 46,
+    # item 9): another axis is refused, before anything is removed; the same axis planned
+    # again removes the runs its plan does not list, and says so.
+    axis, levels = sw.parse_sweep("delay=0,0.1")
+    first = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    sw.sweep(first, tmp_path, jobs=1)
+    files = sorted(p.name for p in (tmp_path / sw.RUNS_DIR).iterdir())
+    assert len(files) == 2
+    axis, levels = sw.parse_sweep("grade=0,5")
+    other = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    with pytest.raises(UserError, match=r"holds the runs of a sweep of delay \(2 run file\(s\) "
+                                        r"in .*\); a sweep of grade there would mix the two: "
+                                        r"choose another --out-dir"):
+        sw.sweep(other, tmp_path, jobs=1)
+    assert sorted(p.name for p in (tmp_path / sw.RUNS_DIR).iterdir()) == files
+    axis, levels = sw.parse_sweep("delay=0.1")
+    again = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    lines = []
+    rows = sw.sweep(again, tmp_path, jobs=1, progress=lines.append)
+    assert len(rows) == 1 and "already done" in lines[1]  # delay=0.1 was kept, not re-run
+    assert lines[0].startswith("removed 1 run file(s) in ") and "delay=0-" in lines[0]
+    assert sorted(p.name for p in (tmp_path / sw.RUNS_DIR).iterdir()) == [f"{again[0].name}.json"]

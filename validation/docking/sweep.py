@@ -448,6 +448,39 @@ def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
     return out
 
 
+def _other_runs(folder: Path, specs: Sequence[RunSpec]) -> list[Path]:
+    """Remove the run files in ``folder`` that ``specs`` do not list; return them.
+
+    A sweep of the same axis planned again (other levels, starts or controllers) left them;
+    beside the new tables they would pass for its runs. A sweep of another axis is refused
+    before anything is removed: its runs are another study's.
+
+    Raises
+    ------
+    UserError
+        When the folder holds runs of another axis, naming it and the way out.
+    """
+    if not folder.is_dir() or not specs:
+        return []
+    keep = {f"{s.name}.json" for s in specs}
+    axis = specs[0].axis
+    stale = [p for p in sorted(folder.glob("*.json")) if p.name not in keep]
+    axes = sorted({p.name.split("=", 1)[0] for p in stale} - {_safe_axis(axis)})
+    if axes:
+        raise UserError(f"{folder.parent}: holds the runs of a sweep of {', '.join(axes)} "
+                        f"({len(stale)} run file(s) in {folder}); a sweep of {axis} there "
+                        "would mix the two: choose another --out-dir, or remove that folder")
+    for p in stale:
+        p.unlink(missing_ok=True)
+    return stale
+
+
+def _safe_axis(axis: str) -> str:
+    from artic.validation.docking.run import _safe
+
+    return _safe(axis)
+
+
 def write_run(folder: Path, spec: RunSpec, row: dict) -> Path:
     """The run's file, atomically: a killed sweep leaves whole files or none."""
     from artic.validation.logs.runfile import atomic_write_text
@@ -523,7 +556,13 @@ def sweep(specs: Sequence[RunSpec], out: Path, jobs: int = 1, executor: str = "l
     from artic.validation.cli.progress import Counter
 
     folder = Path(out) / RUNS_DIR
+    others = _other_runs(folder, specs)
     folder.mkdir(parents=True, exist_ok=True)
+    if others and progress is not None:
+        progress(f"removed {len(others)} run file(s) in {folder} of runs this sweep does not "
+                 f"list (an earlier plan's levels, starts or controllers): "
+                 f"{', '.join(p.name for p in others[:3])}" + (", ..." if len(others) > 3
+                                                                else ""))
     rows = done_runs(folder, specs)
     todo = [s for s in specs if s.name not in rows]
     if progress is not None:
