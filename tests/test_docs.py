@@ -57,7 +57,8 @@ def _my_model():
 SETUP: dict[str, tuple[list[list[str]], Callable[[], dict]]] = {
     # page: (the artic commands it runs first, the names it assumes)
     "README.md": ([["simulate", "--model", "stm", "--manoeuvre", "ramp-steer-reverse",
-                    "--out", "run.parquet"]], lambda: {"MyModel": _my_model()}),
+                    "--duration", "30", "--out", "run.parquet"]],
+                  lambda: {"MyModel": _my_model()}),
     "docs/guide/cli.md": ([["mjcf", "--vehicle", "six-axle", "-o", "six-axle.xml"]], dict),
     "docs/guide/models.md": ([], lambda: {"MyModel": _my_model()}),
 }
@@ -68,8 +69,12 @@ def _check_readme(ns: dict) -> None:
     # through the feedback, so it runs to within the speed filter's last few
     # samples of the log's end and its criteria are finite.
     metrics = ns["artic"].run_metrics(ns["log"].frame, ns["run"].frame)
+    # The example's log runs to its end (it jackknifed at 37.9 s of the 60 s default).
+    assert ns["log"].meta["status"] == "ok" and len(ns["log"].frame) == 3001
     assert len(ns["run"].frame) >= 0.99 * len(ns["log"].frame)
     assert 0 < metrics["eps_p"] < 5.0 and metrics["J_steer"] > 0
+    # The criteria that catch a model that does not follow the run are there too.
+    assert 0 < metrics["eps_cover"] < 5.0 and 0 < metrics["eps_gamma"] < 0.5  # [m], [rad]
 
 
 def _check_models(ns: dict) -> None:

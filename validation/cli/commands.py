@@ -512,14 +512,24 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--model", required=True, type=_one_model,
                      help="kin, stm, mbd, or a registered model (see artic.register_model)")
     _add_vehicle(sim)
-    sim.add_argument("--manoeuvre", required=True, choices=KINDS)
+    sim.add_argument("--manoeuvre", required=True, choices=KINDS,
+                     help="the steering-wheel and speed profile: straight; constant-steer "
+                          "(a ramp to the amplitude, held); slalom (a sine past cones 12 m apart); "
+                          "figure-8; ramp-steer-reverse (reversing, a 20 s ramp to the "
+                          "amplitude from t = 5 s, held; no feedback, so it jackknifes "
+                          "some seconds later and the run stops there)")
     sim.add_argument("--amplitude-deg", type=options.AMPLITUDE_DEG, default=None,
                      help="steering-wheel amplitude [deg] (default 200 forward, 90 reverse)")
     sim.add_argument("--speed-kph", type=options.SPEED_KPH, default=None,
                      help="speed [km/h], positive (default 5 forward, 3 reverse)")
-    sim.add_argument("--side", choices=("left", "right"), default="left")
-    sim.add_argument("--duration", type=options.DURATION, default=None, help="length [s]")
-    sim.add_argument("--out", required=True, type=options.output_path, help="output .parquet")
+    sim.add_argument("--side", choices=("left", "right"), default="left",
+                     help="which way the wheel turns first (default: %(default)s)")
+    sim.add_argument("--duration", type=options.DURATION, default=None,
+                     help="length [s] (default: one that completes the manoeuvre: straight "
+                          "30, constant-steer 60, slalom six cones, figure-8 both "
+                          "circles, ramp-steer-reverse 60)")
+    sim.add_argument("--out", required=True, type=options.output_path,
+                     help="the run to write, .parquet (its folder must exist)")
     sim.set_defaults(func=_simulate)
 
     val = sub.add_parser("validate", help="validate models against logs")
@@ -530,7 +540,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default: %(default)s)")
     val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
-    val.add_argument("--out-dir", required=True, type=options.output_path)
+    val.add_argument("--out-dir", required=True, type=options.output_path,
+                     help="output folder: metrics.csv, the runs, the recordings (made with its "
+                          "parents)")
     val.add_argument("--gain-sweep", action="store_true",
                      help="also sweep K over the reverse logs; marks the stability bound")
     val.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
@@ -573,7 +585,9 @@ def build_parser() -> argparse.ArgumentParser:
     lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path, help=SOURCES)
-    imp.add_argument("--out-dir", required=True, type=options.output_path)
+    imp.add_argument("--out-dir", required=True, type=options.output_path,
+                     help="output folder: one canonical .parquet per imported log (made with "
+                          "its parents)")
     imp.add_argument("--vehicle", default=None,
                      help="preset name or TOML file for the steering and hitch checks, and "
                           "whose geometry derives the semitrailer's channels of a tractor-only "

@@ -70,7 +70,8 @@ def add_parser(sub) -> None:
                         "(default: %(default)s)")
     p.add_argument("--seeds", type=options.number(1, 10000, integer=True), default=10,
                    help="seeded starts per scenario and vehicle, 0 to N-1 (default: %(default)s)")
-    p.add_argument("--out-dir", type=options.output_path, default=None, help="output folder")
+    p.add_argument("--out-dir", type=options.output_path, default=None,
+                   help="output folder (required, unless --list)")
     p.add_argument("--jobs", type=options.JOBS, default=_cores(),
                    help="processes (default: the cores this process may run on, %(default)s; "
                         "under taskset -c 0, one, so that the compute times are the "

@@ -173,7 +173,7 @@ def _metrics(log: Run, inputs: LoopInputs, res: BatchResult, i: int) -> dict[str
     frame = new_frame(inputs.t[:n], inputs.delta_h[:n], res.obs[i][:n])
     frame["delta"] = res.delta[i][:n]
     frame["delta_fb"] = res.delta_fb[i][:n]
-    return run_metrics(log.frame, frame, positions=False)
+    return run_metrics(log.frame, frame, positions=False, beyond=False)
 
 
 def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:
