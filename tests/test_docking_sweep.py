@@ -474,3 +474,16 @@ def test_a_sweep_into_another_sweep_s_folder_mixes_nothing(tmp_path):
     assert len(rows) == 1 and "already done" in lines[1]  # delay=0.1 was kept, not re-run
     assert lines[0].startswith("removed 1 run file(s) in ") and "delay=0-" in lines[0]
     assert sorted(p.name for p in (tmp_path / sw.RUNS_DIR).iterdir()) == [f"{again[0].name}.json"]
+
+
+def test_a_one_controller_sweep_says_why_it_has_no_paired_comparisons(tmp_path):
+    # It printed "Paired comparisons: 0" without a reason (issue 46, item 19).
+    axis, levels = sw.parse_sweep("grade=0,5")
+    specs = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    frame = pd.DataFrame(sw.sweep(specs, tmp_path, jobs=1))
+    pairs = sw.compare(frame, [QUICK])
+    text = sw.markdown(sw.summarise(frame), pairs)
+    assert len(pairs) == 0
+    assert text.strip().splitlines()[-1] == (
+        "Paired comparisons: none (one controller: a comparison pairs two controllers over "
+        "the same starts; give --controller A,B).")

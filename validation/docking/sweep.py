@@ -751,6 +751,12 @@ def markdown(summary: pd.DataFrame, pairs: pd.DataFrame) -> str:
         recs.append(rec)
     text = md_table(pd.DataFrame(recs)) if recs else ""
     n = len(pairs)
+    if not n:  # say why, rather than a bare 0
+        controllers = summary["controller"].nunique() if len(summary) else 0
+        why = ("one controller: a comparison pairs two controllers over the same starts; "
+               "give --controller A,B" if controllers < 2
+               else "no level has two controllers' runs of the same starts")
+        return text + f"\nPaired comparisons: none ({why}).\n"
     found = findings(pairs)
     text += (f"\nPaired comparisons: {n} (success by McNemar's exact test, errors by the "
              "paired mean difference over the starts both finished); Holm's correction over "
