@@ -644,7 +644,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="seed of the synthetic campaign (with --seeds, the first)")
     camp.add_argument("--seeds", type=options.SEEDS, default=1,
                       help="trucks: one campaign per seed in OUT/seed-K and the pooled tables "
-                           "and report in OUT, about two minutes per seed on two cores "
+                           "and report in OUT; docs/design/speed.md gives its measured time "
                            "(default: %(default)s, the single campaign in OUT)")
     camp.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
                       help="the synthetic campaign's truth: one with its own tyre and steering "
