@@ -181,7 +181,11 @@ def in_child(fn: Callable, *args: object) -> object:
                 out = ("ok", fn(*args))
             except BaseException as exc:  # noqa: BLE001 - reported to the parent
                 out = ("error", " ".join(f"{type(exc).__name__}: {exc}".split()))
-            data = pickle.dumps(out)
+            try:
+                data = pickle.dumps(out)
+            except Exception as exc:  # noqa: BLE001 - an answer that cannot travel is one
+                data = pickle.dumps(("error", "its result cannot be sent back ("
+                                     + " ".join(f"{type(exc).__name__}: {exc}".split()) + ")"))
             with os.fdopen(w, "wb") as f:
                 f.write(data)
         except BaseException:  # noqa: BLE001 - the parent reports the missing answer
