@@ -374,3 +374,11 @@ def test_a_model_whose_output_leaves_every_physical_range_stops_with_a_status(lo
     assert status.startswith("stopped at t = 5.0") and "x_1 = 1e+300 left the range a " \
         "model's output may have (|x_1| <= 1e+07 SI)" in status, status
     assert np.all(np.abs(run.frame["x_1"].to_numpy()) < 1e7) or len(run.frame) < len(log.frame)
+
+
+def test_an_open_loop_run_of_such_a_model_stops_too():
+    v = load_vehicle("gosar2022-unloaded")
+    run = artic.simulate(Overflows(v), v, artic.make_profile("constant-steer", duration=8.0))
+    assert run.meta["status"].startswith("stopped at t = 5.0") and "x_1 = 1e+300" in \
+        run.meta["status"], run.meta["status"]
+    assert float(run.frame["x_1"].abs().max()) < 1e3  # the sound samples only [m]

@@ -50,7 +50,7 @@ from artic.mjcf.errors import PlantError, UserError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
-from artic.validation.harness.loop import DEFAULT_GAIN
+from artic.validation.harness.loop import DEFAULT_GAIN, DIVERGED
 from artic.validation.logs.assemble import MIN_SEGMENT
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import SOURCES, read_log
@@ -159,7 +159,7 @@ def _simulate(args: argparse.Namespace) -> int:
     end = f", {run.frame.t.iloc[-1]:.2f} s" if len(run.frame) else ""
     print(f"wrote {out}: {len(run.frame)} samples{end}"
           + ("" if status == "ok" else f"; {status}"))
-    if "stopped being finite" in status:
+    if f": {DIVERGED}" in status:  # not finite, or beyond every physical range
         print(f"artic: simulation failed: {status}", file=sys.stderr)
         return 1
     return 0

@@ -297,16 +297,24 @@ that is no longer finite: its run stops there, with its status saying so, instea
 ``eps_p`` of infinity with the status ``ok``."""
 
 
+DIVERGED = "diverged: "
+"""How a status's reason begins when the model's output stopped being finite or left every
+physical range (:func:`beyond_limits`): ``artic simulate`` exits 1 on it."""
+
+
 def beyond_limits(o: np.ndarray) -> str:
-    """``""``, or which observed signal of ``o`` is not finite or beyond its limit, and how."""
+    """``""``, or which observed signal of ``o`` is not finite or beyond its limit, and how.
+
+    The text begins with :data:`DIVERGED`.
+    """
     from artic.mjcf.interface import OBSERVATION
 
     for name, value, limit in zip(OBSERVATION, o, OBSERVATION_LIMIT, strict=True):
         if not math.isfinite(value):
-            return f"{name} stopped being finite"
+            return f"{DIVERGED}{name} stopped being finite"
         if abs(value) > limit:
-            return f"{name} = {value:.3g} left the range a model's output may have (|{name}| " \
-                   f"<= {limit:g} SI)"
+            return (f"{DIVERGED}{name} = {value:.3g} left the range a model's output may have "
+                    f"(|{name}| <= {limit:g} SI)")
     return ""
 
 

@@ -19,7 +19,7 @@ import numpy as np
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.harness.feedback import feedback_law
-from artic.validation.harness.loop import LoopInputs, run_inputs
+from artic.validation.harness.loop import LoopInputs, beyond_limits, run_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import Model, driven, steering_for
@@ -65,8 +65,9 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
         initial=InitialState(0.0, 0.0, 0.0, 0.0, u1=float(profile.u1[0])))
     obs, delta, _, sat, k = run_inputs(model, inputs, vehicle, gain=0.0)
     status = "ok"
-    if k < n and not np.all(np.isfinite(obs[k - 1])):
-        status = f"stopped at t = {profile.t[k - 1]:.2f} s: the state stopped being finite"
+    beyond = beyond_limits(obs[k - 1]) if k < n else ""
+    if beyond:  # not finite, or beyond every physical range (loop.OBSERVATION_LIMIT)
+        status = f"stopped at t = {profile.t[k - 1]:.2f} s: {beyond}"
         k -= 1  # the run keeps its sound samples only
     elif k < n:
         status = (f"stopped at t = {profile.t[k - 1]:.2f} s: articulation "
