@@ -118,6 +118,13 @@ VEHICLE_RANGES: dict[str, Range] = {
     "trailer.L2": Range(1.0, 3.0, 15.0, 30.0, "m"),
     "trailer.j": Range(0.0, 0.0, 2.5, 5.0, "m"),
     "trailer.h2": Range(0.1, 0.5, 2.6, 5.0, "m"),
+    # Axles per unit: a road tractor has 2 to 3 (4x2, 6x4; 8x4 heavy haul 4), a semitrailer
+    # 1 to 4 (EU 96/53/EC sets the weights of up to 3; four-axle ones run in Scandinavia);
+    # heavy-haul low-bed semitrailers reach 8. Beyond that it is a modular trailer (its own
+    # steering, no fifth wheel), not a tractor-semitrailer that KIN, the STM and the plant
+    # describe.
+    "tractor.axle (number)": Range(1.0, 2.0, 3.0, 5.0, "axles"),
+    "trailer.axle (number)": Range(1.0, 1.0, 4.0, 8.0, "axles"),
     "axle.track": Range(0.5, 1.5, 2.6, 5.0, "m"),
     "axle.unsprung_mass": Range(1.0, 100.0, 3000.0, 10000.0, "kg"),
     "axle.suspension_stiffness": Range(1e3, 5e4, 1e7, 1e9, "N/m"),
@@ -189,6 +196,10 @@ def _values(v: Vehicle) -> list[tuple[str, str, float]]:
         ("trailer.L2", "trailer.L2", v.L2),
         ("trailer.j", "trailer.j", v.j),
         ("trailer.h2", "trailer.h2", v.h2),
+        ("tractor.axle (number)", "tractor.axle",
+         sum(a.unit == 1 for a in v.axles)),
+        ("trailer.axle (number)", "trailer.axle",
+         sum(a.unit == 2 for a in v.axles)),
         ("tyre.f", "tyre.f", v.f),
         ("tyre.sigma_alpha", "tyre.sigma_alpha", v.sigma_alpha),
         ("limits.gamma_max", "limits.gamma_max", v.gamma_max),
@@ -270,7 +281,8 @@ def check_tir_file(path: Path, context: str) -> Path:
     return path
 
 
-def check_tyre_data(v: Vehicle, model: str) -> None:
+def check_tyre_data(v: Vehicle, model: str,
+                    instead: str = "KIN needs none: use --models kin") -> None:
     """Refuse to build ``model`` on tyre data that the vehicle lacks or that does not fit it.
 
     KIN needs no tyre data and works at any scale. The STM needs ``[tyre] f`` and
@@ -287,6 +299,9 @@ def check_tyre_data(v: Vehicle, model: str) -> None:
         The vehicle.
     model : str
         ``"stm"`` or ``"mbd"`` (anything else needs no tyre data).
+    instead : str
+        What the caller can do instead, ending the message (the commands that take
+        ``--models`` name KIN; ``artic dock``, which drives the plant, asks for tyre data).
 
     Raises
     ------
@@ -300,14 +315,14 @@ def check_tyre_data(v: Vehicle, model: str) -> None:
         raise VehicleFileError(
             f"{where} 'tyre.f': vehicle {v.name} (class {v.vehicle_class}) has no tyre data; "
             "the STM needs [tyre] f [1/rad] and sigma_alpha [m] measured on its own tyres (a "
-            "full-size truck's do not fit a scale model); KIN needs none: use --models kin")
+            f"full-size truck's do not fit a scale model); {instead}")
     if model != "mbd":
         return
     if not v.tyre_file:
         raise VehicleFileError(
             f"{where} 'tyre.file': vehicle {v.name} (class {v.vehicle_class}) has no tyre "
             "file; the plant needs a PAC2002 .tir of its own tyres whose load range FZMIN to "
-            "FZMAX holds its wheel loads; KIN needs none: use --models kin")
+            f"FZMAX holds its wheel loads; {instead}")
     for axle, fz in zip(v.axles, v.static_loads, strict=True):
         path = v.tyre_file_for(axle)
         tir = read_tir(path)
@@ -319,5 +334,4 @@ def check_tyre_data(v: Vehicle, model: str) -> None:
                 f"{where} '{key}': the static load of a tyre on axle '{axle.name}' of vehicle "
                 f"{v.name} (class {v.vehicle_class}) is {per_tyre:.4g} N, outside the load "
                 f"range FZMIN = {lo:g} N to FZMAX = {hi:g} N of {path}: that tyre data does "
-                "not fit this vehicle; give a .tir of its own tyres (KIN needs none: use "
-                "--models kin)")
+                f"not fit this vehicle; give a .tir of its own tyres ({instead})")

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import unicodedata
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -205,6 +206,19 @@ def _fail(path: Path | str, key: str, message: str) -> VehicleFileError:
     return VehicleFileError(f"{path}: key '{key}': {message}")
 
 
+def _one_line_text(path: Path | str, key: str, value: str) -> str:
+    """``value`` if it has no line break or other control character; refused otherwise.
+
+    A name or description is printed in tables, progress lines and file names: a
+    newline in one splits a table's row or a log line.
+    """
+    bad = next((c for c in value if unicodedata.category(c) == "Cc"), None)
+    if bad is not None:
+        raise _fail(path, key, f"{value!r} holds the control character {bad!r} (a line break, "
+                               "tab or other); give it on one line, without them")
+    return value
+
+
 def check_value(path: Path | str, key: str, field: Field, value: Any) -> Any:
     """Check one value against its field and return it converted.
 
@@ -234,11 +248,11 @@ def check_value(path: Path | str, key: str, field: Field, value: Any) -> Any:
     if kind == "str":
         if not isinstance(value, str):
             raise _fail(path, key, f"expected a string, got {value!r}")
-        return value
+        return _one_line_text(path, key, value)
     if kind == "strlist":
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
             raise _fail(path, key, f"expected a list of strings, got {value!r}")
-        return tuple(value)
+        return tuple(_one_line_text(path, key, v) for v in value)
     if kind == "bool":
         if not isinstance(value, bool):
             raise _fail(path, key, f"expected true or false, got {value!r}")

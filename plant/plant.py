@@ -291,7 +291,10 @@ class Plant:
         # the Python reference they are checked against to the bit.
         self._compiled_step = self._compiled_loop = self.backend == "compiled"
         vehicle = with_tyre_files(vehicle, tyre_files or {})
-        check_tyre_data(vehicle, "mbd")  # tyre data that fits the vehicle's wheel loads
+        # Tyre data that fits the vehicle's wheel loads. The plant is built by commands with
+        # and without --models (artic dock drives it whatever): the advice names the model.
+        check_tyre_data(vehicle, "mbd", "KIN needs no tyre data (--models kin where a "
+                                        "command takes it)")
         self.vehicle = vehicle
         # One coefficient set per tyre file in use; each wheel end names its set.
         files = list(dict.fromkeys(vehicle.tyre_file_for(a) for a in vehicle.axles))

@@ -149,3 +149,30 @@ def test_version_names_the_installed_release(capsys):
 
     assert main(["--version"]) == 0
     assert capsys.readouterr().out.strip() == f"artic {version('artic')}"
+
+
+def test_every_option_of_every_command_says_what_it_is():
+    # Some simulate options had no description or default in --help, and dock --help did not
+    # say --out-dir is required (issue 46, item 19).
+    import argparse
+
+    from artic.validation.cli.commands import build_parser
+
+    bare = []
+
+    def walk(parser, path):
+        for a in parser._actions:
+            if isinstance(a, argparse._SubParsersAction):
+                for name, sub in a.choices.items():
+                    walk(sub, [*path, name])
+            elif a.dest != "help" and not (a.help or "").strip():
+                bare.append(f"{' '.join(path)} {'/'.join(a.option_strings) or a.dest}")
+            elif a.default not in (None, False, "", argparse.SUPPRESS, []) \
+                    and not a.required and "default" not in a.help and a.option_strings:
+                bare.append(f"{' '.join(path)} {a.option_strings[0]}: no default in its help")
+
+    walk(build_parser(), ["artic"])
+    assert not bare, bare
+    dock = next(a for a in build_parser()._subparsers._group_actions[0].choices["dock"]._actions
+                if "--out-dir" in a.option_strings)
+    assert "required" in dock.help

@@ -235,3 +235,25 @@ def test_explain_names_the_known_mistakes():
     assert consistency.explain(3.6, "v_x_1", ctx).endswith("km/h where m/s is expected")
     assert consistency.explain(2.0, "v_x_1", ctx, known_only=True) == ""
     assert consistency._ratio(1 / 57.3) == "1/57.3" and consistency._ratio(-1.0) == "-1"
+
+
+def test_an_articulation_offset_is_found_where_both_headings_are_measured():
+    # A 10 deg articulation offset was accepted (issue 46, item 6): gamma must be psi_1 - psi_2
+    # less the sensors' mounting yaws, to within the sensors' noise.
+    import math
+
+    frame = slalom().frame.copy()
+    assert consistency.check_articulation_offset(frame["t"].to_numpy(), frame, None,
+                                                 consistency.CANONICAL) is None
+    rng = np.random.default_rng(0)  # a rear camera's 1.25 deg RMS is no offset
+    noisy = frame.assign(gamma=frame["gamma"] + rng.normal(0.0, math.radians(1.25), len(frame)))
+    assert consistency.check_articulation_offset(noisy["t"].to_numpy(), noisy, None,
+                                                 consistency.CANONICAL) is None
+    off = frame.assign(gamma=frame["gamma"] + math.radians(10.0))
+    f = consistency.check_articulation_offset(off["t"].to_numpy(), off, None,
+                                              consistency.CANONICAL)
+    assert f is not None and f.check == "articulation"
+    assert "differs from the headings' difference psi_1 - psi_2 by 10 deg" in f.problem
+    assert "has an offset" in f.cause
+    found = [x.check for x in consistency.findings(off)]
+    assert found == ["articulation"], found

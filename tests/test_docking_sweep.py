@@ -5,6 +5,8 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import os
+import signal
 
 import numpy as np
 import pandas as pd
@@ -387,3 +389,107 @@ def test_the_list_gives_the_articulation_noise_s_nominal_as_the_sensors_own():
     camera = math.degrees(articulation_model("camera").noise_rms)
     assert 1.0 <= camera <= 1.5  # the published 1.0-1.5 deg RMS
     assert "nominal the sensor's (tractor " in line and f"camera {camera:.2g} deg" in line
+
+
+def test_ctrl_c_during_a_sweep_is_one_line_with_how_to_resume(tmp_path, capsys, monkeypatch):
+    # It was a 32-line traceback (issue 46, item 13).
+    from artic.validation.cli.commands import main
+
+    real_write = sw.write_run
+
+    def write_then_interrupt(folder, spec, row):
+        real_write(folder, spec, row)
+        raise KeyboardInterrupt  # Ctrl-C as the first run is written
+
+    monkeypatch.setattr(sw, "write_run", write_then_interrupt)
+    try:
+        code = main(["dock", "--sweep", "grade=0,5", "--scenario", "straight", "--vehicle",
+                     VEHICLE, "--controller", QUICK, "--seeds", "1", "--no-recordings",
+                     "--jobs", "1", "--out-dir", str(tmp_path)])
+    except KeyboardInterrupt:  # not re-raised: it would end the whole test session
+        pytest.fail("Ctrl-C escaped artic's main (a traceback for the user)")
+    err = capsys.readouterr().err
+    assert code == 130 and "Traceback" not in err, err
+    assert err.strip().splitlines()[-1] == (
+        f"artic: interrupted; the finished runs are kept in {tmp_path / sw.RUNS_DIR}: the same "
+        "command resumes the sweep")
+    assert len(list((tmp_path / sw.RUNS_DIR).glob("*.json"))) == 1
+
+
+def _exits():
+    os._exit(7)
+
+
+def _killed():
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def _raises():
+    raise ValueError("bad value")
+
+
+def test_a_forked_child_s_end_is_named_as_the_local_supervisor_names_it():
+    from artic.validation.docking.supervise import ChildEnded, in_child
+
+    assert in_child(lambda a, b: {"sum": a + b}, 2, 3) == {"sum": 5}
+    with pytest.raises(ChildEnded, match=r"^controller ended the run's process \(exit code 7\)"):
+        in_child(_exits)
+    with pytest.raises(ChildEnded, match=r"\(killed by signal SIGKILL\)"):
+        in_child(_killed)
+    with pytest.raises(RuntimeError, match="^ValueError: bad value$"):
+        in_child(_raises)
+
+
+class Exits(Quick):
+    def command(self, obs):
+        os._exit(7)  # at its first command
+
+
+@pytest.mark.slow
+def test_a_controller_that_ends_its_dask_worker_is_named_as_locally(tmp_path, capfd):
+    # It was KilledWorker after four workers died, and nine lines of the cluster's logging.
+    pytest.importorskip("distributed")
+    axis, levels = sw.parse_sweep("grade=0")
+    specs = sw.plan(axis, levels, ["straight"], [VEHICLE], [f"{__name__}:Exits"], range(1))
+    rows = sw.sweep(specs, tmp_path, jobs=1, executor="dask")
+    assert rows[0]["failure"].startswith("controller ended the run's process (exit code 7)")
+    err = capfd.readouterr().err
+    assert "KilledWorker" not in err and "Restarting worker" not in err, err
+
+
+def test_a_sweep_into_another_sweep_s_folder_mixes_nothing(tmp_path):
+    # A sweep of another axis left the first sweep's run files there, unlisted (issue 46,
+    # item 9): another axis is refused, before anything is removed; the same axis planned
+    # again removes the runs its plan does not list, and says so.
+    axis, levels = sw.parse_sweep("delay=0,0.1")
+    first = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    sw.sweep(first, tmp_path, jobs=1)
+    files = sorted(p.name for p in (tmp_path / sw.RUNS_DIR).iterdir())
+    assert len(files) == 2
+    axis, levels = sw.parse_sweep("grade=0,5")
+    other = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    with pytest.raises(UserError, match=r"holds the runs of a sweep of delay \(2 run file\(s\) "
+                                        r"in .*\); a sweep of grade there would mix the two: "
+                                        r"choose another --out-dir"):
+        sw.sweep(other, tmp_path, jobs=1)
+    assert sorted(p.name for p in (tmp_path / sw.RUNS_DIR).iterdir()) == files
+    axis, levels = sw.parse_sweep("delay=0.1")
+    again = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    lines = []
+    rows = sw.sweep(again, tmp_path, jobs=1, progress=lines.append)
+    assert len(rows) == 1 and "already done" in lines[1]  # delay=0.1 was kept, not re-run
+    assert lines[0].startswith("removed 1 run file(s) in ") and "delay=0-" in lines[0]
+    assert sorted(p.name for p in (tmp_path / sw.RUNS_DIR).iterdir()) == [f"{again[0].name}.json"]
+
+
+def test_a_one_controller_sweep_says_why_it_has_no_paired_comparisons(tmp_path):
+    # It printed "Paired comparisons: 0" without a reason (issue 46, item 19).
+    axis, levels = sw.parse_sweep("grade=0,5")
+    specs = sw.plan(axis, levels, ["straight"], [VEHICLE], [QUICK], range(1))
+    frame = pd.DataFrame(sw.sweep(specs, tmp_path, jobs=1))
+    pairs = sw.compare(frame, [QUICK])
+    text = sw.markdown(sw.summarise(frame), pairs)
+    assert len(pairs) == 0
+    assert text.strip().splitlines()[-1] == (
+        "Paired comparisons: none (one controller: a comparison pairs two controllers over "
+        "the same starts; give --controller A,B).")

@@ -57,7 +57,8 @@ def _my_model():
 SETUP: dict[str, tuple[list[list[str]], Callable[[], dict]]] = {
     # page: (the artic commands it runs first, the names it assumes)
     "README.md": ([["simulate", "--model", "stm", "--manoeuvre", "ramp-steer-reverse",
-                    "--out", "run.parquet"]], lambda: {"MyModel": _my_model()}),
+                    "--duration", "30", "--out", "run.parquet"]],
+                  lambda: {"MyModel": _my_model()}),
     "docs/guide/cli.md": ([["mjcf", "--vehicle", "six-axle", "-o", "six-axle.xml"]], dict),
     "docs/guide/models.md": ([], lambda: {"MyModel": _my_model()}),
 }
@@ -68,8 +69,12 @@ def _check_readme(ns: dict) -> None:
     # through the feedback, so it runs to within the speed filter's last few
     # samples of the log's end and its criteria are finite.
     metrics = ns["artic"].run_metrics(ns["log"].frame, ns["run"].frame)
+    # The example's log runs to its end (it jackknifed at 37.9 s of the 60 s default).
+    assert ns["log"].meta["status"] == "ok" and len(ns["log"].frame) == 3001
     assert len(ns["run"].frame) >= 0.99 * len(ns["log"].frame)
     assert 0 < metrics["eps_p"] < 5.0 and metrics["J_steer"] > 0
+    # The criteria that catch a model that does not follow the run are there too.
+    assert 0 < metrics["eps_cover"] < 5.0 and 0 < metrics["eps_gamma"] < 0.5  # [m], [rad]
 
 
 def _check_models(ns: dict) -> None:
@@ -198,3 +203,27 @@ def test_every_page_is_in_a_table_of_contents():
              if p.name != "index.md" and "generated" not in p.parts and "_build" not in p.parts}
     listed = set(re.findall(r"(?m)^((?:guide|design)/[\w-]+|api|contributing)\s*$", index))
     assert pages == listed, pages ^ listed
+
+
+def test_command_times_are_stated_once_in_the_speed_page():
+    # The README, the install guide and campaign --help gave three different times for the
+    # same things (issue 46, item 19): they now point to one table of measured times.
+    import re as _re
+
+    from artic.validation.cli.commands import build_parser
+
+    table = (DOCS / "design" / "speed.md").read_text().split("## Measured times", 1)[1]
+    table = table.split("\n## ", 1)[0]
+    for row in ("`artic campaign --out-dir DIR`", "`artic campaign --seeds 5 --no-recordings`",
+                "the second command from a fresh clone", '`pytest -m "not slow"`',
+                "`artic dock --sweep` of 1 000 runs"):
+        assert f"| {row}" in table, row
+    camp = build_parser()._subparsers._group_actions[0].choices["campaign"]
+    seeds = next(a for a in camp._actions if "--seeds" in a.option_strings).help
+    quoted = {"README.md": (ROOT / "README.md").read_text(),
+              "install.md": (DOCS / "guide" / "install.md").read_text(), "--seeds": seeds}
+    for name, text in quoted.items():
+        assert "speed.md" in text, name
+        found = _re.findall(r"\b\d+(?:\.\d+)? ?(?:min|minutes|h|hours?)\b|\b\d+ s wall|"
+                            r"quarter of an hour", text)
+        assert not found, (name, found)

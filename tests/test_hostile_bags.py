@@ -218,3 +218,22 @@ def test_a_topic_that_dropped_most_messages_is_refused(tmp_path, truth):
     assert re.search(r"/encoder/angle receive stamps: sample check: \d sample\(s\) over the "
                      r"[\d.]+ s from t = .* one per [\d.]+ s, where interpolation needs one per "
                      r"1 s at most", line), line
+
+
+@pytest.mark.parametrize("source", ["header", "receive"])
+def test_receive_stamps_reversed_against_the_header_stamps_are_refused(tmp_path, truth, source):
+    # They were accepted (issue 46, item 6): with time = "receive" the log ran backwards.
+    msgs = bag_logs.messages("mcap", truth)
+    rx = [ns for topic, _, _, ns in msgs if topic == "/vive/pose"]
+    first, last = min(rx), max(rx)
+    msgs = sorted(((topic, typ, m, first + last - ns if topic == "/vive/pose" else ns)
+                   for topic, typ, m, ns in msgs), key=lambda x: x[3])
+    path = bag_logs.write_messages("mcap", tmp_path / "rig", msgs)
+    text = MCAP if source == "header" else MCAP.replace('source = "header"',
+                                                        'source = "receive"')
+    assert f'source = "{source}"' in text
+    line = refused(tmp_path, path, text)
+    assert re.search(r"topic /vive/pose \(geometry_msgs/msg/PoseStamped\), field "
+                     r"pose\.position\.[xy]: stamp check: its header stamps run backwards "
+                     r"against the bag's receive times in 100 % of its \d+ steps", line), line
+    assert "fix the bag's stamps" in line

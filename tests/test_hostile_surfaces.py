@@ -4,12 +4,14 @@ written."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from artic.mjcf.vehicle import resolve_vehicle_path
 from artic.validation.cli.commands import main
 from artic.validation.logs import consistency
-from artic.validation.logs.runfile import write_run
+from artic.validation.logs.runfile import Run, write_run
 from tests.hostile_logs import docking, slalom
 
 
@@ -41,6 +43,27 @@ def test_metadata_that_contradicts_the_motion_is_refused(capsys, tmp_path, make,
     assert f"its metadata says {says}, but the tractor covers only" in line, line
     assert "--accept metadata" in line and str(log) in line
     assert not out.exists() or not any(out.glob("*.csv"))
+
+
+@pytest.mark.parametrize("key, value, must", [
+    ("direction", "sideways", '"forward" or "reverse"'),
+    ("sensor_noise", "loud", "an object of channels"),
+    ("manoeuvre", 7, "a string"),
+])
+def test_a_metadata_value_artic_reads_but_cannot_use_is_refused(capsys, tmp_path, key, value,
+                                                                 must):
+    # direction "sideways" left the log out of every table without a word; sensor_noise
+    # "loud" was read as none declared (issue 46, items 4 and 5).
+    run = slalom()
+    run.meta[key] = value
+    log = tmp_path / "log.parquet"
+    write_run(run, log)  # written as given: the reader judges it
+    out = tmp_path / "val"
+    line = fails(capsys, "validate", log, "--models", "kin", "--no-recordings", "--out-dir",
+                 out)
+    assert line.startswith(f"artic: error: {log}: Parquet metadata"), line
+    assert f"metadata {key!r} is {json.dumps(value)}; it must be {must}" in line, line
+    assert not out.exists()
 
 
 def test_metadata_that_agrees_passes_and_the_share_is_the_distances():
@@ -79,6 +102,22 @@ def test_a_tuning_only_campaign_is_one_line_before_any_work(capsys, tmp_path, on
     assert f"--only {only}: selects only tuning manoeuvres (00-constant-steer" in line, line
     assert "nothing to validate; add a validation manoeuvre" in line
     assert not out.exists()
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_campaign_without_tuning_manoeuvres_keeps_the_presets(capsys, tmp_path, jobs):
+    # artic campaign --only 02- (issue 46, item 1): no tuning log, nothing to fit; it was a
+    # ZeroDivisionError (jobs // 0 threads) and, past it, a refusal that --only's help
+    # contradicts ("include tuning manoeuvres ... to tune").
+    from artic.validation.campaign import main as campaign
+
+    logs = [Run(slalom().frame, {"name": "02-constant-steer-unloaded", "load": "unloaded"})]
+    tuned = campaign._tune(tmp_path, logs, ("kin",), "key", jobs)
+    assert tuned["complete"] and tuned["loads"] == {}
+    assert "unloaded: no tuning manoeuvre among the logs; the preset's parameters are used " \
+           "untuned" in capsys.readouterr().err
+    vehicles = campaign._tuned_vehicles(tmp_path, tuned, 0)
+    assert {v.name for v in vehicles.values()} == {"gosar2022-unloaded", "gosar2022-loaded"}
 
 
 @pytest.mark.parametrize("key, value, words", [

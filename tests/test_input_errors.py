@@ -339,3 +339,17 @@ def test_a_refused_command_leaves_no_folder_behind(capsys, tmp_path, monkeypatch
 def test_an_integer_option_s_bounds_are_integers(capsys, tmp_path):
     line = fails(capsys, "logs", "generate", "--seed", "-1", "--out-dir", tmp_path / "g")
     assert "argument --seed: -1 is outside [0, 9223372036854775807];" in line
+
+
+@pytest.mark.parametrize("argv", [
+    ["simulate", "--model", "kin", "--manoeuvre", "slalom", "--duration", "1", "--out"],
+    ["mjcf", "--vehicle", "gosar2022-unloaded", "-o"],
+])
+def test_an_output_file_in_a_missing_folder_is_refused_not_made(capsys, tmp_path, argv):
+    # artic simulate --out /nonexistent/x.parquet made /nonexistent (issue 46, item 17).
+    target = tmp_path / "no" / "such" / "x.out"
+    flag = argv[-1]
+    line = fails(capsys, *argv, target)
+    assert line == (f"artic: error: {flag} {target}: the folder {target.parent} does not "
+                    "exist; make it first, or give a file in a folder that does"), line
+    assert not (tmp_path / "no").exists()

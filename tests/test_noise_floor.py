@@ -93,6 +93,39 @@ def test_a_bad_declaration_names_the_file_and_key(tmp_path, text, message):
         read_noise(path)
 
 
+@pytest.mark.parametrize(("text", "message"), [
+    # 5 meant in degrees, read as radians (286 deg)
+    ("psi_1 = { sigma = 5 }", r"noise.psi_1: sigma = 5 rad is beyond any sensor of its kind "
+                              r"\(dual-antenna GNSS/INS heading 0.1-0.2 deg.*refused above "
+                              r"0.349 rad\); check the value and its unit"),
+    ("x_1 = { sigma = 1e9 }", r"noise.x_1: sigma = 1e\+09 m is beyond any sensor .*RTK GNSS/INS "
+                              r"0.01-0.02 m.*refused above 10 m"),
+    ("x_2 = { sigma = 1e300 }", r"noise.x_2: sigma = 1e\+300 m is beyond any sensor"),
+    ("r_1 = { sigma = 0.001, bias = 45, unit = \"deg/s\" }",
+     r"noise.r_1: bias = 45 deg/s is beyond any sensor .*refused above 30 deg/s"),
+    ("v_x_1 = { sigma = 20, unit = \"km/h\" }", r"noise.v_x_1: sigma = 20 km/h is beyond"),
+])
+def test_a_noise_no_sensor_of_its_kind_has_is_refused(tmp_path, text, message):
+    # Any finite size was accepted, and the noise-floor table reported nonsense (issue 46,
+    # item 5). The refusal bounds are ten times the usual (NOISE_RANGES).
+    path = tmp_path / "noise.toml"
+    path.write_text(f"[noise]\n{text}\n")
+    with pytest.raises(LogError, match=message):
+        read_noise(path)
+
+
+def test_a_plausible_but_unusual_noise_is_a_warning_that_gives_the_usual_bounds(tmp_path):
+    from artic.mjcf.plausible import PlausibilityWarning
+
+    path = tmp_path / "noise.toml"
+    path.write_text('[noise]\nx_1 = { sigma = 2.0 }\npsi_1 = { sigma = 0.15, unit = "deg" }\n')
+    with pytest.warns(PlausibilityWarning, match=r"noise.x_1: sigma = 2 m is unusual: more "
+                                                 r"than the usual 0.5 m \(RTK GNSS/INS"):
+        got = read_noise(path)
+    assert got["x_1"].sigma == 2.0  # kept: a standalone GNSS receiver has it
+    assert got["psi_1"].sigma == pytest.approx(math.radians(0.15), rel=1e-12)  # no word
+
+
 def test_a_file_without_a_noise_table_is_refused(tmp_path):
     path = tmp_path / "map.toml"
     path.write_text('[time]\ncolumn = "t"\nunit = "s"\n')

@@ -150,3 +150,59 @@ def test_every_range_is_ordered():
     for table in (VEHICLE_RANGES, COEFFICIENT_RANGES):
         for key, r in table.items():
             assert r.lo <= r.plo <= r.phi <= r.hi, key
+
+
+def _semitrailer_with(tmp_path: Path, n: int) -> Path:
+    """The unloaded preset with ``n`` light semitrailer axles 1.3 m apart about L2 = 15 m."""
+    import tomllib
+
+    import tomli_w
+
+    data = tomllib.loads(Path(load_vehicle("gosar2022-unloaded").path).read_text())
+    data["trailer"]["L2"] = 15.0
+    first = data["trailer"]["axle"][0]
+    data["trailer"]["axle"] = [
+        {**first, "name": f"trailer-{i + 1}", "x": -15.0 - 1.3 * (i - (n - 1) / 2),
+         "load_share": 1.0 / n, "unsprung_mass": 100.0} for i in range(n)]
+    p = tmp_path / f"axles-{n}.toml"
+    p.write_text(tomli_w.dumps(data))
+    return p
+
+
+def test_the_number_of_axles_is_judged_like_any_number(tmp_path):
+    # 20 semitrailer axles were accepted by vehicle show and the STM, refused later by the
+    # plant (issue 46, item 8): one rule, in the file's check, for every model.
+    with pytest.raises(VehicleFileError, match=r"key 'trailer.axle': 20 axles is impossible "
+                                               r"for a tractor-semitrailer .* 1 to 8 axles"):
+        load_vehicle(_semitrailer_with(tmp_path, 20))
+    with pytest.warns(PlausibilityWarning, match=r"key 'trailer.axle': 6 axles is unusual "
+                                                 r"\(usual: 1 to 4 axles\)"):
+        assert sum(a.unit == 2 for a in load_vehicle(_semitrailer_with(tmp_path, 6)).axles) == 6
+
+
+@pytest.mark.parametrize("name", ["two\nlines", "tab\there", "bell\x07"])
+def test_a_name_with_a_control_character_is_refused(tmp_path, name):
+    import tomllib
+
+    import tomli_w
+
+    data = tomllib.loads(PRESET.read_text())
+    data["vehicle"]["name"] = name  # TOML escapes it: "two\nlines"
+    p = tmp_path / "v.toml"
+    p.write_text(tomli_w.dumps(data))
+    with pytest.raises(VehicleFileError, match=r"key 'vehicle.name': .* holds the control "
+                                               r"character .* give it on one line"):
+        load_vehicle(p)
+
+
+def test_a_bar_in_a_name_stays_in_its_markdown_cell():
+    import pandas as pd
+
+    from artic.validation.docking.scores import markdown as dock_markdown
+    from artic.validation.review.tables import markdown
+
+    t = pd.DataFrame({"vehicle": ["a|b"], "success": ["1 of 1"]})
+    for text in (dock_markdown(t), markdown(t.set_index("vehicle"))):
+        row = text.strip().splitlines()[-1]
+        assert row.replace("\\|", "").count("|") == 3, text  # two cells: three bars
+        assert "a\\|b" in row

@@ -20,9 +20,26 @@ def test_counter_counts_throttles_and_estimates():
     assert [line.split(" - ")[0] for line in lines] == [
         "[1/4] validation, loaded: a", "[3/4] validation, loaded: c",
         "[4/4] validation, loaded: d"]
-    assert lines[0].endswith("left") and lines[-1].endswith("done")
+    assert " - " not in lines[0] and lines[-1].endswith("done")  # no estimate yet
     assert duration(45.2) == "45 s" and duration(185) == "3 min 05 s"
     assert duration(3720) == "1 h 02 min"
+
+
+def test_the_first_estimate_leaves_out_the_start_up(monkeypatch):
+    # The references stage's first estimate said about 1 h 04 min and settled near 10 min
+    # (issue 46, item 19): its first item carried the start-up. 60 s of start-up, then one
+    # item a second: with 96 left after the fourth item, about 96 s, not 96 x 15 s.
+    from artic.validation.cli import progress
+
+    now = [0.0]
+    monkeypatch.setattr(progress.time, "perf_counter", lambda: now[0])
+    lines = []
+    c = Counter(100, "references", lines.append, every=0.0)
+    for k in range(4):
+        now[0] = 60.0 + k
+        c.step(f"item {k}")
+    assert [" - " in x for x in lines] == [False, False, False, True]
+    assert lines[-1].endswith(" - about 1 min 36 s left"), lines[-1]
 
 
 def test_plant_warnings_collected_as_one_line(recwarn):

@@ -319,3 +319,66 @@ def test_the_report_names_a_registered_model_by_its_label(registered):
     # Beside the paper's Table 3: the registered model is not in the paper.
     assert "KIN-py" in text.split("Table 3.**", 1)[1] and "(not in the paper)" in text
     assert "nan" not in text
+
+
+def test_a_renamed_kin_steers_as_kin_unless_its_file_gives_it_a_map(tmp_path, logs):
+    # A subclass of KIN with another name took the file's generic [steering] map instead of
+    # KIN's (issue 46, item 16): a pure rename changed eps_p from 0.50 m to 0.32 m.
+    from artic.validation.models import steering_name
+
+    v = load_vehicle("gosar2022-unloaded")
+    assert "kin" in v.steering_overrides and "kin_blue" not in v.steering_overrides
+    assert steering_name(v, KinBlue(v)) == "kin"
+    log = artic.read_log(logs[0], vehicle=v)
+    kin = artic.run_closed_loop(KIN(v), log, v).frame
+    blue = artic.run_closed_loop(KinBlue(v), log, v).frame
+    for c in ("x_1", "y_1", "psi_1", "gamma", "delta"):
+        np.testing.assert_array_equal(blue[c].to_numpy(), kin[c].to_numpy(), err_msg=c)
+    # A table of its own is its own, by the model or by its registered name.
+    register_model("kin_blue", KinBlue)
+    try:
+        own = write_vehicle(updated("gosar2022-unloaded", {"steering.kin_blue": {"i_s": 20.0}},
+                                    "test"), tmp_path / "own.toml")
+        assert steering_name(own, KinBlue(own)) == "kin_blue"
+        assert steering_name(own, "kin_blue") == "kin_blue"
+        assert steering_name(v, "kin_blue") == "kin"  # through the registered class
+    finally:
+        unregister_model("kin_blue")
+
+
+class Overflows(PythonKin):
+    """KIN's equations, until its position overflows every physical range after 5 s."""
+
+    name = "overflows"
+
+    def reset(self, initial):
+        super().reset(initial)
+        self.t = 0.0
+
+    def step(self, dt, delta, u1, u1_dot):
+        super().step(dt, delta, u1, u1_dot)
+        self.t += dt
+
+    def observe(self, delta=None):
+        o = np.array(super().observe(delta), dtype=float)
+        if self.t > 5.0:
+            o[0] = 1e300  # finite, so it passed; eps_p came out inf with the status ok
+        return o
+
+
+def test_a_model_whose_output_leaves_every_physical_range_stops_with_a_status(logs):
+    v = load_vehicle("gosar2022-unloaded")
+    log = artic.read_log(logs[0], vehicle=v)
+    run = artic.run_closed_loop(Overflows(v), log, v)
+    status = run.meta["status"]
+    assert status.startswith("stopped at t = 5.0") and "x_1 = 1e+300 left the range a " \
+        "model's output may have (|x_1| <= 1e+07 SI)" in status, status
+    assert np.all(np.abs(run.frame["x_1"].to_numpy()) < 1e7) or len(run.frame) < len(log.frame)
+
+
+def test_an_open_loop_run_of_such_a_model_stops_too():
+    v = load_vehicle("gosar2022-unloaded")
+    run = artic.simulate(Overflows(v), v, artic.make_profile("constant-steer", duration=8.0))
+    assert run.meta["status"].startswith("stopped at t = 5.0") and "x_1 = 1e+300" in \
+        run.meta["status"], run.meta["status"]
+    assert float(run.frame["x_1"].abs().max()) < 1e3  # the sound samples only [m]

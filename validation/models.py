@@ -55,7 +55,7 @@ import numpy as np
 
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
-from artic.mjcf.vehicle import Vehicle
+from artic.mjcf.vehicle import Steering, Vehicle
 
 if TYPE_CHECKING:
     from artic.validation.logs.runfile import Run
@@ -642,6 +642,47 @@ def check_vehicle(vehicle: Vehicle) -> Vehicle:
         raise UserError(f"{unknown[0]}; correct the table's name, or register the model "
                          "(artic.register_model)")
     return vehicle
+
+
+def steering_name(vehicle: Vehicle, model: object) -> str:
+    """The ``[steering.NAME]`` table ``model`` steers by in ``vehicle``: the first that exists.
+
+    Its own name's; else its nearest base class's (``class Mine(artic.KIN)`` with
+    another ``name`` steers as KIN, and a pure rename changes nothing); else its own
+    name, which :meth:`~artic.mjcf.vehicle.Vehicle.steering_for` gives the file's
+    ``[steering]``.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle file's parameters.
+    model : str or object
+        A model, a model class, or a registered model's name.
+    """
+    name = model if isinstance(model, str) else getattr(model, "name", "")
+    if name in vehicle.steering_overrides:
+        return name
+    cls = model if isinstance(model, type) else type(model)
+    if isinstance(model, str):
+        built = REGISTRY[model].build if model in REGISTRY else None
+        built = getattr(built, "__wrapped__", built)  # functools.wraps of the checked build
+        cls = built if isinstance(built, type) else object
+    for base in cls.__mro__:
+        own = getattr(base, "name", None)
+        if isinstance(own, str) and own in vehicle.steering_overrides:
+            return own
+    return name
+
+
+def steering_for(vehicle: Vehicle, model: object) -> Steering:
+    """``vehicle``'s steering-map parameters for ``model`` (:func:`steering_name`).
+
+    Returns
+    -------
+    Steering
+        The ``[steering]`` table with the model's overrides.
+    """
+    return vehicle.steering_for(steering_name(vehicle, model))
 
 
 class SteeringTableWarning(UserWarning):

@@ -250,14 +250,9 @@ def _known() -> dict[str, str]:
 
 def _criteria(log: Run, run: Run) -> dict[str, float]:
     """The criteria of ``run`` against ``log``: eqs. (8)-(10), ``eps_gamma`` and ``eps_cover``."""
-    from artic.validation.criteria.articulation import eps_gamma
-    from artic.validation.criteria.coverage import eps_cover
     from artic.validation.criteria.metrics import run_metrics
 
-    out = run_metrics(log.frame, run.frame)
-    out["eps_gamma"] = eps_gamma(log.frame, run.frame) if len(run.frame) else math.nan
-    out["eps_cover"] = eps_cover(log.frame, run.frame)
-    return out
+    return run_metrics(log.frame, run.frame)
 
 
 def default_limits(within: Mapping[str, float]) -> dict[str, float]:

@@ -334,7 +334,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
         return saved
     run = _Tuning(path, {"key": key, "loads": {}, "complete": False})
     todo = _tuning_plan(logs, saved, run.out, names)
-    side_by_side = min(len(todo), max(1, jobs))
+    side_by_side = max(1, min(len(todo), jobs))  # no tuning logs: nothing to fit, untuned
     threads = max(1, jobs // side_by_side)
     if side_by_side > 1:
         with ThreadPoolExecutor(side_by_side, thread_name_prefix="artic-tune") as pool:
@@ -348,9 +348,6 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
     else:
         for t in todo:
             _tune_load(run, models, *t, threads)
-    if not run.out["loads"]:
-        raise UserError(f"{out_dir}: none of the tuning manoeuvres is among the logs "
-                        f"({', '.join(names[:2])}, ...)")
     run.out["complete"] = True
     run.save()
     run.out["reused"] = False

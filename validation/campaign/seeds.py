@@ -18,8 +18,7 @@ campaign (a rerun reuses what each seed folder holds). Then, in ``OUT/``:
 - ``report.md``: the pooled results (:mod:`artic.validation.campaign.seedreport`).
 
 ``--seeds 1`` (the default) is the single campaign, written into ``OUT/``
-itself as before. One seed takes about 90 s on two cores, so three seeds
-take about five minutes.
+itself as before. Its measured time per seed is in ``docs/design/speed.md``.
 """
 
 from __future__ import annotations

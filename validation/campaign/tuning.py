@@ -70,7 +70,7 @@ from artic.validation.harness.batch import run_batch, run_many
 from artic.validation.harness.loop import DEFAULT_GAIN, steered, unsteered_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
-from artic.validation.models import spec
+from artic.validation.models import spec, steering_for
 
 SIGNALS = (("r_1", "r"), ("r_2", "r"), ("v_y_1", "v_y"), ("v_y_2", "v_y"))
 
@@ -145,7 +145,7 @@ class Fit:
 
 def bounds_for(model: str, vehicle: Vehicle, logs: Sequence[Run]) -> list[Bound]:
     """The fitted parameters of ``model`` with their bounds (see the module docstring)."""
-    s = vehicle.steering_for(model)
+    s = steering_for(vehicle, model)
     peak = max(float(np.nanmax(np.abs(log.frame["delta_h"].to_numpy()))) for log in logs)
     q_max = min(0.04, 0.9 / (2.0 * (peak + math.radians(15.0))))
     out = []
@@ -221,7 +221,7 @@ class Objective:
         vehicles = [self.vehicle_at(x) for x in xs]
         inputs = []
         for v in vehicles:
-            steering = SteeringMap.from_steering(v.steering_for(self.model))
+            steering = SteeringMap.from_steering(steering_for(v, self.model))
             inputs.append([steered(base, steering, f"{log.name}: column delta_h")
                            for log, base in zip(self.logs, self._unsteered, strict=True)])
         build = spec(self.model).build

@@ -50,7 +50,7 @@ from artic.mjcf.errors import PlantError, UserError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
-from artic.validation.harness.loop import DEFAULT_GAIN
+from artic.validation.harness.loop import DEFAULT_GAIN, DIVERGED
 from artic.validation.logs.assemble import MIN_SEGMENT
 from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
 from artic.validation.logs.importers import SOURCES, read_log
@@ -159,7 +159,7 @@ def _simulate(args: argparse.Namespace) -> int:
     end = f", {run.frame.t.iloc[-1]:.2f} s" if len(run.frame) else ""
     print(f"wrote {out}: {len(run.frame)} samples{end}"
           + ("" if status == "ok" else f"; {status}"))
-    if "stopped being finite" in status:
+    if f": {DIVERGED}" in status:  # not finite, or beyond every physical range
         print(f"artic: simulation failed: {status}", file=sys.stderr)
         return 1
     return 0
@@ -512,14 +512,24 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--model", required=True, type=_one_model,
                      help="kin, stm, mbd, or a registered model (see artic.register_model)")
     _add_vehicle(sim)
-    sim.add_argument("--manoeuvre", required=True, choices=KINDS)
+    sim.add_argument("--manoeuvre", required=True, choices=KINDS,
+                     help="the steering-wheel and speed profile: straight; constant-steer "
+                          "(a ramp to the amplitude, held); slalom (a sine past cones 12 m apart); "
+                          "figure-8; ramp-steer-reverse (reversing, a 20 s ramp to the "
+                          "amplitude from t = 5 s, held; no feedback, so it jackknifes "
+                          "some seconds later and the run stops there)")
     sim.add_argument("--amplitude-deg", type=options.AMPLITUDE_DEG, default=None,
                      help="steering-wheel amplitude [deg] (default 200 forward, 90 reverse)")
     sim.add_argument("--speed-kph", type=options.SPEED_KPH, default=None,
                      help="speed [km/h], positive (default 5 forward, 3 reverse)")
-    sim.add_argument("--side", choices=("left", "right"), default="left")
-    sim.add_argument("--duration", type=options.DURATION, default=None, help="length [s]")
-    sim.add_argument("--out", required=True, type=options.output_path, help="output .parquet")
+    sim.add_argument("--side", choices=("left", "right"), default="left",
+                     help="which way the wheel turns first (default: %(default)s)")
+    sim.add_argument("--duration", type=options.DURATION, default=None,
+                     help="length [s] (default: one that completes the manoeuvre: straight "
+                          "30, constant-steer 60, slalom six cones, figure-8 both "
+                          "circles, ramp-steer-reverse 60)")
+    sim.add_argument("--out", required=True, type=options.output_path,
+                     help="the run to write, .parquet (its folder must exist)")
     sim.set_defaults(func=_simulate)
 
     val = sub.add_parser("validate", help="validate models against logs")
@@ -530,7 +540,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default: %(default)s)")
     val.add_argument("--gain", type=options.GAIN, default=DEFAULT_GAIN,
                      help="reversing feedback gain K [rad/rad] (default: %(default)s)")
-    val.add_argument("--out-dir", required=True, type=options.output_path)
+    val.add_argument("--out-dir", required=True, type=options.output_path,
+                     help="output folder: metrics.csv, the runs, the recordings (made with its "
+                          "parents)")
     val.add_argument("--gain-sweep", action="store_true",
                      help="also sweep K over the reverse logs; marks the stability bound")
     val.add_argument("--recordings", action=argparse.BooleanOptionalAction, default=True,
@@ -573,7 +585,9 @@ def build_parser() -> argparse.ArgumentParser:
     lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path, help=SOURCES)
-    imp.add_argument("--out-dir", required=True, type=options.output_path)
+    imp.add_argument("--out-dir", required=True, type=options.output_path,
+                     help="output folder: one canonical .parquet per imported log (made with "
+                          "its parents)")
     imp.add_argument("--vehicle", default=None,
                      help="preset name or TOML file for the steering and hitch checks, and "
                           "whose geometry derives the semitrailer's channels of a tractor-only "
@@ -630,7 +644,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="seed of the synthetic campaign (with --seeds, the first)")
     camp.add_argument("--seeds", type=options.SEEDS, default=1,
                       help="trucks: one campaign per seed in OUT/seed-K and the pooled tables "
-                           "and report in OUT, about two minutes per seed on two cores "
+                           "and report in OUT; docs/design/speed.md gives its measured time "
                            "(default: %(default)s, the single campaign in OUT)")
     camp.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
                       help="the synthetic campaign's truth: one with its own tyre and steering "
@@ -690,6 +704,25 @@ def _warning_line(message, category, filename, lineno, line=None) -> str:
     return f"artic: warning: {_one_line(message)}\n"
 
 
+def _resume_hint(args: argparse.Namespace) -> str:
+    """How an interrupted command goes on: ``""`` for those that start again from scratch.
+
+    A docking sweep keeps each finished run's file, a campaign each finished stage: the same
+    command resumes them.
+    """
+    out = getattr(args, "out_dir", None)
+    if out is None:
+        return ""
+    if getattr(args, "func", None) is dock_command.run and getattr(args, "sweep", None):
+        from artic.validation.docking.sweep import RUNS_DIR
+
+        return (f"; the finished runs are kept in {Path(out) / RUNS_DIR}: the same command "
+                "resumes the sweep")
+    if getattr(args, "func", None) is _campaign:
+        return f"; the finished stages are kept in {out}: the same command resumes"
+    return ""
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``artic``; returns the exit code."""
     try:
@@ -716,6 +749,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except PlantError as exc:
         print(f"artic: simulation failed: {_one_line(exc)}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:  # Ctrl-C: one line, and how to go on where there is a way
+        print(f"artic: interrupted{_resume_hint(args)}", file=sys.stderr)
+        return 130  # the shell's code for a process ended by SIGINT
     except Exception:
         traceback.print_exc()
         print(REPORT, file=sys.stderr)

@@ -1,8 +1,11 @@
 """Progress lines with counts and the time left, for every stage that takes a while.
 
 A :class:`Counter` counts the finished items of one stage and prints
-``[i/n] label: what - about 1 min 20 s left``. The time left is the mean time
-per item so far times the items still to do. Lines come at most every
+``[i/n] label: what - about 1 min 20 s left``. The time left is the time per
+item measured since the first item finished (which carries the stage's start-up:
+compiling, workers starting, the first of several items finishing side by side)
+times the items still to do, and is said only once :data:`ESTIMATE_AFTER` items
+have finished since then; before, the line has no estimate. Lines come at most every
 :data:`EVERY` seconds, so a stage of a hundred quick items prints a handful;
 the last item, and any item with something to say (``always=True``), are
 printed regardless. Thread-safe: runs on a pool report to one counter.
@@ -22,6 +25,11 @@ from contextlib import contextmanager
 
 EVERY = 3.0
 """Shortest time between two progress lines of one counter [s]."""
+
+ESTIMATE_AFTER = 3
+"""Items that must finish after the first before a time left is said: the first one's time
+holds the stage's start-up (numba compiling, MuJoCo models built, worker processes started),
+which made a stage's first estimate six times its real time."""
 
 
 def stderr(line: str) -> None:
@@ -58,28 +66,39 @@ class Counter:
                  every: float = EVERY) -> None:
         self.total, self.label, self.progress, self.every = total, label, progress, every
         self.done = 0
-        self._t0 = time.perf_counter()
+        self._first: tuple[float, int] | None = None  # when the first item(s) finished
         self._last = -float("inf")
         self._lock = threading.Lock()
 
     def left(self) -> float:
-        """Estimated time left [s]: the mean time per finished item times the items left."""
-        if self.done == 0:
+        """Estimated time left [s], NaN until :data:`ESTIMATE_AFTER` items after the first.
+
+        The time per item since the first finished, times the items left.
+        """
+        if self._first is None:
             return float("nan")
-        return (time.perf_counter() - self._t0) / self.done * (self.total - self.done)
+        t1, n1 = self._first
+        since = self.done - n1
+        if since < ESTIMATE_AFTER:
+            return float("nan")
+        return (time.perf_counter() - t1) / since * (self.total - self.done)
 
     def step(self, what: str = "", always: bool = False, count: int = 1) -> None:
         """Count ``count`` finished items; print a line if it is time to."""
         with self._lock:
             self.done += count
             now = time.perf_counter()
+            if self._first is None:
+                self._first = (now, self.done)
             last = self.done >= self.total
             if self.progress is None or not (always or last or now - self._last >= self.every):
                 return
             self._last = now
-            tail = "done" if last else f"about {duration(self.left())} left"
+            left = self.left()
+            tail = (" - done" if last else f" - about {duration(left)} left"
+                    if left == left else "")  # NaN: not measured yet, nothing said
             self.progress(f"[{self.done}/{self.total}] {self.label}"
-                          + (f": {what}" if what else "") + f" - {tail}")
+                          + (f": {what}" if what else "") + tail)
 
 
 KINDS = ("multibody", "reduced", "other")

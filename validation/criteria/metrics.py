@@ -92,7 +92,7 @@ def distance_mean_abs(x: np.ndarray, w: np.ndarray) -> float:
 
 
 def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
-                positions: bool = True) -> dict[str, float]:
+                positions: bool = True, beyond: bool = True) -> dict[str, float]:
     """Error criteria of one model run against its measured log.
 
     Parameters
@@ -106,11 +106,17 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
         Compute the lateral position errors (``eps_y1``, ``eps_y2``,
         ``eps_p``), the path distances that are most of this function's
         work; NaN when ``False`` (the gain sweep reports none of them).
+    beyond : bool
+        Add the criteria beyond the paper's that catch a model that does not follow the
+        run: ``eps_gamma`` [rad] (:mod:`artic.validation.criteria.articulation`) and
+        ``eps_cover`` [m] (:mod:`artic.validation.criteria.coverage`; NaN without
+        ``positions``). The batch runs compute them with the rest of their table.
 
     Returns
     -------
     dict
-        The :data:`CRITERIA`, plus ``s_max`` [m] (distance compared).
+        The :data:`CRITERIA`, ``eps_gamma`` and ``eps_cover`` (with ``beyond``), and
+        ``s_max`` [m] (distance compared).
 
     Examples
     --------
@@ -120,6 +126,8 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
     >>> log = artic.simulate(kin, vehicle, artic.make_profile("constant-steer", duration=8.0))
     >>> scores = artic.run_metrics(log.frame, artic.run_closed_loop(kin, log, vehicle).frame)
     >>> bool(scores["eps_p"] < 1e-6), bool(scores["s_max"] > 5.0)  # [m], [m]
+    (True, True)
+    >>> bool(scores["eps_cover"] < 1e-6), bool(scores["eps_gamma"] < 1e-6)  # [m], [rad]
     (True, True)
     """
     n = len(model)
@@ -152,5 +160,11 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
     else:
         out["J_steer"] = float("nan")
     result = {k: out[k] for k in CRITERIA}
+    if beyond:
+        from artic.validation.criteria.articulation import eps_gamma
+        from artic.validation.criteria.coverage import eps_cover
+
+        result["eps_gamma"] = eps_gamma(meas, model) if n else float("nan")
+        result["eps_cover"] = eps_cover(meas, model) if positions else float("nan")
     result["s_max"] = float(np.sum(w))
     return result

@@ -114,7 +114,7 @@ def floor_draws(log: Run, run: Run, noise: Mapping[str, ChannelNoise], vehicle: 
     rows = []
     for _ in range(draws):
         measured = Run(add_noise(truck, dict(noise), rng), meta)
-        crit = run_metrics(measured.frame, truck)
+        crit = run_metrics(measured.frame, truck, beyond=False)
         crit |= extra.of_run(measured, Run(truck, meta), vehicle)
         crit["eps_n_fixed"] = eps_n_fixed(crit["eps_a"], crit["eps_v"], scale)
         rows.append({c: abs(float(crit.get(c, math.nan))) if c in SIGNED

@@ -111,7 +111,7 @@ from artic.validation.criteria.points import axle_x, trailer_point
 from artic.validation.harness.loop import loop_inputs, run_inputs, window
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
-from artic.validation.models import Model, driven
+from artic.validation.models import Model, driven, steering_for
 
 HORIZONS = (2.0, 5.0, 10.0)
 """Travelled distances of the predictions [m]."""
@@ -471,7 +471,7 @@ def prediction_errors(model: Model, log: Run, vehicle: Vehicle, spacing: float =
     if direction_of(log) != "reverse":
         return out | {"note": "not a reverse log", "wall_s": time.perf_counter() - t0}
     frame = log.frame
-    steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
+    steering = SteeringMap.from_steering(steering_for(vehicle, model))
     inputs = loop_inputs(log, vehicle, steering)
     s = travelled(frame)
     starts = start_points(s, inputs.reversing, spacing)

@@ -31,7 +31,9 @@ A name given twice in a list is refused (its runs would count twice). A
 controller module that cannot be imported is one line naming the module and
 the error; a controller that exits, crashes or hangs fails its run and the
 benchmark goes on. Temporaries of an interrupted benchmark, and recordings of
-runs the new table does not list, are removed.
+runs the new table does not list, are removed. The exit is 1, after the tables,
+when no run docked or a recording could not be written (a full disk: the run
+keeps its scores).
 
 The parser is built without importing the benchmark (numba, the plant), so
 that every other command starts as fast as before.
@@ -68,7 +70,8 @@ def add_parser(sub) -> None:
                         "(default: %(default)s)")
     p.add_argument("--seeds", type=options.number(1, 10000, integer=True), default=10,
                    help="seeded starts per scenario and vehicle, 0 to N-1 (default: %(default)s)")
-    p.add_argument("--out-dir", type=options.output_path, default=None, help="output folder")
+    p.add_argument("--out-dir", type=options.output_path, default=None,
+                   help="output folder (required, unless --list)")
     p.add_argument("--jobs", type=options.JOBS, default=_cores(),
                    help="processes (default: the cores this process may run on, %(default)s; "
                         "under taskset -c 0, one, so that the compute times are the "
@@ -139,7 +142,7 @@ def list_all() -> str:
     lines += ["controllers (or package.module:Class):"]
     lines += [f"  {n:<{width}}  {text}" for n, (_, text) in BUILTIN.items()]
     lines += ["vehicles (or a vehicle file):"]
-    lines += [f"  {n}" for n in preset_names()]
+    lines += [f"  {n}{_cannot_dock(n)}" for n in preset_names()]
     from artic.validation.docking.sweep import AXES
 
     width = max(len(n) for n in AXES)
@@ -150,6 +153,25 @@ def list_all() -> str:
         lines.append(f"  {a.name:<{width}}  {a.description}{unit}; nominal {a.shown_nominal()}"
                      + (f" (not available yet: {why})" if why else ""))
     return "\n".join(lines)
+
+
+NO_PLANT = ("artic dock drives the plant: give a vehicle file with tyre data that fits it "
+            "(artic dock --list marks the presets that cannot dock)")
+"""The end of the refusal of a vehicle the plant cannot be built for."""
+
+
+def _cannot_dock(preset: str) -> str:
+    """``""``, or why the plant cannot be built for ``preset`` (for ``--list``)."""
+    from artic.mjcf.plausible import check_tyre_data
+    from artic.mjcf.schema import VehicleFileError
+    from artic.mjcf.vehicle import load_vehicle
+
+    try:
+        check_tyre_data(load_vehicle(preset), "mbd", "")
+    except VehicleFileError as exc:
+        why = str(exc).split("; ", 1)[0].split("': ", 1)[-1]
+        return f"  (cannot dock: {why}; the plant needs one)"
+    return ""
 
 
 def run(args: argparse.Namespace) -> int:
@@ -180,6 +202,7 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("artic dock: give --out-dir (or --list)")
     import pandas as pd
 
+    from artic.mjcf.plausible import check_tyre_data
     from artic.mjcf.vehicle import load_vehicle
     from artic.validation.cli.progress import stderr
     from artic.validation.docking.controllers import load
@@ -203,6 +226,8 @@ def run(args: argparse.Namespace) -> int:
             from artic.validation.docking.run import truth_yard
 
             truth_yard(vehicle, 0, 0, 0)
+        else:  # the plant needs tyre data that fits: refused now, not in every run
+            check_tyre_data(vehicle, "mbd", NO_PLANT)
     _once(loaded, "--vehicle", vehicles)  # a preset and its file are one vehicle
     from artic.validation.docking.variants import check_trailer
 
@@ -266,7 +291,7 @@ def run(args: argparse.Namespace) -> int:
     docked = int(frame["success"].sum())
     print(md, end="")
     print(f"wrote {csv}: {docked} of {len(frame)} runs docked; {out / 'dock_table.md'}")
-    return 0
+    return _exit_code(rows, out)
 
 
 def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
@@ -311,6 +336,29 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
     print(md, end="")
     print(f"wrote {csv}: {int(frame['success'].sum())} of {len(frame)} runs docked; "
           f"{out / 'sweep_pairs.csv'}, {out / 'sweep.md'}, {out / 'sweep.png'}")
+    return _exit_code(rows, out)
+
+
+def _exit_code(rows: list[dict], out: Path) -> int:
+    """0, or 1 with one line when the command did not produce what it was asked for.
+
+    A recording that could not be written (a full disk) is an output error: its run keeps
+    its scores. A benchmark in which no run docked measured nothing but the failure: the
+    tables are written, and the first failure is named (a missing dependency, a controller
+    that fails at once).
+    """
+    from artic.validation.docking.run import RECORDING_ERROR
+
+    unwritten = [r[RECORDING_ERROR] for r in rows if r.get(RECORDING_ERROR)]
+    if unwritten:
+        print(f"artic: error: {len(unwritten)} of {len(rows)} recording(s) not written "
+              f"(first: {unwritten[0]}); the runs' scores are in {out}: free space there, "
+              "or give --no-recordings", file=sys.stderr)
+        return 1
+    if rows and not any(bool(r["success"]) for r in rows):
+        print(f"artic: error: none of the {len(rows)} run(s) docked (first: "
+              f"{rows[0]['failure']}); see {out / 'dock.csv'}", file=sys.stderr)
+        return 1
     return 0
 
 

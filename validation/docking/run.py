@@ -130,6 +130,10 @@ TRAILER_STREAM)``: drawn apart from the start and the sensors, so that those sta
 they are with the file's semitrailer, and the same for every controller."""
 
 
+RECORDING_ERROR = "recording_error"
+"""Key of a run's row whose recording could not be written (not a column of ``dock.csv``):
+where, and why. The run keeps its scores; ``artic dock`` names it and exits 1."""
+
 @dataclass
 class Trace:
     """What happened in one run, for the scores and the recording.
@@ -336,7 +340,14 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
            "l2_updates": identifier.updates, **draw.row()}
     result = Result(row, trace, plan, yard, start)
     if record is not None:
-        write_recording(result, plant_vehicle, Path(record), seen_vehicle=vehicle)
+        try:
+            write_recording(result, plant_vehicle, Path(record), seen_vehicle=vehicle)
+        except (MemoryError, RecursionError):
+            raise
+        except Exception as exc:  # noqa: BLE001 - an output error, not the run's
+            # A full disk measures the disk, not the controller: the run keeps its scores,
+            # and the command reports the recording (RECORDING_ERROR) and exits non-zero.
+            row[RECORDING_ERROR] = f"{record}: {_one_line(exc)}"
     return result
 
 

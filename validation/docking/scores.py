@@ -405,8 +405,11 @@ def paired(rows: pd.DataFrame, a: str, b: str, column: str, absolute: bool = Tru
 
 
 def markdown(t: pd.DataFrame) -> str:
-    """The table as GitHub Markdown."""
+    """The table as GitHub Markdown (each cell escaped: a ``|`` in a name stays in its cell)."""
+    from artic.validation.review.tables import escape
+
     cols = list(t.columns)
-    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    lines += ["| " + " | ".join(str(v) for v in r) + " |" for r in t.itertuples(index=False)]
+    lines = ["| " + " | ".join(escape(c) for c in cols) + " |", "|" + "---|" * len(cols)]
+    lines += ["| " + " | ".join(escape(v) for v in r) + " |"
+              for r in t.itertuples(index=False)]
     return "\n".join(lines) + "\n"

@@ -18,6 +18,13 @@ found in them), one run at a time each, and yields each task's result as it
 comes, or the row :func:`failed_row` makes of a run that ended its worker. A
 worker is started per ``jobs``, not per run: the supervision costs a pipe
 message per run, as a process pool's does.
+
+On a Dask cluster, whose worker processes may not start others the
+multiprocessing way (they are daemons), :func:`in_child` runs each run in a
+forked child of the task's worker: a controller that ends its process ends the
+child, and its run is a failed row naming the exit code, as here, where the
+cluster would otherwise lose the worker, retry the run on three more and report
+``KilledWorker``.
 """
 
 from __future__ import annotations
@@ -25,6 +32,7 @@ from __future__ import annotations
 import contextlib
 import multiprocessing as mp
 import os
+import pickle
 import signal
 import time
 from collections import deque
@@ -138,6 +146,64 @@ def _ended(code: int | None) -> str:
     return f"exit code {code}"
 
 
+ENDED = "controller ended the run's process"
+"""How the failure of a run that ended its worker process begins."""
+
+
+def _ended_reason(code: int | None) -> str:
+    return f"{ENDED} ({_ended(code)}): a sys.exit, os._exit or crash outside Python"
+
+
+class ChildEnded(RuntimeError):
+    """The forked child of :func:`in_child` ended before it answered; the message says how."""
+
+
+def in_child(fn: Callable, *args: object) -> object:
+    """``fn(*args)`` in a forked child of this process; its result, or its exception's line.
+
+    Raises
+    ------
+    ChildEnded
+        The child ended without an answer (``os._exit``, a signal): the message names the
+        exit code or the signal, as :func:`supervised`'s failed rows do.
+    RuntimeError
+        ``fn`` raised: its type and message, on one line.
+    """
+    if not hasattr(os, "fork"):  # pragma: no cover - no fork on this platform: run it here
+        return fn(*args)
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: answer through the pipe, then end without the parent's cleanup
+        code = 0
+        try:
+            os.close(r)
+            try:
+                out = ("ok", fn(*args))
+            except BaseException as exc:  # noqa: BLE001 - reported to the parent
+                out = ("error", " ".join(f"{type(exc).__name__}: {exc}".split()))
+            try:
+                data = pickle.dumps(out)
+            except Exception as exc:  # noqa: BLE001 - an answer that cannot travel is one
+                data = pickle.dumps(("error", "its result cannot be sent back ("
+                                     + " ".join(f"{type(exc).__name__}: {exc}".split()) + ")"))
+            with os.fdopen(w, "wb") as f:
+                f.write(data)
+        except BaseException:  # noqa: BLE001 - the parent reports the missing answer
+            code = 70
+        finally:
+            os._exit(code)
+    os.close(w)
+    with os.fdopen(r, "rb") as f:
+        data = f.read()
+    _, status = os.waitpid(pid, 0)
+    if not data:
+        raise ChildEnded(_ended_reason(os.waitstatus_to_exitcode(status)))
+    kind, value = pickle.loads(data)
+    if kind != "ok":
+        raise RuntimeError(value)
+    return value
+
+
 def supervised(fn: Callable, tasks: Sequence[tuple[object, tuple]], jobs: int,
                failed: Callable[[object, tuple, str], object],
                deadline: float | None = None) -> Iterator[tuple[object, object]]:
@@ -187,9 +253,7 @@ def supervised(fn: Callable, tasks: Sequence[tuple[object, tuple]], jobs: int,
                         pass
                     if not s.proc.is_alive() or s.proc.sentinel in ready:
                         s.proc.join(timeout=1.0)
-                        reason = (f"controller ended the run's process ("
-                                  f"{_ended(s.proc.exitcode)}): a sys.exit, os._exit or "
-                                  "crash outside Python")
+                        reason = _ended_reason(s.proc.exitcode)
                 started = s.hb[0]
                 if reason is None and started > 0.0 and time.monotonic() - started > deadline:
                     call = CALLS[int(s.hb[1])]

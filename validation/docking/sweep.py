@@ -388,6 +388,20 @@ def run_one(spec: RunSpec, recordings: str | None = None) -> dict:
     return _stored({"axis": spec.axis, "level": spec.level, **row})
 
 
+def run_in_child(spec: RunSpec, recordings: str | None = None) -> dict:
+    """:func:`run_one` in a forked child (a cluster's task): a run that ends it is a row.
+
+    A controller that ends its process then fails its run with the exit code or the
+    signal, as on the local executor, instead of killing the cluster's worker.
+    """
+    from artic.validation.docking.supervise import ChildEnded, in_child
+
+    try:
+        return in_child(run_one, spec, recordings)  # type: ignore[return-value]
+    except ChildEnded as exc:
+        return _failed(spec, str(exc))
+
+
 def _failed(spec: RunSpec, reason: str) -> dict:
     from artic.validation.docking.run import failed_row
 
@@ -418,7 +432,8 @@ died, a cluster worker lost. Their runs are run again when the sweep resumes."""
 def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
     """The rows of ``specs`` already in ``folder``, by run name: same request, same file.
 
-    A run failed by its supervisor or the cluster (:data:`RETRIED`) is not done.
+    A run failed by its supervisor or the cluster (:data:`RETRIED`) is not done, nor one
+    whose recording could not be written (a full disk): the resumed sweep records it.
     """
     out = {}
     for spec in specs:
@@ -428,9 +443,43 @@ def done_runs(folder: Path, specs: Sequence[RunSpec]) -> dict[str, dict]:
         except (OSError, ValueError):
             continue  # not run, or unreadable: run it (again)
         if stored.get("spec") == json.loads(json.dumps(spec.as_dict())) \
-                and not str(stored["row"].get("failure") or "").startswith(RETRIED):
+                and not str(stored["row"].get("failure") or "").startswith(RETRIED) \
+                and not stored["row"].get("recording_error"):
             out[spec.name] = stored["row"]
     return out
+
+
+def _other_runs(folder: Path, specs: Sequence[RunSpec]) -> list[Path]:
+    """Remove the run files in ``folder`` that ``specs`` do not list; return them.
+
+    A sweep of the same axis planned again (other levels, starts or controllers) left them;
+    beside the new tables they would pass for its runs. A sweep of another axis is refused
+    before anything is removed: its runs are another study's.
+
+    Raises
+    ------
+    UserError
+        When the folder holds runs of another axis, naming it and the way out.
+    """
+    if not folder.is_dir() or not specs:
+        return []
+    keep = {f"{s.name}.json" for s in specs}
+    axis = specs[0].axis
+    stale = [p for p in sorted(folder.glob("*.json")) if p.name not in keep]
+    axes = sorted({p.name.split("=", 1)[0] for p in stale} - {_safe_axis(axis)})
+    if axes:
+        raise UserError(f"{folder.parent}: holds the runs of a sweep of {', '.join(axes)} "
+                        f"({len(stale)} run file(s) in {folder}); a sweep of {axis} there "
+                        "would mix the two: choose another --out-dir, or remove that folder")
+    for p in stale:
+        p.unlink(missing_ok=True)
+    return stale
+
+
+def _safe_axis(axis: str) -> str:
+    from artic.validation.docking.run import _safe
+
+    return _safe(axis)
 
 
 def write_run(folder: Path, spec: RunSpec, row: dict) -> Path:
@@ -481,7 +530,7 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
     from artic.validation.runs.executors import cluster_executor
 
     with cluster_executor(executor, jobs, scheduler, dask) as pool:
-        futures = {pool.submit(run_one, s, rec): s for s in specs}
+        futures = {pool.submit(run_in_child, s, rec): s for s in specs}
         try:
             for f in concurrent.futures.as_completed(futures):
                 s = futures[f]
@@ -508,7 +557,13 @@ def sweep(specs: Sequence[RunSpec], out: Path, jobs: int = 1, executor: str = "l
     from artic.validation.cli.progress import Counter
 
     folder = Path(out) / RUNS_DIR
+    others = _other_runs(folder, specs)
     folder.mkdir(parents=True, exist_ok=True)
+    if others and progress is not None:
+        progress(f"removed {len(others)} run file(s) in {folder} of runs this sweep does not "
+                 f"list (an earlier plan's levels, starts or controllers): "
+                 f"{', '.join(p.name for p in others[:3])}" + (", ..." if len(others) > 3
+                                                                else ""))
     rows = done_runs(folder, specs)
     todo = [s for s in specs if s.name not in rows]
     if progress is not None:
@@ -697,7 +752,13 @@ def markdown(summary: pd.DataFrame, pairs: pd.DataFrame) -> str:
         recs.append(rec)
     text = md_table(pd.DataFrame(recs)) if recs else ""
     n = len(pairs)
-    tested = int(np.isfinite(pairs["p"].to_numpy(dtype=float)).sum()) if n else 0
+    if not n:  # say why, rather than a bare 0
+        controllers = summary["controller"].nunique() if len(summary) else 0
+        why = ("one controller: a comparison pairs two controllers over the same starts; "
+               "give --controller A,B" if controllers < 2
+               else "no level has two controllers' runs of the same starts")
+        return text + f"\nPaired comparisons: none ({why}).\n"
+    tested = int(np.isfinite(pairs["p"].to_numpy(dtype=float)).sum())
     untested = (f" ({n - tested} not testable at their number of starts: `test` in "
                 "sweep_pairs.csv says why; their intervals stand, no finding)") \
         if tested < n else ""

@@ -68,8 +68,8 @@ from artic.validation.harness.yawsteer import (
     steering_wheel,
     wants_yaw_rate,
 )
-from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.models import Model, compiled_form, driven, own_loop
+from artic.validation.logs.runfile import MAX_POSITION, Run, new_frame
+from artic.validation.models import Model, compiled_form, driven, own_loop, steering_for
 
 DEFAULT_GAIN = 3.0
 """The paper's feedback gain K [rad/rad]."""
@@ -287,6 +287,37 @@ def count_run(kind: str, t: np.ndarray, n_done: int) -> None:
     BUDGET.add(kind, float(t[n - 1] - t[0]) if n > 1 else 0.0)
 
 
+OBSERVATION_LIMIT = np.array([MAX_POSITION, MAX_POSITION, 1e4, 100.0, 100.0, 100.0] * 2
+                             + [1e4])
+"""Largest magnitude of each observed signal (``OBSERVATION`` order, SI) a model's output may
+have and still be scored: positions within :data:`~artic.validation.logs.runfile.MAX_POSITION`
+(a quarter meridian), headings within 1e4 rad, speeds within 100 m/s (360 km/h) and rates
+within 100 rad/s. A model beyond them (an output of 1e300) has diverged as surely as one
+that is no longer finite: its run stops there, with its status saying so, instead of an
+``eps_p`` of infinity with the status ``ok``."""
+
+
+DIVERGED = "diverged: "
+"""How a status's reason begins when the model's output stopped being finite or left every
+physical range (:func:`beyond_limits`): ``artic simulate`` exits 1 on it."""
+
+
+def beyond_limits(o: np.ndarray) -> str:
+    """``""``, or which observed signal of ``o`` is not finite or beyond its limit, and how.
+
+    The text begins with :data:`DIVERGED`.
+    """
+    from artic.mjcf.interface import OBSERVATION
+
+    for name, value, limit in zip(OBSERVATION, o, OBSERVATION_LIMIT, strict=True):
+        if not math.isfinite(value):
+            return f"{DIVERGED}{name} stopped being finite"
+        if abs(value) > limit:
+            return (f"{DIVERGED}{name} = {value:.3g} left the range a model's output may have "
+                    f"(|{name}| <= {limit:g} SI)")
+    return ""
+
+
 def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
                  delta_max, gamma_max, extras=None):
     n = delta_c.size
@@ -304,8 +335,8 @@ def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
         obs[k], delta[k], delta_fb[k], sat[k] = o, d, f, s
         if names:
             ext[k] = model.extras()
-        if abs(o[12]) > gamma_max or not np.all(np.isfinite(o)):
-            return obs, delta, delta_fb, sat, k + 1
+        if abs(o[12]) > gamma_max or not np.all(np.abs(o) <= OBSERVATION_LIMIT):
+            return obs, delta, delta_fb, sat, k + 1  # NaN fails the comparison too
         if k + 1 < n:
             model.step(dt[k], d, u1[k], u1_dot[k])
     return obs, delta, delta_fb, sat, n
@@ -351,7 +382,7 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
     >>> bool(abs(run.frame["gamma"] - log.frame["gamma"]).max() < 1e-6)  # [rad]
     True
     """
-    steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
+    steering = SteeringMap.from_steering(steering_for(vehicle, model))
     inputs = loop_inputs(run, vehicle, steering)
     extra: dict[str, np.ndarray] | None = {} if extras else None
     obs, delta, delta_fb, sat, n = run_inputs(model, inputs, vehicle, gain, extra)
@@ -365,9 +396,9 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
     status = "ok"
     if n < inputs.t.size:
         g = obs[n - 1, 12]
-        why = (f"articulation {math.degrees(g):.1f} deg passed the jackknife limit "
-               f"{math.degrees(vehicle.gamma_max):.1f} deg" if np.all(np.isfinite(obs[n - 1]))
-               else "the state stopped being finite")
+        why = beyond_limits(obs[n - 1]) or (
+            f"articulation {math.degrees(g):.1f} deg passed the jackknife limit "
+            f"{math.degrees(vehicle.gamma_max):.1f} deg")
         status = f"stopped at t = {inputs.t[n - 1]:.2f} s: {why}"
     meta = {
         "name": f"{run.name}.{model.name}", "source": f"model:{model.name}",

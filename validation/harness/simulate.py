@@ -19,10 +19,10 @@ import numpy as np
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.harness.feedback import feedback_law
-from artic.validation.harness.loop import LoopInputs, run_inputs
+from artic.validation.harness.loop import LoopInputs, beyond_limits, run_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.models import Model, driven
+from artic.validation.models import Model, driven, steering_for
 from artic.validation.synthetic.manoeuvres import Profile
 
 
@@ -53,7 +53,7 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
     >>> run.frame.shape[0], bool(run.frame["gamma"].abs().max() > 0.01)  # it turned [rad]
     (801, True)
     """
-    steering = SteeringMap.from_steering(vehicle.steering_for(model.name))
+    steering = SteeringMap.from_steering(steering_for(vehicle, model))
     steering.check_range(profile.delta_h, f"manoeuvre {profile.kind}")
     u1_dot = np.zeros_like(profile.u1)
     u1_dot[:-1] = np.diff(profile.u1) / np.diff(profile.t)
@@ -65,8 +65,9 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
         initial=InitialState(0.0, 0.0, 0.0, 0.0, u1=float(profile.u1[0])))
     obs, delta, _, sat, k = run_inputs(model, inputs, vehicle, gain=0.0)
     status = "ok"
-    if k < n and not np.all(np.isfinite(obs[k - 1])):
-        status = f"stopped at t = {profile.t[k - 1]:.2f} s: the state stopped being finite"
+    beyond = beyond_limits(obs[k - 1]) if k < n else ""
+    if beyond:  # not finite, or beyond every physical range (loop.OBSERVATION_LIMIT)
+        status = f"stopped at t = {profile.t[k - 1]:.2f} s: {beyond}"
         k -= 1  # the run keeps its sound samples only
     elif k < n:
         status = (f"stopped at t = {profile.t[k - 1]:.2f} s: articulation "
@@ -119,7 +120,7 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
     Run
         Signal schema with ``delta_h`` as the driver turned the wheel.
     """
-    steering = steering or SteeringMap.from_steering(vehicle.steering_for(model.name))
+    steering = steering or SteeringMap.from_steering(steering_for(vehicle, model))
     n = t.size
     model = driven(model)
     model.reset(InitialState(0.0, 0.0, 0.0, float(gamma_ref[0]), u1=float(u1[0])))

@@ -356,6 +356,11 @@ def _read(path, reader, chmap: ChannelMap, ros1: bool, typesys, reader_errors, S
                               np.asarray(receive[topic], dtype=np.int64), chmap.path)
             else:
                 ns = np.asarray(receive[topic], dtype=np.int64)
+                if stamps[topic] and all(s is not None for s in stamps[topic]):
+                    header = np.asarray(stamps[topic], dtype=np.int64)  # compared, unused
+                    if header.size > 1 and not np.all(header == header[0]):
+                        _check_order(path, topic, by_topic[topic][0].msgtype,
+                                     entries[idx[0]], header, ns)
             raw_streams.append((topic, source, ns, [entries[k] for k in idx],
                                 [np.asarray(values[topic][k], dtype=float) for k in idx]))
             m = int(ns.min())
@@ -375,6 +380,12 @@ def _read(path, reader, chmap: ChannelMap, ros1: bool, typesys, reader_errors, S
     return streams, lines
 
 
+STAMP_BACKWARDS = 0.25
+"""Largest share of a topic's steps, in receive order, whose header stamp goes back: a bursty
+link delivers some messages out of order (they are sorted by the stamps used), but receive
+times that run against the header stamps for most steps are reversed."""
+
+
 def _check_stamps(path: Path, topic: str, msgtype: str, e: Entry, header: np.ndarray,
                   receive: np.ndarray, map_path: str) -> None:
     """Refuse header stamps spread over another span than the receive times (another unit).
@@ -386,6 +397,7 @@ def _check_stamps(path: Path, topic: str, msgtype: str, e: Entry, header: np.nda
     """
     if header.size < 3:
         return
+    _check_order(path, topic, msgtype, e, header, receive)
     span_h = float(header.max() - header.min()) * 1e-9
     span_r = float(receive.max() - receive.min()) * 1e-9
     if span_r <= 0.0 or span_h <= 0.0:
@@ -398,6 +410,28 @@ def _check_stamps(path: Path, topic: str, msgtype: str, e: Entry, header: np.nda
                    f"them over {span_r:.6g} s, {ratio:.3g} times as long (more than "
                    f"{STAMP_RATIO:g} either way); its publisher's stamps are in another unit "
                    f'or clock: give {e.channel} time = "receive" in {map_path}')
+
+
+def _check_order(path: Path, topic: str, msgtype: str, e: Entry, header: np.ndarray,
+                 receive: np.ndarray) -> None:
+    """Refuse header stamps that run backwards against the receive times.
+
+    Raises
+    ------
+    LogError
+        Naming the topic and the share of its steps that go back
+        (beyond :data:`STAMP_BACKWARDS`).
+    """
+    if header.size < 3:
+        return
+    back = float(np.mean(np.diff(header[np.argsort(receive, kind="stable")]) < 0))
+    if back > STAMP_BACKWARDS:
+        raise LogError(f"{path}: topic {topic} ({msgtype}), field {e.field}: stamp check: "
+                       f"its header stamps run backwards against the bag's receive times in "
+                       f"{100.0 * back:.0f} % of its {header.size - 1} steps (at most "
+                       f"{100.0 * STAMP_BACKWARDS:.0f} % expected of a bursty link): one of "
+                       "the two clocks runs backwards (a bag rewritten in reverse, a stamp's "
+                       "sign); the log cannot say which runs forward: fix the bag's stamps")
 
 
 def _decoder(path: Path, conn, base, ros1: bool, typesys, entries: list[Entry]) -> Callable:

@@ -109,7 +109,8 @@ CHECKS: dict[str, str] = {
     "steering": "steering wheel against the steering map's reach and the observed curvature",
     "hitch": "semitrailer against tractor through one hitch point",
     "articulation": "articulation against the derived unit's kinematics: its axle rolls along "
-                    "its heading, which fixes gamma's sign and scale (logs with a derived unit)",
+                    "its heading, which fixes gamma's sign and scale (logs with a derived "
+                    "unit); against psi_1 - psi_2 where both units are measured (an offset)",
     "metadata": "the direction the metadata states (or its manoeuvre implies) against the "
                 "motion",
 }
@@ -215,6 +216,13 @@ the travel by twice the swing. Beyond it, a track that fits at least twice as we
 back is refused. Tyre slip and a sensor off the vehicle file's place move the travel off the
 heading too, but alike for the track and its mirror: they never make the mirror fit twice
 as well (on a log that keeps its heading both fit alike, and nothing is refused)."""
+
+ARTICULATION_OFFSET = math.radians(2.0)
+"""Largest constant difference between a measured ``gamma`` and the measured headings'
+``psi_1 - psi_2`` (less the sensors' declared mounting yaws) [rad]: ten times what
+dual-antenna GNSS/INS headings (0.1-0.2 deg each) and a hitch encoder (0.1 deg) leave, and
+what a rear camera's 1.25 deg RMS leaves in a median over a log. A hitch sensor's zero or an
+undeclared mounting yaw shows as more."""
 
 METADATA_SHARE = 0.25
 """Least share of the distance driven in the direction the metadata states: a docking
@@ -942,6 +950,34 @@ def check_articulation(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
                    explain(k, "gamma", ctx) + "; declare its unit in the channel map")
 
 
+def check_articulation_offset(t: np.ndarray, df: pd.DataFrame, vehicle,
+                              ctx: Context) -> Finding | None:
+    """A measured ``gamma`` against both measured headings: ``gamma = psi_1 - psi_2``.
+
+    The sensors' mounting yaws (``sensor_yaw`` of each unit in the vehicle file) turn
+    each heading; what is left is noise about zero. Its median beyond
+    :data:`ARTICULATION_OFFSET` is an offset of the articulation (or of one heading).
+    """
+    mount = 0.0 if vehicle is None else vehicle.sensor1_yaw - vehicle.sensor2_yaw
+    d = np.angle(np.exp(1j * (df["gamma"].to_numpy(float) - df["psi_1"].to_numpy(float)
+                              + df["psi_2"].to_numpy(float) + mount)))
+    if not d.size or not np.all(np.isfinite(d)):
+        return None
+    off = float(np.median(d))
+    if abs(off) <= ARTICULATION_OFFSET:
+        return None
+    spread = float(np.median(np.abs(d - off)))
+    name = ctx.name("gamma")
+    return Finding("articulation", name, float(t[0]), float(t[-1]),
+                   f"it differs from the headings' difference psi_1 - psi_2 by "
+                   f"{math.degrees(off):.3g} deg (median over the log, spread "
+                   f"{math.degrees(spread):.2g} deg; at most "
+                   f"{math.degrees(ARTICULATION_OFFSET):g} deg expected)",
+                   f"{name} (the articulation angle gamma) has an offset: the hitch sensor's "
+                   "zero, or a heading sensor's mounting yaw not declared (sensor_yaw in the "
+                   "vehicle file); give its offset in the channel map")
+
+
 def check_metadata(frame: pd.DataFrame, meta: Mapping) -> Finding | None:
     """The direction the metadata states, or its manoeuvre implies, against the motion.
 
@@ -1041,6 +1077,9 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
             yield f
     if derived and "articulation" in run and (
             f := check_articulation(t, frame, vehicle, ctx, sc, tracked or 1)) is not None:
+        yield f
+    if not derived and "articulation" in run and (
+            f := check_articulation_offset(t, frame, vehicle, ctx)) is not None:
         yield f
     if "steering" in run:
         steer_vehicle = vehicle

@@ -138,7 +138,65 @@ def parse_noise(table: object, where: str) -> dict[str, ChannelNoise]:
         factor = UNITS[unit][1]
         out[channel] = ChannelNoise(values["sigma"] * factor, values["tau"],
                                     values["bias"] * factor)
+        for name in ("sigma", "bias"):
+            _judge(where, key, name, values[name], unit, factor, DIMENSION[channel])
     return out
+
+
+@dataclass(frozen=True)
+class NoiseRange:
+    """How large a declared noise of one dimension may be (SI).
+
+    Attributes
+    ----------
+    usual : float
+        The largest of the sensors of that kind; above it a warning.
+    possible : float
+        Above it no sensor of that kind measures anything a criterion could use: a
+        unit mistake (degrees read as radians, millimetres as metres); refused.
+    sensors : str
+        The sensors and their accuracies the bounds rest on, for the messages.
+    """
+
+    usual: float
+    possible: float
+    sensors: str
+
+
+NOISE_RANGES: dict[str, NoiseRange] = {
+    "length": NoiseRange(0.5, 10.0, "RTK GNSS/INS 0.01-0.02 m, DGNSS 0.3-0.5 m, standalone "
+                                    "GNSS 1-3 m"),
+    "angle": NoiseRange(math.radians(2.0), math.radians(20.0),
+                        "dual-antenna GNSS/INS heading 0.1-0.2 deg, hitch encoder 0.1 deg, "
+                        "rear camera 1.25 deg"),
+    "speed": NoiseRange(0.5, 5.0, "GNSS Doppler 0.02-0.05 m/s, wheel speed 0.1-0.3 m/s"),
+    "rate": NoiseRange(math.radians(2.0), math.radians(30.0),
+                       "automotive MEMS gyro 0.05-0.5 deg/s, turn-on bias up to 1 deg/s"),
+}
+"""Plausible and possible noise per dimension, from the datasheet accuracies of the sensors
+a yard's tractor-semitrailer carries (the ``sensors`` of each). The possible bound is ten
+times the usual or more: a noise above it would make every criterion measure the noise."""
+
+
+def _judge(where: str, key: str, name: str, value: float, unit: str, factor: float,
+           dimension: str) -> None:
+    """Refuse a noise no sensor of ``dimension`` has; warn beyond the usual (see above)."""
+    import warnings
+
+    from artic.mjcf.plausible import PlausibilityWarning
+
+    r = NOISE_RANGES[dimension]
+    si = value * factor
+    if si <= r.usual:
+        return
+    lo, hi = r.usual / factor, r.possible / factor
+    if si > r.possible:
+        raise LogError(f"{where}: {key}: {name} = {value:g} {unit} is beyond any sensor of its "
+                       f"kind ({r.sensors}; refused above {hi:.3g} {unit}); check the value "
+                       "and its unit (unit = \"deg\" for degrees)")
+    warnings.warn(f"{where}: {key}: {name} = {value:g} {unit} is unusual: more than the usual "
+                  f"{lo:.3g} {unit} ({r.sensors}); check it", PlausibilityWarning,
+                  stacklevel=4)
 
 
 def read_noise(path: Path) -> dict[str, ChannelNoise]:

@@ -278,7 +278,36 @@ def parse_meta(raw: bytes | str, source: str) -> dict[str, Any]:
     if not isinstance(meta, dict):
         raise LogError(f"{source}: expected a JSON object of run metadata "
                        f"({{\"manoeuvre\": ..., \"load\": ...}}), got {type(meta).__name__}")
+    check_meta(meta, source)
     return meta
+
+
+META_VALUES: dict[str, tuple[Callable[[Any], bool], str]] = {
+    "direction": (lambda v: v in ("forward", "reverse"), '"forward" or "reverse"'),
+    "manoeuvre": (lambda v: isinstance(v, str), "a string (the manoeuvre's kind)"),
+    "load": (lambda v: isinstance(v, str), 'a string ("unloaded", "loaded")'),
+    "name": (lambda v: isinstance(v, str), "a string"),
+    "sensor_noise": (lambda v: isinstance(v, dict),
+                     'an object of channels ({"x_1": {"sigma": 0.01}, ...}, SI units)'),
+}
+"""The metadata keys artic reads, with what each must hold. A value outside it is refused
+when the log is read: a ``direction`` of ``"sideways"`` would otherwise leave the log out of
+every table (forward and reverse) without a word, a ``sensor_noise`` of ``"loud"`` read as
+none declared. Other keys are the user's, kept as they are."""
+
+
+def check_meta(meta: dict, source: str) -> None:
+    """Refuse a metadata value artic reads that is not of its kind (:data:`META_VALUES`).
+
+    Raises
+    ------
+    LogError
+        Naming ``source``, the key, the value and what it must hold.
+    """
+    for key, (ok, expected) in META_VALUES.items():
+        if key in meta and meta[key] is not None and not ok(meta[key]):
+            raise LogError(f"{source}: metadata {key!r} is {json.dumps(meta[key])[:60]}; it "
+                           f"must be {expected}: correct it, or remove the key")
 
 
 def check_frame(df: pd.DataFrame, source: str = "log", scale: LogScale = FULL_SIZE,

@@ -463,7 +463,16 @@ def record_manoeuvre(path: Path, log: Run, runs: Mapping[str, Run], vehicle: Veh
 
 
 def _every(t: np.ndarray, rate: float) -> int:
-    return max(1, round(1.0 / (rate * float(np.median(np.diff(t))))))
+    """Every how many samples of ``t`` [s] to draw at ``rate`` [Hz]; 1 for fewer than two.
+
+    A run that ended at its first sample (a controller that failed in ``reset``)
+    has no step to take the median of; its one sample is drawn.
+    """
+    steps = np.diff(np.asarray(t, dtype=float))
+    steps = steps[np.isfinite(steps) & (steps > 0.0)]
+    if not steps.size:
+        return 1
+    return max(1, round(1.0 / (rate * float(np.median(steps)))))
 
 
 def _log_manoeuvre(rec: rr.RecordingStream, log: Run, runs: Mapping[str, Run], vehicle: Vehicle,
@@ -680,37 +689,45 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         rec.log("/yard/plan", rr.LineStrips3D([np.column_stack([p, np.full(len(p), 0.08)])
                                                for p in plan], colors=[(0, 200, 255)],
                                               radii=0.06), static=True)
-        colour = model_colour("mbd")
-        every = _every(t, YARD_RATE)
-        _log_paths(rec, "/yard/mbd", f, geo, every, colour)
-        if has_pose(f.columns):
-            rows = np.flatnonzero(np.isfinite(f["pose.tractor.x"].to_numpy(dtype=float)))
-            if rows.size > 1:
-                _log_plant(rec, "/yard/mbd", f, vehicle, _timelines(t[rows], s[rows]), rows,
-                           colour)
-        _log_intent(rec, "/yard/horizon", horizons, t, s, 0.12, (255, 0, 200), 0.05)
-        _log_intent(rec, "/yard/plan/tracked", references, t, s, 0.10, (0, 255, 140), 0.09)
-        if any(r is not None for _, r in references):
-            rt = np.array([r[0] for r in references])
-            pts = [r[1][:1, :2] for r in references if r[1] is not None]
-            rec.send_columns("/yard/plan/point", indexes=_timelines(rt, np.interp(rt, t, s)),
-                             columns=rr.Points3D.columns(positions=np.column_stack(
-                                 [np.concatenate(pts), np.full(len(pts), 0.15)])).partition(
-                                 [0 if r is None else 1 for _, r in references]))
-            rec.log("/yard/plan/point", rr.Points3D.from_fields(colors=[(0, 255, 140)],
-                                                                radii=[0.25]), static=True)
-        pe = _every(t, PLOT_RATE)
-        ts = _timelines(t[::pe], s[::pe])
-        _series(rec, "/signals/steering_wheel", ts, np.degrees(f["delta_h"].to_numpy()[::pe]),
-                "delta_h", colour)
-        _series(rec, "/signals/speed", ts, 3.6 * f["v_x_1"].to_numpy()[::pe], "v_x_1", colour)
-        _series(rec, "/signals/articulation", ts, np.degrees(f["gamma"].to_numpy()[::pe]),
-                "gamma", colour)
-        if seen is not None:
-            _log_seen(rec, seen, t, s)
+        if len(t):  # a run that ended before its first sample (failed in reset) has none
+            _log_docking_run(rec, f, t, s, vehicle, geo, horizons, references, seen)
         rec.log("/description", rr.TextDocument(text, media_type=rr.MediaType.MARKDOWN),
                 static=True)
     return Path(path)
+
+
+def _log_docking_run(rec: rr.RecordingStream, f: pd.DataFrame, t: np.ndarray, s: np.ndarray,
+                     vehicle: Vehicle, geo: _Geometry, horizons: Sequence, references: Sequence,
+                     seen: tuple | None) -> None:
+    """A docking run's samples: paths, plant, intent, signals and what was seen."""
+    colour = model_colour("mbd")
+    every = _every(t, YARD_RATE)
+    _log_paths(rec, "/yard/mbd", f, geo, every, colour)
+    if has_pose(f.columns):
+        rows = np.flatnonzero(np.isfinite(f["pose.tractor.x"].to_numpy(dtype=float)))
+        if rows.size > 1:
+            _log_plant(rec, "/yard/mbd", f, vehicle, _timelines(t[rows], s[rows]), rows,
+                       colour)
+    _log_intent(rec, "/yard/horizon", horizons, t, s, 0.12, (255, 0, 200), 0.05)
+    _log_intent(rec, "/yard/plan/tracked", references, t, s, 0.10, (0, 255, 140), 0.09)
+    if any(r is not None for _, r in references):
+        rt = np.array([r[0] for r in references])
+        pts = [r[1][:1, :2] for r in references if r[1] is not None]
+        rec.send_columns("/yard/plan/point", indexes=_timelines(rt, np.interp(rt, t, s)),
+                         columns=rr.Points3D.columns(positions=np.column_stack(
+                             [np.concatenate(pts), np.full(len(pts), 0.15)])).partition(
+                             [0 if r is None else 1 for _, r in references]))
+        rec.log("/yard/plan/point", rr.Points3D.from_fields(colors=[(0, 255, 140)],
+                                                            radii=[0.25]), static=True)
+    pe = _every(t, PLOT_RATE)
+    ts = _timelines(t[::pe], s[::pe])
+    _series(rec, "/signals/steering_wheel", ts, np.degrees(f["delta_h"].to_numpy()[::pe]),
+            "delta_h", colour)
+    _series(rec, "/signals/speed", ts, 3.6 * f["v_x_1"].to_numpy()[::pe], "v_x_1", colour)
+    _series(rec, "/signals/articulation", ts, np.degrees(f["gamma"].to_numpy()[::pe]),
+            "gamma", colour)
+    if seen is not None:
+        _log_seen(rec, seen, t, s)
 
 
 SEEN_COLOUR = (255, 150, 0)

@@ -213,13 +213,22 @@ def _criterion_of(df: pd.DataFrame) -> dict[str, str]:
     return out
 
 
+def escape(text: object) -> str:
+    """``text`` as one Markdown table cell: ``|`` escaped, line breaks as spaces.
+
+    Names come from files and users (a vehicle's, a controller's, a registered
+    model's); a ``|`` or a newline in one would otherwise split its row.
+    """
+    return " ".join(str(text).splitlines()).replace("|", "\\|")
+
+
 def cell(v: object, digits: int = 4) -> str:
-    """One value as table text: ``-`` for a missing number, never ``nan``."""
+    """One value as table text: ``-`` for a missing number, never ``nan``; text escaped."""
     if isinstance(v, float | np.floating):
         return "-" if not math.isfinite(v) else f"{v:.{digits}g}"
     if isinstance(v, bool | np.bool_):
         return "yes" if v else "no"
-    return str(v)
+    return escape(v)
 
 
 def markdown(df: pd.DataFrame, digits: int = 4) -> str:
@@ -233,8 +242,8 @@ def markdown(df: pd.DataFrame, digits: int = 4) -> str:
     """
     hidden = _criterion_of(df)
     shown = [c for c in df.columns if c not in hidden]
-    head = [df.index.name or ""] + [f"{c} [{UNITS[c]}]" if c in UNITS else str(c)
-                                    for c in shown]
+    head = [escape(df.index.name or "")] + [f"{c} [{UNITS[c]}]" if c in UNITS else escape(c)
+                                            for c in shown]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
 
     def text(row: pd.Series, c) -> str:

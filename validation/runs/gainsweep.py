@@ -41,7 +41,7 @@ from artic.validation.harness.batch import BatchResult, run_batch
 from artic.validation.harness.loop import LoopInputs, loop_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.models import spec
+from artic.validation.models import spec, steering_for
 
 DEFAULT_GAINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
 """Gains swept by default [rad/rad]; the bound of every vehicle is added."""
@@ -138,7 +138,7 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
 
 def _inputs(model: str, vehicle: Vehicle, logs: Sequence[Run]) -> list[LoopInputs]:
     """The harness's inputs of ``model`` on each log (:func:`loop_inputs`)."""
-    steering = SteeringMap.from_steering(vehicle.steering_for(model))
+    steering = SteeringMap.from_steering(steering_for(vehicle, model))
     return [loop_inputs(log, vehicle, steering) for log in logs]
 
 
@@ -173,7 +173,7 @@ def _metrics(log: Run, inputs: LoopInputs, res: BatchResult, i: int) -> dict[str
     frame = new_frame(inputs.t[:n], inputs.delta_h[:n], res.obs[i][:n])
     frame["delta"] = res.delta[i][:n]
     frame["delta_fb"] = res.delta_fb[i][:n]
-    return run_metrics(log.frame, frame, positions=False)
+    return run_metrics(log.frame, frame, positions=False, beyond=False)
 
 
 def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:

@@ -75,10 +75,19 @@ def check_output_dir(path: Path | str, option: str = "--out-dir") -> Path:
 
 
 def check_output_file(path: Path | str, option: str = "--out") -> Path:
-    """Check that ``path`` can be written atomically: a writable folder, not a folder itself."""
+    """Check that ``path`` can be written atomically: a writable folder, not a folder itself.
+
+    Its folder must exist: a file is written into a folder the user made (a mistyped
+    ``/nonexistnt/run.parquet`` would otherwise make folders anywhere, even at the root),
+    while ``--out-dir`` names a folder of artic's own, made with its parents.
+    """
     path = Path(path)
     if path.is_dir():
         raise OutputError(f"{option} {path}: is a folder; give a file name")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.exists():
+        raise OutputError(f"{option} {path}: the folder {parent} does not exist; make it "
+                          "first, or give a file in a folder that does")
     check_output_dir(path.parent if str(path.parent) else Path("."), option=f"{option} folder")
     return path
 

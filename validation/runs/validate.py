@@ -258,7 +258,7 @@ def _criteria(log: Run, run: Run, vehicle: Vehicle) -> dict[str, float]:
     nan = {c: float("nan") for c in (*CRITERIA, *extra.COLUMNS) if c != "eps_n_fixed"}
     if is_failed(run.meta["status"]) or len(run.frame) < 2:
         return nan | {"s_max": 0.0, "duration_s": 0.0}
-    out = {k: float(v) for k, v in run_metrics(log.frame, run.frame).items()}
+    out = {k: float(v) for k, v in run_metrics(log.frame, run.frame, beyond=False).items()}
     out |= extra.of_run(log, run, vehicle)
     pred = run.meta.get("prediction", {})
     out |= {c: float(pred.get(c, float("nan"))) for c in extra.COLUMNS

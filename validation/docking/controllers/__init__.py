@@ -15,6 +15,7 @@ constructor and the interface of :class:`~artic.validation.docking.controllers.b
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import traceback
 
 from artic.mjcf.errors import UserError
@@ -45,9 +46,12 @@ BUILTIN: dict[str, tuple[str, str]] = {
 def load(spec: str) -> type:
     """The controller class named by ``spec``: a :data:`BUILTIN` name or ``module:Class``.
 
+    A class's :attr:`~artic.validation.docking.controllers.base.Controller.requires`
+    (modules its runs import) are checked here, before any run starts.
+
     Raises
     ------
-    ValueError
+    UserError
         One line naming what is wrong with ``spec`` and what to give instead.
     """
     target = BUILTIN[spec][0] if spec in BUILTIN else spec
@@ -79,4 +83,8 @@ def load(spec: str) -> type:
             or not callable(getattr(cls, "reset", None)):
         raise UserError(f"--controller {spec!r}: {module} has no class {name!r} with "
                          f"reset(task) and command(obs) methods")
+    for needed, how in getattr(cls, "requires", ()) or ():
+        if importlib.util.find_spec(needed) is None:  # its runs would each fail: none starts
+            raise UserError(f"--controller {spec!r}: needs {needed}, which is not installed: "
+                            f"{how}")
     return cls

@@ -171,6 +171,11 @@ class Controller:
 
     name = "controller"
 
+    requires: tuple[tuple[str, str], ...] = ()
+    """Modules the controller imports in its runs, each with how to install it, e.g.
+    ``(("casadi", 'pip install "artic[mpc]"'),)``: ``artic dock`` checks them before any
+    run starts (:func:`artic.validation.docking.controllers.load`)."""
+
     def reset(self, task: Task) -> None:
         """Start a run: keep the task and the vehicle's frames and steering map."""
         self.task = task

@@ -108,6 +108,7 @@ class MPC(ReferenceController):
 
     name = "mpc"
     design = "kin"
+    requires = (("casadi", 'pip install "artic[mpc]"'),)
 
     def reset(self, task: Task) -> None:
         """Build the design model, the QP solver, and the warm start."""
