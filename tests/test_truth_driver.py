@@ -175,7 +175,8 @@ def test_the_reaction_delay_delays_the_wheel_by_exactly_its_value(unloaded):
 
 def test_the_wheel_turns_at_the_hands_rate_and_stops_at_lock(unloaded):
     d = DockingDriver(unloaded, delay=0.0)
-    wheels = [d.command(_obs_with_articulation(unloaded, math.radians(60.0)))[0] for _ in range(600)]
+    far_off = _obs_with_articulation(unloaded, math.radians(60.0))
+    wheels = [d.command(far_off)[0] for _ in range(600)]
     steps = np.diff([d.straight, *wheels])
     assert np.max(np.abs(steps)) <= d.rate * d.dt + 1e-12
     assert np.isclose(steps[0], d.rate * d.dt, rtol=1e-12)  # the rate is what limits here
