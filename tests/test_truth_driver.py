@@ -186,6 +186,24 @@ def test_the_wheel_turns_at_the_hands_rate_and_stops_at_lock(unloaded):
     assert max(wheels) <= d.straight + lock + 1e-12
 
 
+def test_off_line_near_the_dock_he_pulls_forward_onto_the_line(unloaded):
+    # 7 m from the face and 1 m off the line (the tolerance is 0.3 m): a
+    # shuffle. Forward, his drive axle follows the line by pure pursuit: the
+    # road wheels at atan(L1 kappa), kappa = -2 e / D_f^2 (the line on his right).
+    d = DockingDriver(unloaded, delay=0.0, rate=1e9, max_shuffles=1)
+    obs = np.zeros(13)
+    obs[OBS_INDEX["y_1"]] = 1.0 + unloaded.sensor1[1]  # drive axle, kingpin and rear at y = 1
+    obs[OBS_INDEX["x_1"]] = 0.0
+    obs[OBS_INDEX["x_1"]] = 7.0 - d.errors(obs)[0]
+    assert d.errors(obs)[:2] == pytest.approx((7.0, 1.0), abs=1e-12)
+    d.command(obs)
+    assert (d.mode, d.shuffles) == ("forward", 1)
+    wheel, u, done = d.command(obs)
+    assert u == d.speed and not done
+    kappa = -2.0 * 1.0 / d.preview_forward ** 2
+    assert wheel == pytest.approx(d.straight + d.i_s * math.atan(unloaded.L1 * kappa), rel=1e-12)
+
+
 @pytest.mark.parametrize("y0,psi0", [(2.0, 0.0), (-3.0, 0.0), (4.0, 8.0)])
 def test_a_straight_reverse_with_an_offset_converges(unloaded, y0, psi0):
     # On KIN (the vehicle here, not the driver's model): from 2-4 m off the
