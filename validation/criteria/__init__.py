@@ -25,7 +25,9 @@ their columns, units, computation and pooling), each in its own module:
   :mod:`~artic.validation.criteria.fixedscale`, with
   :mod:`~artic.validation.criteria.direction` (a log's direction of travel);
 - ``pred_p_2m`` ... ``pred_gamma_10m`` [m, rad], open-loop prediction errors of
-  reverse logs: :mod:`~artic.validation.criteria.prediction`;
+  reverse logs: :mod:`~artic.validation.criteria.prediction`, with
+  :mod:`~artic.validation.criteria.truthrecords` (the truth's states and actuation
+  that generation records in a log for the floor's predictions);
 - ``dock_lat``, ``dock_lon`` [m], ``dock_psi`` [rad], dock errors:
   :mod:`~artic.validation.criteria.dock`, with :mod:`~artic.validation.criteria.points`
   (points of the semitrailer from its sensor).

@@ -92,22 +92,31 @@ models are compared on the same measured states.
 
 from __future__ import annotations
 
-import base64
 import math
 import time
-import zlib
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable
 
 import numpy as np
-import pandas as pd
 
-from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.direction import direction_of
 from artic.validation.criteria.metrics import travelled
 from artic.validation.criteria.points import axle_x, trailer_point
+from artic.validation.criteria.truthrecords import (  # noqa: F401  (their home before)
+    ACTUATION_FIELDS,
+    ACTUATION_KEY,
+    SPACING,
+    STATE_KEY,
+    STATE_MARGIN,
+    RecordedActuation,
+    TruthStates,
+    candidates,
+    record_actuation,
+    record_states,
+    recorded_actuation,
+    truth_states,
+)
 from artic.validation.harness.loop import loop_inputs, run_inputs, window
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
@@ -115,9 +124,6 @@ from artic.validation.models import Model, driven, steering_for
 
 HORIZONS = (2.0, 5.0, 10.0)
 """Travelled distances of the predictions [m]."""
-
-SPACING = 10.0
-"""Travelled distance between start points [m] (see the module docstring)."""
 
 
 def columns(horizons: tuple[float, ...] = HORIZONS) -> tuple[str, ...]:
@@ -127,25 +133,6 @@ def columns(horizons: tuple[float, ...] = HORIZONS) -> tuple[str, ...]:
 
 COLUMNS = columns()
 UNITS = {c: ("m" if c.startswith("pred_p") else "rad") for c in COLUMNS}
-
-
-def candidates(s: np.ndarray, spacing: float = SPACING) -> np.ndarray:
-    """Sample indices of the first sample at or after every ``spacing`` metres of ``s``.
-
-    The start points before the reversing filter of :func:`start_points`.
-
-    Parameters
-    ----------
-    s : ndarray
-        Travelled distance per sample, non-decreasing [m].
-    spacing : float
-        Distance between start points [m].
-    """
-    if s.size == 0:
-        return np.zeros(0, dtype=int)
-    marks = np.arange(0.0, float(s[-1]) + 0.5 * spacing, spacing)
-    idx = np.unique(np.searchsorted(s, marks, side="left"))
-    return idx[idx < s.size]
 
 
 def start_points(s: np.ndarray, reversing: np.ndarray, spacing: float = SPACING) -> np.ndarray:
@@ -162,159 +149,6 @@ def start_points(s: np.ndarray, reversing: np.ndarray, spacing: float = SPACING)
     """
     idx = candidates(s, spacing)
     return idx[np.asarray(reversing, dtype=bool)[idx]]
-
-
-STATE_KEY = "truth_state"
-"""The log metadata's key of the truth's recorded states (:func:`record_states`)."""
-
-STATE_MARGIN = 1
-"""Samples recorded either side of each candidate [-]. The export rounds the
-velocities to 1e-5 m/s, which moves the imported log's travelled distance by
-micrometres: a mark that falls that close to a sample moves to its neighbour."""
-
-
-@dataclass(frozen=True)
-class TruthStates:
-    """The truth's full states at some samples of a log (:func:`truth_states`)."""
-
-    t: np.ndarray
-    """The samples' times [s]."""
-    x: np.ndarray
-    """One full state per time (``full_state()`` of the truth), float64."""
-
-    def at(self, t: float) -> np.ndarray | None:
-        """The state at time ``t`` [s] (within a microsecond), or ``None``."""
-        if not self.t.size:
-            return None
-        i = int(np.argmin(np.abs(self.t - t)))
-        return self.x[i] if abs(float(self.t[i]) - t) < 1e-6 else None
-
-
-def record_states(frame: pd.DataFrame, states: Sequence[np.ndarray],
-                  spacing: float = SPACING, margin: int = STATE_MARGIN,
-                  also: Sequence[pd.DataFrame] = ()) -> dict:
-    """The truth's states at a log's start-point candidates, as JSON-ready metadata.
-
-    Parameters
-    ----------
-    frame : DataFrame
-        The log as measured (its travelled distance places the candidates).
-    states : sequence of ndarray
-        The truth's full state at every sample of ``frame``.
-    spacing : float
-        Distance between start points [m].
-    margin : int
-        Neighbours kept either side of each candidate (:data:`STATE_MARGIN`).
-    also : sequence of DataFrame
-        Other measurements of the same run on the same samples (its noise-free
-        twin): their candidates are kept too, so that the floor finds its
-        state at every start point of each (their travelled distances differ
-        by the sensors' noise, and so do the samples the marks fall on).
-
-    Returns
-    -------
-    dict
-        ``t`` (the samples' times [s]), ``size`` (numbers per state) and ``x``
-        (the states, float64 little-endian, base64): exact, and about a
-        kilobyte per sample kept.
-    """
-    if len(states) != len(frame) or any(len(f) != len(frame) for f in also):
-        raise ValueError(f"{len(states)} states and measurements of "
-                         f"{[len(f) for f in (frame, *also)]} samples: expected the same")
-    k = np.concatenate([candidates(travelled(f), spacing) for f in (frame, *also)])
-    keep = np.unique(np.clip((k[:, None] + np.arange(-margin, margin + 1)).ravel(), 0,
-                             len(frame) - 1)) if k.size else np.zeros(0, dtype=int)
-    x = np.array([states[i] for i in keep], dtype="<f8").reshape(len(keep), -1)
-    return {"t": [float(v) for v in frame["t"].to_numpy()[keep]], "size": int(x.shape[1]),
-            "x": base64.b64encode(x.tobytes()).decode("ascii")}
-
-
-def truth_states(meta: dict) -> TruthStates | None:
-    """The truth's states a log's metadata holds (:func:`record_states`), or ``None``."""
-    rec = meta.get(STATE_KEY)
-    if not isinstance(rec, dict):
-        return None
-    t = np.asarray(rec.get("t", []), dtype=float)
-    x = np.frombuffer(base64.b64decode(rec.get("x", "")), dtype="<f8")
-    size = int(rec.get("size", 0))
-    if size <= 0 or x.size != t.size * size:
-        raise UserError(f"{meta.get('name', 'a log')}: metadata {STATE_KEY!r} is damaged "
-                         f"({x.size} numbers for {t.size} states of {size}); generate the log "
-                         "again")
-    return TruthStates(t, x.reshape(t.size, size).astype(float))
-
-
-ACTUATION_KEY = "truth_actuation"
-"""The log metadata's key of the truth's recorded actuation (:func:`record_actuation`)."""
-
-ACTUATION_FIELDS = ("delta", "u1", "u1_dot", "throttle", "brake")
-"""What the truth was given at each step: its ``step`` arguments (steering
-demand [rad], speed [m/s], speed rate [m/s^2]) and its pedals [-]."""
-
-
-@dataclass(frozen=True)
-class RecordedActuation:
-    """The truth's actuation at every step of a log (:func:`recorded_actuation`)."""
-
-    t0: float
-    """The time of the sample before the first step [s]."""
-    dt: float
-    """The step [s]."""
-    speed: str
-    """The truth's speed mode as it made the log (``"pedals"`` or ``"drive"``)."""
-    x: np.ndarray
-    """One row of :data:`ACTUATION_FIELDS` per step, float64."""
-
-    def index(self, t: float) -> int | None:
-        """The step taken from the sample at time ``t`` [s] (within a microsecond), or ``None``."""
-        i = round((t - self.t0) / self.dt)
-        ok = 0 <= i < len(self.x) and abs(self.t0 + i * self.dt - t) < 1e-6
-        return int(i) if ok else None
-
-
-def record_actuation(held: Sequence[Sequence[float]], speed: str, dt: float,
-                     t0: float = 0.0) -> dict:
-    """The truth's actuation at every step, as JSON-ready metadata.
-
-    Parameters
-    ----------
-    held : sequence
-        Per step, the :data:`ACTUATION_FIELDS` the truth was given.
-    speed : str
-        The truth's speed mode (``"pedals"``, ``"drive"``).
-    dt : float
-        The step [s].
-    t0 : float
-        The time of the sample before the first step [s].
-
-    Returns
-    -------
-    dict
-        ``t0``, ``dt``, ``speed``, ``fields`` and ``x`` (the rows, float64
-        little-endian, zlib-compressed, base64): exact, so that the floor
-        replays them to the bit. About 16 bytes a step (the pedals move in
-        ramps and the speed holds, so they compress).
-    """
-    x = np.asarray(held, dtype="<f8").reshape(-1, len(ACTUATION_FIELDS))
-    return {"t0": float(t0), "dt": float(dt), "speed": speed, "fields": list(ACTUATION_FIELDS),
-            "x": base64.b64encode(zlib.compress(x.tobytes(), 9)).decode("ascii")}
-
-
-def recorded_actuation(meta: dict) -> RecordedActuation | None:
-    """The truth's actuation a log's metadata holds (:func:`record_actuation`), or ``None``."""
-    rec = meta.get(ACTUATION_KEY)
-    if not isinstance(rec, dict):
-        return None
-    try:
-        x = np.frombuffer(zlib.decompress(base64.b64decode(rec.get("x", ""))), dtype="<f8")
-        ok = list(rec.get("fields", [])) == list(ACTUATION_FIELDS) and float(rec["dt"]) > 0.0
-    except (zlib.error, ValueError, TypeError, KeyError):
-        ok = False
-    if not ok or x.size % len(ACTUATION_FIELDS):
-        raise UserError(f"{meta.get('name', 'a log')}: metadata {ACTUATION_KEY!r} is damaged; "
-                        "generate the log again")
-    return RecordedActuation(float(rec.get("t0", 0.0)), float(rec["dt"]), str(rec["speed"]),
-                             x.reshape(-1, len(ACTUATION_FIELDS)).astype(float))
 
 
 class Replay:

@@ -51,10 +51,14 @@ def code_hash(roots: dict[str, Path]) -> str:
 
 @functools.cache
 def code() -> str:
-    """:func:`code_hash` of the installed artic packages."""
-    import importlib
+    """:func:`code_hash` of the installed artic packages.
 
-    return code_hash({pkg: Path(importlib.import_module(f"artic.{pkg}").__file__).parent
+    Found, not imported: hashing the plant's files does not load the plant
+    (generating logs must not, ``tests/test_truth_driver.py``).
+    """
+    import importlib.util
+
+    return code_hash({pkg: Path(importlib.util.find_spec(f"artic.{pkg}").origin).parent
                       for pkg in PACKAGES})
 
 

@@ -23,12 +23,15 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import G
-from artic.validation.harness.steering import SteeringMap
+
+if TYPE_CHECKING:  # the plant's truths only; the yard truth's seat has its own gear
+    from artic.validation.harness.steering import SteeringMap
 
 
 @dataclass

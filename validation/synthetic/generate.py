@@ -53,23 +53,21 @@ import pandas as pd
 
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
-from artic.mjcf.vehicle import Vehicle
-from artic.plant import PlantWarning
+from artic.mjcf.vehicle import Steering, Vehicle
 from artic.validation.cli.progress import BUDGET, Counter
-from artic.validation.criteria.prediction import (
+from artic.validation.criteria.truthrecords import (
     ACTUATION_KEY,
     STATE_KEY,
     record_actuation,
     record_states,
 )
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.runs import fingerprint
 from artic.validation.runs.outputs import TEMP_SUFFIX, public_mode
 from artic.validation.runs.workers import completed
 from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
-from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
+from artic.validation.synthetic.driver import DockingDriver, drive_dock
 from artic.validation.synthetic.manoeuvres import make_profile
 from artic.validation.synthetic.sensors import SensorModel, measure
 from artic.validation.synthetic.testmatrix import MATRIX, Manoeuvre, check_only
@@ -81,7 +79,7 @@ from artic.validation.synthetic.truth import (
     truth_vehicle,
     write_truth_files,
 )
-from artic.validation.synthetic.truthplant import timestep_for, truth_actuation, truth_model
+from artic.validation.synthetic.truthmodel import timestep_for, truth_actuation, truth_model
 
 META_FILE = "meta.json"
 
@@ -97,7 +95,7 @@ structural truth's steering play, drift and slopes ask for more than two."""
 
 
 
-def _drive_profile(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
+def _drive_profile(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: Steering,
                    rng: np.random.Generator):
     prof = make_profile(m.kind, amplitude_deg=m.amplitude_deg, speed_kph=m.speed_kph,
                         side=m.side, delta_h_offset=steering.delta_h_offset, L1=vt.L1,
@@ -135,7 +133,7 @@ def _drive_profile(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: S
     return t, np.array(obs), np.array(dh), {}
 
 
-def _drive_dock(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: SteeringMap,
+def _drive_dock(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: Steering,
                 rng: np.random.Generator):
     sign = 1.0 if m.side == "left" else -1.0
     if m.kind == "docking":
@@ -143,17 +141,15 @@ def _drive_dock(plant: TruthActuation, vt: Vehicle, m: Manoeuvre, steering: Stee
     else:
         y0, psi0 = rng.uniform(3.0, 5.5), rng.uniform(6.0, 10.0)
     driver = DockingDriver(vt, max_shuffles=MAX_SHUFFLES)
-    t, obs, delta, _, docked = drive_to_dock(
+    run = drive_dock(
         plant, driver, InitialState(10.0, sign * y0, sign * math.radians(psi0), 0.0, u1=0.0))
-    dist, e_y, e_psi = driver.errors(obs[-1])
-    info = {"docked": bool(docked), "shuffles": driver.shuffles, "final_distance": dist,
+    dist, e_y, e_psi = driver.errors(run.obs[-1])
+    info = {"docked": bool(run.docked), "shuffles": driver.shuffles, "final_distance": dist,
             "final_lateral_error": e_y, "final_heading_error": e_psi,
             "start_lateral": sign * y0, "start_heading": sign * math.radians(psi0)}
-    # The steering wheel the driver held over each step; the last sample's is
-    # the one he would turn to next.
-    held = list(plant.delta_h[:len(t)])
-    held += [float(steering.steering_wheel(d)) for d in delta[len(held):]]
-    return t, obs, np.asarray(held), info
+    # The steering wheel the driver held from each sample (the last sample's is
+    # the one he turned to as the rear reached the dock).
+    return run.t, run.obs, run.delta_h, info
 
 
 def measurement_chain(sensors: SensorModel, truth: dict) -> SensorModel:
@@ -176,7 +172,7 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     Pure computation, no files: it runs wherever an executor sends it.
     ``drift=False`` stills the column's drift (see the module docstring).
     The independent truth steps at its own step for the manoeuvre's kind
-    (:func:`artic.validation.synthetic.truthplant.timestep_for`); ``timestep``
+    (:func:`artic.validation.synthetic.truthmodel.timestep_for`); ``timestep``
     [s] overrides it, for the convergence study only. ``twin=True`` returns
     ``(measured, twin)``: the same truth run measured also with ideal sensors
     (:func:`noise_free_twin`), no second simulation.
@@ -188,7 +184,7 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
     where = slope(seed, m.index, truth)
     vt = truth_vehicle(m.load, truth, seed, where)
     rng = np.random.default_rng([seed, m.index])
-    steering = SteeringMap.from_steering(vt.steering_for("mbd"))
+    steering = vt.steering_for("mbd")
     # The independent truth's play is in its compiled column; only the drift is here.
     play = 0.0 if truth_kind == "independent" else truth.get("backlash", 0.0)
     column = SteeringColumn(play, truth.get("drift_rate", 0.0))
@@ -206,7 +202,10 @@ def simulate_manoeuvre(m: Manoeuvre, seed: int, sensors: SensorModel | None = No
         # holds the wheel at lock. That is the truth, so it is counted in the
         # metadata rather than warned about.
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", PlantWarning)
+            if truth_kind != "independent":  # the plant's truths: the yard truth never loads it
+                from artic.plant import PlantWarning
+
+                warnings.simplefilter("ignore", PlantWarning)
             t, obs, delta_h, info = drive(plant, vt, m, steering, rng)
         info["steer_limited_steps"] = p.steer_limited
     true = new_frame(t, delta_h, obs)
