@@ -17,20 +17,28 @@ planner's last segment. A sequence holds a road-wheel angle over each of
 
     sum_k  q_y e_y2,k^2 + q_psi e_psi2,k^2 + q_gamma e_gamma,k^2
            + q_delta (delta_k - delta_path,k)^2 + r (delta_k - delta_k-1)^2
+    + (TERMINAL - 1) q_y e_y2,HORIZON^2
     + COLLISION_COST (2 - k_hit / HORIZON)   where an outline first touches an obstacle
     + GAMMA_COST sum_k max(0, |gamma_k| - GAMMA_SOFT)^2
     + COLLISION_COST                         where |gamma_k| passes GAMMA_HARD
 
 with the reference controller's Bryson weights
 (:data:`artic.validation.docking.linear.REVERSE_WEIGHTS`, the rate's per
-metre turned into per step at the commanded speed), as the MPCs have them.
+metre turned into per step at the commanded speed, at least
+:data:`~artic.validation.docking.controllers.reference.MIN_SPEED`'s), as the
+MPCs have them. The prediction drives at the commanded speed as far as the
+segment's end and stands there (the run stops there; driving on, it would
+find the dock in its way), and the semitrailer axle's predicted errors are
+taken after the offset between where its own sensor puts it and where the
+design model's state does (a model's bias, taken off each step).
 The collision test is the run's own (:func:`artic.validation.docking.geometry.first_hits`,
 the outlines' boxes against the obstacles), on obstacles grown by
 :data:`MARGIN` (all but the dock, whose face the rear must reach): the
 prediction is a model's, so it keeps a margin.
 
 The samples are drawn as random walks of the steering about the last
-solution (increments of standard deviation :data:`NOISE` per step), each
+solution (a first increment of standard deviation :data:`NOISE_FIRST`, then
+:data:`NOISE` per step), each
 increment held to what the actuator turns in a step and each angle to the
 lock: a weighted average of such sequences keeps both limits. The last
 solution itself and the path's own steering are two of the samples. The
@@ -53,7 +61,7 @@ import numpy as np
 
 from artic.mjcf.interface import InitialState
 from artic.validation.docking.controllers.base import Command, Observation, Task
-from artic.validation.docking.controllers.reference import ReferenceController
+from artic.validation.docking.controllers.reference import MIN_SPEED, ReferenceController
 from artic.validation.docking.geometry import Box, box_array, first_hits
 from artic.validation.docking.linear import REVERSE_WEIGHTS
 from artic.validation.docking.planner import GAMMA_PLAN
@@ -70,8 +78,14 @@ STM_SUBSTEPS = 2
 SAMPLES = {"kin": 1024, "stm": 256}
 """Steering sequences drawn per sample, by design model."""
 
-NOISE = math.radians(1.5)
+NOISE = math.radians(0.5)
 """Standard deviation of a sample's steering increment per prediction step [rad]."""
+
+NOISE_FIRST = math.radians(2.0)
+"""The same for its first step [rad]: a sample is mostly a new angle held, then
+drifting. The steering's rate costs in every step a sample moves, so walks that
+move every step cost more for their noise than a small tracking error does, and
+the weighting would favour stillness over tracking."""
 
 TEMPERATURE = 0.1
 """``lambda`` as a share of the costs' spread (median less least)."""
@@ -90,6 +104,11 @@ GAMMA_COST = 1e5
 
 GAMMA_HARD = 0.9
 """Share of the vehicle's ``gamma_max`` (jackknife) a prediction must not pass."""
+
+TERMINAL = 10.0
+"""Weight of the last step's offset from the path, in steps': within a horizon of
+5 s the heading error a correction takes costs more than the offset it removes, so
+the last step stands for the offset beyond the horizon."""
 
 SEED = 0
 """The samples' seed, the same every run."""
@@ -177,13 +196,29 @@ class MPPI(ReferenceController):
             InitialState(obs["x_1"], obs["y_1"], obs["psi_1"], obs["gamma"], v_y_1=obs["v_y_1"],
                          r_1=obs["r_1"], r_2=obs["r_2"], u1=obs["v_x_1"])), dtype=float)
 
-    def _predict(self, x: np.ndarray, D: np.ndarray, u: float) -> np.ndarray:
-        """States at the prediction steps' ends ``(batch, HORIZON, n)`` of sequences ``D``."""
+    def _predict(self, x: np.ndarray, D: np.ndarray, u: float | np.ndarray) -> np.ndarray:
+        """States at the prediction steps' ends ``(batch, HORIZON, n)`` of sequences ``D``.
+
+        ``u`` is the speed [m/s], one or one per step.
+        """
         m = self.substeps
         U = np.zeros((D.shape[0], D.shape[1] * m, self.model.ninputs))
         U[:, :, self.i_delta] = np.repeat(D, m, axis=1)
-        U[:, :, self.i_u1] = u
+        U[:, :, self.i_u1] = np.repeat(np.broadcast_to(u, (D.shape[1],)), m)
         return self.model.rollout(x, U, STEP / m)[:, m::m]
+
+    @staticmethod
+    def _speeds(u: float, here: float, end: float) -> tuple[np.ndarray, np.ndarray]:
+        """The prediction's speed per step and the path's position after each [m/s, m].
+
+        The commanded speed until the segment's end, then as far as it is
+        left, then standing: the run stops there, and a prediction that drove
+        on would find the dock in its way.
+        """
+        ds = abs(u) * STEP
+        at = here + ds * np.arange(1, HORIZON + 1)
+        travel = np.clip(np.minimum(at, end) - (at - ds), 0.0, ds)
+        return math.copysign(1.0, u) * travel / STEP, np.minimum(at, end)
 
     def _poses(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Drive-axle and kingpin poses ``(..., 3)`` of design-model states ``(..., n)``."""
@@ -211,7 +246,9 @@ class MPPI(ReferenceController):
         n, N = HORIZON, self.samples
         step = self.delta_rate * STEP
         dmax = self.vehicle.steering.delta_max
-        eps = self.rng.normal(0.0, NOISE, (N, n))
+        eps = self.rng.normal(0.0, 1.0, (N, n))
+        eps[:, 0] *= NOISE_FIRST
+        eps[:, 1:] *= NOISE
         eps[0] = 0.0  # the last solution itself
         base = np.broadcast_to(np.diff(np.r_[delta0, nominal]), (N, n)).copy()
         base[1] = np.diff(np.r_[delta0, path])  # the path's own steering
@@ -229,7 +266,8 @@ class MPPI(ReferenceController):
         ds = abs(u) * STEP
         me = self.frames.trailer_axle_of_signals(obs.signals)
         here = self.now[3]
-        at = np.clip(here + ds * np.arange(1, n + 1), s[0], s[-1])
+        speeds, at = self._speeds(u, here, float(s[-1]))
+        at = np.clip(at, s[0], s[-1])
         ref = np.column_stack([np.interp(at, s, p[:, j]) for j in range(3)])
         gam = np.interp(at, s, g_ref)
         dref = np.interp(at - ds, s, d_ref)
@@ -241,34 +279,47 @@ class MPPI(ReferenceController):
             nominal = np.interp(t + self.task.dt, t, self.delta_traj)
         D = self._samples(delta0, nominal, dref)
         x = self._state(obs)
-        X = self._predict(x, D, u)
-        cost = self._cost(X, D, delta0, ref, gam, dref, ds)
+        X = self._predict(x, D, speeds)
+        # Where the semitrailer axle is by its own sensor, less where the design model's
+        # state puts it: the offset the model's prediction carries, taken off each step.
+        y0 = self.model.output(x)
+        bias = (me[0] - y0[3], me[1] - y0[4], (me[2] - y0[5] + math.pi) % (2 * math.pi) - math.pi)
+        cost = self._cost(X, D, delta0, ref, gam, dref, ds, bias)
         lam = TEMPERATURE * max(float(np.median(cost) - cost.min()), 1e-12)
         w = np.exp(-(cost - cost.min()) / lam)
         best = w @ D / w.sum()
         self.delta_traj = best
         wheel = self._turn(float(best[0]))
         # The predicted path of the semitrailer axle under the chosen steering, for the recording.
-        Y = self.model.output(self._predict(x, best[None], u)[0])
-        horizon = np.vstack([me[:2], Y[:, 3:5]])
+        Y = self.model.output(self._predict(x, best[None], speeds)[0])
+        horizon = np.vstack([me[:2], Y[:, 3:5] + bias[:2]])
         foot = [np.interp(here, s, p[:, 0]), np.interp(here, s, p[:, 1])]
         return Command(wheel, cmd.u1, cmd.done, horizon, np.vstack([foot, ref[:, :2]]))
 
     def _cost(self, X: np.ndarray, D: np.ndarray, delta0: float, ref: np.ndarray,
-              gam: np.ndarray, dref: np.ndarray, ds: float) -> np.ndarray:
-        """Each sequence's cost (see the module docstring): tracking, steering, penalties."""
+              gam: np.ndarray, dref: np.ndarray, ds: float,
+              bias: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> np.ndarray:
+        """Each sequence's cost (see the module docstring): tracking, steering, penalties.
+
+        ``bias`` is added to the predicted semitrailer axle ``(x, y, psi_2)``
+        [m, m, rad] before its errors from the path are taken.
+        """
         N, n, nx = X.shape
         Y = self.model.output(X.reshape(-1, nx)).reshape(N, n, -1)
         cr, sr = np.cos(ref[:, 2]), np.sin(ref[:, 2])
-        e_y = -sr * (Y[:, :, 3] - ref[:, 0]) + cr * (Y[:, :, 4] - ref[:, 1])
-        e_p = np.remainder(Y[:, :, 5] - ref[:, 2] + math.pi, 2 * math.pi) - math.pi
+        e_y = (-sr * (Y[:, :, 3] + bias[0] - ref[:, 0])
+               + cr * (Y[:, :, 4] + bias[1] - ref[:, 1]))
+        e_p = np.remainder(Y[:, :, 5] + bias[2] - ref[:, 2] + math.pi, 2 * math.pi) - math.pi
         gamma = X[:, :, self.i_gamma]
         e_g = gamma - gam
         q = self.q
-        r = 1.0 / (REVERSE_WEIGHTS[4] * max(ds, 1e-3)) ** 2
+        # The rate's weight per metre, per step of ds, as the reference's gains
+        # take it: at least MIN_SPEED's, so that the creep can still steer.
+        r = 1.0 / (REVERSE_WEIGHTS[4] * max(ds, MIN_SPEED * STEP)) ** 2
         moves = np.diff(np.concatenate([np.full((N, 1), delta0), D], axis=1), axis=1)
-        cost = np.sum(q[0] * e_y ** 2 + q[1] * e_p ** 2 + q[2] * e_g ** 2
-                      + q[3] * (D - dref) ** 2 + r * moves ** 2, axis=1)
+        stage = q[0] * e_y ** 2 + q[1] * e_p ** 2 + q[2] * e_g ** 2
+        cost = (np.sum(stage + q[3] * (D - dref) ** 2 + r * moves ** 2, axis=1)
+                + (TERMINAL - 1.0) * q[0] * e_y[:, -1] ** 2)
         tractor, trailer = self._poses(X)
         return cost + penalties(tractor, trailer, gamma, self.boxes, self.frames.tractor_box,
                                 self.frames.trailer_box, self.vehicle.gamma_max)
