@@ -65,6 +65,8 @@ from artic.reduced.tyre_linear import slip_angle
 U_SLIP_KNOWN = 0.5
 """Axle speed above which a log's initial slip angle is taken as known [m/s]."""
 
+_F8 = np.dtype(np.float64)
+
 _COMPILED = ("rhs", "step", "advance", "signals")
 """What the harness's compiled loop computes: a class replacing any of them runs in Python."""
 
@@ -74,7 +76,7 @@ def rhs_batch(kind, x, u, P):
     """:func:`artic.reduced.integrate.rhs` for rows of ``x`` and ``u`` (delta, u1, u1_dot)."""
     out = np.empty_like(x)
     for i in range(x.shape[0]):
-        out[i] = integrate.rhs(kind, x[i], u[i, 1], u[i, 2], u[i, 0], P)
+        integrate.rhs_into(kind, x[i], u[i, 1], u[i, 2], u[i, 0], P, out[i])
     return out
 
 
@@ -82,8 +84,15 @@ def rhs_batch(kind, x, u, P):
 def step_batch(kind, x, u, dt, P):
     """:func:`artic.reduced.integrate.rk4_step` for rows of ``x`` and ``u`` (delta, u1, u1_dot)."""
     out = np.empty_like(x)
+    if kind == integrate.KIN:  # scalars, no views: a fraction of the generic step's cost
+        L1, L1c, L2 = P[0], P[1], P[2]
+        for i in range(x.shape[0]):
+            out[i, 0], out[i, 1], out[i, 2], out[i, 3] = integrate.kin_rk4(
+                x[i, 0], x[i, 1], x[i, 2], x[i, 3], dt, u[i, 1], u[i, 2], u[i, 0], L1, L1c, L2)
+        return out
+    work = np.empty((5, x.shape[1]))
     for i in range(x.shape[0]):
-        out[i] = integrate.rk4_step(kind, x[i], dt, u[i, 1], u[i, 2], u[i, 0], P)
+        integrate.rk4_step_into(kind, x[i], dt, u[i, 1], u[i, 2], u[i, 0], P, work, out[i])
     return out
 
 
@@ -94,10 +103,68 @@ def rollout_steps(kind, x0, u, dt, P):
     Returns the states ``(len(u) + 1, n)``, ``x0`` first.
     """
     out = np.empty((u.shape[0] + 1, x0.size))
+    work = np.empty((5, x0.size))
     out[0] = x0
     for k in range(u.shape[0]):
-        out[k + 1] = integrate.rk4_step(kind, out[k], dt, u[k, 1], u[k, 2], u[k, 0], P)
+        integrate.rk4_step_into(kind, out[k], dt, u[k, 1], u[k, 2], u[k, 0], P, work,
+                                out[k + 1])
     return out
+
+
+@njit(cache=True)
+def rollout_batch(kind, x0, u, dt, P):
+    """:func:`rollout_steps` for every row of ``x0`` (batch, n) and ``u`` (batch, steps, 3).
+
+    Returns the states ``(batch, steps + 1, n)``, each row's ``x0`` first.
+    Each row takes the steps :func:`rollout_steps` takes, so equal to it to the bit.
+    """
+    B, H = u.shape[0], u.shape[1]
+    n = x0.shape[1]
+    out = np.empty((B, H + 1, n))
+    if kind == integrate.KIN:  # scalars, no views (see step_batch)
+        L1, L1c, L2 = P[0], P[1], P[2]
+        for b in range(B):
+            X, Y, psi, gamma = x0[b, 0], x0[b, 1], x0[b, 2], x0[b, 3]
+            out[b, 0, 0], out[b, 0, 1], out[b, 0, 2], out[b, 0, 3] = X, Y, psi, gamma
+            for k in range(H):
+                X, Y, psi, gamma = integrate.kin_rk4(X, Y, psi, gamma, dt, u[b, k, 1],
+                                                     u[b, k, 2], u[b, k, 0], L1, L1c, L2)
+                out[b, k + 1, 0], out[b, k + 1, 1] = X, Y
+                out[b, k + 1, 2], out[b, k + 1, 3] = psi, gamma
+        return out
+    work = np.empty((5, n))
+    for b in range(B):
+        out[b, 0] = x0[b]
+        for k in range(H):
+            integrate.rk4_step_into(kind, out[b, k], dt, u[b, k, 1], u[b, k, 2], u[b, k, 0], P,
+                                    work, out[b, k + 1])
+    return out
+
+
+@njit(cache=True)
+def step_one(kind, x, u, dt, P):
+    """One step of a single state ``x`` (n,) with inputs ``u`` (m,): :meth:`ReducedModel.step`.
+
+    Returns an empty array when an entry of ``x`` or ``u`` is not finite, for
+    the caller to name it (a compiled function's error cannot carry the shapes).
+    """
+    for i in range(x.size):
+        if not math.isfinite(x[i]):
+            return np.empty(0)
+    for i in range(u.size):
+        if not math.isfinite(u[i]):
+            return np.empty(0)
+    u1_dot = u[2] if u.size > 2 else 0.0
+    out = np.empty(x.size)
+    integrate.rk4_step_into(kind, x, dt, u[1], u1_dot, u[0], P, np.empty((5, x.size)), out)
+    return out
+
+
+class BatchError(UserError):
+    """A state, input or batch a reduced model cannot take: one line naming it and its shape.
+
+    A :class:`artic.errors.UserError`, so a :class:`ValueError` too.
+    """
 
 
 class ReducedModel:
@@ -182,27 +249,43 @@ class ReducedModel:
 
     # -- batches -------------------------------------------------------------
 
-    def _batch(self, x, u) -> tuple[np.ndarray, np.ndarray, bool]:
-        """``x`` (batch, n), ``u`` as (batch, 3: delta, u1, u1_dot), and whether both were 1-D."""
+    def _batch(self, x, u, finite: bool = True) -> tuple[np.ndarray, np.ndarray, bool]:
+        """``x`` (batch, n), ``u`` as (batch, 3: delta, u1, u1_dot), and whether both were 1-D.
+
+        Refuses, in one line naming the argument and its shape, a wrong shape,
+        an empty batch and (with ``finite``) a state or input that is not finite.
+        """
         x = np.asarray(x, dtype=float)
         u = np.asarray(u, dtype=float)
         for name, a, labels in (("x", x, self.state_labels), ("u", u, self.input_labels)):
             if a.ndim not in (1, 2) or a.shape[-1] != len(labels):
-                raise UserError(f"{type(self).__name__}: {name} has shape {a.shape}; expected "
+                raise BatchError(f"{type(self).__name__}: {name} has shape {a.shape}; expected "
                                  f"({len(labels)},) or (batch, {len(labels)}) for "
                                  f"{', '.join(labels)}")
+            self._check(name, a, finite)
         single = x.ndim == 1 and u.ndim == 1
         x2, u2 = np.atleast_2d(x), np.atleast_2d(u)
         try:
             b = np.broadcast_shapes(x2.shape[:1], u2.shape[:1])[0]
         except ValueError:
-            raise UserError(f"{type(self).__name__}: a batch of {x2.shape[0]} states and one "
-                             f"of {u2.shape[0]} inputs: give equal batches, or one of either"
-                             ) from None
+            raise BatchError(f"{type(self).__name__}: a batch of {x2.shape[0]} states and one "
+                             f"of {u2.shape[0]} inputs (x {x.shape}, u {u.shape}): give equal "
+                             f"batches, or one of either") from None
         X = np.ascontiguousarray(np.broadcast_to(x2, (b, x2.shape[1])))
         U = np.zeros((b, 3))
         U[:, :u2.shape[1]] = u2
         return X, U, single
+
+    def _check(self, name: str, a: np.ndarray, finite: bool = True) -> None:
+        """Refuse an empty batch and, with ``finite``, a NaN or infinite entry, by ``name``."""
+        if a.size == 0:
+            raise BatchError(f"{type(self).__name__}: {name} has shape {a.shape}: an empty "
+                             f"batch; give at least one row")
+        if finite and not np.isfinite(a).all():
+            bad = np.argwhere(~np.isfinite(a))[0]
+            raise BatchError(f"{type(self).__name__}: {name} has shape {a.shape} and a "
+                             f"{a[tuple(bad)]} at index {tuple(int(i) for i in bad)}; give "
+                             f"finite states and inputs")
 
     @staticmethod
     def _out(a: np.ndarray, single: bool) -> np.ndarray:
@@ -273,12 +356,21 @@ class ReducedModel:
         X, U, single = self._batch(x, u)
         return self._out(rhs_batch(self.kind, X, U, self.P), single)
 
+    def _native(self) -> bool:
+        """Whether :meth:`rhs` is the built-in one, so the compiled step may run (fast check)."""
+        t = type(self)
+        if t is KIN or t is STM:
+            return "rhs" not in self.__dict__
+        return not self.replaced("rhs")
+
     def step(self, x, u, dt: float) -> np.ndarray:
         """The state ``dt`` [s] later: one fourth-order Runge-Kutta step, as the harness takes.
 
         The inputs are held over the step (see the class's notes on ``u_1``
         for the STM). This is :func:`artic.reduced.integrate.rk4_step`, so a
         planner's prediction and artic's validation integrate alike, to the bit.
+        A batch of states, inputs or both is stepped in one compiled call,
+        each row equal to the bit to its single step.
 
         Parameters
         ----------
@@ -292,9 +384,22 @@ class ReducedModel:
         Returns
         -------
         ndarray, shape (n,) or (batch, n)
+
+        Raises
+        ------
+        BatchError
+            A shape that is not the model's, an empty batch, batches of two
+            sizes, or a state or input that is not finite (one line naming it).
         """
+        # The fast path: one float64 state and input, as a planner's loop passes them.
+        if (type(x) is np.ndarray and type(u) is np.ndarray and x.ndim == 1 and u.ndim == 1
+                and x.dtype == _F8 and u.dtype == _F8 and x.shape[0] == len(self.state_labels)
+                and u.shape[0] == len(self.input_labels) and self._native()):
+            out = step_one(self.kind, x, u, float(dt), self.P)
+            if out.size:
+                return out
         X, U, single = self._batch(x, u)
-        if self.replaced("rhs"):
+        if not self._native():
             return self._out(self._rk4(X, U, float(dt)), single)
         return self._out(step_batch(self.kind, X, U, float(dt), self.P), single)
 
@@ -302,36 +407,73 @@ class ReducedModel:
         """The states of :meth:`step` taken once per row of ``u``, in one compiled call.
 
         Equal to the bit to calling :meth:`step` in a loop; a prediction over
-        a horizon of many steps costs one call instead of one per step.
+        a horizon of many steps costs one call instead of one per step. A
+        batch, ``u`` of shape ``(batch, steps, m)`` from one state ``x0`` or a
+        batch of them, rolls every row out in the same call, each equal to the
+        bit to its own rollout: what a sampling planner (MPPI, CEM) asks for.
 
         Parameters
         ----------
-        x0 : array_like, shape (n,)
-            State now.
-        u : array_like, shape (steps, m)
+        x0 : array_like, shape (n,) or (batch, n)
+            State now; one state is shared by every row of a batch of ``u``.
+        u : array_like, shape (steps, m) or (batch, steps, m)
             Inputs held over each step.
         dt : float
             Step [s].
 
         Returns
         -------
-        ndarray, shape (steps + 1, n)
+        ndarray, shape (steps + 1, n) or (batch, steps + 1, n)
             ``x0`` first, then the state after each step.
+
+        Raises
+        ------
+        BatchError
+            ``x0`` of shape (batch, n) with ``u`` of shape (steps, m), batches of
+            two sizes, a wrong width, an empty batch or horizon, or an entry
+            that is not finite (one line naming the argument and its shape).
         """
-        x0 = np.asarray(x0, dtype=float)
+        x0 = np.ascontiguousarray(x0, dtype=float)
         u = np.asarray(u, dtype=float)
-        if x0.ndim != 1 or u.ndim != 2:
-            raise UserError(f"{type(self).__name__}.rollout: x0 has shape {x0.shape} and u "
-                             f"{u.shape}; expected ({self.nstates},) and (steps, "
-                             f"{self.ninputs})")
-        X, U, _ = self._batch(x0, u)
+        name = type(self).__name__
+        n, m = self.nstates, self.ninputs
+        if (x0.ndim, u.ndim) not in ((1, 2), (1, 3), (2, 3)) or x0.shape[-1] != n \
+                or u.shape[-1] != m:
+            raise BatchError(f"{name}.rollout: x0 has shape {x0.shape} and u {u.shape}; "
+                             f"expected ({n},) and (steps, {m}), or ({n},) or (batch, {n}) and "
+                             f"(batch, steps, {m})")
+        if x0.ndim == 2 and x0.shape[0] != u.shape[0]:
+            raise BatchError(f"{name}.rollout: x0 has shape {x0.shape} and u {u.shape}: "
+                             f"{x0.shape[0]} states for {u.shape[0]} input sequences; give "
+                             f"equal batches, or one state")
+        self._check("x0", x0)
+        self._check("u", u)
+        if u.ndim == 2:
+            if self.replaced("rhs", "step"):  # a subclass's step, called as it always was
+                out = np.empty((u.shape[0] + 1, n))
+                out[0] = x0
+                for k in range(u.shape[0]):
+                    out[k + 1] = self.step(out[k], u[k], dt)
+                return out
+            U = np.zeros((u.shape[0], 3))
+            U[:, :m] = u
+            return rollout_steps(self.kind, x0, U, float(dt), self.P)
+        x0 = np.broadcast_to(x0, (u.shape[0], n))
+        return self._rollout_batch(x0, u, float(dt))
+
+    def _rollout_batch(self, X0: np.ndarray, u: np.ndarray, dt: float) -> np.ndarray:
+        """:meth:`rollout` of checked ``X0`` (batch, n) and ``u`` (batch, steps, m)."""
+        B, H = u.shape[0], u.shape[1]
+        U = np.zeros((B, H, 3))
+        U[:, :, :self.ninputs] = u
         if self.replaced("rhs", "step"):
-            out = np.empty((U.shape[0] + 1, X.shape[1]))
-            out[0] = X[0]
-            for k in range(U.shape[0]):
-                out[k + 1] = self.step(out[k], u[k], dt)
+            # A subclass's own rhs or step, over the whole batch at once, step by step.
+            out = np.empty((B, H + 1, X0.shape[1]))
+            out[:, 0] = X0
+            for k in range(H):
+                out[:, k + 1] = self.step(out[:, k], u[:, k], dt)
             return out
-        return rollout_steps(self.kind, X[0], U, float(dt), self.P)
+        return rollout_batch(self.kind, np.ascontiguousarray(X0), U, dt, self.P)
 
     def output(self, x, u=None) -> np.ndarray:
         """Poses of both units: ``X_1, Y_1, psi_1`` (the state's point) and the semitrailer's.
@@ -351,7 +493,7 @@ class ReducedModel:
         ndarray, shape (6,) or (batch, 6)
             [m, m, rad, m, m, rad].
         """
-        X, _, single = self._batch(x, np.zeros(self.ninputs) if u is None else u)
+        X, _, single = self._batch(x, np.zeros(self.ninputs) if u is None else u, finite=False)
         psi1, gamma = X[:, 2], X[:, 3]
         psi2 = psi1 - gamma
         y = np.empty((X.shape[0], 6))
@@ -375,7 +517,7 @@ class ReducedModel:
         C : ndarray, shape (6, n) or (batch, 6, n)
         D : ndarray, shape (6, m) or (batch, 6, m)
         """
-        X, _, single = self._batch(x, np.zeros(self.ninputs) if u is None else u)
+        X, _, single = self._batch(x, np.zeros(self.ninputs) if u is None else u, finite=False)
         b = X.shape[0]
         psi1, psi2 = X[:, 2], X[:, 2] - X[:, 3]
         C = np.zeros((b, 6, self.nstates))

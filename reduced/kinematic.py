@@ -73,15 +73,32 @@ def kin_rhs(x, u1, u1_dot, delta, P):
     P : ndarray
         ``[L1, L1c, L2]`` [m], see :func:`kin_parameters`.
     """
-    L1, L1c, L2 = P[0], P[1], P[2]
-    psi, gamma = x[2], x[3]
-    r1 = u1 * math.tan(delta) / L1
     out = np.empty(4)
-    out[0] = u1 * math.cos(psi)
-    out[1] = u1 * math.sin(psi)
-    out[2] = r1
-    out[3] = -u1 * math.sin(gamma) / L2 + (1.0 - L1c * math.cos(gamma) / L2) * r1
+    kin_rhs_into(x, u1, u1_dot, delta, P, out)
     return out
+
+
+@njit(cache=True)
+def kin_rhs_into(x, u1, u1_dot, delta, P, out):
+    """:func:`kin_rhs` written into ``out`` (shape (4,)), allocating nothing.
+
+    The one copy of eq. (1): :func:`kin_rhs` and the batched steps of
+    :mod:`artic.reduced.integrate` both call it, so they agree to the bit.
+    """
+    out[0], out[1], out[2], out[3] = kin_rates(x[2], x[3], u1, delta, P[0], P[1], P[2])
+
+
+@njit(cache=True)
+def kin_rates(psi, gamma, u1, delta, L1, L1c, L2):
+    """Eq. (1) of scalars: ``(X_dot, Y_dot, psi_1_dot, gamma_dot)`` [m/s, m/s, rad/s, rad/s].
+
+    The one copy of KIN's equations (:func:`kin_rhs`, :func:`kin_rhs_into`
+    and :func:`artic.reduced.integrate.rk4_step_into` call it): scalars in and
+    out, so that a compiled loop over a batch allocates nothing per step.
+    """
+    r1 = u1 * math.tan(delta) / L1
+    return (u1 * math.cos(psi), u1 * math.sin(psi), r1,
+            -u1 * math.sin(gamma) / L2 + (1.0 - L1c * math.cos(gamma) / L2) * r1)
 
 
 @njit(cache=True)

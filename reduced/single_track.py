@@ -237,11 +237,22 @@ def stm_rhs(x, u1, u1_dot, delta, P):
     P : ndarray
         Parameter array, see :func:`stm_parameters`.
     """
+    out = np.empty(x.size)
+    stm_rhs_into(x, u1, u1_dot, delta, P, out)
+    return out
+
+
+@njit(cache=True)
+def stm_rhs_into(x, u1, u1_dot, delta, P, out):
+    """:func:`stm_rhs` written into ``out`` (shape (n,)): the one copy of the equations.
+
+    :func:`stm_rhs` and the batched steps of :mod:`artic.reduced.integrate`
+    both call it, so they agree to the bit.
+    """
     m1, J1, m2, J2, Lc, a2, sigma, ax_x, ax_steer, tr_l, C = stm_unpack(P)
     psi, gamma, v, r, gd = x[2], x[3], x[4], x[5], x[6]
     cg, sg = math.cos(gamma), math.sin(gamma)
     cd, sd = math.cos(delta), math.sin(delta)
-    out = np.empty(x.size)
     # One pass over the axles (the per-axle kernels of axle_velocities and
     # generalised_forces), with no temporary arrays: this is the hot loop.
     Q1 = Q2 = Q3 = 0.0
@@ -268,7 +279,6 @@ def stm_rhs(x, u1, u1_dot, delta, P):
     out[4] = wdot[0]
     out[5] = wdot[1]
     out[6] = wdot[2]
-    return out
 
 
 @njit(cache=True)

@@ -23,7 +23,8 @@ from tests.helpers import FIRST_ROLLOUT
 
 def test_precompile_calls_each_compiled_path_of_kin_and_the_stm():
     precompile.compile_all()
-    for f in (control.rhs_batch, control.step_batch, control.rollout_steps):
+    for f in (control.rhs_batch, control.step_batch, control.rollout_steps,
+              control.rollout_batch, control.step_one):
         # one signature serves both models: kind is an argument, P a float64 array
         assert any(str(sig[0]) == "int64" and str(sig[-1]) == "array(float64, 1d, C)"
                    for sig in f.signatures), (f, f.signatures)

@@ -303,3 +303,26 @@ def swept_cells(tractor, trailer, tractor_box, trailer_box, x0, y0, cell, nx, ny
                     if abs(px * c + py * s) <= bx[1] and abs(-px * s + py * c) <= bx[2]:
                         grid[i, j] = True
     return grid
+
+
+@njit(cache=True)
+def first_hits(tractor, trailer, tractor_box, trailer_box, boxes):
+    """:func:`first_hit`'s sample for each of a batch of trajectories.
+
+    Parameters
+    ----------
+    tractor, trailer : ndarray, shape (batch, n, 3)
+        Drive-axle and kingpin poses of each trajectory [m, m, rad].
+    tractor_box, trailer_box, boxes : ndarray
+        As :func:`first_hit` takes them.
+
+    Returns
+    -------
+    ndarray of int, shape (batch,)
+        The first sample at which a unit of the trajectory touches an
+        obstacle, ``-1`` where none does.
+    """
+    out = np.empty(tractor.shape[0], dtype=np.int64)
+    for b in range(tractor.shape[0]):
+        out[b] = first_hit(tractor[b], trailer[b], tractor_box, trailer_box, boxes)[0]
+    return out

@@ -9,7 +9,9 @@ constructor and the interface of :class:`~artic.validation.docking.controllers.b
   LQR on KIN about the plan;
 - :mod:`~artic.validation.docking.controllers.adaptive`: the reference controller
   re-designed online on the identified semitrailer;
-- :mod:`~artic.validation.docking.controllers.mpc`: MPCs designed on KIN and on the STM.
+- :mod:`~artic.validation.docking.controllers.mpc`: MPCs designed on KIN and on the STM;
+- :mod:`~artic.validation.docking.controllers.mppi`: sampling MPCs (MPPI) on KIN and
+  on the STM, on their batched rollouts.
 """
 
 from __future__ import annotations
@@ -39,6 +41,12 @@ BUILTIN: dict[str, tuple[str, str]] = {
                 "MPC designed on KIN, the reference's cost (needs CasADi: artic[mpc])"),
     "mpc-stm": ("artic.validation.docking.controllers.mpc:MPCStm",
                 "MPC designed on the STM, the reference's cost (needs CasADi: artic[mpc])"),
+    "mppi-kin": ("artic.validation.docking.controllers.mppi:MPPIKin",
+                 "sampling MPC (MPPI) on KIN: 1 024 steering sequences over 5 s, the "
+                 "reference's cost, collisions and the articulation limit"),
+    "mppi-stm": ("artic.validation.docking.controllers.mppi:MPPIStm",
+                 "sampling MPC (MPPI) on the STM: 256 steering sequences over 5 s, the "
+                 "reference's cost, collisions and the articulation limit"),
 }
 """Built-in controllers: name -> (``module:Class``, one line for ``--list``)."""
 
