@@ -70,6 +70,13 @@ def plant_cpu_per_step() -> float:
         return (time.process_time() - t0) / n
 
 
+def stage_of(line: str) -> str | None:
+    """The stage a campaign's progress line opens (``== NAME``) or closes (``== NAME: ...``)."""
+    if not line.startswith("== "):
+        return None
+    return line[3:].rstrip("\n").partition(":")[0]
+
+
 def _tree_cpu(proc) -> float:
     """CPU time of ``proc``, its waited-for children and its live descendants [s]."""
     import psutil
@@ -135,8 +142,7 @@ def run_once(recordings: bool, cold_cache: bool, only: str = "") -> dict:
         tail = []
         for line in child.stderr:  # "== NAME" opens a stage, "== NAME: ..." closes it
             tail = (tail + [line])[-20:]
-            if line.startswith("== "):
-                name = line[3:].rstrip("\n").partition(":")[0]
+            if (name := stage_of(line)) is not None:
                 cpu_at.setdefault(name, []).append(_tree_cpu(proc))
         # This run's own rusage: its CPU and its largest process's resident set, the
         # command's and every descendant's it waited for (as /usr/bin/time -v reads them).
