@@ -118,3 +118,12 @@ def test_the_config_checks_its_options_and_keys_them_alike(tmp_path):
                        ({"only": ["00-"]}, "--only 00-: selects only tuning")):
         with pytest.raises(UserError, match=match):
             CampaignConfig(tmp_path, **bad)
+
+
+def test_a_campaign_without_tuning_manoeuvres_says_so_in_one_line(tmp_path):
+    # --only 27- selects no tuning manoeuvre: the tuning stage names what is missing
+    # (it divided by the number of load conditions to tune, zero, before).
+    from artic.validation.campaign.main import _tune
+
+    with pytest.raises(UserError, match="none of the tuning manoeuvres is among the logs"):
+        _tune(tmp_path, [], ("kin",), "key", 2)

@@ -327,7 +327,7 @@ def _tune(out_dir: Path, logs: list[Run], models: Sequence[str], key: str,
         return saved
     run = _Tuning(path, {"key": key, "loads": {}, "complete": False})
     todo = _tuning_plan(logs, saved, run.out)
-    side_by_side = min(len(todo), max(1, jobs))
+    side_by_side = max(1, min(len(todo), jobs))  # 1 with nothing to tune (no division by 0)
     threads = max(1, jobs // side_by_side)
     if side_by_side > 1:
         with ThreadPoolExecutor(side_by_side, thread_name_prefix="artic-tune") as pool:
