@@ -301,7 +301,7 @@ def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
         obs[k], delta[k], delta_fb[k], sat[k] = o, d, f, s
         if names:
             ext[k] = model.extras()
-        if abs(o[12]) > gamma_max or not np.all(np.isfinite(o)):
+        if abs(o[12]) > gamma_max or not np.isfinite(o).all():  # the method: no dispatch
             return obs, delta, delta_fb, sat, k + 1
         if k + 1 < n:
             model.step(dt[k], d, u1[k], u1_dot[k])
