@@ -60,13 +60,6 @@ if not os.path.isdir(os.path.join(_here, "mjcf")) and os.path.isfile(
     __path__.append(os.path.dirname(_here))
 del _here
 
-try:
-    from importlib.metadata import PackageNotFoundError, version
-
-    __version__ = version("artic")
-except PackageNotFoundError:  # run from a checkout that was never installed
-    __version__ = "0+unknown"
-
 # name -> (module, attribute): the public API, imported on first use.
 _PUBLIC = {
     "Vehicle": ("artic.mjcf.vehicle", "Vehicle"),
@@ -104,6 +97,20 @@ _PUBLIC = {
 __all__ = sorted(_PUBLIC) + ["__version__"]
 
 
+def _version() -> str:
+    """The installed version of artic, or ``0+unknown`` from a checkout never installed.
+
+    Read on first use: ``importlib.metadata`` takes about a tenth of a second to
+    import, which ``import artic`` and ``artic --help`` should not pay.
+    """
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("artic")
+    except PackageNotFoundError:
+        return "0+unknown"
+
+
 class _Artic(types.ModuleType):
     """The module ``artic``, with its public names imported on first use.
 
@@ -113,6 +120,10 @@ class _Artic(types.ModuleType):
     """
 
     def __getattr__(self, name: str) -> Any:
+        if name == "__version__":
+            value = _version()
+            setattr(self, name, value)
+            return value
         try:
             module, attr = _PUBLIC[name]
         except KeyError:

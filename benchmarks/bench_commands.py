@@ -4,6 +4,8 @@ Each command runs as a user runs it (the ``artic`` console script beside this
 Python, a fresh process, start-up included) into a fresh temporary folder,
 on all cores:
 
+- ``artic --help``: the start-up (the target is 0.3 s: no MuJoCo, numba, Rerun,
+  pandas or scipy loaded, ``tests/test_startup.py``);
 - ``artic campaign --out-dir DIR``: the main job from nothing, with the stages
   of the median run (from its ``report.md``);
 - ``artic campaign --seeds 3 --out-dir DIR``: three trucks;
@@ -31,6 +33,7 @@ from bench_campaign import _stages
 ARTIC = str(Path(sys.executable).with_name("artic"))
 SIM_SECONDS = 600.0
 COMMANDS = {
+    "help": ["--help"],
     "campaign": ["campaign", "--out-dir", "{out}"],
     "seeds": ["campaign", "--seeds", "3", "--out-dir", "{out}"],
     "dock": ["dock", "--out-dir", "{out}"],
@@ -59,7 +62,9 @@ def main(runs: int = 3, only: tuple[str, ...] = tuple(COMMANDS)) -> dict[str, fl
         results = [_run(COMMANDS[name]) for _ in range(runs)]
         walls = [w for w, _ in results]
         med = statistics.median(walls)
-        line = f"{name:<9} {med:6.1f} s ({min(walls):.1f}-{max(walls):.1f} s, {runs} runs)"
+        line = (f"{name:<9} {med:6.2f} s ({min(walls):.2f}-{max(walls):.2f} s, {runs} runs)"
+                if med < 10 else
+                f"{name:<9} {med:6.1f} s ({min(walls):.1f}-{max(walls):.1f} s, {runs} runs)")
         if name == "simulate":
             line += f": {SIM_SECONDS / med:.0f}x real time end to end"
         stages = results[walls.index(sorted(walls)[(runs - 1) // 2])][1]

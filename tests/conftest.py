@@ -1,6 +1,17 @@
-"""Shared fixtures: presets, and logs made by the models themselves."""
+"""Shared fixtures: presets, logs made by the models themselves, and the campaigns.
+
+A campaign is the costliest thing a test can make, so each kind is made once per
+session and shared by every test that reads its output: ``default_campaign`` (the
+README's first command, for the slow end-to-end checks) and ``small_campaign``
+(every cached stage on two manoeuvres, for the fast set). No test writes into
+them; a test that changes a campaign works in a copy (``shutil.copytree`` keeps
+the files' times, so the stage cache stays valid there).
+"""
 
 from __future__ import annotations
+
+import os
+from pathlib import Path
 
 import pytest
 
@@ -10,6 +21,9 @@ from artic.validation.runs import runtime
 runtime.configure()
 
 from artic.mjcf import load_vehicle  # noqa: E402
+from artic.validation.campaign.config import CampaignConfig  # noqa: E402
+from artic.validation.campaign.main import run_campaign  # noqa: E402
+from tests.helpers import SMALL_CAMPAIGN  # noqa: E402
 
 
 def pytest_configure(config):
@@ -30,3 +44,20 @@ def unloaded():
 @pytest.fixture(scope="session")
 def loaded():
     return load_vehicle("gosar2022-loaded")
+
+
+@pytest.fixture(scope="session")
+def small_campaign(tmp_path_factory) -> Path:
+    """The output folder of :data:`SMALL_CAMPAIGN`, made once per session; read only."""
+    out = tmp_path_factory.mktemp("small-campaign") / "out"
+    run_campaign(CampaignConfig(out, **SMALL_CAMPAIGN))
+    return out
+
+
+@pytest.fixture(scope="session")
+def default_campaign(tmp_path_factory) -> Path:
+    """The README's first command's campaign (all 62 manoeuvres, recordings), once per
+    session, for the slow tests that check it whole; read only."""
+    out = tmp_path_factory.mktemp("default-campaign") / "out"
+    run_campaign(out, jobs=os.cpu_count() or 1)
+    return out

@@ -16,6 +16,13 @@ from artic.validation.logs.schema import COLUMNS
 PRESETS = ("gosar2022-unloaded", "gosar2022-loaded", "six-axle")
 """The presets the tests run on every model."""
 
+SMALL_CAMPAIGN = {"models": ("kin",), "only": ("00-", "28-"), "jobs": 2,
+                  "sweep_models": ("kin",), "recordings": False, "closing": False}
+"""The smallest campaign with every cached stage: logs with twins, tuning, validation,
+references, twins, the oracle rows, efficiency and the gain sweep (KIN alone on a forward tuning
+constant steer and a reverse ramp steer, no recordings)."""
+
+
 def needs_compiled(what: str) -> pytest.MarkDecorator:
     """Skip a test of ``what``, a compiled part with no Python version, where artic runs
     without its compiled parts on purpose (``ARTIC_NO_EXTENSIONS=1``).

@@ -131,3 +131,24 @@ def test_the_campaign_benchmark_reads_the_reports_stage_table(tmp_path):
     stages = bench._stages(report)
     assert stages["logs"] == 30.5 and stages["tables"] == 1.2  # as printed, one decimal
     assert "total" in stages
+
+
+def test_the_campaign_benchmark_finds_each_stage_where_it_opens_and_closes():
+    # bench_campaign.py reads each stage's CPU between the progress lines the
+    # campaign's stage timer prints: read here from the timer itself.
+    import importlib.util
+    from pathlib import Path
+
+    from artic.validation.campaign.main import Stages
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_campaign.py"
+    spec = importlib.util.spec_from_file_location("bench_campaign", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    lines = []
+    timer = Stages(lines.append)
+    for name in ("logs", "gain sweep"):
+        with timer(name):
+            lines.append(f"[1/1] generated: {name}")
+    assert [bench.stage_of(x + "\n") for x in lines] == [
+        "logs", None, "logs", "gain sweep", None, "gain sweep"]

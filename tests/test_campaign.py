@@ -176,11 +176,11 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
 
 
 @pytest.mark.slow
-def test_whole_campaign(tmp_path):
+def test_whole_campaign(default_campaign):
     # The main job on all 62 manoeuvres (the paper's 58 and the 4 tuning
-    # slaloms), as the README's first command runs it.
-    out = tmp_path / "out"
-    run_campaign(out, jobs=os.cpu_count() or 1)
+    # slaloms), as the README's first command runs it (the session's one,
+    # tests/conftest.py, which tests/test_output_size.py weighs).
+    out = default_campaign
     metas = [json.loads(p.read_text()) for p in (out / "synthetic").glob("*/meta.json")]
     assert Counter(m["direction"] for m in metas) == {"forward": 29, "reverse": 33}
     assert {(m["kind"], m["load"], m["amplitude_deg"], m["speed_kph"], m["side"])
@@ -349,6 +349,9 @@ def check_ideal_floor(out):
     return m
 
 
+# A campaign of its own (ideal sensors), so it is not in the fast set; its checks of
+# the whole set of logs are test_whole_ideal_campaign_floor_is_near_zero's.
+@pytest.mark.slow
 def test_ideal_campaign_floor_is_near_zero(tmp_path):
     out = tmp_path / "ideal"
     paths = run_campaign(out, models=("kin",), only=["00-", "02-", "27-"], jobs=2,

@@ -1,9 +1,9 @@
 """The campaign's configuration object and its one stage cache.
 
-One small campaign (KIN alone on a forward tuning slalom and a reverse ramp
-steer, the gain sweep of KIN, no recordings) is made once per module; each
-test runs again in a copy of it (copied with the files' times, so its cache
-entries stay valid there).
+The session's small campaign (``small_campaign`` in ``tests/conftest.py``: KIN
+alone on a forward tuning slalom and a reverse ramp steer, the gain sweep of
+KIN, no recordings) is made once; each test runs again in a copy of it (copied
+with the files' times, so its cache entries stay valid there).
 """
 
 from __future__ import annotations
@@ -20,21 +20,15 @@ from artic.validation.campaign.cache import StageCache, StageResult
 from artic.validation.campaign.config import CampaignConfig
 from artic.validation.campaign.main import run_campaign
 from artic.validation.logs.importers import import_source
-
-SMALL = {"models": ("kin",), "only": ("00-", "28-"), "jobs": 2, "sweep_models": ("kin",),
-         "recordings": False, "closing": False}
-"""The smallest campaign with every cached stage: logs with twins, tuning, validation,
-references, twins, the oracle rows, efficiency and the gain sweep."""
+from tests.helpers import SMALL_CAMPAIGN as SMALL
 
 CACHED = ("logs", "tuning", "validation", "references", "twins", "oracle", "efficiency",
           "gain sweep")
 
 
-@pytest.fixture(scope="module")
-def made(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("campaign") / "out"
-    run_campaign(CampaignConfig(out, **SMALL))
-    return out
+@pytest.fixture
+def made(small_campaign) -> Path:
+    return small_campaign
 
 
 def again(made: Path, where: Path, capsys, **changes) -> tuple[dict[str, bool], str]:
@@ -125,3 +119,12 @@ def test_the_config_checks_its_options_and_keys_them_alike(tmp_path):
                        ({"only": ["00-"]}, "--only 00-: selects only tuning")):
         with pytest.raises(UserError, match=match):
             CampaignConfig(tmp_path, **bad)
+
+
+def test_a_campaign_without_tuning_manoeuvres_says_so_in_one_line(tmp_path):
+    # --only 27- selects no tuning manoeuvre: the tuning stage names what is missing
+    # (it divided by the number of load conditions to tune, zero, before).
+    from artic.validation.campaign.main import _tune
+
+    with pytest.raises(UserError, match="none of the tuning manoeuvres is among the logs"):
+        _tune(tmp_path, [], ("kin",), "key", 2)

@@ -359,7 +359,7 @@ def assert_tracks(model: Any, log: Run | Iterable[Run] | Mapping[str, Run],
         or the one the log's metadata names.
     gain : float, optional
         The harness's reversing feedback gain K [rad/rad]; the paper's 3 by
-        default (:data:`artic.validation.harness.loop.DEFAULT_GAIN`); 0 runs open loop.
+        default (:data:`artic.validation.harness.reversing.DEFAULT_GAIN`); 0 runs open loop.
 
     Returns
     -------

@@ -50,12 +50,9 @@ from artic.mjcf.errors import PlantError, UserError
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
-from artic.validation.harness.loop import DEFAULT_GAIN, DIVERGED
-from artic.validation.logs.assemble import MIN_SEGMENT
-from artic.validation.logs.consistency import CHECKS, accepted_in, parse_accept
-from artic.validation.logs.importers import SOURCES, read_log
-from artic.validation.logs.noise import from_meta, read_noise
-from artic.validation.logs.runfile import atomic_write, write_run
+from artic.validation.harness.reversing import DEFAULT_GAIN
+from artic.validation.logs.schema import CHECKS, MIN_SEGMENT, SOURCES
+from artic.validation.runs import runtime
 from artic.validation.runs.outputs import (
     OutDirLock,
     check_output_dir,
@@ -64,6 +61,12 @@ from artic.validation.runs.outputs import (
 )
 from artic.validation.synthetic.manoeuvres import KINDS, default_duration, make_profile
 from artic.validation.synthetic.truth import TRUTHS
+
+# Start-up: ``artic --help`` and a mistyped option answer in a fraction of a second
+# because this module imports only what the parser needs (numpy, the vehicle files,
+# the option converters). Each command imports its readers, writers and models in
+# its own body, so pandas, scipy, numba, MuJoCo and Rerun load only for a command
+# that uses them (tests/test_startup.py).
 
 JOBS = os.cpu_count() or 1
 """Default of every ``--jobs``: the number of cores."""
@@ -120,7 +123,9 @@ def _load_vehicle(name: str):
 
 
 def _simulate(args: argparse.Namespace) -> int:
+    from artic.validation.harness.loop import DIVERGED
     from artic.validation.harness.simulate import simulate
+    from artic.validation.logs.runfile import write_run
     from artic.validation.models import build, close
 
     out = check_output_file(args.out)
@@ -174,6 +179,9 @@ def _check_tyre_data(vehicle, models: Sequence[str]) -> None:
 
 
 def _read_logs(args: argparse.Namespace, vehicle) -> list:
+    from artic.validation.logs.consistency import parse_accept
+    from artic.validation.logs.importers import read_log
+
     accept = parse_accept(args.accept)
     logs = [read_log(p, vehicle, accept) for p in args.logs]
     if getattr(args, "steer_from", "log") == "yaw-rate":
@@ -185,6 +193,8 @@ def _read_logs(args: argparse.Namespace, vehicle) -> list:
 def _validate(args: argparse.Namespace) -> int:
     from artic.validation.criteria.fixedscale import SCALE_FILE, write_scale
     from artic.validation.criteria.pooled import pool_segments, segment_of, whole_logs
+    from artic.validation.logs.noise import from_meta, read_noise
+    from artic.validation.logs.runfile import atomic_write
     from artic.validation.models import parse_models
     from artic.validation.review.tables import markdown, summary, write_table
     from artic.validation.runs.validate import (
@@ -255,6 +265,7 @@ def _validate(args: argparse.Namespace) -> int:
 
 def _noise_floor(logs, metrics, out: Path, vehicle, declared: dict,
                  noise_file: Path | None) -> str:
+    from artic.validation.logs.runfile import atomic_write
     """The noise floor's text, ``OUT/noise_floor.csv`` written; one line without declared noise."""
     from artic.validation.criteria import noisefloor
 
@@ -315,6 +326,7 @@ def _tune(args: argparse.Namespace) -> int:
     from artic.mjcf.writer import fitted_changes, updated, write_vehicle
     from artic.validation.campaign.tuning import tune
     from artic.validation.harness.yawsteer import wants_yaw_rate
+    from artic.validation.logs.consistency import accepted_in
     from artic.validation.models import parse_models
     from artic.validation.runs.validate import stderr_progress
 
@@ -370,6 +382,7 @@ def _mjcf(args: argparse.Namespace) -> int:
 
 
 def _logs_import(args: argparse.Namespace) -> int:
+    from artic.validation.logs.consistency import parse_accept
     from artic.validation.logs.importers import import_sources
 
     accept = parse_accept(args.accept)
@@ -489,14 +502,23 @@ def _add_vehicle(p: argparse.ArgumentParser) -> None:
                    help="preset name or TOML file (default: %(default)s)")
 
 
+class _Version(argparse.Action):
+    """``--version``: artic's version, read when asked (reading it costs ``--help`` 0.1 s)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        import artic
+
+        print(f"artic {artic.__version__}")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``artic``."""
     p = _Parser(
         prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
         "in reverse, and their validation.")
-    import artic
-
-    p.add_argument("--version", action="version", version=f"artic {artic.__version__}")
+    p.add_argument("--version", action=_Version, nargs=0,
+                   help="show the program's version number and exit")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")
@@ -729,6 +751,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:  # --help, or a one-line option error (exit 2)
         return int(exc.code or 0) if isinstance(exc.code, int | None) else 2
+    # The process-wide settings (numba's cache folder, MuJoCo's warnings and timers),
+    # made once a command is known and before it imports a compiled model: --help and
+    # an option error load neither numba nor MuJoCo.
+    runtime.configure()
     previous = warnings.formatwarning
     warnings.formatwarning = _warning_line
     try:

@@ -60,7 +60,7 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import BUDGET
 from artic.validation.harness.feedback import feedback_law
-from artic.validation.harness.reversing import feedback_weight
+from artic.validation.harness.reversing import DEFAULT_GAIN, feedback_weight
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.harness.yawsteer import (
     equivalent_wheelbase,
@@ -70,9 +70,6 @@ from artic.validation.harness.yawsteer import (
 )
 from artic.validation.logs.runfile import MAX_POSITION, Run, new_frame
 from artic.validation.models import Model, compiled_form, driven, own_loop, steering_for
-
-DEFAULT_GAIN = 3.0
-"""The paper's feedback gain K [rad/rad]."""
 
 SPEED_WINDOW = 0.5
 """Length of the speed filter's window [s] (see the module docstring)."""

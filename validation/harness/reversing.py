@@ -76,6 +76,9 @@ from __future__ import annotations
 
 import numpy as np
 
+DEFAULT_GAIN = 3.0
+"""The paper's feedback gain K [rad/rad]."""
+
 DEAD_BAND = 0.05
 """Speed the tractor must reverse faster than for a stretch to count, full-size [m/s]."""
 

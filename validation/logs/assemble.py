@@ -49,13 +49,10 @@ from artic.validation.logs.derive import TRACTOR, TRAILER, derive_tractor, deriv
 from artic.validation.logs.differentiate import derivative, rates_from_pose
 from artic.validation.logs.runfile import LogError, Run, check_frame
 from artic.validation.logs.scale import FULL_SIZE, LogScale
-from artic.validation.logs.schema import COLUMNS
+from artic.validation.logs.schema import COLUMNS, MIN_SEGMENT
 
 RATE = 100.0
 """Sample rate of the canonical log [Hz]."""
-
-MIN_SEGMENT = 1.0
-"""Shortest gap-free segment kept [s]: the differentiator and the criteria need a second."""
 
 GAP_FACTOR = 2.5
 """Default ``max_gap`` in median intervals of a stream."""

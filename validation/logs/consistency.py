@@ -97,24 +97,7 @@ from artic.mjcf.errors import UserError
 from artic.validation.logs.checks import MAX_GAP, MAX_JUMP
 from artic.validation.logs.runfile import LogError
 from artic.validation.logs.scale import FULL_SIZE, LogScale
-
-CHECKS: dict[str, str] = {
-    "gap": "no time step longer than the longest gap accepted",
-    "yaw-rate": "integrated yaw rate against the heading change",
-    "turning": "no unit turns tighter than its geometry allows (positions in too small a unit)",
-    "axes": "each unit's axle travels along its heading (x and y swapped or mirrored)",
-    "curvature": "course of the position track against the integrated yaw rate",
-    "velocity": "integrated velocity against the position track: sign, scale, direction",
-    "jump": "position steps the velocity does not explain",
-    "steering": "steering wheel against the steering map's reach and the observed curvature",
-    "hitch": "semitrailer against tractor through one hitch point",
-    "articulation": "articulation against the derived unit's kinematics: its axle rolls along "
-                    "its heading, which fixes gamma's sign and scale (logs with a derived "
-                    "unit); against psi_1 - psi_2 where both units are measured (an offset)",
-    "metadata": "the direction the metadata states (or its manoeuvre implies) against the "
-                "motion",
-}
-"""Every check by the name ``--accept`` takes, in the order they run."""
+from artic.validation.logs.schema import CHECKS
 
 YAW_WINDOW = 2.0
 """Window of the yaw-rate and curvature fits [s]."""

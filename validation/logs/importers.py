@@ -44,11 +44,7 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.scale import LogScale
-
-SOURCES = ("a canonical .parquet or .csv log, a .mat file, a folder with tractor.csv, "
-           "trailer.csv and can.csv, or with --channels a CSV, a ROS 1 .bag, a ROS 2 bag "
-           "folder or an .mcap file")
-"""What ``artic logs import`` reads, for its help and its errors: one list to extend."""
+from artic.validation.logs.schema import SOURCES
 
 
 def _checked(run: Run, source: str, vehicle, accept: Collection[str],

@@ -3,6 +3,11 @@
 One row per sample, SI units and radians, ISO 8855 axes (x forward, y left,
 z up, yaw counter-clockwise). Positions are in an earth-fixed local plane. Yaw
 angles are continuous (unwrapped); the articulation angle is wrapped to (-pi, pi].
+
+The names that describe a log without reading one live here too (the shortest
+segment kept, the sources the importers read, the consistency checks' names):
+the command line's help needs them, and this module imports neither pandas nor
+the readers.
 """
 
 from __future__ import annotations
@@ -53,3 +58,30 @@ UNIT_HINT = {
     "v_x_1": "km/h read as m/s", "v_x_2": "km/h read as m/s",
     "v_y_1": "km/h read as m/s", "v_y_2": "km/h read as m/s",
 }
+
+MIN_SEGMENT = 1.0
+"""Shortest gap-free segment kept [s]: the differentiator and the criteria need a second."""
+
+SOURCES = ("a canonical .parquet or .csv log, a .mat file, a folder with tractor.csv, "
+           "trailer.csv and can.csv, or with --channels a CSV, a ROS 1 .bag, a ROS 2 bag "
+           "folder or an .mcap file")
+"""What ``artic logs import`` reads, for its help and its errors: one list to extend."""
+
+CHECKS: dict[str, str] = {
+    "gap": "no time step longer than the longest gap accepted",
+    "yaw-rate": "integrated yaw rate against the heading change",
+    "turning": "no unit turns tighter than its geometry allows (positions in too small a unit)",
+    "axes": "each unit's axle travels along its heading (x and y swapped or mirrored)",
+    "curvature": "course of the position track against the integrated yaw rate",
+    "velocity": "integrated velocity against the position track: sign, scale, direction",
+    "jump": "position steps the velocity does not explain",
+    "steering": "steering wheel against the steering map's reach and the observed curvature",
+    "hitch": "semitrailer against tractor through one hitch point",
+    "articulation": "articulation against the derived unit's kinematics: its axle rolls along "
+                    "its heading, which fixes gamma's sign and scale (logs with a derived "
+                    "unit); against psi_1 - psi_2 where both units are measured (an offset)",
+    "metadata": "the direction the metadata states (or its manoeuvre implies) against the "
+                "motion",
+}
+"""Every check of :mod:`artic.validation.logs.consistency` by the name ``--accept`` takes,
+in the order they run."""
