@@ -121,10 +121,13 @@ def test_the_config_checks_its_options_and_keys_them_alike(tmp_path):
             CampaignConfig(tmp_path, **bad)
 
 
-def test_a_campaign_without_tuning_manoeuvres_says_so_in_one_line(tmp_path):
-    # --only 27- selects no tuning manoeuvre: the tuning stage names what is missing
-    # (it divided by the number of load conditions to tune, zero, before).
+def test_a_campaign_without_any_log_to_tune_keeps_the_presets(tmp_path, capsys):
+    # No tuning log at all (--only 27-): nothing to fit; it divided by the number of load
+    # conditions to tune, zero, before. Both loads keep the presets, and say so.
     from artic.validation.campaign.main import _tune
 
-    with pytest.raises(UserError, match="none of the tuning manoeuvres is among the logs"):
-        _tune(tmp_path, [], ("kin",), "key", 2)
+    tuned = _tune(tmp_path, [], ("kin",), "key", 2)
+    assert tuned["complete"] and tuned["loads"] == {}
+    err = capsys.readouterr().err
+    assert "unloaded: no tuning manoeuvre among the logs" in err
+    assert "loaded: no tuning manoeuvre among the logs" in err
