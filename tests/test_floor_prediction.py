@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pyarrow.parquet as pq
 import pytest
 
 from artic.mjcf.interface import InitialState
@@ -36,6 +37,7 @@ from artic.validation.criteria.prediction import (
     truth_states,
 )
 from artic.validation.logs.importers import import_source
+from artic.validation.logs.runfile import META_KEY, parse_meta
 from artic.validation.models import build, floor_replay
 from artic.validation.synthetic.generate import simulate_manoeuvre, write_export
 from artic.validation.synthetic.sensors import SensorModel
@@ -215,7 +217,21 @@ def test_the_floor_predicts_every_reverse_log_from_its_own_states(m, tmp_path):
     check_every_start(floor_errors(log, vt, truth_states(log.meta)))
 
 
-def test_the_twin_reuses_the_logs_replay_runs_to_the_bit(tmp_path):
+@pytest.fixture(scope="module")
+def log_and_twin(tmp_path_factory):
+    """A measured reverse log and its noise-free twin, exported and imported as the campaign's."""
+    m = REVERSE[0]
+    tmp = tmp_path_factory.mktemp("twin")
+    log_run, twin_run = simulate_manoeuvre(m, SEED, None, "independent", twin=True)
+    (tmp / "logs").mkdir()
+    (tmp / "twins").mkdir()
+    log, _ = import_source(write_export(log_run, tmp / "logs", name=m.name))
+    twin, _ = import_source(write_export(twin_run, tmp / "twins", name=m.name,
+                                         meta_from=tmp / "logs" / m.name))
+    return m, log, twin
+
+
+def test_the_twin_reuses_the_logs_replay_runs_to_the_bit(log_and_twin):
     """The floor's replay ignores what the sensors measured, so a twin reuses the log's runs.
 
     The campaign's twins stage takes the references' replay runs instead of
@@ -225,13 +241,7 @@ def test_the_twin_reuses_the_logs_replay_runs_to_the_bit(tmp_path):
     """
     from artic.validation.criteria.prediction import COLUMNS, ReplayRuns
 
-    m = REVERSE[0]
-    log_run, twin_run = simulate_manoeuvre(m, SEED, None, "independent", twin=True)
-    (tmp_path / "logs").mkdir()
-    (tmp_path / "twins").mkdir()
-    log, _ = import_source(write_export(log_run, tmp_path / "logs", name=m.name))
-    twin, _ = import_source(write_export(twin_run, tmp_path / "twins", name=m.name,
-                                         meta_from=tmp_path / "logs" / m.name))
+    m, log, twin = log_and_twin
 
     def errors(run, share=None):
         # Each log's truth vehicle built afresh, as the campaign's floor builds it.
@@ -261,3 +271,26 @@ def test_the_twin_reuses_the_logs_replay_runs_to_the_bit(tmp_path):
     other = ReplayRuns("not this run's digest", shared.runs)
     again = errors(twin, other)["replays"].runs
     assert again and not any(again[k] is shared.runs.get(k) for k in again)
+
+
+def test_the_campaigns_twin_floor_rows_reuse_the_logs_replays(log_and_twin, tmp_path):
+    """validate_runs hands the floor's replay runs on (never into a run file); rows unchanged."""
+    from artic.validation.runs.validate import validate_runs
+
+    m, log, twin = log_and_twin
+
+    def vehicle_of(run):
+        return truth_vehicle(m.load, run.meta["truth"], SEED, run.meta["slope"])
+
+    def rows(run, replays=None, out=None):
+        got = validate_runs([run], vehicle_of, ["floor"], replays=replays, out_dir=out,
+                            samples=False)
+        return got.drop(columns="wall_s")
+
+    kept: dict = {}
+    assert rows(log, kept, tmp_path).equals(rows(log))
+    assert set(kept) == {log.name} and kept[log.name].runs
+    path = tmp_path / "runs" / f"{log.name}.floor.parquet"
+    meta = parse_meta(pq.read_metadata(path).metadata[META_KEY], str(path))
+    assert "replays" not in meta["prediction"]  # kept in memory, not written
+    assert rows(twin, kept).equals(rows(twin))
