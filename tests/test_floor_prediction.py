@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pyarrow.parquet as pq
 import pytest
 
 from artic.mjcf.interface import InitialState
@@ -36,6 +37,7 @@ from artic.validation.criteria.prediction import (
     truth_states,
 )
 from artic.validation.logs.importers import import_source
+from artic.validation.logs.runfile import META_KEY, parse_meta
 from artic.validation.models import build, floor_replay
 from artic.validation.synthetic.generate import simulate_manoeuvre, write_export
 from artic.validation.synthetic.sensors import SensorModel
@@ -213,3 +215,82 @@ def test_the_floor_predicts_every_reverse_log_from_its_own_states(m, tmp_path):
     # issue's 1 cm and 0.05 deg at every start point and horizon.
     log, vt = noise_free(m, tmp_path)
     check_every_start(floor_errors(log, vt, truth_states(log.meta)))
+
+
+@pytest.fixture(scope="module")
+def log_and_twin(tmp_path_factory):
+    """A measured reverse log and its noise-free twin, exported and imported as the campaign's."""
+    m = REVERSE[0]
+    tmp = tmp_path_factory.mktemp("twin")
+    log_run, twin_run = simulate_manoeuvre(m, SEED, None, "independent", twin=True)
+    (tmp / "logs").mkdir()
+    (tmp / "twins").mkdir()
+    log, _ = import_source(write_export(log_run, tmp / "logs", name=m.name))
+    twin, _ = import_source(write_export(twin_run, tmp / "twins", name=m.name,
+                                         meta_from=tmp / "logs" / m.name))
+    return m, log, twin
+
+
+def test_the_twin_reuses_the_logs_replay_runs_to_the_bit(log_and_twin):
+    """The floor's replay ignores what the sensors measured, so a twin reuses the log's runs.
+
+    The campaign's twins stage takes the references' replay runs instead of
+    running them again (:class:`artic.validation.criteria.prediction.ReplayRuns`):
+    its errors must be the ones it computes alone, bit for bit, and the log's
+    own errors must not change for running its replays a margin longer.
+    """
+    from artic.validation.criteria.prediction import COLUMNS, ReplayRuns
+
+    m, log, twin = log_and_twin
+
+    def errors(run, share=None):
+        # Each log's truth vehicle built afresh, as the campaign's floor builds it.
+        vt = truth_vehicle(m.load, run.meta["truth"], SEED, run.meta["slope"])
+        floor = floor_replay(vt, run)
+        try:
+            return prediction_errors(floor, run, vt, states=truth_states(run.meta),
+                                     per_start=True, share=share)
+        finally:
+            floor.close()
+
+    alone, kept = errors(log), errors(log, True)
+    shared = kept.pop("replays")
+    assert isinstance(shared, ReplayRuns) and len(shared.runs) >= 3
+    twin_alone, twin_shared = errors(twin), errors(twin, shared)
+    reused = twin_shared.pop("replays").runs
+    # Most start points are the same samples on the log and on its twin (their
+    # travelled distances differ by the speed noise): some runs must be reused.
+    assert sum(reused[k] is shared.runs.get(k) for k in reused) >= 1, (list(reused),
+                                                                         list(shared.runs))
+    for got, want in ((kept, alone), (twin_shared, twin_alone)):
+        for c in (*COLUMNS, "starts", "left_out", "stopped", "note"):
+            assert got[c] == want[c] or (got[c] != got[c] and want[c] != want[c]), c
+        for f in ("t", "p", "gamma"):
+            np.testing.assert_array_equal(got["per_start"][f], want["per_start"][f])
+    # Another truth run (the log's states changed) reuses nothing.
+    other = ReplayRuns("not this run's digest", shared.runs)
+    again = errors(twin, other)["replays"].runs
+    assert again and not any(again[k] is shared.runs.get(k) for k in again)
+
+
+def test_the_campaigns_twin_floor_rows_reuse_the_logs_replays(log_and_twin, tmp_path):
+    """validate_runs hands the floor's replay runs on (never into a run file); rows unchanged."""
+    from artic.validation.runs.validate import validate_runs
+
+    m, log, twin = log_and_twin
+
+    def vehicle_of(run):
+        return truth_vehicle(m.load, run.meta["truth"], SEED, run.meta["slope"])
+
+    def rows(run, replays=None, out=None):
+        got = validate_runs([run], vehicle_of, ["floor"], replays=replays, out_dir=out,
+                            samples=False)
+        return got.drop(columns="wall_s")
+
+    kept: dict = {}
+    assert rows(log, kept, tmp_path).equals(rows(log))
+    assert set(kept) == {log.name} and kept[log.name].runs
+    path = tmp_path / "runs" / f"{log.name}.floor.parquet"
+    meta = parse_meta(pq.read_metadata(path).metadata[META_KEY], str(path))
+    assert "replays" not in meta["prediction"]  # kept in memory, not written
+    assert rows(twin, kept).equals(rows(twin))

@@ -120,3 +120,20 @@ def test_digit_rule(mean, lo, hi, text):
 def test_digits_never_print_nan():
     for args in ((math.nan, math.nan, math.nan), (1.0, math.nan, math.nan), (math.inf, 0, 1)):
         assert "nan" not in format_ci(*args).lower() and "inf" not in format_ci(*args)
+
+
+def test_mean_ci_kept_results_are_the_computed_ones():
+    """The tables ask for the same sample many times; a kept interval is the one computed."""
+    from artic.validation.criteria import statistics as st
+
+    rng = np.random.default_rng(7)
+    x = rng.normal(1.0, 0.5, 40)  # a bootstrap sample (BOOTSTRAP_MIN or more values)
+    first = st.mean_ci(x)
+    assert st.mean_ci(x.copy()) is first  # the same values: kept
+    assert st.mean_ci(np.append(x, np.nan)) is first  # NaN is left out before the key
+    assert st._mean_ci(x, st.SEED, st.CONFIDENCE) == first  # computed afresh, to the bit
+    other = st.mean_ci(x, seed=st.SEED + 1)  # another seed draws other resamples
+    assert other is not first and other.lo != first.lo
+    y = x.copy()
+    y[0] += 1e-12  # another sample, however close: computed, not taken from the memo
+    assert st.mean_ci(y).mean != first.mean

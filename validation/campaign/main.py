@@ -556,6 +556,9 @@ class _Campaign:
     cache: StageCache
     timer: Stages
     results: dict[str, StageResult] = dataclasses.field(default_factory=dict)
+    replays: dict = dataclasses.field(default_factory=dict)
+    """The floor's replay runs on the measured logs, by log name, for the twins to reuse
+    (:class:`artic.validation.criteria.prediction.ReplayRuns`); emptied by the twins."""
 
     @property
     def out_dir(self) -> Path:
@@ -743,7 +746,7 @@ def _stage_references(c: _Campaign, logs: StageResult, tuning: StageResult,
         # The floor's runs as their metadata (criteria, key): the tables read no
         # more, and no recording draws them.
         floor = _floor(c.out_dir, validated, cfg.seed, cfg.truth, cfg.gain, key, c.jobs, c.pool,
-                       scale, samples=False)
+                       scale, samples=False, replays=c.replays)
         both = pd.concat([metrics, floor], ignore_index=True)
         both["load"] = both["log"].map(load_of)
         vs_plant = None
@@ -779,8 +782,11 @@ def _stage_twins(c: _Campaign, logs: StageResult, tuning: StageResult,
     load_of = {log.name: log.meta.get("load") for log in logs.value[0]}
 
     def table() -> pd.DataFrame:
-        twins = _twins(c.out_dir, logs.value[1], tuning_logs, vehicles, c.models, cfg.seed,
-                       cfg.truth, cfg.gain, key, c.jobs, c.pool, scale)
+        try:
+            twins = _twins(c.out_dir, logs.value[1], tuning_logs, vehicles, c.models, cfg.seed,
+                           cfg.truth, cfg.gain, key, c.jobs, c.pool, scale, c.replays)
+        finally:
+            c.replays.clear()  # the twins were their only use
         twins["load"] = twins["log"].map(load_of)
         return twins
 
@@ -1207,11 +1213,13 @@ def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
 
 def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
            jobs: int, pool: Executor | None, scale: dict | None = None,
-           samples: bool = True) -> pd.DataFrame:
+           samples: bool = True, replays: dict | None = None) -> pd.DataFrame:
     """The truth against the logs: the ``floor`` rows of the tables against logs.
 
     Each log's floor is the truth that made it (:func:`artic.validation.models.build`
     reads its metadata), from ``truth-LOAD.toml`` with the log's yard slope.
+    ``replays``: the open-loop predictions' replay runs, kept and reused
+    (:func:`artic.validation.runs.validate.validate_runs`).
     """
     from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
 
@@ -1223,19 +1231,21 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
     return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
                          executor=pool, label="references, the truth", scale=scale,
-                         samples=samples)
+                         samples=samples, replays=replays)
 
 
 def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
            vehicles: dict[str, Vehicle], models: Sequence[str], seed: int, truth: str,
            gain: float, key: str, jobs: int, pool: Executor | None,
-           scale: dict | None) -> pd.DataFrame:
+           scale: dict | None, replays: dict | None = None) -> pd.DataFrame:
     """Every model and the floor on the noise-free twins of the validated logs.
 
     The same tuned vehicles, gain and ``eps_n_fixed`` scale as on the logs,
     so that a criterion's difference between a log and its twin is the
     measurement's alone. Runs go to ``OUT/twins/runs``, their metadata only
-    (the criteria; ``validate_runs(samples=False)``); no recordings.
+    (the criteria; ``validate_runs(samples=False)``); no recordings. The
+    floor's open-loop predictions reuse the replay runs in ``replays`` (the
+    measured logs', :func:`_floor`): a replay does not depend on the sensors.
     """
     twin_out = out_dir / TWINS
     validated = [log for log in twin_logs if log.name not in tuning_logs]
@@ -1249,7 +1259,7 @@ def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
                                        executor=pool, label=f"twins, {load}", scale=scale,
                                        samples=False))
     parts.append(_floor(twin_out, validated, seed, truth, gain, f"{key}.twins", jobs, pool,
-                        scale, samples=False))
+                        scale, samples=False, replays=replays))
     out = pd.concat(parts, ignore_index=True)
     out.attrs["reused"] = sum(p.attrs.get("reused", 0) for p in parts)
     return out

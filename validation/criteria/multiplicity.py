@@ -93,7 +93,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from artic.validation.criteria.statistics import CONFIDENCE, SEED
+from artic.validation.criteria.statistics import CONFIDENCE, MEMO_SIZE, SEED
 
 ALPHA = 1.0 - CONFIDENCE
 """Family-wise error rate of the correction [-]: 5 %."""
@@ -354,7 +354,25 @@ def paired_test(x: Sequence[float] | np.ndarray, seed: int = SEED) -> PairedTest
         zero), or NaN and why the row is not testable.
     """
     x = np.asarray(x, dtype=float)
-    x = x[np.isfinite(x)]
+    x = np.ascontiguousarray(x[np.isfinite(x)])
+    key = (x.tobytes(), int(seed))
+    got = _PAIRED_TEST.get(key)
+    if got is None:
+        got = _paired_test(x, seed)
+        if len(_PAIRED_TEST) >= MEMO_SIZE:
+            _PAIRED_TEST.clear()
+        _PAIRED_TEST[key] = got
+    return got
+
+
+_PAIRED_TEST: dict[tuple[bytes, int], PairedTest] = {}
+"""What :func:`paired_test` computed, by the differences' bytes and the seed: the
+tables test the same differences in the pooled, per-class and leave-one-class-out
+tables (see :data:`artic.validation.criteria.statistics.MEMO_SIZE`)."""
+
+
+def _paired_test(x: np.ndarray, seed: int) -> PairedTest:
+    """:func:`paired_test` of the finite differences ``x``, computed."""
     n = int(x.size)
     if n < 3:
         return PairedTest(math.nan, f"{NOT_TESTABLE} at n = {n} (fewer than 3 values)", n)

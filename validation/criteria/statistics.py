@@ -136,7 +136,34 @@ def mean_ci(values: Sequence[float] | np.ndarray, seed: int = SEED,
     Interval
     """
     x = np.asarray(values, dtype=float)
-    x = x[np.isfinite(x)]
+    x = np.ascontiguousarray(x[np.isfinite(x)])
+    key = (x.tobytes(), int(seed), float(confidence))
+    got = _MEAN_CI.get(key)
+    if got is None:
+        got = _mean_ci(x, seed, confidence)
+        if len(_MEAN_CI) >= MEMO_SIZE:
+            _MEAN_CI.clear()
+        _MEAN_CI[key] = got
+    return got
+
+
+MEMO_SIZE = 16384
+"""Most results :func:`mean_ci` keeps (then it starts again).
+
+It is a function of the finite values, the seed and the level alone (the
+bootstrap draws from a generator of its own seed), and the campaign's tables ask
+for the same sample many times over: a class's rows in its own table and in the
+pooled one, a pair's differences in every leave-one-class-out table that keeps
+the class's manoeuvres (:func:`artic.validation.campaign.classes.carried_by`).
+The values' bytes are the key, so a kept result is the one computed again, to
+the bit; an entry holds about 60 values (one per manoeuvre), under 1 kB.
+"""
+
+_MEAN_CI: dict[tuple[bytes, int, float], Interval] = {}
+
+
+def _mean_ci(x: np.ndarray, seed: int, confidence: float) -> Interval:
+    """:func:`mean_ci` of the finite values ``x``, computed."""
     n = int(x.size)
     if n == 0:
         return Interval(math.nan, math.nan, math.nan, 0, "none")

@@ -332,7 +332,7 @@ def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
         obs[k], delta[k], delta_fb[k], sat[k] = o, d, f, s
         if names:
             ext[k] = model.extras()
-        if abs(o[12]) > gamma_max or not np.all(np.abs(o) <= OBSERVATION_LIMIT):
+        if abs(o[12]) > gamma_max or not (np.abs(o) <= OBSERVATION_LIMIT).all():
             return obs, delta, delta_fb, sat, k + 1  # NaN fails the comparison too
         if k + 1 < n:
             model.step(dt[k], d, u1[k], u1_dot[k])

@@ -63,7 +63,8 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
                   progress: Callable[[str], None] | None = None,
                   reuse_key: str | None = None, jobs: int = 1,
                   executor: Executor | None = None, label: str = "validation",
-                  scale: Scale | None = None, samples: bool = True) -> pd.DataFrame:
+                  scale: Scale | None = None, samples: bool = True,
+                  replays: dict | None = None) -> pd.DataFrame:
     """Run every model on every log and compute the criteria.
 
     Parameters
@@ -106,6 +107,12 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         The fixed scale of ``eps_n_fixed``
         (:func:`artic.validation.criteria.fixedscale.campaign_scale`); from
         ``logs`` when not given. A campaign gives the one of all its logs.
+    replays : dict, optional
+        The floor's replay runs of its open-loop predictions
+        (:class:`artic.validation.criteria.prediction.ReplayRuns`), by log name:
+        those of the floor's runs simulated here are put in it, and those it
+        holds are reused where they fit (the campaign's noise-free twins reuse
+        the measured logs'; the rows are the same to the bit).
 
     Returns
     -------
@@ -161,8 +168,12 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         fresh = meta is None
         if fresh:
             got = remote.pop((log.name, name), None)
-            run, wall = got if got is not None else _simulate(name, log, vehicle, gain)
+            run, wall = got if got is not None else _simulate(name, log, vehicle, gain,
+                                                              *_shared(replays, log, name))
             meta = run.meta
+            kept = meta.get("prediction", {}).pop(REPLAYS, None)
+            if kept is not None and replays is not None:
+                replays[log.name] = kept
             meta["wall_s"] = wall
             if log.meta.get("accepted_checks"):
                 meta["accepted_checks"] = log.meta["accepted_checks"]
@@ -206,7 +217,8 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
             if (log.name, name) in reused:
                 continue
             v = _resolve(vehicle, log)  # pickles
-            todo[(log.name, name)] = executor.submit(_simulate_counted, name, log, v, gain)
+            todo[(log.name, name)] = executor.submit(_simulate_counted, name, log, v, gain,
+                                                     *_shared(replays, log, name))
         for k, f in todo.items():
             run, wall, counted = f.result()
             BUDGET.merge(counted)  # what the worker simulated, in this process's count
@@ -224,6 +236,17 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     out.attrs["reused"] = len(reused)
     out.attrs["scale"] = scale
     return out
+
+
+REPLAYS = "replays"
+"""The key of a floor's replay runs in a fresh run's ``meta["prediction"]`` (never written)."""
+
+
+def _shared(replays: dict | None, log: Run, name: str) -> tuple:
+    """The extra arguments of :func:`_simulate` for sharing the floor's replay runs, or none."""
+    if replays is None or not spec(name).reference:
+        return ()
+    return (replays.get(log.name, True),)
 
 
 def _resolve(vehicle: Vehicle | Callable[[Run], Vehicle], log: Run) -> Vehicle:
@@ -291,7 +314,7 @@ def _reusable(target: Path | None, key: str | None) -> dict | None:
 
 
 def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
-              gain: float) -> tuple[Run, float]:
+              gain: float, share=None) -> tuple[Run, float]:
     """One harness run; returns the run and its wall time without model construction [s].
 
     ``vehicle`` may be a function of the log (the floor's truth). A failure is
@@ -301,6 +324,8 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     The same model then makes the open-loop predictions of a reverse log
     (:func:`artic.validation.criteria.prediction.prediction_errors`), into
     ``meta["prediction"]``; their wall time is there, not in the one returned.
+    ``share``: the floor's replay runs to return (``True``) or reuse
+    (:func:`artic.validation.criteria.prediction.prediction_errors`).
     """
     from artic.validation.harness.plantnotes import collect, summary
 
@@ -316,7 +341,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
                 build_s = t0 - t_build
                 run = run_closed_loop(model, log, vehicle, gain)
                 wall = time.perf_counter() - t0
-                run.meta["prediction"] = _predict(model, log, vehicle, name)
+                run.meta["prediction"] = _predict(model, log, vehicle, name, share)
             finally:
                 close(model)
     except (MemoryError, RecursionError):
@@ -335,14 +360,14 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
 
 
 def _simulate_counted(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
-                      gain: float) -> tuple[Run, float, dict]:
+                      gain: float, *share) -> tuple[Run, float, dict]:
     """:func:`_simulate` on an executor, with what it simulated (a ``Budget.scope``)."""
     with BUDGET.scope() as counted:
-        run, wall = _simulate(name, log, vehicle, gain)
+        run, wall = _simulate(name, log, vehicle, gain, *share)
     return run, wall, counted
 
 
-def _predict(model, log: Run, vehicle: Vehicle, name: str) -> dict:
+def _predict(model, log: Run, vehicle: Vehicle, name: str, share=None) -> dict:
     """:func:`prediction_errors`, or NaN with the reason when the model fails in one.
 
     The floor (the reference row) starts from the truth's states the log
@@ -360,7 +385,8 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str) -> dict:
             states = TruthStates(np.zeros(0), np.zeros((0, 0)))
         if states is not None and states.t.size:
             replay = floor_replay(vehicle, log)  # the truth's own pedals and steering
-        out = prediction_errors(replay or model, log, vehicle, states=states)
+        out = prediction_errors(replay or model, log, vehicle, states=states,
+                                share=share if replay is not None else None)
         if states is not None and states.t.size and replay is None and out["starts"]:
             out["note"] = "; ".join(filter(None, [out["note"], FOLLOWED]))
         return out

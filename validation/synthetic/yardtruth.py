@@ -104,6 +104,9 @@ TRUTH_ABI = 1
 which imports the plant, as this module must not)."""
 
 
+_SITE = mujoco.mjtObj.mjOBJ_SITE
+
+
 class YardUnavailable(RuntimeError):
     """The compiled truth cannot be used; the message says why."""
 
@@ -239,6 +242,8 @@ class YardTruth:
                                                              self._zdot, self._out))
         self._r0_mean = float(np.mean([t.r0 for t in self.tyres.values()]))
         self._vel = np.zeros(6)
+        self._sensor_bodies = [(int(site), int(self.model.site_bodyid[site]))
+                               for site in self.layout.sensor_sites]
         self._settled = self._settle()
 
     # ------------------------------------------------------------ construction
@@ -418,22 +423,25 @@ class YardTruth:
         velocities: the unit's ground velocity in its heading's axes; yaw rate:
         the unit's rotation about its own vertical (a strapdown gyro).
         """
-        d, lay = self.data, self.layout
+        # Once per harness sample: Python floats throughout (the same IEEE operations
+        # as on numpy's scalars, and wrap_angle's scalar path written out), the
+        # sensors' bodies looked up once.
+        d, m = self.data, self.model
         out = np.empty(13)
-        for i, site in enumerate(lay.sensor_sites):
-            psi = self._heading(i)
-            psi = self._psi[i] + float(wrap_angle(psi - self._psi[i]))
+        vel, two_pi = self._vel, 2.0 * math.pi
+        for i, (site, body) in enumerate(self._sensor_bodies):
+            R = d.site_xmat[site]
+            prev = float(self._psi[i])
+            psi = prev + (math.pi - (math.pi - (math.atan2(R[3], R[0]) - prev)) % two_pi)
             self._psi[i] = psi
-            body = int(self.model.site_bodyid[site])
-            vel = self._vel  # every entry written here
-            mujoco.mj_objectVelocity(self.model, d, mujoco.mjtObj.mjOBJ_SITE, site, vel, 0)
+            mujoco.mj_objectVelocity(m, d, _SITE, site, vel, 0)  # every entry written
+            v0, v1, v2, v3, v4, _ = vel.tolist()
             h = psi + self._eps[i]
             c, s = math.cos(h), math.sin(h)
-            vx, vy = c * vel[3] + s * vel[4], -s * vel[3] + c * vel[4]
-            R = d.xmat[body]
-            r = float(vel[0] * R[2] + vel[1] * R[5] + vel[2] * R[8])
+            B = d.xmat[body]
             p = d.site_xpos[site]
-            out[6 * i:6 * i + 6] = [p[0], p[1], h, vx, vy, r]
+            out[6 * i:6 * i + 6] = [p[0], p[1], h, c * v3 + s * v4, -s * v3 + c * v4,
+                                    v0 * float(B[2]) + v1 * float(B[5]) + v2 * float(B[8])]
         out[12] = wrap_angle(out[2] - out[8])
         return out
 
