@@ -184,6 +184,10 @@ class KinVectorEnv(VectorEnv):
     metadata = {"render_modes": ["rerun"], "render_fps": 10,
                 "autoreset_mode": AutoresetMode.NEXT_STEP}
 
+
+    def close(self, **kwargs: Any) -> None:
+        """Close every episode (Gymnasium's ``VectorEnv.close``; its docstring is not RST)."""
+        super().close(**kwargs)
     def __init__(self, num_envs: int, scenario: str = "alley",
                  vehicle: str = "gosar2022-unloaded", yard_model: str = "kin",
                  sensors: str = "full", render_mode: str | None = None,

@@ -88,6 +88,10 @@ class DockVectorEnv(VectorEnv):
     metadata = {"render_modes": ["rerun"], "render_fps": 10,
                 "autoreset_mode": AutoresetMode.NEXT_STEP}
 
+
+    def close(self, **kwargs: Any) -> None:
+        """Close every episode (Gymnasium's ``VectorEnv.close``; its docstring is not RST)."""
+        super().close(**kwargs)
     def __init__(self, num_envs: int, **kwargs: Any) -> None:
         if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) \
                 or num_envs < 1:
