@@ -193,7 +193,10 @@ def test_whole_campaign(default_campaign):
             assert m["docked"], m["name"]
             assert abs(m["final_lateral_error"]) < 0.5, m["name"]
             assert abs(m["final_heading_error"]) < math.radians(3.0), m["name"]
-    assert sum(m.get("shuffles", 0) > 0 for m in metas) >= 1  # shuffles happen
+    # The truth's own driver rarely shuffles (1 of 136 docking and parking drives on seeds
+    # 0-7; tests/test_truth_driver.py drives one shuffle against its closed form): none
+    # needs more than one, where the harness-law driver it replaced reached its cap of 4.
+    assert max(m.get("shuffles", 0) for m in metas) <= 1
     # Tables for all three models and the floor: 21 forward manoeuvres (the
     # paper's 25 less the 4 constant steers for tuning) and 33 reverse, every
     # run complete.
