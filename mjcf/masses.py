@@ -177,8 +177,11 @@ def _chassis(v: Vehicle, unit: int, m: float, g: np.ndarray, J: float,
     J_c = J - J_u - m_c * (pos[0] - g[0]) ** 2
     if J_c <= 0:
         name = "tractor.J1" if unit == 1 else "trailer.J2"
-        raise VehicleFileError(f"{v.path}: key '{name}': the axles alone give {J_u:.0f} kg m^2 "
-                               f"of yaw inertia, more than the unit's {J:.0f}")
+        J_off = m_c * (pos[0] - g[0]) ** 2  # the chassis's own mass off the unit's CoG
+        raise VehicleFileError(f"{v.path}: key '{name}': the axles ({J_u:.0f} kg m^2) and the "
+                               f"chassis's offset from the centre of gravity ({J_off:.0f}) "
+                               f"need {J_u + J_off:.0f} kg m^2 of yaw inertia, more than the "
+                               f"unit's {J:.0f}")
     width = max(a.axle.track for a in axles)
     height = g[2] + (v.h5 if unit == 2 else 0.0)
     B = m_c * width ** 2 / 12

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import xml.etree.ElementTree as ET
 
 import mujoco
@@ -174,3 +175,24 @@ def test_wrap_angle_scalar_path_equals_the_array_path_to_the_bit():
     # (-pi, pi]: pi stays, -pi becomes pi.
     assert wrap_angle(math.pi) == math.pi and wrap_angle(-math.pi) == math.pi
     assert np.all((array > -math.pi) & (array <= math.pi))
+
+
+def test_a_yaw_inertia_the_bodies_cannot_carry_names_both_parts():
+    # The chassis gets what is left of the unit's yaw inertia once the axles' bodies and the
+    # chassis's own offset from the unit's centre of gravity are counted. A file whose J1 is
+    # below that sum is refused, naming both parts and their sum (it named the axles alone
+    # and called 10 309 "more than" 11 126, for a truck drawn by the yard truth).
+    from dataclasses import replace
+
+    from artic.mjcf.masses import layout
+    from artic.mjcf.schema import VehicleFileError
+
+    v = load_vehicle("gosar2022-unloaded")
+    with pytest.raises(VehicleFileError) as err:
+        layout(replace(v, J1=1.0))
+    text = str(err.value)
+    assert "key 'tractor.J1'" in text and "chassis's offset from the centre of gravity" in text
+    axles = float(re.search(r"axles \((\d+) kg m\^2\)", text).group(1))
+    offset = float(re.search(r"gravity \((\d+)\)", text).group(1))
+    need = float(re.search(r"need (\d+) kg m\^2", text).group(1))
+    assert abs(axles + offset - need) <= 1.0 and need > 1.0  # rounding to whole kg m^2
