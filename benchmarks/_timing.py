@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 REPEATS = 5
 
@@ -44,3 +46,18 @@ def bare_steps(model, states, nstep: int, callback: bool = False) -> float:
     finally:
         mujoco.set_mjcb_passive(saved)
     return wall
+
+
+@contextlib.contextmanager
+def one_core() -> Iterator[int | None]:
+    """Run the calling thread on one core (the first it may use), then restore its affinity."""
+    if not hasattr(os, "sched_setaffinity"):  # pragma: no cover - not Linux
+        yield None
+        return
+    saved = os.sched_getaffinity(0)
+    core = min(saved)
+    os.sched_setaffinity(0, {core})
+    try:
+        yield core
+    finally:
+        os.sched_setaffinity(0, saved)

@@ -25,11 +25,11 @@ from __future__ import annotations
 
 import math
 import statistics
-import time
 
 import numpy as np
 from numba import njit
 
+from _timing import best_wall
 from artic.mjcf import load_vehicle
 from artic.reduced import KIN, STM
 from artic.reduced.single_track import stm_rhs_into
@@ -96,16 +96,6 @@ def python_rk4(x, u, dt, L1, L1c, L2):
                  for s, p, q, r, t in zip(x, a, b, c, d, strict=True))
 
 
-def _best(fn, repeats: int = 5) -> float:
-    fn()
-    best = math.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
 def _batch(model, rng):
     X = np.zeros((BATCH, model.nstates))
     X[:, :2] = rng.uniform(-5.0, 5.0, (BATCH, 2))
@@ -124,11 +114,11 @@ def _round(kin: KIN, stm: STM) -> dict[str, float]:
         X, U = _batch(model, rng)
         U3 = np.zeros((BATCH, 3))
         U3[:, :model.ninputs] = U
-        t_step = _best(lambda m=model, X=X, U=U: m.step(X, U, DT)) / BATCH
-        t_euler = _best(lambda X=X, U3=U3, P=model.P, e=euler: e(X.copy(), U3, DT, P, STEPS))
+        t_step = best_wall(lambda m=model, X=X, U=U: m.step(X, U, DT)) / BATCH
+        t_euler = best_wall(lambda X=X, U3=U3, P=model.P, e=euler: e(X.copy(), U3, DT, P, STEPS))
         t_euler = t_euler / (BATCH * STEPS)
         seq = np.repeat(U[:, None, :], STEPS, axis=1)
-        t_roll = _best(lambda m=model, X=X, seq=seq: m.rollout(X, seq, DT)) / (BATCH * STEPS)
+        t_roll = best_wall(lambda m=model, X=X, seq=seq: m.rollout(X, seq, DT)) / (BATCH * STEPS)
         out[f"{name}_step_ns"] = 1e9 * t_step
         out[f"{name}_rollout_ns"] = 1e9 * t_roll
         out[f"{name}_euler_ns"] = 1e9 * t_euler
@@ -139,7 +129,7 @@ def _round(kin: KIN, stm: STM) -> dict[str, float]:
     L1, L1c, L2 = (float(p) for p in kin.P)
 
     def calls(fn):
-        return _best(lambda: [fn() for _ in range(CALLS)]) / CALLS
+        return best_wall(lambda: [fn() for _ in range(CALLS)]) / CALLS
 
     t_call = calls(lambda: kin.step(x, u, DT))
     t_py = calls(lambda: python_euler(xt, ut, DT, L1, L1c, L2))

@@ -20,32 +20,17 @@ Run: ``python benchmarks/run.py`` (or this file alone). Needs ``artic[mpc]``.
 
 from __future__ import annotations
 
-import contextlib
 import importlib.util
-import os
 import statistics
 import time
 
 import numpy as np
 
+from _timing import one_core
+
 ROUNDS = 3
 VEHICLE = "gosar2022-unloaded"
 RUNS = (("straight", 0), ("straight", 1), ("alley", 0), ("alley", 1))
-
-
-@contextlib.contextmanager
-def _one_core():
-    """Run the calling thread on one core (the first it may use), then restore its affinity."""
-    if not hasattr(os, "sched_setaffinity"):  # pragma: no cover - not Linux
-        yield None
-        return
-    saved = os.sched_getaffinity(0)
-    core = min(saved)
-    os.sched_setaffinity(0, {core})
-    try:
-        yield core
-    finally:
-        os.sched_setaffinity(0, saved)
 
 
 def _timed(base: type) -> tuple[type, list[float]]:
@@ -89,7 +74,7 @@ def main() -> dict[str, dict[str, list[float]]] | None:
     designs = {"KIN": MPCKin, "STM": MPCStm}
     fig: dict[str, dict[str, list[float]]] = {
         d: {"solves": [], "p50": [], "p99": [], "max": []} for d in designs}
-    with _one_core() as core:
+    with one_core() as core:
         _round(MPCKin)  # warm-up: numba's cache, the plant's library, CasADi's plugin
         for _ in range(ROUNDS):
             for d, base in designs.items():

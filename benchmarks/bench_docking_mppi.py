@@ -21,31 +21,16 @@ Run: ``python benchmarks/run.py`` (or this file alone).
 
 from __future__ import annotations
 
-import contextlib
-import os
 import statistics
 import time
 
 import numpy as np
 
+from _timing import one_core
+
 ROUNDS = 3
 VEHICLE = "gosar2022-unloaded"
 RUNS = (("straight", 0), ("alley", 0))
-
-
-@contextlib.contextmanager
-def _one_core():
-    """Run the calling thread on one core (the first it may use), then restore its affinity."""
-    if not hasattr(os, "sched_setaffinity"):  # pragma: no cover - not Linux
-        yield None
-        return
-    saved = os.sched_getaffinity(0)
-    core = min(saved)
-    os.sched_setaffinity(0, {core})
-    try:
-        yield core
-    finally:
-        os.sched_setaffinity(0, saved)
 
 
 def _timed(base: type) -> tuple[type, list[float]]:
@@ -86,7 +71,7 @@ def main() -> dict[str, dict[str, list[float]]]:
     designs = {"KIN": MPPIKin, "STM": MPPIStm}
     fig: dict[str, dict[str, list[float]]] = {
         d: {"samples": [], "p50": [], "p99": [], "max": []} for d in designs}
-    with _one_core() as core:
+    with one_core() as core:
         _round(MPPIStm)  # warm-up: numba's cache, the plant's library
         for _ in range(ROUNDS):
             for d, base in designs.items():

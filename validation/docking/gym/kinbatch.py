@@ -436,7 +436,7 @@ class KinVectorEnv(VectorEnv):
         n = self.num_envs
         if self._runs.count(None) > int(np.count_nonzero(self._autoreset)):
             raise RuntimeError("call reset() before step()")
-        a = _checked(actions, n, self._autoreset)
+        a = checked_actions(actions, n, self._autoreset)
         rewards = np.zeros(n)
         terminated = np.zeros(n, np.bool_)
         truncated = np.zeros(n, np.bool_)
@@ -588,8 +588,12 @@ def _mask(mask, n: int) -> np.ndarray:
     return mask
 
 
-def _checked(actions, n: int, skipped: np.ndarray) -> np.ndarray:
-    """``actions`` as an ``(n, 2)`` array, or one line naming the first bad row."""
+def checked_actions(actions, n: int, skipped: np.ndarray) -> np.ndarray:
+    """``actions`` as an ``(n, 2)`` array, or one line naming the first bad row.
+
+    Rows of ``skipped`` (sub-environments resetting this call) are not checked; both
+    vector environments refuse a bad call before anything steps.
+    """
     a = np.asarray(actions, dtype=float)
     if a.shape != (n, 2):
         raise UserError(f"actions of shape {a.shape}: expected ({n}, 2), a steering wheel "

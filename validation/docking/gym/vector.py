@@ -42,7 +42,7 @@ from gymnasium.vector.utils import batch_space
 
 from artic.mjcf.errors import UserError
 from artic.validation.docking.gym.env import DockEnv
-from artic.validation.docking.gym.kinbatch import KinVectorEnv, batchable
+from artic.validation.docking.gym.kinbatch import KinVectorEnv, batchable, checked_actions
 
 
 def vector_env(num_envs: int = 1, **kwargs: Any) -> VectorEnv:
@@ -151,17 +151,7 @@ class DockVectorEnv(VectorEnv):
                                                  np.ndarray, dict]:
         """Hold each sub-environment's action for 0.1 s (resetting those that ended)."""
         n = self.num_envs
-        a = np.asarray(actions, dtype=float)
-        if a.shape != (n, 2):
-            raise UserError(f"actions of shape {a.shape}: expected ({n}, 2), a steering wheel "
-                            "and a speed in [-1, 1] for each environment; nothing was stepped")
-        bad = np.flatnonzero(~np.isfinite(a).all(axis=1) & ~self._autoreset)
-        if bad.size:
-            i = int(bad[0])
-            raise UserError(f"actions[{i}] {a[i].tolist()}: not finite (sub-environment {i}"
-                            + (f" and {bad.size - 1} more" if bad.size > 1 else "")
-                            + "); expected the steering wheel and the speed, each in [-1, 1]; "
-                            "nothing was stepped")
+        a = checked_actions(actions, n, self._autoreset)
         stepping = [i for i in range(n) if not self._autoreset[i]]
         for i in stepping:  # every run computes its next 0.1 s meanwhile
             self.envs[i].post(a[i])
