@@ -61,3 +61,17 @@ def one_core() -> Iterator[int | None]:
         yield core
     finally:
         os.sched_setaffinity(0, saved)
+
+
+def timed_method(base: type, method: str) -> tuple[type, list[float]]:
+    """A subclass of ``base`` whose ``method`` records each call's wall time [ms] in the list."""
+    times: list[float] = []
+
+    def wrapped(self, *args, **kwargs):
+        t0 = time.perf_counter()
+        out = getattr(super(timed, self), method)(*args, **kwargs)
+        times.append(1e3 * (time.perf_counter() - t0))
+        return out
+
+    timed = type(base.__name__, (base,), {method: wrapped})
+    return timed, times

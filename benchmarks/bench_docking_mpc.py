@@ -22,30 +22,14 @@ from __future__ import annotations
 
 import importlib.util
 import statistics
-import time
 
 import numpy as np
 
-from _timing import one_core
+from _timing import one_core, timed_method
 
 ROUNDS = 3
 VEHICLE = "gosar2022-unloaded"
 RUNS = (("straight", 0), ("straight", 1), ("alley", 0), ("alley", 1))
-
-
-def _timed(base: type) -> tuple[type, list[float]]:
-    """A subclass of the MPC ``base`` that records each solve's wall time [ms]."""
-    times: list[float] = []
-
-    class Timed(base):
-        def _mpc(self, obs, cmd):
-            t0 = time.perf_counter()
-            out = super()._mpc(obs, cmd)
-            times.append(1e3 * (time.perf_counter() - t0))
-            return out
-
-    Timed.__name__ = base.__name__
-    return Timed, times
 
 
 def _round(base: type) -> np.ndarray:
@@ -53,7 +37,7 @@ def _round(base: type) -> np.ndarray:
     from artic.validation.docking.run import drive
     from artic.validation.docking.scenarios import scenario
 
-    cls, times = _timed(base)
+    cls, times = timed_method(base, "_mpc")
     for name, seed in RUNS:
         row = drive(scenario(name), VEHICLE, cls, seed).row
         if not row["success"]:

@@ -22,30 +22,14 @@ Run: ``python benchmarks/run.py`` (or this file alone).
 from __future__ import annotations
 
 import statistics
-import time
 
 import numpy as np
 
-from _timing import one_core
+from _timing import one_core, timed_method
 
 ROUNDS = 3
 VEHICLE = "gosar2022-unloaded"
 RUNS = (("straight", 0), ("alley", 0))
-
-
-def _timed(base: type) -> tuple[type, list[float]]:
-    """A subclass of the MPPI ``base`` that records each sample's wall time [ms]."""
-    times: list[float] = []
-
-    class Timed(base):
-        def _mppi(self, obs, cmd):
-            t0 = time.perf_counter()
-            out = super()._mppi(obs, cmd)
-            times.append(1e3 * (time.perf_counter() - t0))
-            return out
-
-    Timed.__name__ = base.__name__
-    return Timed, times
 
 
 def _round(base: type) -> np.ndarray:
@@ -53,7 +37,7 @@ def _round(base: type) -> np.ndarray:
     from artic.validation.docking.run import drive
     from artic.validation.docking.scenarios import scenario
 
-    cls, times = _timed(base)
+    cls, times = timed_method(base, "_mppi")
     for name, seed in RUNS:
         row = drive(scenario(name), VEHICLE, cls, seed, realtime=False).row
         if not row["success"]:
