@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -154,6 +155,31 @@ def test_channel_map_errors_name_the_key(tmp_path):
         read_map(bad)
     spec = read_map(EXAMPLE)
     assert spec.entries["gamma"].scale == -1.0 and spec.max_gap == 0.3
+
+
+@pytest.mark.parametrize("pair, units, said", [
+    (("x_2", "y_2"), ('"m"', '"cm"'), "channels.x_2 is in m and channels.y_2 in cm"),
+    (("x_2", "y_2"), ('"m", scale = 0.001', '"m"'), "channels.x_2 is in m x 0.001 and "
+                                                    "channels.y_2 in m"),
+    (("v_x_2", "v_y_2"), ('"km/h"', '"m/s"'), "channels.v_x_2 is in km/h and channels.v_y_2 "
+                                            "in m/s"),
+    (("x_2", "y_2"), ('"longitude"', '"m"'), "a position is either longitude and latitude"),
+])
+def test_the_components_of_one_vector_share_a_unit(tmp_path, pair, units, said):
+    """Issue 46, item 6(b), as a family: a position's or a velocity's two components."""
+    bad = tmp_path / "map.toml"
+    head = ('[time]\ncolumn = "t"\nunit = "s"\n[channels]\n'
+            'x_2 = { column = "X", unit = "m" }\ny_2 = { column = "Y", unit = "m" }\n'
+            'psi_2 = { column = "h", unit = "rad" }\ngamma = { column = "g", unit = "rad" }\n')
+    lines = [f'{pair[0]} = {{ column = "A", unit = {units[0]} }}',
+             f'{pair[1]} = {{ column = "B", unit = {units[1]} }}']
+    keep = [ln for ln in head.splitlines() if not ln.startswith((pair[0] + " ", pair[1] + " "))]
+    bad.write_text("\n".join(keep + lines) + "\n")
+    with pytest.raises(LogError, match=re.escape(said)):
+        read_map(bad)
+    # Mirrored (a negative scale) is the axes' business, not the unit's: accepted.
+    bad.write_text(head.replace('unit = "m" }\npsi_2', 'unit = "m", scale = -1.0 }\npsi_2'))
+    assert read_map(bad).entries["y_2"].scale == -1.0
 
 
 def test_canonical_csv_without_the_semitrailer_is_derived(tmp_path, unloaded, plant_run):

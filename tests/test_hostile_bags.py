@@ -189,6 +189,24 @@ def test_positions_in_millimetres_declared_as_metres_are_refused(tmp_path, truth
         "as metres)" in line and "--accept turning" in line
 
 
+@pytest.mark.parametrize("axis", ["x_1", "y_1"])
+def test_one_coordinate_in_metres_declared_as_millimetres_is_refused(tmp_path, axis):
+    """Issue 46, item 6(b): a docking log whose odometry x (in metres) was declared in
+    millimetres was imported, the unit crawling along y at a third of its speed: it moves
+    too little per window for the axes check to judge. The map is refused before reading."""
+    from tests.hostile_logs import docking
+
+    path, text = bag_logs.write_log("sqlite3", tmp_path / "rig", docking().frame)
+    line = next(ln for ln in text.splitlines() if ln.startswith(axis + " "))
+    line = refused(tmp_path, path, text.replace(line, line.replace('"m"', '"mm"')))
+    first, second = ("mm", "m") if axis == "x_1" else ("m", "mm")
+    assert f"channels.x_1 is in {first} and channels.y_1 in {second}: the two components " \
+        "of one vector come in one unit" in line, line
+    ratio = "0.001" if axis == "x_1" else "1000"
+    assert f"(a {ratio} times larger x_1" in line, line
+    assert "give x_1 and y_1 the unit the source writes" in line, line
+
+
 # ------------------------------------------------------------------ stamps and rates
 def test_header_stamps_a_thousand_times_apart_are_refused(tmp_path, truth):
     msgs = bag_logs.messages("mcap", truth)

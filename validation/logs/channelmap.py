@@ -29,7 +29,9 @@ deg/s``; ``quaternion`` (the yaw of a ``geometry_msgs/Quaternion``, for
 (a NavSatFix's, for ``y_i`` and ``x_i``), which become a local east/north
 plane tangent at the log's first fix. A bag channel may take its stamps from
 the other source than ``[time]`` says with ``time = "header" | "receive"``
-(a std_msgs value has no header).
+(a std_msgs value has no header). The two components of one position or
+velocity (``x_i, y_i``; ``v_x_i, v_y_i``) come in one unit; a map that
+declares them in two is refused.
 
 What a map must name: the pose ``x_i, y_i, psi_i`` of at least one unit
 (``i = 1`` the tractor, ``2`` the semitrailer, at the sensor positions of the
@@ -263,6 +265,7 @@ def read_map(path: Path | dict) -> ChannelMap:
                        f"{', '.join(DIMENSION)}")
     entries = {c: _entry(path, f"channels.{c}", spec, bag) for c, spec in channels.items()}
     _check_coverage(path, entries)
+    _check_vector_units(path, entries)
     return ChannelMap(str(path), entries, t_col, t_factor, source,
                       None if max_gap is None else float(max_gap), window, bag, noise=noise)
 
@@ -301,3 +304,39 @@ def _check_coverage(path, entries: dict[str, Entry]) -> None:
         other = "semitrailer's x_2, y_2, psi_2" if units == [1] else "tractor's x_1, y_1, psi_1"
         raise LogError(f"{path}: [channels] has neither the {other} nor gamma (the "
                        "articulation angle) to derive them")
+
+
+VECTORS = tuple((f"x_{i}", f"y_{i}") for i in (1, 2)) + tuple(
+    (f"v_x_{i}", f"v_y_{i}") for i in (1, 2))
+"""Pairs of channels that are the two components of one vector (a position, a velocity)."""
+
+
+def _check_vector_units(path, entries: dict[str, Entry]) -> None:
+    """Refuse a vector whose two components are declared in different units.
+
+    One in metres, the other in millimetres is a map's mistake (a source writes
+    a position's x and y alike), and it slips past the physical checks when the
+    unit moves along the other axis: a docking log whose x is shrunk a thousand
+    times still moves along y, too slowly per window for the axes check.
+    """
+    for a, b in VECTORS:
+        if a not in entries or b not in entries:
+            continue
+        ea, eb = entries[a], entries[b]
+        geo_a, geo_b = ea.unit in GEODETIC, eb.unit in GEODETIC
+        if geo_a or geo_b:
+            if geo_a != geo_b:
+                raise LogError(f"{path}: channels.{a} is in {ea.unit} and channels.{b} in "
+                               f"{eb.unit}: a position is either longitude and latitude or "
+                               "two lengths; declare both alike")
+            continue
+        fa, fb = ea.factor * abs(ea.scale), eb.factor * abs(eb.scale)
+        if not math.isclose(fa, fb, rel_tol=1e-9):
+            def said(e: Entry) -> str:
+                return e.unit + (f" x {abs(e.scale):g}" if abs(e.scale) != 1.0 else "")
+
+            raise LogError(f"{path}: channels.{a} is in {said(ea)} and channels.{b} in "
+                           f"{said(eb)}: the two components of one vector come in one unit "
+                           f"(a {fa / fb:g} times larger {a} makes the unit move along the "
+                           f"wrong line); give {a} and {b} the unit the source writes")
+
