@@ -108,7 +108,7 @@ class TyreForces:
         contact = pos.copy()
         contact[:, 2] = 0.0
         if self.spin_fit > 0.0:  # the spin mode, fitted to the step (as in the C callback)
-            dFx, ddu = self._fit_spin(m, d, F, torque, contact, hx, Re, k_x, c_x, b_x, du)
+            dFx, ddu = self._fit_spin(m, d, F, torque, contact, hx, Re, (k_x, c_x, b_x), du)
             Fx += dFx
             du += ddu
             F += (n * dFx)[:, None] * hx
@@ -124,7 +124,7 @@ class TyreForces:
 
     def _fit_spin(self, m: mujoco.MjModel, d: mujoco.MjData, F: np.ndarray,
                   torque: np.ndarray, contact: np.ndarray, hx: np.ndarray, Re: np.ndarray,
-                  k_x: np.ndarray, c_x: np.ndarray, b_x: np.ndarray,
+                  tread: tuple[np.ndarray, np.ndarray, np.ndarray],
                   du: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """:func:`artic.plant.spinmode.fit` of every wheel end, before its forces apply.
 
@@ -138,8 +138,8 @@ class TyreForces:
         inv_I = m.dof_invweight0[spin]
         f_spin = (Q + self._spin_actuator_forces(m, d) + d.qfrc_passive[spin]
                   + d.qfrc_applied[spin]) * inv_I
-        dFx, ddu = spinmode.fit(m.opt.timestep, inv_I, q_x, self._n_tyres, Re, k_x, c_x, b_x,
-                                f_spin, du, self.spin_fit)
+        mode = spinmode.Mode(inv_I, q_x, self._n_tyres, Re, *tread)
+        dFx, ddu = spinmode.fit(m.opt.timestep, mode, f_spin, du, self.spin_fit)
         held = m.dof_frictionloss[spin] != 0.0
         return np.where(held, 0.0, dFx), np.where(held, 0.0, ddu)
 

@@ -17,10 +17,12 @@ samples, so that a resumed batch reuses the failure instead of repeating it.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -57,14 +59,44 @@ def is_failed(status: str) -> bool:
     return str(status).startswith(FAILED)
 
 
+@dataclasses.dataclass(frozen=True)
+class RunOptions:
+    """How :func:`validate_runs` runs its pairs and what it reports (see its parameters).
+
+    One object for the options that travel together from the campaign's stages
+    and the command line; :func:`validate_runs` takes them as keywords as well.
+    """
+
+    progress: Callable[[str], None] | None = None
+    reuse_key: str | None = None
+    jobs: int = 1
+    executor: Executor | None = None
+    label: str = "validation"
+    scale: Scale | None = None
+    samples: bool = True
+    replays: dict | None = None
+
+
+def run_options(options: RunOptions | None, keywords: dict) -> RunOptions:
+    """``options`` with ``keywords`` (fields of :class:`RunOptions`) in place of its own.
+
+    Raises
+    ------
+    TypeError
+        For a keyword that is no field of :class:`RunOptions`, naming it and the fields.
+    """
+    fields = {f.name for f in dataclasses.fields(RunOptions)}
+    wrong = sorted(set(keywords) - fields)
+    if wrong:
+        raise TypeError(f"validate_runs() got unexpected keyword(s) {', '.join(wrong)}; "
+                        f"it takes {', '.join(sorted(fields))} (or options=RunOptions(...))")
+    return dataclasses.replace(options or RunOptions(), **keywords)
+
+
 def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicle],
                   models: Sequence[str],
                   gain: float = DEFAULT_GAIN, out_dir: Path | None = None,
-                  progress: Callable[[str], None] | None = None,
-                  reuse_key: str | None = None, jobs: int = 1,
-                  executor: Executor | None = None, label: str = "validation",
-                  scale: Scale | None = None, samples: bool = True,
-                  replays: dict | None = None) -> pd.DataFrame:
+                  options: RunOptions | None = None, **keywords: Any) -> pd.DataFrame:
     """Run every model on every log and compute the criteria.
 
     Parameters
@@ -80,6 +112,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         Reversing feedback gain K [rad/rad].
     out_dir : Path, optional
         If given, each model run is written to ``out_dir/runs/LOG.MODEL.parquet``.
+    options : RunOptions, optional
+        The options below as one object; each may be given as a keyword instead
+        (``jobs=4``), which takes the place of the object's.
     samples : bool
         With ``out_dir``: write the runs' samples (single precision, see
         :data:`SINGLE`); ``False`` writes only their metadata (criteria, key,
@@ -137,6 +172,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     >>> bool(table.loc["stm", "eps_p"] < 0.05 < 0.5 < table.loc["kin", "eps_p"])  # [m]
     True
     """
+    o = run_options(options, keywords)
+    progress, reuse_key, jobs, executor = o.progress, o.reuse_key, o.jobs, o.executor
+    label, scale, samples, replays = o.label, o.scale, o.samples, o.replays
     names = [log.name for log in logs]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
