@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from artic.mjcf.errors import UserError
+from artic.mjcf.errors import UserError, one_line
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Steering, Vehicle
 
@@ -332,10 +332,6 @@ def names() -> tuple[str, ...]:
     return tuple(n for n, s in REGISTRY.items() if not s.reference)
 
 
-def _one_line(exc: BaseException) -> str:
-    return " ".join(str(exc).split()) or type(exc).__name__
-
-
 def _checked_build(name: str, build: Callable[[Vehicle], Model]) -> Callable[[Vehicle], Model]:
     """``build``, checking that what it returns satisfies :class:`Model` and is named ``name``."""
 
@@ -541,7 +537,7 @@ def _discover() -> None:
                     "distribution"
                 warnings.warn(f"model entry point {ep.name} = {ep.value} of {dist} "
                               f"(group {ENTRY_POINT_GROUP}) was not loaded: "
-                              f"{type(exc).__name__}: {_one_line(exc)}; the other models "
+                              f"{type(exc).__name__}: {one_line(exc)}; the other models "
                               "are available", ModelEntryPointWarning, stacklevel=2)
 
 

@@ -46,7 +46,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from artic.mjcf import schema
-from artic.mjcf.errors import PlantError, UserError
+from artic.mjcf.errors import PlantError, UserError, one_line
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
@@ -710,20 +710,16 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _one_line(text: str) -> str:
-    return " ".join(str(text).split())
-
-
 def _os_error(exc: OSError) -> str:
     where = exc.filename if exc.filename is not None else ""
     if exc.filename2 is not None:
         where = f"{where} -> {exc.filename2}"
     reason = exc.strerror or str(exc)
-    return _one_line(f"{where}: {reason}" if where else reason)
+    return one_line(f"{where}: {reason}" if where else reason)
 
 
 def _warning_line(message, category, filename, lineno, line=None) -> str:
-    return f"artic: warning: {_one_line(message)}\n"
+    return f"artic: warning: {one_line(message)}\n"
 
 
 def _resume_hint(args: argparse.Namespace) -> str:
@@ -760,7 +756,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args))
     except USER_ERRORS as exc:
-        print(f"artic: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"artic: error: {one_line(exc)}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         # The reader (head, less) left early: not an error of artic's.
@@ -773,7 +769,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("artic: error: out of memory; give a shorter run or fewer jobs", file=sys.stderr)
         return 2
     except PlantError as exc:
-        print(f"artic: simulation failed: {_one_line(exc)}", file=sys.stderr)
+        print(f"artic: simulation failed: {one_line(exc)}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:  # Ctrl-C: one line, and how to go on where there is a way
         print(f"artic: interrupted{_resume_hint(args)}", file=sys.stderr)

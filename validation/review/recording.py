@@ -38,7 +38,6 @@ import contextlib
 import os
 import re
 from collections.abc import Mapping, Sequence
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import numpy as np
@@ -88,11 +87,10 @@ WHEEL_COLOURS = ((230, 25, 75), (60, 180, 75), (255, 225, 25), (0, 130, 200), (2
 
 
 def artic_version() -> str:
-    """The installed artic version."""
-    try:
-        return version("artic")
-    except PackageNotFoundError:  # pragma: no cover - running from a source tree
-        return "unknown"
+    """The installed artic version: ``artic.__version__``, the one place it is read."""
+    import artic  # the front door: light, and it reads the version once per process
+
+    return artic.__version__
 
 
 def _timelines(t: np.ndarray, s: np.ndarray) -> list[rr.TimeColumn]:

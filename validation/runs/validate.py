@@ -29,7 +29,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from artic.mjcf.errors import UserError
+from artic.mjcf.errors import UserError, one_line
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
@@ -385,11 +385,11 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     except (MemoryError, RecursionError):
         raise
     except ValueError as exc:  # the model refuses its input: vehicle, tyre, steering range
-        return failed_run(log, name, vehicle, gain, f"refused: {_one_line(exc)}"), \
+        return failed_run(log, name, vehicle, gain, f"refused: {one_line(exc)}"), \
             time.perf_counter() - t0
     except Exception as exc:  # noqa: BLE001 - a diverging plant, or any other failure
         what = "" if type(exc).__name__ == "PlantError" else f"{type(exc).__name__}: "
-        return failed_run(log, name, vehicle, gain, f"failed: {what}{_one_line(exc)}"), \
+        return failed_run(log, name, vehicle, gain, f"failed: {what}{one_line(exc)}"), \
             time.perf_counter() - t0
     if notes:
         run.meta["limited"] = summary(notes)
@@ -432,7 +432,7 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str, share=None) -> dict:
         raise
     except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point
         return {c: float("nan") for c in extra.COLUMNS if extra.COMPUTE[c] == "model"} | {
-            "note": f"failed: {_one_line(exc)}"}
+            "note": f"failed: {one_line(exc)}"}
     finally:
         if replay is not None:
             replay.close()
@@ -441,10 +441,6 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str, share=None) -> dict:
 FOLLOWED = ("the floor's speed follows the log through the harness's follower: the log "
             "holds no recorded actuation of the truth (generate it again)")
 """The floor's prediction note on a log made before the truth's actuation was recorded."""
-
-
-def _one_line(exc: BaseException) -> str:
-    return " ".join(str(exc).split()) or type(exc).__name__
 
 
 def failed_run(log: Run, name: str, vehicle: Vehicle, gain: float, status: str) -> Run:
