@@ -37,6 +37,7 @@ from artic.validation.review.tables import (
     markdown,
     paired_markdown,
     paired_table,
+    pipe_table,
     versus_paper,
 )
 
@@ -469,17 +470,18 @@ def budget_table(stages: dict[str, float], budget: dict[str, dict]) -> list[str]
         return int(runs), float(seconds)
 
     total_mb = sum(cell(k, "multibody")[1] for k in stages)
-    lines = ["| stage | wall [s] | multibody runs | multibody simulated [s] | share [%] "
-             "| reduced runs | reduced simulated [s] |", "|---|---|---|---|---|---|---|"]
+    head = ["stage", "wall [s]", "multibody runs", "multibody simulated [s]", "share [%]",
+            "reduced runs", "reduced simulated [s]"]
+    rows = []
     for k, v in stages.items():
         (mr, ms), (rr, rs) = cell(k, "multibody"), cell(k, "reduced")
         share = f"{100.0 * ms / total_mb:.0f}" if total_mb > 0 else "-"
-        lines.append(f"| {k} | {v:.1f} | {mr} | {ms:.0f} | {share} | {rr} | {rs:.0f} |")
+        rows.append([k, f"{v:.1f}", str(mr), f"{ms:.0f}", share, str(rr), f"{rs:.0f}"])
     sums = [sum(cell(k, kind)[i] for k in stages) for kind in ("multibody", "reduced")
             for i in (0, 1)]
-    lines.append(f"| total | {sum(stages.values()):.1f} | {sums[0]} | {sums[1]:.0f} | "
-                 f"{100 if total_mb > 0 else '-'} | {sums[2]} | {sums[3]:.0f} |")
-    return lines
+    rows.append(["total", f"{sum(stages.values()):.1f}", str(sums[0]), f"{sums[1]:.0f}",
+                 str(100 if total_mb > 0 else "-"), str(sums[2]), f"{sums[3]:.0f}"])
+    return pipe_table(head, rows).splitlines()
 
 
 _LARGE = Template(
