@@ -670,8 +670,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "(default: %(default)s, the single campaign in OUT)")
     camp.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
                       help="the synthetic campaign's truth: one with its own tyre and steering "
-                           "models; the plant differing from the presets in structure, or the "
-                           "first near-identical one, for regression (default: %(default)s)")
+                           "models; the plant differing from the presets in known structural "
+                           "effects (the control of the excess over the floor), or the plant "
+                           "near-identical (its logs replay exactly) (default: %(default)s)")
     camp.add_argument("--sensors", choices=("default", "ideal"), default="default",
                       help="the logs' measurement chain: noisy RTK/INS/CAN models, each log "
                            "with its noise-free twin for the noise share and the findings, or "
