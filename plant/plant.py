@@ -155,6 +155,12 @@ class Plant(Building, TyreForces, Stepping, Observing, Recording):
         standstill at 10 ms; ``False`` integrates it plainly, which RK4 holds
         only up to about 6 ms (the plain RK4 reference of the convergence study).
 
+    See Also
+    --------
+    artic.KIN : the kinematic model.
+    artic.STM : the single-track model.
+    artic.build_model : any model of the harness by name.
+
     Examples
     --------
     One second at 1 m/s with the road wheels at 0.05 rad, in 10 ms steps:

@@ -763,6 +763,13 @@ class KIN(ReducedModel):
     UnsupportedVehicleError
         When a wheelbase of the vehicle is not positive and finite.
 
+    See Also
+    --------
+    artic.STM : the single-track model, with tyres and inertia.
+    artic.Plant : the multibody reference.
+    artic.run_closed_loop : drive it through a log.
+    artic.simulate : drive it through a profile.
+
     Examples
     --------
     Reversing straight is open-loop unstable: linearised about a straight
@@ -929,6 +936,12 @@ class STM(ReducedModel):
     VehicleFileError
         For a vehicle without the tyre data the STM needs (a scale model's
         file may leave ``[tyre] f`` out): one line naming the file and the key.
+
+    See Also
+    --------
+    artic.KIN : the kinematic model.
+    artic.Plant : the multibody reference.
+    artic.run_closed_loop : drive it through a log.
 
     Examples
     --------

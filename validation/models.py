@@ -323,6 +323,11 @@ the built-in ones first, then the registered ones in the order they were registe
 def names() -> tuple[str, ...]:
     """The names of the models under validation, built-ins first, registered ones after.
 
+    See Also
+    --------
+    artic.build_model : build one by name.
+    artic.register_model : add one.
+
     Examples
     --------
     >>> import artic
@@ -421,6 +426,10 @@ def model_spec(name: str, build: Callable[[Vehicle], Model], *, label: str | Non
     TypeError
         For a ``build`` that is not callable.
 
+    See Also
+    --------
+    artic.register_model : register one in this process.
+
     Examples
     --------
     A spec for an ``artic.models`` entry point, without registering it:
@@ -478,6 +487,12 @@ def register_model(name: str, build: Callable[[Vehicle], Model], *, label: str |
         label, colour or ``tuned``.
     TypeError
         For a ``build`` that is not callable.
+
+    See Also
+    --------
+    artic.model_spec : the same for an ``artic.models`` entry point.
+    artic.model_names : every model's name.
+    artic.build_model : build one by name.
 
     Examples
     --------
@@ -565,6 +580,12 @@ def build(name: str, vehicle: Vehicle, log: Run | None = None) -> Model:
     before models are registered, and the table may be for a model registered
     in another process, so it is not an error here (``artic`` commands refuse
     it, :func:`check_vehicle`).
+
+    See Also
+    --------
+    artic.model_names : the names it takes.
+    artic.register_model : add a model of your own.
+    artic.model_spec : a model for an entry point.
 
     Examples
     --------

@@ -366,6 +366,12 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
         ``meta["status"]`` is ``"ok"``, or says where and why the run stopped
         early; the rows after that are not written.
 
+    See Also
+    --------
+    artic.simulate : open loop, through a profile.
+    artic.run_metrics : the criteria of its run.
+    artic.validate_runs : many logs and models at once.
+
     Examples
     --------
     A model driven from its own simulated log reproduces it:

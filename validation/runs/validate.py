@@ -158,6 +158,12 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         open-loop predictions excluded) and ``duration_s`` (simulated time).
         ``attrs["scale"]`` holds the scale used.
 
+    See Also
+    --------
+    artic.run_closed_loop : one model on one log.
+    artic.run_metrics : the criteria of one run.
+    artic.run_campaign : the synthetic campaign.
+
     Examples
     --------
     KIN and the STM on a log the STM made: the STM follows it within centimetres
