@@ -20,12 +20,6 @@ WAITING = {
     ("validation/campaign/main.py", "_floor"),
     # Its one caller is in validation/docking/run.py, which the docking work owns.
     ("validation/review/recording.py", "record_docking"),
-    # numba kernels of the STM and KIN taking scalars: grouping them is a change to
-    # the compiled code whose speed is to be measured on a quiet machine first.
-    ("reduced/single_track.py", "axle_velocity"),
-    ("reduced/single_track.py", "mass_and_bias"),
-    ("reduced/sensors.py", "sensor_signals"),
-    ("reduced/integrate.py", "kin_rk4"),
 }
 """Functions over the limit that wait for their owners' work to merge: (file, name)."""
 
