@@ -20,7 +20,7 @@ may raise these errors; it imports nothing.
 
 from __future__ import annotations
 
-__all__ = ["ArticError", "PlantError", "UnsupportedVehicleError", "UserError"]
+__all__ = ["ArticError", "PlantError", "UnsupportedVehicleError", "UserError", "one_line"]
 
 
 class ArticError(Exception):
@@ -46,3 +46,16 @@ class PlantError(ArticError, RuntimeError):
     >>> issubclass(artic.PlantError, artic.errors.UserError)  # not the user's fault
     False
     """
+
+
+def one_line(what: BaseException | str) -> str:
+    """``what`` as one line: its message with every run of whitespace one space.
+
+    An exception without a message is named by its type, so a line never ends
+    empty (``"failed: KeyError"`` rather than ``"failed: "``). The command line's
+    messages and the failed runs' statuses are written with it.
+    """
+    text = " ".join(str(what).split())
+    if not text and isinstance(what, BaseException):
+        return type(what).__name__
+    return text

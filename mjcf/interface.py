@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -78,3 +79,32 @@ def rotate(psi: float, x: float, y: float) -> tuple[float, float]:
     """Rotate a body-frame vector by yaw ``psi`` into the earth-fixed plane."""
     c, s = math.cos(psi), math.sin(psi)
     return c * x - s * y, s * x + c * y
+
+
+class LoopArgs(NamedTuple):
+    """A log's arguments to a closed loop, whichever loop runs it (one object, not nine).
+
+    The harness's Python loop, the reduced models' compiled loop
+    (:mod:`artic.validation.harness.reducedloop`) and the plant's loop in C
+    (:func:`artic.plant.closedloop.run`) take it. A named tuple, immutable, so
+    that numba's loop takes it as a plain tuple.
+    """
+
+    dt: np.ndarray
+    """Step to the next sample [s], one fewer than the samples (or as many)."""
+    delta_c: np.ndarray
+    """Road-wheel angle from the steering map, per sample [rad]."""
+    u1: np.ndarray
+    """Tractor speed, per sample [m/s]."""
+    u1_dot: np.ndarray
+    """Its rate, per sample [m/s^2]."""
+    gamma_meas: np.ndarray
+    """The log's articulation, per sample [rad]."""
+    weight: np.ndarray
+    """The reversing feedback's weight in [0, 1], per sample [-]."""
+    gain: float
+    """Feedback gain K [rad/rad]."""
+    delta_max: float
+    """Road-wheel limit [rad]."""
+    gamma_max: float
+    """Jackknife limit [rad]."""

@@ -149,6 +149,13 @@ class Vehicle:
     Use :func:`load_vehicle` to build one; the attributes carry the paper's
     symbols and SI units. Derived quantities are properties.
 
+    See Also
+    --------
+    artic.load_vehicle : read one from a file or a preset.
+    artic.KIN : the kinematic model of it.
+    artic.STM : the single-track model of it.
+    artic.Plant : the multibody plant of it.
+
     Examples
     --------
     >>> import artic
@@ -382,6 +389,10 @@ def _static_loads(v: Vehicle) -> tuple[np.ndarray, float]:
 def preset_names() -> list[str]:
     """Names of the presets shipped with artic.
 
+    See Also
+    --------
+    artic.load_vehicle : load one of them.
+
     Examples
     --------
     >>> import artic
@@ -459,6 +470,12 @@ def load_vehicle(name_or_path: str | Path) -> Vehicle:
         For a missing file, invalid TOML, an unknown or missing key, a value
         out of range, or inconsistent geometry. The message names the file and
         the key.
+
+    See Also
+    --------
+    artic.preset_names : the presets' names.
+    artic.Vehicle : what it returns.
+    artic.Plant : the multibody plant built from it.
 
     Examples
     --------

@@ -2,7 +2,11 @@
 
 - :mod:`artic.plant.tyre`: the PAC2002 tyre with transient slip;
 - :mod:`artic.plant.callback`: the process-wide passive-force dispatcher;
-- :mod:`artic.plant.plant`: the plant behind the harness's model interface;
+- :mod:`artic.plant.plant`: the plant behind the harness's model interface, made of
+  one part per job: :mod:`artic.plant.building` (its model, indices and tyre sets),
+  :mod:`artic.plant.tyreforces` (the tyre forces in Python), :mod:`artic.plant.stepping`
+  (resets, speed control, the step), :mod:`artic.plant.observing` (the signals) and
+  :mod:`artic.plant.recording` (the outputs for drawings);
 - :mod:`artic.plant.closedloop`: the harness's loop around the plant, compiled
   (``_loop_c.c``): a whole log in one call without the GIL;
 - :mod:`artic.plant.standalone`: the plant as a standalone MJCF file, and :func:`load`;

@@ -37,6 +37,7 @@ from artic.mjcf import extensions
 from artic.plant import ctyre
 
 if TYPE_CHECKING:
+    from artic.mjcf.interface import LoopArgs
     from artic.plant.plant import Plant
 
 ABI = 3
@@ -194,24 +195,17 @@ def _ptr(a: np.ndarray, kind):
     return a.ctypes.data_as(ctypes.POINTER(kind))
 
 
-def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
-        u1_dot: np.ndarray, gamma_meas: np.ndarray, weight: np.ndarray, gain: float,
-        delta_max: float, gamma_max: float, extras: bool = False) -> LoopResult:
+def run(plant: Plant, args: LoopArgs, extras: bool = False) -> LoopResult:
     """Drive ``plant`` (already reset) through a log's inputs in compiled code.
 
     Parameters
     ----------
     plant : Plant
         Reset to the log's first sample; :func:`available` must be empty.
-    dt : ndarray
-        Step to the next sample [s], one fewer than the samples (or as many).
-    delta_c, u1, u1_dot, gamma_meas, weight : ndarray
-        Per sample: road-wheel angle from the steering map [rad], speed
-        [m/s] and its rate [m/s^2], the log's articulation [rad], and the
-        feedback's weight in [0, 1] [-]
-        (:func:`artic.validation.harness.reversing.feedback_weight`).
-    gain, delta_max, gamma_max : float
-        Feedback gain K [rad/rad], road-wheel limit and jackknife limit [rad].
+    args : LoopArgs
+        The log's steps [s], per-sample inputs (the feedback's weight from
+        :func:`artic.validation.harness.reversing.feedback_weight`), the feedback
+        gain K [rad/rad], the road-wheel limit and the jackknife limit [rad].
     extras : bool
         Gather the raw rows of :meth:`plant.Plant.extras` per sample.
 
@@ -229,6 +223,7 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
     if why:
         raise RuntimeError(f"the compiled closed loop is unavailable: {why}")
     lib = _loaded()[0]
+    dt, delta_c, u1, u1_dot, gamma_meas, weight, gain, delta_max, gamma_max = args
     n = int(np.asarray(delta_c).size)
     f64 = [np.ascontiguousarray(a, dtype=float)
            for a in (delta_c, u1, u1_dot, gamma_meas, weight)]

@@ -32,6 +32,7 @@ import numpy as np
 
 from artic.mjcf import extensions
 from artic.mjcf.errors import UserError
+from artic.plant import spinmode
 from artic.plant.spinmode import FIT_SCALE
 from artic.plant.tyre import TyreParams
 
@@ -287,15 +288,16 @@ def evaluate(p: TyreParams, Fz, Vx, Vsx, Vy, omega_z, u, v, phi,
     return TyreOutputs(*out)
 
 
-def spin_fit(h: float, scale: float, inv_inertia: float, q_x: float, n: float, Re: float,
-             k: float, c: float, b: float, f_spin: float, f_u: float) -> tuple[float, float]:
+def spin_fit(h: float, scale: float, mode: spinmode.Mode, f_spin: float,
+             f_u: float) -> tuple[float, float]:
     """The compiled ``artic_spin_fit`` of one wheel end: ``(dFx, ddu)``.
 
-    For comparison with :func:`artic.plant.spinmode.fit`: the same arguments,
-    with the fit's scale second.
+    For comparison with :func:`artic.plant.spinmode.fit`: the same arguments
+    (``mode`` of floats, one wheel end), with the fit's scale second.
     """
     dFx, ddu = ctypes.c_double(), ctypes.c_double()
-    _lib().artic_spin_fit(h, scale, inv_inertia, q_x, n, Re, k, c, b, f_spin, f_u,
+    m = mode
+    _lib().artic_spin_fit(h, scale, m.inv_inertia, m.q_x, m.n, m.Re, m.k, m.c, m.b, f_spin, f_u,
                           ctypes.byref(dFx), ctypes.byref(ddu))
     return dFx.value, ddu.value
 

@@ -56,6 +56,9 @@ with ``a b <= (a + b)^2 / 4``) has ``|lambda| <= sqrt(2) omega_0``: at most
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import numpy as np
 
 FIT_SCALE = 4.0
@@ -123,7 +126,23 @@ DET_MIN = 0.5
 mode of a tyre with the module docstring's bounds) the wheel end is integrated plainly."""
 
 
-def fit(h, inv_inertia, q_x, n, Re, k, c, b, f_spin, f_u,
+@dataclasses.dataclass(frozen=True)
+class Mode:
+    """The coefficients of wheel ends' spin/tread modes, as :func:`jacobian` takes them.
+
+    Each is a float or an array over wheel ends; see :func:`jacobian` for their units.
+    """
+
+    inv_inertia: Any
+    q_x: Any
+    n: Any
+    Re: Any
+    k: Any
+    c: Any
+    b: Any
+
+
+def fit(h: float, mode: Mode, f_spin, f_u,
         scale: float = FIT_SCALE) -> tuple[np.ndarray, np.ndarray]:
     """The fit's additions to a wheel end's ``F_x`` [N per tyre] and ``du/dt`` [m/s].
 
@@ -133,8 +152,8 @@ def fit(h, inv_inertia, q_x, n, Re, k, c, b, f_spin, f_u,
     ----------
     h : float
         The integrator's step [s]; 0 (or ``scale`` 0) adds nothing.
-    inv_inertia, q_x, n, Re, k, c, b : array_like
-        As in :func:`jacobian`.
+    mode : Mode
+        The wheel ends' ``inv_inertia, q_x, n, Re, k, c, b``, as in :func:`jacobian`.
     f_spin : array_like
         ``dOmega/dt`` of the spin now, from everything acting on it [rad/s^2].
     f_u : array_like
@@ -148,8 +167,10 @@ def fit(h, inv_inertia, q_x, n, Re, k, c, b, f_spin, f_u,
         ``(c R_e, k) . y`` and ``(J y)_u``, with ``y = -(1 + P^4)^-1 P^3 (s f)``,
         ``s = h / z_0`` and ``P = s J``.
     """
+    inv_inertia, q_x, n = mode.inv_inertia, mode.q_x, mode.n
     f_spin, f_u, k, c, b, Re = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
-                                                     (f_spin, f_u, k, c, b, Re)))
+                                                     (f_spin, f_u, mode.k, mode.c, mode.b,
+                                                      mode.Re)))
     if not (scale > 0.0 and h > 0.0):
         return np.zeros_like(f_spin), np.zeros_like(f_spin)
     g = np.asarray(q_x) * n * inv_inertia

@@ -88,7 +88,8 @@ def step_batch(kind, x, u, dt, P):
         L1, L1c, L2 = P[0], P[1], P[2]
         for i in range(x.shape[0]):
             out[i, 0], out[i, 1], out[i, 2], out[i, 3] = integrate.kin_rk4(
-                x[i, 0], x[i, 1], x[i, 2], x[i, 3], dt, u[i, 1], u[i, 2], u[i, 0], L1, L1c, L2)
+                (x[i, 0], x[i, 1], x[i, 2], x[i, 3]), dt, u[i, 1], u[i, 2], u[i, 0],
+                (L1, L1c, L2))
         return out
     work = np.empty((5, x.shape[1]))
     for i in range(x.shape[0]):
@@ -127,8 +128,8 @@ def rollout_batch(kind, x0, u, dt, P):
             X, Y, psi, gamma = x0[b, 0], x0[b, 1], x0[b, 2], x0[b, 3]
             out[b, 0, 0], out[b, 0, 1], out[b, 0, 2], out[b, 0, 3] = X, Y, psi, gamma
             for k in range(H):
-                X, Y, psi, gamma = integrate.kin_rk4(X, Y, psi, gamma, dt, u[b, k, 1],
-                                                     u[b, k, 2], u[b, k, 0], L1, L1c, L2)
+                X, Y, psi, gamma = integrate.kin_rk4((X, Y, psi, gamma), dt, u[b, k, 1],
+                                                     u[b, k, 2], u[b, k, 0], (L1, L1c, L2))
                 out[b, k + 1, 0], out[b, k + 1, 1] = X, Y
                 out[b, k + 1, 2], out[b, k + 1, 3] = psi, gamma
         return out
@@ -763,6 +764,13 @@ class KIN(ReducedModel):
     UnsupportedVehicleError
         When a wheelbase of the vehicle is not positive and finite.
 
+    See Also
+    --------
+    artic.STM : the single-track model, with tyres and inertia.
+    artic.Plant : the multibody reference.
+    artic.run_closed_loop : drive it through a log.
+    artic.simulate : drive it through a profile.
+
     Examples
     --------
     Reversing straight is open-loop unstable: linearised about a straight
@@ -929,6 +937,12 @@ class STM(ReducedModel):
     VehicleFileError
         For a vehicle without the tyre data the STM needs (a scale model's
         file may leave ``[tyre] f`` out): one line naming the file and the key.
+
+    See Also
+    --------
+    artic.KIN : the kinematic model.
+    artic.Plant : the multibody reference.
+    artic.run_closed_loop : drive it through a log.
 
     Examples
     --------

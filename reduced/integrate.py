@@ -86,19 +86,22 @@ def rk4_step_into(kind, x, dt, u1, u1_dot, delta, P, work, out):
 @njit(cache=True)
 def kin_rk4_into(x, dt, u1, u1_dot, delta, P, out):
     """:func:`rk4_step_into` for KIN, through :func:`kin_rk4`."""
-    out[0], out[1], out[2], out[3] = kin_rk4(x[0], x[1], x[2], x[3], dt, u1, u1_dot, delta,
-                                             P[0], P[1], P[2])
+    out[0], out[1], out[2], out[3] = kin_rk4((x[0], x[1], x[2], x[3]), dt, u1, u1_dot, delta,
+                                             (P[0], P[1], P[2]))
 
 
 @njit(cache=True)
-def kin_rk4(X, Y, psi, gamma, dt, u1, u1_dot, delta, L1, L1c, L2):
+def kin_rk4(state, dt, u1, u1_dot, delta, lengths):
     """KIN's :func:`rk4_step` in scalars: the same operations in the same order.
 
     KIN's rates depend on ``psi_1`` and ``gamma`` alone, so only their stage
     values are formed; every other operation is the generic step's, so the
     bits are its bits, at a fraction of its cost in a batch (no array views
-    or temporaries). Returns the state ``(X_1, Y_1, psi_1, gamma)`` ``dt`` [s] later.
+    or temporaries). ``state`` is ``(X_1, Y_1, psi_1, gamma)`` [m, m, rad, rad] and
+    ``lengths`` ``(L1, L1c, L2)`` [m]; returns the state ``dt`` [s] later.
     """
+    X, Y, psi, gamma = state
+    L1, L1c, L2 = lengths
     h2 = 0.5 * dt
     a0, a1, a2, a3 = kin_rates(psi, gamma, u1, delta, L1, L1c, L2)
     b0, b1, b2, b3 = kin_rates(psi + h2 * a2, gamma + h2 * a3, u1 + h2 * u1_dot, delta,

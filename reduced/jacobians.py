@@ -174,13 +174,13 @@ def stm_jacobian(x, u1, u1_dot, delta, P):
     for i in range(na):
         a = x[N_BODY + i]
         F = C[i] * a
-        _, q1, q2, q3 = axle_generalised_force(i, C[i], cg, sg, cd, sd, ax_x, ax_steer,
-                                               tr_l, Lc)
+        _, q1, q2, q3 = axle_generalised_force(i, C[i], (cg, sg, cd, sd),
+                                               (ax_x, ax_steer, tr_l, Lc))
         dQa[0, i], dQa[1, i], dQa[2, i] = q1, q2, q3
         Q[0] += q1 * a
         Q[1] += q2 * a
         Q[2] += q3 * a
-        vl, vt = axle_velocity(i, u1, v, r, gd, cg, sg, cd, sd, ax_x, ax_steer, tr_l, Lc)
+        vl, vt = axle_velocity(i, u1, v, r, gd, (cg, sg, cd, sd), (ax_x, ax_steer, tr_l, Lc))
         dvl[:] = 0.0
         dvt[:] = 0.0
         if i < n1:
@@ -216,7 +216,7 @@ def stm_jacobian(x, u1, u1_dot, delta, P):
                 else:
                     B[row, -1 - zcol[j]] += d
     # Velocity rows: M_b w_dot = b.
-    M, h = mass_and_bias(g, u1, v, r, gd, m1, J1, m2, J2, Lc, a2)
+    M, h = mass_and_bias(g, u1, v, r, gd, (m1, J1, m2, J2, Lc, a2))
     Mb = M[1:, 1:].copy()
     b = np.empty(3)
     for k in range(3):

@@ -124,7 +124,7 @@ def kin_observe(x, u1, delta, P, s1, s2):
     gamma = x[3]
     r1 = u1 * math.tan(delta) / L1
     r2 = (u1 * math.sin(gamma) + r1 * L1c * math.cos(gamma)) / L2
-    return sensor_signals(x[0], x[1], x[2], gamma, u1, 0.0, r1, r2, L1c, s1, s2)
+    return sensor_signals(x[0], x[1], x[2], gamma, u1, 0.0, r1, r2, L1c, (s1, s2))
 
 
 WHEELBASES = ("equivalent", "paper")

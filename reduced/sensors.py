@@ -22,7 +22,7 @@ from numba import njit
 
 
 @njit(cache=True)
-def sensor_signals(X, Y, psi1, gamma, u1, v_ref, r1, r2, x_h, s1, s2):
+def sensor_signals(X, Y, psi1, gamma, u1, v_ref, r1, r2, x_h, sensors):
     """The 13 observed signals, in ``OBSERVATION`` order.
 
     Parameters
@@ -37,10 +37,11 @@ def sensor_signals(X, Y, psi1, gamma, u1, v_ref, r1, r2, x_h, s1, s2):
         Yaw rates of tractor and semitrailer [rad/s].
     x_h : float
         Hitch position ahead of the reference point [m] (negative: behind).
-    s1, s2 : ndarray, shape (2,)
-        Sensors: tractor's from the reference point, semitrailer's from the
-        kingpin, in their unit's axes [m].
+    sensors : tuple of ndarray
+        ``(s1, s2)``, each shape (2,): the tractor's sensor from the reference
+        point, the semitrailer's from the kingpin, in their unit's axes [m].
     """
+    s1, s2 = sensors
     c1, sn1 = math.cos(psi1), math.sin(psi1)
     psi2 = psi1 - gamma
     c2, sn2 = math.cos(psi2), math.sin(psi2)

@@ -54,11 +54,12 @@ STM_LC = 4
 
 
 @njit(cache=True)
-def mass_and_bias(gamma, u, v, r, gamma_dot, m1, J1, m2, J2, Lc, a2):
+def mass_and_bias(gamma, u, v, r, gamma_dot, inertia):
     """Mass matrix ``M(gamma)`` and velocity-product vector ``h(gamma, w)``.
 
     Both cover all four generalised speeds ``(u, v, r, gamma_dot)``, so the
-    free system (``u`` not prescribed) can be integrated too.
+    free system (``u`` not prescribed) can be integrated too. ``inertia`` is
+    ``(m1, J1, m2, J2, Lc, a2)``, as :func:`stm_unpack` gives them [kg, kg m^2, m].
 
     Returns
     -------
@@ -67,6 +68,7 @@ def mass_and_bias(gamma, u, v, r, gamma_dot, m1, J1, m2, J2, Lc, a2):
     h : ndarray, shape (4,)
         [N, N m].
     """
+    m1, J1, m2, J2, Lc, a2 = inertia
     s, c = math.sin(gamma), math.cos(gamma)
     w2 = r - gamma_dot
     V2x = u - a2 * w2 * s
@@ -95,12 +97,15 @@ def mass_and_bias(gamma, u, v, r, gamma_dot, m1, J1, m2, J2, Lc, a2):
 
 
 @njit(cache=True, inline="always")
-def axle_velocity(i, u, v, r, gamma_dot, cg, sg, cd, sd, ax_x, ax_steer, tr_l, Lc):
+def axle_velocity(i, u, v, r, gamma_dot, trig, axles):
     """Velocity of axle ``i`` (tractor axles first) in its wheel frame [m/s].
 
-    ``cg, sg`` and ``cd, sd`` are the cosine and sine of the articulation and
-    of the road-wheel angle. Returns ``(v_long, v_lat)``.
+    ``trig`` is ``(cg, sg, cd, sd)``, the cosine and sine of the articulation and
+    of the road-wheel angle; ``axles`` is ``(ax_x, ax_steer, tr_l, Lc)`` (see
+    :func:`axle_velocities`). Returns ``(v_long, v_lat)``.
     """
+    cg, sg, cd, sd = trig
+    ax_x, ax_steer, tr_l, Lc = axles
     n1 = ax_x.size
     if i < n1:
         vy = v + r * ax_x[i]
@@ -112,12 +117,14 @@ def axle_velocity(i, u, v, r, gamma_dot, cg, sg, cd, sd, ax_x, ax_steer, tr_l, L
 
 
 @njit(cache=True, inline="always")
-def axle_generalised_force(i, F, cg, sg, cd, sd, ax_x, ax_steer, tr_l, Lc):
+def axle_generalised_force(i, F, trig, axles):
     """Axle ``i``'s share ``(Q_u, Q_v, Q_r, Q_gamma_dot)`` of ``Q`` for its lateral force ``F``.
 
     The partial velocities of the axle centre, dotted with the force along
-    the wheel's lateral axis.
+    the wheel's lateral axis; ``trig`` and ``axles`` as for :func:`axle_velocity`.
     """
+    cg, sg, cd, sd = trig
+    ax_x, ax_steer, tr_l, Lc = axles
     n1 = ax_x.size
     if i < n1:
         if ax_steer[i] > 0.5:
@@ -151,8 +158,8 @@ def axle_velocities(u, v, r, gamma, gamma_dot, delta, ax_x, ax_steer, tr_l, Lc):
     cg, sg = math.cos(gamma), math.sin(gamma)
     cd, sd = math.cos(delta), math.sin(delta)
     for i in range(n):
-        v_long[i], v_lat[i] = axle_velocity(i, u, v, r, gamma_dot, cg, sg, cd, sd, ax_x,
-                                            ax_steer, tr_l, Lc)
+        v_long[i], v_lat[i] = axle_velocity(i, u, v, r, gamma_dot, (cg, sg, cd, sd),
+                                            (ax_x, ax_steer, tr_l, Lc))
     return v_long, v_lat
 
 
@@ -174,8 +181,8 @@ def generalised_forces(F, gamma, delta, ax_x, ax_steer, tr_l, Lc):
     cg, sg = math.cos(gamma), math.sin(gamma)
     cd, sd = math.cos(delta), math.sin(delta)
     for i in range(F.size):
-        q0, q1, q2, q3 = axle_generalised_force(i, F[i], cg, sg, cd, sd, ax_x, ax_steer,
-                                                tr_l, Lc)
+        q0, q1, q2, q3 = axle_generalised_force(i, F[i], (cg, sg, cd, sd),
+                                                (ax_x, ax_steer, tr_l, Lc))
         Q[0] += q0
         Q[1] += q1
         Q[2] += q2
@@ -253,19 +260,19 @@ def stm_rhs_into(x, u1, u1_dot, delta, P, out):
     psi, gamma, v, r, gd = x[2], x[3], x[4], x[5], x[6]
     cg, sg = math.cos(gamma), math.sin(gamma)
     cd, sd = math.cos(delta), math.sin(delta)
+    trig, axles = (cg, sg, cd, sd), (ax_x, ax_steer, tr_l, Lc)
     # One pass over the axles (the per-axle kernels of axle_velocities and
     # generalised_forces), with no temporary arrays: this is the hot loop.
     Q1 = Q2 = Q3 = 0.0
     for i in range(C.size):
         a = x[N_BODY + i]
-        _, q1, q2, q3 = axle_generalised_force(i, C[i] * a, cg, sg, cd, sd, ax_x, ax_steer,
-                                               tr_l, Lc)
+        _, q1, q2, q3 = axle_generalised_force(i, C[i] * a, trig, axles)
         Q1 += q1
         Q2 += q2
         Q3 += q3
-        vl, vt = axle_velocity(i, u1, v, r, gd, cg, sg, cd, sd, ax_x, ax_steer, tr_l, Lc)
+        vl, vt = axle_velocity(i, u1, v, r, gd, trig, axles)
         out[N_BODY + i] = slip_rate(vl, vt, a, sigma)
-    M, h = mass_and_bias(gamma, u1, v, r, gd, m1, J1, m2, J2, Lc, a2)
+    M, h = mass_and_bias(gamma, u1, v, r, gd, (m1, J1, m2, J2, Lc, a2))
     b = np.empty(3)
     b[0] = Q1 - h[1] - M[1, 0] * u1_dot
     b[1] = Q2 - h[2] - M[2, 0] * u1_dot
@@ -301,7 +308,7 @@ def stm_observe(x, u1, delta, P, s1, s2):
         Semitrailer sensor ``(x, y)`` from the kingpin [m].
     """
     r = x[5]
-    return sensor_signals(x[0], x[1], x[2], x[3], u1, x[4], r, r - x[6], -P[STM_LC], s1, s2)
+    return sensor_signals(x[0], x[1], x[2], x[3], u1, x[4], r, r - x[6], -P[STM_LC], (s1, s2))
 
 
 class StmParameters(NamedTuple):

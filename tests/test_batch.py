@@ -53,8 +53,8 @@ def test_the_reduced_loop_releases_the_gil(unloaded):
                         "t": np.arange(inp.t.size * reps) * 0.01})
     model = Driven(KIN(unloaded))
     model.reset(long.initial)
-    args = (*model.compiled(), *loop_args(long, unloaded, 3.0))
-    compiled_loop(*model.compiled(), *loop_args(inp, unloaded, 3.0))  # compiled beforehand
+    args = (model.compiled(), tuple(loop_args(long, unloaded, 3.0)))
+    compiled_loop(model.compiled(), tuple(loop_args(inp, unloaded, 3.0)))  # compiled beforehand
     ticks, running = [0], threading.Event()
 
     def count():

@@ -17,6 +17,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from artic.mjcf.interface import LoopArgs
 from artic.plant import Plant, PlantError, PlantWarning, closedloop
 from artic.validation.harness.loop import loop_inputs, run_inputs
 from artic.validation.harness.steering import SteeringMap
@@ -178,8 +179,7 @@ def test_plants_the_loop_cannot_run_use_the_python_loop(unloaded, kw, why):
         assert p.closed_loop() is None
         assert why in closedloop.why_no_loop(p) and closedloop.available(p) is False
         with pytest.raises(RuntimeError, match=why):
-            closedloop.run(p, np.full(1, 0.01), *np.zeros((4, 2)), np.zeros(2),
-                           3.0, 0.5, 1.5)
+            closedloop.run(p, LoopArgs(np.full(1, 0.01), *np.zeros((5, 2)), 3.0, 0.5, 1.5))
 
 
 @needs_loop

@@ -240,5 +240,5 @@ def test_the_feedback_is_handed_over_without_a_step(unloaded, cls):
     inp = steered(inputs, steering, "test")
     model = Driven(cls(v))
     model.reset(inp.initial)
-    py = _python_loop(model, *loop_args(inp, v, 3.0))
+    py = _python_loop(model, loop_args(inp, v, 3.0))
     np.testing.assert_allclose(py[2], fb, rtol=0.0, atol=1e-12)

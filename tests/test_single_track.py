@@ -38,7 +38,7 @@ def test_mass_matrix_and_bias_match_corrected_paper(unloaded):
     p = (v.m1, v.J1, v.m2, v.J2, v.Lc, v.a2)
     for _ in range(50):
         g, u, vv, r, gd = RNG.uniform(-1.5, 1.5), *RNG.uniform(-3, 3, 2), *RNG.uniform(-1, 1, 2)
-        M, h = mass_and_bias(g, u, vv, r, gd, *p)
+        M, h = mass_and_bias(g, u, vv, r, gd, p)
         Mp, Hp = paper_matrices(g, u, vv, r, gd, *p)
         np.testing.assert_allclose(M[1:, 1:], Mp, rtol=1e-12, atol=1e-9)
         np.testing.assert_allclose(h[1:], Hp, rtol=1e-12, atol=1e-9)
@@ -71,7 +71,7 @@ def test_generalised_forces_match_paper_eq13(unloaded):
 def _free_rhs(s, p):
     """The free system (u not prescribed, no forces): all four rows of M w_dot + h = 0."""
     X, Y, psi, g, u, v, r, gd = s
-    M, h = mass_and_bias(g, u, v, r, gd, *p)
+    M, h = mass_and_bias(g, u, v, r, gd, p)
     wdot = np.linalg.solve(M, -h)
     return np.array([u * math.cos(psi) - v * math.sin(psi), u * math.sin(psi) + v * math.cos(psi),
                      r, gd, *wdot])
@@ -80,7 +80,7 @@ def _free_rhs(s, p):
 def _invariants(s, p):
     m1, J1, m2, J2, Lc, a2 = p
     X, Y, psi, g, u, v, r, gd = s
-    M, _ = mass_and_bias(g, u, v, r, gd, *p)
+    M, _ = mass_and_bias(g, u, v, r, gd, p)
     w = np.array([u, v, r, gd])
     energy = 0.5 * w @ M @ w
     w2 = r - gd

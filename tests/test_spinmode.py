@@ -48,8 +48,7 @@ def fitted_jacobian(h, w, scale=spinmode.FIT_SCALE):
     out = np.empty_like(J)
     for j in range(2):
         f = J[..., :, j]
-        dFx, ddu = spinmode.fit(h, w["inv_inertia"], w["q_x"], w["n"], w["Re"], w["k"], w["c"],
-                                w["b"], f[..., 0], f[..., 1], scale)
+        dFx, ddu = spinmode.fit(h, spinmode.Mode(**w), f[..., 0], f[..., 1], scale)
         out[..., 0, j] = f[..., 0] + w["inv_inertia"] * w["q_x"] * w["n"] * dFx
         out[..., 1, j] = f[..., 1] + ddu
     return out
@@ -66,9 +65,9 @@ def test_compiled_fit_equals_the_numpy_reference():
                  n=rng.choice([1.0, 2.0]), Re=rng.uniform(0.45, 0.54),
                  k=rng.uniform(0.0, 2e6), c=rng.uniform(0.0, 5e4), b=rng.uniform(0.0, 300.0),
                  f_spin=rng.normal(0.0, 300.0), f_u=rng.normal(0.0, 0.5))
-        got = ctyre.spin_fit(*a.values())
-        ref = spinmode.fit(a["h"], a["inv_inertia"], a["q_x"], a["n"], a["Re"], a["k"], a["c"],
-                           a["b"], a["f_spin"], a["f_u"], a["scale"])
+        mode = spinmode.Mode(*(a[x] for x in ("inv_inertia", "q_x", "n", "Re", "k", "c", "b")))
+        got = ctyre.spin_fit(a["h"], a["scale"], mode, a["f_spin"], a["f_u"])
+        ref = spinmode.fit(a["h"], mode, a["f_spin"], a["f_u"], a["scale"])
         for x, y in zip(got, ref, strict=True):
             assert abs(x - float(y)) <= 1e-12 * abs(float(y)) + 1e-9, (a, got, ref)
 
@@ -144,8 +143,7 @@ def test_the_fit_vanishes_as_h_to_the_fourth():
     p = tyre(TYRES[0])
     w = wheel(p, 30e3, 0.0)
     f = (35.0, -0.02)
-    dF = [spinmode.fit(h, w["inv_inertia"], w["q_x"], w["n"], w["Re"], w["k"], w["c"], w["b"],
-                       *f)[0] for h in (1e-4, 5e-5)]
+    dF = [spinmode.fit(h, spinmode.Mode(**w), *f)[0] for h in (1e-4, 5e-5)]
     assert float(dF[0] / dF[1]) == pytest.approx(16.0, rel=1e-3)
     J = spinmode.jacobian(**w)
     # At 1 ms the fast root (-430 1/s) keeps 99.98 % of its rate.
@@ -161,8 +159,7 @@ def test_equilibria_are_kept():
     p = tyre(TYRES[0])
     w = wheel(p, 30e3, 0.0)
     for h in (0.005, 0.01, 0.02):
-        dF, du = spinmode.fit(h, w["inv_inertia"], w["q_x"], w["n"], w["Re"], w["k"], w["c"],
-                              w["b"], 0.0, 0.0)
+        dF, du = spinmode.fit(h, spinmode.Mode(**w), 0.0, 0.0)
         assert float(dF) == 0.0 and float(du) == 0.0
 
 

@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from artic.mjcf.errors import UserError
+from artic.mjcf.errors import UserError, one_line
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Steering, Vehicle
 
@@ -323,6 +323,11 @@ the built-in ones first, then the registered ones in the order they were registe
 def names() -> tuple[str, ...]:
     """The names of the models under validation, built-ins first, registered ones after.
 
+    See Also
+    --------
+    artic.build_model : build one by name.
+    artic.register_model : add one.
+
     Examples
     --------
     >>> import artic
@@ -330,10 +335,6 @@ def names() -> tuple[str, ...]:
     True
     """
     return tuple(n for n, s in REGISTRY.items() if not s.reference)
-
-
-def _one_line(exc: BaseException) -> str:
-    return " ".join(str(exc).split()) or type(exc).__name__
 
 
 def _checked_build(name: str, build: Callable[[Vehicle], Model]) -> Callable[[Vehicle], Model]:
@@ -425,6 +426,10 @@ def model_spec(name: str, build: Callable[[Vehicle], Model], *, label: str | Non
     TypeError
         For a ``build`` that is not callable.
 
+    See Also
+    --------
+    artic.register_model : register one in this process.
+
     Examples
     --------
     A spec for an ``artic.models`` entry point, without registering it:
@@ -482,6 +487,12 @@ def register_model(name: str, build: Callable[[Vehicle], Model], *, label: str |
         label, colour or ``tuned``.
     TypeError
         For a ``build`` that is not callable.
+
+    See Also
+    --------
+    artic.model_spec : the same for an ``artic.models`` entry point.
+    artic.model_names : every model's name.
+    artic.build_model : build one by name.
 
     Examples
     --------
@@ -541,7 +552,7 @@ def _discover() -> None:
                     "distribution"
                 warnings.warn(f"model entry point {ep.name} = {ep.value} of {dist} "
                               f"(group {ENTRY_POINT_GROUP}) was not loaded: "
-                              f"{type(exc).__name__}: {_one_line(exc)}; the other models "
+                              f"{type(exc).__name__}: {one_line(exc)}; the other models "
                               "are available", ModelEntryPointWarning, stacklevel=2)
 
 
@@ -569,6 +580,12 @@ def build(name: str, vehicle: Vehicle, log: Run | None = None) -> Model:
     before models are registered, and the table may be for a model registered
     in another process, so it is not an error here (``artic`` commands refuse
     it, :func:`check_vehicle`).
+
+    See Also
+    --------
+    artic.model_names : the names it takes.
+    artic.register_model : add a model of your own.
+    artic.model_spec : a model for an entry point.
 
     Examples
     --------

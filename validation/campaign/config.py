@@ -91,6 +91,10 @@ class CampaignConfig:
         One line naming the option: fewer than one truck, an unknown sensor
         chain, or an ``only`` that selects tuning manoeuvres alone.
 
+    See Also
+    --------
+    artic.run_campaign : run it.
+
     Examples
     --------
     >>> from pathlib import Path

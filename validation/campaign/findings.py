@@ -37,7 +37,7 @@ import numpy as np
 import pandas as pd
 
 from artic.validation.criteria.statistics import Interval, format_ci, mean_ci
-from artic.validation.review.tables import UNITS, _ok, columns
+from artic.validation.review.tables import UNITS, _ok, columns, pipe_table
 
 FLOOR = "floor"
 
@@ -153,7 +153,7 @@ def share_markdown(table: pd.DataFrame) -> str:
         return "(no criterion has values on both the logs and the twins)"
     models = list(dict.fromkeys(table["model"]))
     head = ["criterion", *[f"{m}: logs / twins / noise (share)" for m in models]]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    rows = []
     for c, g in table.groupby("criterion", sort=False):
         unit = f" [{UNITS[c]}]" if c in UNITS else ""
         cells = [f"{c}{unit}"]
@@ -168,8 +168,8 @@ def share_markdown(table: pd.DataFrame) -> str:
                      for k in ("noisy", "twin", "noise")]
             share = f"{r['share']:.0f} %" if math.isfinite(r["share"]) else "-"
             cells.append(f"{parts[0]} / {parts[1]} / {parts[2]} ({share})")
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        rows.append(cells)
+    return pipe_table(head, rows)
 
 
 def headline_criteria(pairs: pd.DataFrame, share: pd.DataFrame | None,
@@ -267,7 +267,7 @@ def criteria_markdown(table: pd.DataFrame) -> str:
     head = ["criterion", "findings", "rankings the noise makes", "smallest finding",
             "largest noise addition", "ratio (noise / smallest finding)"]
     head += ["a finding on the trucks' own campaigns"] if trucks else []
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    rows = []
     for c, r in table.iterrows():
         unit = f" {UNITS[c]}" if c in UNITS and UNITS[c] != "%" else (
             " points" if UNITS.get(c) == "%" else "")
@@ -282,5 +282,5 @@ def criteria_markdown(table: pd.DataFrame) -> str:
         cells.append(ratio_text(r))
         if trucks:
             cells.append(trucks_text(r) or "-")
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        rows.append(cells)
+    return pipe_table(head, rows)

@@ -482,6 +482,11 @@ def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict
     UserError
         A bad option (one line naming it), before anything is written.
 
+    See Also
+    --------
+    artic.CampaignConfig : its choices.
+    artic.validate_runs : validate models on logs of your own.
+
     Examples
     --------
     A part of the campaign (a forward tuning log and a reverse ramp steer, KIN

@@ -13,9 +13,11 @@ import os
 import platform
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
+from importlib import resources
 from string import Template
 from typing import Any
 
+import jinja2
 import numpy as np
 import pandas as pd
 
@@ -37,6 +39,7 @@ from artic.validation.review.tables import (
     markdown,
     paired_markdown,
     paired_table,
+    pipe_table,
     versus_paper,
 )
 
@@ -469,17 +472,18 @@ def budget_table(stages: dict[str, float], budget: dict[str, dict]) -> list[str]
         return int(runs), float(seconds)
 
     total_mb = sum(cell(k, "multibody")[1] for k in stages)
-    lines = ["| stage | wall [s] | multibody runs | multibody simulated [s] | share [%] "
-             "| reduced runs | reduced simulated [s] |", "|---|---|---|---|---|---|---|"]
+    head = ["stage", "wall [s]", "multibody runs", "multibody simulated [s]", "share [%]",
+            "reduced runs", "reduced simulated [s]"]
+    rows = []
     for k, v in stages.items():
         (mr, ms), (rr, rs) = cell(k, "multibody"), cell(k, "reduced")
         share = f"{100.0 * ms / total_mb:.0f}" if total_mb > 0 else "-"
-        lines.append(f"| {k} | {v:.1f} | {mr} | {ms:.0f} | {share} | {rr} | {rs:.0f} |")
+        rows.append([k, f"{v:.1f}", str(mr), f"{ms:.0f}", share, str(rr), f"{rs:.0f}"])
     sums = [sum(cell(k, kind)[i] for k in stages) for kind in ("multibody", "reduced")
             for i in (0, 1)]
-    lines.append(f"| total | {sum(stages.values()):.1f} | {sums[0]} | {sums[1]:.0f} | "
-                 f"{100 if total_mb > 0 else '-'} | {sums[2]} | {sums[3]:.0f} |")
-    return lines
+    rows.append(["total", f"{sum(stages.values()):.1f}", str(sums[0]), f"{sums[1]:.0f}",
+                 str(100 if total_mb > 0 else "-"), str(sums[2]), f"{sums[3]:.0f}"])
+    return pipe_table(head, rows).splitlines()
 
 
 _LARGE = Template(
@@ -581,89 +585,52 @@ def form_lines(forms: dict[str, Any]) -> list[str]:
     return out
 
 
-_TUNED_ON = Template(
-    "Each load condition fitted on its own forward tuning manoeuvres ($n in all, none of "
-    "them validated; `artic campaign --tuning` chooses the set, "
-    "`validation/synthetic/testmatrix.py`'s `TUNING_SETS`), by the normalised criteria "
-    "of eq. (9) (see `validation/campaign/tuning.py`): $logs.")
+def template(name: str) -> jinja2.Template:
+    """The Jinja2 template ``name`` beside this module: a report's prose, its numbers as data.
+
+    Lines of blocks are trimmed (``trim_blocks``, ``lstrip_blocks``), so a ``{% if %}``
+    on a line of its own leaves no blank line; ``fmt`` formats a number with a
+    format spec (``{{ x | fmt(".0f") }}``), as an f-string does; a missing name
+    is an error, not an empty string.
+    """
+    env = jinja2.Environment(trim_blocks=True, lstrip_blocks=True, autoescape=False,
+                             undefined=jinja2.StrictUndefined, keep_trailing_newline=True)
+    env.filters["fmt"] = format
+    return env.from_string(resources.files(__package__).joinpath(name).read_text("utf-8"))
 
 
 def render(r: CampaignResults) -> str:
-    """The whole report as Markdown."""
-    stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
-    total = sum(r.stages.values())
-    lines = [
-        "# artic validation campaign", "",
-        f"{stamp}; {platform.machine()}, {os.cpu_count()} cores, Python "
-        f"{platform.python_version()}; artic {r.version} (code {r.fingerprint}); seed "
-        f"{r.seed}; models {', '.join(r.models)}; reversing feedback K = {r.gain:g}; "
-        f"wall time {total:.0f} s"
-        + ("" if r.sensors == "default" else f"; sensors {r.sensors}")
-        + ("" if r.drift else "; the column's drift stilled") + ".", "",
-        *headline_section(r),
-        *headline(r),
-        "## Discussion", "", *[p + "\n" for p in discussion(r)],
-        "## Forward driving (the paper's Table 2)", "",
-        "Mean over the forward manoeuvres not used for tuning. Forward, the harness's "
-        "feedback is off: the models run open loop from the measured steering and speed.", "",
-        markdown(r.forward), "",
-        "Beside the paper's values:", "", markdown(versus_paper(r.forward, PAPER_FORWARD)), "",
-        "## Reverse driving (the paper's Table 3)", "",
-        f"Mean over all reverse manoeuvres, closed loop with K = {r.gain:g}.", "",
-        markdown(r.reverse), "",
-        "Beside the paper's values:", "", markdown(versus_paper(r.reverse, PAPER_REVERSE)), "",
-    ]
-    if r.forward_vs_plant is not None:
-        lines += ["## Against the plant as reference", "",
-                  "KIN and STM against the plant's runs of the same manoeuvres, through the "
-                  "same harness: forward open loop, reverse closed loop.", "",
-                  "Forward (Table 2 columns):", "", markdown(r.forward_vs_plant), ""]
-    if r.reverse_vs_plant is not None:
-        lines += ["Reverse (Table 3 columns):", "", markdown(r.reverse_vs_plant), ""]
-    lines += large_articulation(r)
-    lines += class_sections(r)
-    lines += form_sections(r)
-    lines += paired_sections(r)
-    lines += noise_sections(r)
-    if r.per_load:
-        lines += ["## Per load condition, against the logs", ""]
-    for load, table in r.per_load.items():
-        lines += [f"### {load}", "", markdown(table), ""]
-    lines += ["## Tuning", "", _TUNED_ON.substitute(
-        logs="; ".join(f"{load}: {', '.join(part.get('logs', []))}"
-                       for load, part in r.tuned.items()) or "none",
-        n=sum(len(part.get("logs", [])) for part in r.tuned.values())), "",
-        *_tuning_text(r), ""]
-    if r.efficiency is not None:
-        lines += ["## Computational efficiency", "",
-                  "The validation runs themselves, timed as they ran (every model on the "
-                  "same validated logs, as many at a time as the campaign had jobs): their "
-                  "harness runs summed per model, model construction apart (`build_s`, "
-                  "mean per run). No run is made for these figures.", "",
-                  markdown(r.efficiency), ""]
+    """The whole report as Markdown: ``report.md.j2`` with the results' numbers and tables."""
+    sweep = None
+    bounds = ""
     if r.sweep is not None and len(r.sweep):
         from artic.validation.runs.gainsweep import bounds_text, sweep_table
 
-        lines += ["## Feedback gain sweep", "",
-                  "Reverse manoeuvres at each K, means over them with their 95 % intervals. "
-                  "A model's loop is stable only above K_min = L1 / (L2 - L1c) from the "
-                  f"lengths it runs on: {bounds_text(r.sweep.attrs['K_min'])} (the rows "
-                  "marked 'bound'; KIN's equivalent wheelbases, and the STM's low-speed "
-                  "limit, see `validation/runs/gainsweep.py`). See "
-                  "`plots/gain_sweep.png`.", "",
-                  markdown(sweep_table(r.sweep)), ""]
-    lines += ["## Wall time by stage", "", *budget_table(r.stages, r.budget), ""]
-    if r.files:
-        lines += ["## Files", "", *[f"- `{v}`: {k}" for k, v in r.files.items()], ""]
-    if "recordings" in r.files:
-        lines += ["## Recordings", "",
-                  "One Rerun recording per validated manoeuvre, and `campaign.rrd` with "
-                  "this report and every criterion per manoeuvre. Open one with "
-                  "`rerun recordings/NAME.rrd`; the viewer opens on the yard (the measured "
-                  "combination in white, KIN blue, STM green, and the plant in orange, drawn "
-                  "from its own MuJoCo bodies with wheels that steer and spin and its tyre "
-                  "forces as arrows) beside the steering, speed, yaw-rate, lateral-velocity, "
-                  "articulation and running-error plots, angles in degrees, and the plant's "
-                  "wheel loads, slip angles and steering torque. The time panel switches "
-                  "between time and travelled distance (`distance_cm`).", ""]
-    return "\n".join(lines)
+        sweep, bounds = markdown(sweep_table(r.sweep)), bounds_text(r.sweep.attrs["K_min"])
+    tables = {
+        "forward": markdown(r.forward),
+        "forward_paper": markdown(versus_paper(r.forward, PAPER_FORWARD)),
+        "reverse": markdown(r.reverse),
+        "reverse_paper": markdown(versus_paper(r.reverse, PAPER_REVERSE)),
+        "forward_vs_plant": (markdown(r.forward_vs_plant) if r.forward_vs_plant is not None
+                             else None),
+        "reverse_vs_plant": (markdown(r.reverse_vs_plant) if r.reverse_vs_plant is not None
+                             else None),
+        "efficiency": markdown(r.efficiency) if r.efficiency is not None else None,
+        "sweep": sweep,
+        "budget": "\n".join(budget_table(r.stages, r.budget)),
+    }
+    text = template("report.md.j2").render(
+        r=r, stamp=datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC"),
+        machine=platform.machine(), cores=os.cpu_count(), python=platform.python_version(),
+        total=sum(r.stages.values()), headline_section=headline_section(r),
+        headline=headline(r), discussion=discussion(r), tables=tables,
+        sections=[*large_articulation(r), *class_sections(r), *form_sections(r),
+                  *paired_sections(r), *noise_sections(r)],
+        per_load=[(load, markdown(table)) for load, table in r.per_load.items()],
+        tuning_n=sum(len(part.get("logs", [])) for part in r.tuned.values()),
+        tuning_logs="; ".join(f"{load}: {', '.join(part.get('logs', []))}"
+                              for load, part in r.tuned.items()) or "none",
+        tuning=_tuning_text(r), sweep_bounds=bounds, files=list(r.files.items()),
+        recordings="recordings" in r.files)
+    return text.removesuffix("\n")

@@ -93,67 +93,39 @@ def _criteria(pairs: pd.DataFrame, direction: str) -> list[str]:
 
 
 def render(r: SeedResults, metrics: pd.DataFrame) -> str:
-    """The whole pooled report as Markdown."""
-    stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
-    seeds = sorted(r.walls)
-    models = [m for m in dict.fromkeys(metrics["model"]) if m != "floor"]
-    total = sum(r.walls.values())
-    gain = r.campaign.get("gain", DEFAULT_GAIN)
-    lines = [
-        f"# artic validation campaign over {len(seeds)} trucks", "",
-        f"{stamp}; {platform.machine()}, {os.cpu_count()} cores, Python "
-        f"{platform.python_version()}; `{_command(r, seeds)}`"
-        f": seeds {', '.join(map(str, seeds))}, models {', '.join(models)}, reversing "
-        f"feedback K = {gain:g}, truth {r.campaign.get('truth', 'structural')}; wall time "
-        f"{total:.0f} s (" + ", ".join(f"seed {s} {w:.0f} s" for s, w in r.walls.items())
-        + ").", ""]
-    if r.excess:
-        lines += ["## Model-form error: the excess over the floor, pooled over trucks", "",
-                  "Each model's criteria minus the floor's (the truth's own plant through the "
-                  "same harness) on the same manoeuvre of the same truck, averaged over trucks "
-                  "and manoeuvres; the interval is over trucks.", ""]
-        for direction, ex in r.excess.items():
-            text = "; ".join(f"{c} {excess_text(ex, c, r.paired.get(('logs', direction)))}"
-                             for c in KEY_CRITERIA[direction]
-                             if c in ex)
-            lines += [f"**{direction.capitalize()}**: {text}.", "", markdown(ex), "",
-                      "Spread of the excess between trucks / between manoeuvres:", "",
-                      spread_markdown(ex), ""]
-    lines += _headline(r)
-    lines += r.extra
-    lines += ["## Rankings", ""]
-    for (ref, direction), pairs in r.paired.items():
-        if len(pairs):
-            clauses = " ".join(f"By {c}: {ranking_text(pairs, c)}."
-                               for c in _criteria(pairs, direction))
-            lines += [f"**{direction.capitalize()}, against the {ref}.** {clauses}", ""]
-    lines += [STATISTICS, ""]
-    for (ref, direction), table in r.tables.items():
-        lines += [f"## {direction.capitalize()}, against the {ref}, pooled over trucks", "",
-                  markdown(table), "",
-                  "Spread between trucks / between manoeuvres (standard deviations):", "",
-                  spread_markdown(table), ""]
-    lines += ["## Paired comparisons, pooled over trucks", "",
-              "The key criteria; every criterion in `paired_*.csv`.", ""]
-    for (ref, direction), pairs in r.paired.items():
-        part = pairs[pairs["criterion"].isin(_criteria(pairs, direction))] if len(pairs) \
-            else pairs
-        if len(part):
-            lines += [f"{direction.capitalize()}, against the {ref}:", "",
-                      paired_markdown(part), ""]
-    lines += ["## Per truck", "",
-              "Each truck's means with their intervals over its own manoeuvres.", ""]
-    for (ref, direction), table in r.by_seed.items():
-        lines += [f"{direction.capitalize()}, against the {ref}:", "", markdown(table), ""]
-    lines += ["## Each truck's own report", "",
-              *[f"- seed {s}: `{p}`" for s, p in r.reports.items()], ""]
-    times, budget = r.summed_stages()
-    if times:
-        from artic.validation.campaign.report import budget_table
+    """The whole pooled report as Markdown: ``seedreport.md.j2`` with the pooled numbers."""
+    from artic.validation.campaign.report import budget_table, template
 
-        lines += ["## Wall time by stage, summed over the trucks", "",
-                  *budget_table(times, budget), ""]
-    return "\n".join(lines)
+    seeds = sorted(r.walls)
+    excess = [{"direction": d, "table": markdown(ex), "spread": spread_markdown(ex),
+               "text": "; ".join(f"{c} {excess_text(ex, c, r.paired.get(('logs', d)))}"
+                                 for c in KEY_CRITERIA[d] if c in ex)}
+              for d, ex in r.excess.items()]
+    rankings = [{"ref": ref, "direction": d,
+                 "clauses": " ".join(f"By {c}: {ranking_text(pairs, c)}."
+                                     for c in _criteria(pairs, d))}
+                for (ref, d), pairs in r.paired.items() if len(pairs)]
+    paired = []
+    for (ref, d), pairs in r.paired.items():
+        part = pairs[pairs["criterion"].isin(_criteria(pairs, d))] if len(pairs) else pairs
+        if len(part):
+            paired.append({"ref": ref, "direction": d, "table": paired_markdown(part)})
+    times, budget = r.summed_stages()
+    text = template("seedreport.md.j2").render(
+        stamp=datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC"), machine=platform.machine(),
+        cores=os.cpu_count(), python=platform.python_version(), command=_command(r, seeds),
+        seeds=seeds, models=[m for m in dict.fromkeys(metrics["model"]) if m != "floor"],
+        gain=r.campaign.get("gain", DEFAULT_GAIN), truth=r.campaign.get("truth", "structural"),
+        total=sum(r.walls.values()), walls=list(r.walls.items()), excess=excess,
+        headline=_headline(r), extra=r.extra, rankings=rankings, statistics=STATISTICS,
+        tables=[{"ref": ref, "direction": d, "table": markdown(table),
+                 "spread": spread_markdown(table)} for (ref, d), table in r.tables.items()],
+        paired=paired,
+        by_seed=[{"ref": ref, "direction": d, "table": markdown(table)}
+                 for (ref, d), table in r.by_seed.items()],
+        reports=list(r.reports.items()),
+        budget="\n".join(budget_table(times, budget)) if times else "")
+    return text.removesuffix("\n")
 
 
 def _headline(r: SeedResults) -> list[str]:

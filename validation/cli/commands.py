@@ -46,7 +46,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from artic.mjcf import schema
-from artic.mjcf.errors import PlantError, UserError
+from artic.mjcf.errors import PlantError, UserError, one_line
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
@@ -670,8 +670,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "(default: %(default)s, the single campaign in OUT)")
     camp.add_argument("--truth", choices=TRUTHS, default=TRUTHS[0],
                       help="the synthetic campaign's truth: one with its own tyre and steering "
-                           "models; the plant differing from the presets in structure, or the "
-                           "first near-identical one, for regression (default: %(default)s)")
+                           "models; the plant differing from the presets in known structural "
+                           "effects (the control of the excess over the floor), or the plant "
+                           "near-identical (its logs replay exactly) (default: %(default)s)")
     camp.add_argument("--sensors", choices=("default", "ideal"), default="default",
                       help="the logs' measurement chain: noisy RTK/INS/CAN models, each log "
                            "with its noise-free twin for the noise share and the findings, or "
@@ -710,20 +711,16 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _one_line(text: str) -> str:
-    return " ".join(str(text).split())
-
-
 def _os_error(exc: OSError) -> str:
     where = exc.filename if exc.filename is not None else ""
     if exc.filename2 is not None:
         where = f"{where} -> {exc.filename2}"
     reason = exc.strerror or str(exc)
-    return _one_line(f"{where}: {reason}" if where else reason)
+    return one_line(f"{where}: {reason}" if where else reason)
 
 
 def _warning_line(message, category, filename, lineno, line=None) -> str:
-    return f"artic: warning: {_one_line(message)}\n"
+    return f"artic: warning: {one_line(message)}\n"
 
 
 def _resume_hint(args: argparse.Namespace) -> str:
@@ -760,7 +757,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args))
     except USER_ERRORS as exc:
-        print(f"artic: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"artic: error: {one_line(exc)}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         # The reader (head, less) left early: not an error of artic's.
@@ -773,7 +770,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("artic: error: out of memory; give a shorter run or fewer jobs", file=sys.stderr)
         return 2
     except PlantError as exc:
-        print(f"artic: simulation failed: {_one_line(exc)}", file=sys.stderr)
+        print(f"artic: simulation failed: {one_line(exc)}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:  # Ctrl-C: one line, and how to go on where there is a way
         print(f"artic: interrupted{_resume_hint(args)}", file=sys.stderr)

@@ -118,6 +118,11 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
         The :data:`CRITERIA`, ``eps_gamma`` and ``eps_cover`` (with ``beyond``), and
         ``s_max`` [m] (distance compared).
 
+    See Also
+    --------
+    artic.run_closed_loop : the run it scores.
+    artic.validate_runs : the criteria of many runs.
+
     Examples
     --------
     >>> import artic

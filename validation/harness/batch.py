@@ -80,7 +80,7 @@ def run_batch(model_factory, vehicle: Vehicle, inputs: Sequence[LoopInputs],
             forms.append((kind, x0.copy(), P, s1, s2))
 
         def one(i):
-            return compiled_loop(*forms[i], *loop_args(inputs[i], vehicle, gain))
+            return compiled_loop(forms[i], tuple(loop_args(inputs[i], vehicle, gain)))
 
         runs = _on_threads(one, inputs, jobs)
         for inp, run in zip(inputs, runs, strict=True):

@@ -56,7 +56,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pandas as pd
 
-from artic.mjcf.interface import InitialState
+from artic.mjcf.interface import InitialState, LoopArgs
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import BUDGET
 from artic.validation.harness.feedback import feedback_law
@@ -222,9 +222,9 @@ def _started(inputs: LoopInputs) -> LoopInputs:
     return replace(inputs, initial=replace(inputs.initial, delta=delta))
 
 
-def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) -> tuple:
+def loop_args(inputs: LoopInputs, vehicle: Vehicle, gain: float = DEFAULT_GAIN) -> LoopArgs:
     """The per-log arguments of every loop after the model's own: steps, inputs, limits."""
-    return (np.diff(inputs.t), inputs.delta_c, inputs.u1, inputs.u1_dot, inputs.gamma_meas,
+    return LoopArgs(np.diff(inputs.t), inputs.delta_c, inputs.u1, inputs.u1_dot, inputs.gamma_meas,
             inputs.weight, float(gain), vehicle.steering.delta_max, vehicle.gamma_max)
 
 
@@ -257,19 +257,19 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
             compiled_loop,  # numba: only for KIN and the STM
         )
 
-        out = compiled_loop(*form, *args)
+        out = compiled_loop(tuple(form), tuple(args))
         count_run("reduced", inputs.t, out[4])
         return out
     loop = own_loop(model)
     if loop is not None:  # the plant's loop in C (artic.plant.closedloop)
-        res = loop(*args, extras=extras is not None)
+        res = loop(args, extras=extras is not None)
         if res.raw is not None:
             names = model.extra_columns
             ext = model.extras_from_raw(res.raw).astype(np.float32)
             extras.update((c, ext[:, j]) for j, c in enumerate(names))
         count_run("multibody", inputs.t, res.n_done)
         return res.obs, res.delta, res.delta_fb, res.saturated, res.n_done
-    out = _python_loop(model, *args, extras=extras)
+    out = _python_loop(model, args, extras=extras)
     # the plant without its compiled parts, a subclass's own dynamics, outside models
     count_run(getattr(model, "budget_kind", "other"), inputs.t, out[4])
     return out
@@ -315,8 +315,8 @@ def beyond_limits(o: np.ndarray) -> str:
     return ""
 
 
-def _python_loop(model, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
-                 delta_max, gamma_max, extras=None):
+def _python_loop(model, args: LoopArgs, extras=None):
+    dt, delta_c, u1, u1_dot, gamma_meas, weight, gain, delta_max, gamma_max = args
     n = delta_c.size
     obs = np.full((n, 13), np.nan)
     delta, delta_fb = np.full(n, np.nan), np.full(n, np.nan)
@@ -365,6 +365,12 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
         ``delta_saturated`` (and the plant's ``extras()`` columns).
         ``meta["status"]`` is ``"ok"``, or says where and why the run stopped
         early; the rows after that are not written.
+
+    See Also
+    --------
+    artic.simulate : open loop, through a profile.
+    artic.run_metrics : the criteria of its run.
+    artic.validate_runs : many logs and models at once.
 
     Examples
     --------

@@ -20,20 +20,17 @@ feedback_law = njit(cache=True)(feedback.feedback_law)
 
 
 @njit(cache=True, nogil=True)
-def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, weight, gain,
-                  delta_max, gamma_max):
+def compiled_loop(form, args):
     """The harness loop for a reduced model, compiled: a whole log in one call.
 
     Parameters
     ----------
-    kind : int
-        ``artic.reduced.integrate.KIN`` or ``STM``.
-    x0, P, s1, s2 : ndarray
-        Initial state, parameters and sensors, from the model's ``compiled()``.
-    dt, delta_c, u1, u1_dot, gamma_meas, weight : ndarray
-        Per-sample inputs (see :class:`artic.validation.harness.loop.LoopInputs`).
-    gain, delta_max, gamma_max : float
-        K [rad/rad], the road-wheel limit and the jackknife limit [rad].
+    form : tuple
+        The model's ``compiled()``: ``kind`` (``artic.reduced.integrate.KIN`` or
+        ``STM``), then the initial state, parameters and sensors (ndarrays).
+    args : tuple
+        A :class:`artic.mjcf.interface.LoopArgs` as a plain tuple: the per-sample
+        inputs, then K [rad/rad], the road-wheel limit and the jackknife limit [rad].
 
     Returns
     -------
@@ -42,6 +39,8 @@ def compiled_loop(kind, x0, P, s1, s2, dt, delta_c, u1, u1_dot, gamma_meas, weig
         Rows filled; fewer when the articulation passed ``gamma_max`` or the
         state stopped being finite.
     """
+    kind, x0, P, s1, s2 = form
+    dt, delta_c, u1, u1_dot, gamma_meas, weight, gain, delta_max, gamma_max = args
     n = delta_c.size
     obs = np.full((n, 13), np.nan)
     delta = np.full(n, np.nan)

@@ -43,6 +43,12 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
     Run
         Signal schema plus ``delta``; ``meta["status"]`` reports an early stop.
 
+    See Also
+    --------
+    artic.make_profile : a profile of inputs.
+    artic.Profile : what it drives through.
+    artic.run_closed_loop : a model through a log, with feedback.
+
     Examples
     --------
     >>> import artic

@@ -89,6 +89,12 @@ def read_log(path: Path | str, vehicle=None, accept: Collection[str] = ()) -> Ru
     LogError
         For an unreadable file or the first finding not accepted.
 
+    See Also
+    --------
+    artic.read_run : a run file as it is, without checks.
+    artic.write_run : write one.
+    artic.validate_runs : validate models on logs.
+
     Examples
     --------
     >>> import tempfile

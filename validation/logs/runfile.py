@@ -68,6 +68,12 @@ class Run:
     meta : dict
         JSON-serialisable metadata.
 
+    See Also
+    --------
+    artic.read_log : a log from a file.
+    artic.read_run : a run file as it is.
+    artic.write_run : write one.
+
     Examples
     --------
     >>> import pandas as pd
@@ -158,6 +164,11 @@ def write_run(run: Run, path: Path | str, single: Sequence[str] = ()) -> Path:
         again (exactly the stored values). For model runs, whose criteria
         are computed before they are written (``artic.validation.runs.validate``).
 
+    See Also
+    --------
+    artic.read_run : read one back.
+    artic.Run : what it writes.
+
     Examples
     --------
     >>> import tempfile
@@ -219,6 +230,12 @@ def read_run(path: Path | str, check: bool = True,
     ------
     LogError
         If the file is missing, not Parquet, or fails the checks.
+
+    See Also
+    --------
+    artic.read_log : a log, checked.
+    artic.write_run : write one.
+    artic.Run : what it returns.
 
     Examples
     --------

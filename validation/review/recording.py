@@ -38,7 +38,6 @@ import contextlib
 import os
 import re
 from collections.abc import Mapping, Sequence
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import numpy as np
@@ -64,6 +63,7 @@ from artic.validation.review.plantshape import (
     wheel_quat,
     xyzw,
 )
+from artic.validation.review.tables import pipe_table
 
 YARD_RATE = 5.0
 """Samples per second of the 3-D yard [Hz]: at the yard's 1-10 km/h the
@@ -88,11 +88,10 @@ WHEEL_COLOURS = ((230, 25, 75), (60, 180, 75), (255, 225, 25), (0, 130, 200), (2
 
 
 def artic_version() -> str:
-    """The installed artic version."""
-    try:
-        return version("artic")
-    except PackageNotFoundError:  # pragma: no cover - running from a source tree
-        return "unknown"
+    """The installed artic version: ``artic.__version__``, the one place it is read."""
+    import artic  # the front door: light, and it reads the version once per process
+
+    return artic.__version__
 
 
 def _timelines(t: np.ndarray, s: np.ndarray) -> list[rr.TimeColumn]:
@@ -387,22 +386,21 @@ def _description(log: Run, runs: Mapping[str, Run], vehicle: Vehicle,
              "The measured combination is white, KIN blue, STM green and the plant (MBD) "
              "orange, drawn from its own MuJoCo bodies; the red arrows are the plant's tyre "
              f"forces in the ground plane, {1 / FORCE_SCALE / 1000:g} kN per metre. Angles "
-             "are in degrees.", "",
-             "| model | i_s | q [1/rad] | offset [deg] | f [1/rad] | status |",
-             "|---|---|---|---|---|---|"]
+             "are in degrees.", ""]
+    rows = []
     for name, run in runs.items():
         st = run.meta.get("steering", {})
         f = f"{vehicle.f:.3g}" if name == "stm" else "-"
-        lines.append(f"| {name} | {st.get('i_s', float('nan')):.4g} | "
-                     f"{st.get('q', float('nan')):.4g} | "
-                     f"{np.degrees(st.get('delta_h_offset', float('nan'))):.3g} | {f} | "
-                     f"{run.meta.get('status', '')} |")
+        rows.append([name, f"{st.get('i_s', float('nan')):.4g}", f"{st.get('q', float('nan')):.4g}",
+                     f"{np.degrees(st.get('delta_h_offset', float('nan'))):.3g}", f,
+                     str(run.meta.get("status", ""))])
+    lines.append(pipe_table(["model", "i_s", "q [1/rad]", "offset [deg]", "f [1/rad]", "status"],
+                            rows))
     if metrics is not None and len(metrics):
         cols = ["eps_p", "eps_a", "eps_v", "eps_n", "J_steer"]
-        lines += ["", "| model | " + " | ".join(cols) + " |", "|---" * (len(cols) + 1) + "|"]
-        for _, row in metrics.iterrows():
-            lines.append(f"| {row['model']} | " + " | ".join(f"{row[c]:.4g}" for c in cols)
-                         + " |")
+        lines += ["", pipe_table(["model", *cols], ([str(row["model"]), *(f"{row[c]:.4g}"
+                                                                           for c in cols)]
+                                                     for _, row in metrics.iterrows()))]
     if extra:
         lines += ["", extra]
     return "\n".join(lines)

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -231,6 +231,19 @@ def cell(v: object, digits: int = 4) -> str:
     return escape(v)
 
 
+def pipe_table(head: Sequence[str], rows: Iterable[Sequence[str]]) -> str:
+    """Cells already as text (:func:`cell`, :func:`escape`) as one Markdown pipe table.
+
+    ``DataFrame.to_markdown`` (tabulate's ``pipe`` format) with the cells as they
+    are: no number parsing (a cell's digits are the interval's, never re-rounded)
+    and no padding, so a row reads ``| a | b |``; the rule under the header spans
+    each column's width.
+    """
+    frame = pd.DataFrame([list(r) for r in rows], columns=list(head), dtype=object)
+    return frame.to_markdown(index=False, tablefmt="pipe", disable_numparse=True,
+                             stralign=None)
+
+
 def markdown(df: pd.DataFrame, digits: int = 4) -> str:
     """A small frame as a Markdown table; units from :data:`UNITS` in the header.
 
@@ -244,7 +257,6 @@ def markdown(df: pd.DataFrame, digits: int = 4) -> str:
     shown = [c for c in df.columns if c not in hidden]
     head = [escape(df.index.name or "")] + [f"{c} [{UNITS[c]}]" if c in UNITS else escape(c)
                                             for c in shown]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
 
     def text(row: pd.Series, c) -> str:
         if f"{c}_lo" in hidden and f"{c}_hi" in hidden:
@@ -262,9 +274,8 @@ def markdown(df: pd.DataFrame, digits: int = 4) -> str:
             return f"{cell(idx)} (**off the run** on {int(off)}{n})"
         return cell(idx)
 
-    for idx, row in df.iterrows():
-        lines.append("| " + " | ".join([name(idx, row), *(text(row, c) for c in shown)]) + " |")
-    return "\n".join(lines)
+    return pipe_table(head, ([name(idx, row), *(text(row, c) for c in shown)]
+                             for idx, row in df.iterrows()))
 
 
 def versus_paper(ours: pd.DataFrame, paper: pd.DataFrame) -> pd.DataFrame:
@@ -410,7 +421,7 @@ def paired_markdown(table: pd.DataFrame) -> str:
     if carried:
         head.append("carried by (leave one class out)")
     head.append("lower")
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    rows = []
     for r in table.itertuples(index=False):
         unit = f" [{UNITS[r.criterion]}]" if r.criterion in UNITS else ""
         diff = format_ci(r.diff, r.diff_lo, r.diff_hi, int(r.n))
@@ -432,8 +443,8 @@ def paired_markdown(table: pd.DataFrame) -> str:
         if carried:
             cells.append(str(r.carried_by) or "-")
         cells.append(str(r.lower))
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        rows.append(cells)
+    return pipe_table(head, rows)
 
 
 def differences(metrics: pd.DataFrame, direction: str, of: str = "floor") -> pd.DataFrame:
@@ -532,12 +543,9 @@ def spread_markdown(table: pd.DataFrame) -> str:
     """The pooled table's spreads: between trucks and between manoeuvres, per criterion."""
     crits = [c for c in table.columns if f"{c}_sd_trucks" in table]
     head = ["model"] + [f"{c} [{UNITS.get(c, '')}] trucks / manoeuvres" for c in crits]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for m, row in table.iterrows():
-        cells = [f"{cell(float(row[f'{c}_sd_trucks']), 2)} / "
-                 f"{cell(float(row[f'{c}_sd_manoeuvres']), 2)}" for c in crits]
-        lines.append("| " + " | ".join([str(m), *cells]) + " |")
-    return "\n".join(lines)
+    return pipe_table(head, ([str(m), *(f"{cell(float(row[f'{c}_sd_trucks']), 2)} / "
+                                        f"{cell(float(row[f'{c}_sd_manoeuvres']), 2)}"
+                                        for c in crits)] for m, row in table.iterrows()))
 
 
 def pooled_paired(metrics: pd.DataFrame, direction: str,

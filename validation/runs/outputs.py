@@ -6,9 +6,10 @@
   a command refused for another input leaves no folder behind.
 - :class:`OutDirLock` holds ``DIR/.artic.lock`` while a command writes into
   ``DIR``. A second command on the same folder is refused with the holder's
-  process id, host, command and start time. The lock is an advisory
-  ``flock`` on the open file, so a killed holder releases it with its last
-  file descriptor: a crash never leaves the folder locked.
+  process id, host, command and start time. The lock is ``filelock``'s, an
+  advisory ``flock`` on the open file (a ``LockFileEx`` on Windows), so a
+  killed holder releases it with its last file descriptor: a crash never
+  leaves the folder locked.
 - :func:`clean_stale` removes the temporaries (``.NAME.XXXX.part``, and the
   recordings' ``.NAME.rrd.PID.tmp``) that a killed writer left behind. Every
   atomic write in artic writes such a temporary beside its target and renames
@@ -22,7 +23,6 @@
 from __future__ import annotations
 
 import datetime
-import errno
 import json
 import os
 import shutil
@@ -30,6 +30,8 @@ import socket
 import sys
 import tempfile
 from pathlib import Path
+
+import filelock
 
 from artic.mjcf.errors import UserError
 from artic.mjcf.files import TEMP_SUFFIX, public_mode, umask
@@ -99,6 +101,10 @@ class LockedError(OutputError):
 class OutDirLock:
     """Exclusive use of an output folder for one command (see the module docstring).
 
+    The lock is :class:`filelock.FileLock` (``flock`` on POSIX, ``LockFileEx`` on
+    Windows), tried once; what holds it is written into the lock file when it is
+    taken, for the refusal of a second command to name.
+
     Parameters
     ----------
     out_dir : Path
@@ -111,40 +117,33 @@ class OutDirLock:
         self.out_dir = Path(out_dir)
         self.what = what
         self.path = self.out_dir / LOCK_NAME
-        self._fd: int | None = None
+        self._lock = filelock.FileLock(self.path, timeout=0, mode=0o666 & ~umask(),
+                                       thread_local=False, on_acquired=self._write_holder)
 
-    def __enter__(self) -> OutDirLock:
-        import fcntl
-
-        self.out_dir.mkdir(parents=True, exist_ok=True)
-        fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666 & ~umask())
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError as exc:
-            holder = _read_holder(fd)
-            os.close(fd)
-            if exc.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
-                raise LockedError(f"{self.out_dir}: in use by another artic {holder}; wait for "
-                                  "it to finish or choose another --out-dir") from None
-            raise
+    def _write_holder(self, fd: int) -> None:
         info = {"what": self.what, "pid": os.getpid(), "host": socket.gethostname(),
                 "started": datetime.datetime.now().isoformat(timespec="seconds"),
                 "command": " ".join(os.path.basename(a) if i == 0 else a
                                     for i, a in enumerate(sys.argv))}
         os.ftruncate(fd, 0)
         os.pwrite(fd, (json.dumps(info) + "\n").encode(), 0)
-        self._fd = fd
+
+    def __enter__(self) -> OutDirLock:
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        try:
+            self._lock.acquire()
+        except filelock.Timeout:
+            raise LockedError(f"{self.out_dir}: in use by another artic {_read_holder(self.path)}; "
+                              "wait for it to finish or choose another --out-dir") from None
         return self
 
     def __exit__(self, *exc) -> None:
-        if self._fd is not None:
-            os.close(self._fd)  # releases the flock
-            self._fd = None
+        self._lock.release()
 
 
-def _read_holder(fd: int) -> str:
+def _read_holder(path: Path) -> str:
     try:
-        info = json.loads(os.pread(fd, 4096, 0) or b"{}")
+        info = json.loads(path.read_bytes()[:4096] or b"{}")
         return (f"{info.get('what', 'command')} (process {info.get('pid', '?')} on "
                 f"{info.get('host', '?')}, started {info.get('started', '?')}: "
                 f"{info.get('command', '?')})")

@@ -17,17 +17,19 @@ samples, so that a resumed batch reuses the failure instead of repeating it.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from artic.mjcf.errors import UserError
+from artic.mjcf.errors import UserError, one_line
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
@@ -57,14 +59,44 @@ def is_failed(status: str) -> bool:
     return str(status).startswith(FAILED)
 
 
+@dataclasses.dataclass(frozen=True)
+class RunOptions:
+    """How :func:`validate_runs` runs its pairs and what it reports (see its parameters).
+
+    One object for the options that travel together from the campaign's stages
+    and the command line; :func:`validate_runs` takes them as keywords as well.
+    """
+
+    progress: Callable[[str], None] | None = None
+    reuse_key: str | None = None
+    jobs: int = 1
+    executor: Executor | None = None
+    label: str = "validation"
+    scale: Scale | None = None
+    samples: bool = True
+    replays: dict | None = None
+
+
+def run_options(options: RunOptions | None, keywords: dict) -> RunOptions:
+    """``options`` with ``keywords`` (fields of :class:`RunOptions`) in place of its own.
+
+    Raises
+    ------
+    TypeError
+        For a keyword that is no field of :class:`RunOptions`, naming it and the fields.
+    """
+    fields = {f.name for f in dataclasses.fields(RunOptions)}
+    wrong = sorted(set(keywords) - fields)
+    if wrong:
+        raise TypeError(f"validate_runs() got unexpected keyword(s) {', '.join(wrong)}; "
+                        f"it takes {', '.join(sorted(fields))} (or options=RunOptions(...))")
+    return dataclasses.replace(options or RunOptions(), **keywords)
+
+
 def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicle],
                   models: Sequence[str],
                   gain: float = DEFAULT_GAIN, out_dir: Path | None = None,
-                  progress: Callable[[str], None] | None = None,
-                  reuse_key: str | None = None, jobs: int = 1,
-                  executor: Executor | None = None, label: str = "validation",
-                  scale: Scale | None = None, samples: bool = True,
-                  replays: dict | None = None) -> pd.DataFrame:
+                  options: RunOptions | None = None, **keywords: Any) -> pd.DataFrame:
     """Run every model on every log and compute the criteria.
 
     Parameters
@@ -80,6 +112,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         Reversing feedback gain K [rad/rad].
     out_dir : Path, optional
         If given, each model run is written to ``out_dir/runs/LOG.MODEL.parquet``.
+    options : RunOptions, optional
+        The options below as one object; each may be given as a keyword instead
+        (``jobs=4``), which takes the place of the object's.
     samples : bool
         With ``out_dir``: write the runs' samples (single precision, see
         :data:`SINGLE`); ``False`` writes only their metadata (criteria, key,
@@ -123,6 +158,12 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         open-loop predictions excluded) and ``duration_s`` (simulated time).
         ``attrs["scale"]`` holds the scale used.
 
+    See Also
+    --------
+    artic.run_closed_loop : one model on one log.
+    artic.run_metrics : the criteria of one run.
+    artic.run_campaign : the synthetic campaign.
+
     Examples
     --------
     KIN and the STM on a log the STM made: the STM follows it within centimetres
@@ -137,6 +178,9 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
     >>> bool(table.loc["stm", "eps_p"] < 0.05 < 0.5 < table.loc["kin", "eps_p"])  # [m]
     True
     """
+    o = run_options(options, keywords)
+    progress, reuse_key, jobs, executor = o.progress, o.reuse_key, o.jobs, o.executor
+    label, scale, samples, replays = o.label, o.scale, o.samples, o.replays
     names = [log.name for log in logs]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
@@ -347,11 +391,11 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     except (MemoryError, RecursionError):
         raise
     except ValueError as exc:  # the model refuses its input: vehicle, tyre, steering range
-        return failed_run(log, name, vehicle, gain, f"refused: {_one_line(exc)}"), \
+        return failed_run(log, name, vehicle, gain, f"refused: {one_line(exc)}"), \
             time.perf_counter() - t0
     except Exception as exc:  # noqa: BLE001 - a diverging plant, or any other failure
         what = "" if type(exc).__name__ == "PlantError" else f"{type(exc).__name__}: "
-        return failed_run(log, name, vehicle, gain, f"failed: {what}{_one_line(exc)}"), \
+        return failed_run(log, name, vehicle, gain, f"failed: {what}{one_line(exc)}"), \
             time.perf_counter() - t0
     if notes:
         run.meta["limited"] = summary(notes)
@@ -394,7 +438,7 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str, share=None) -> dict:
         raise
     except Exception as exc:  # noqa: BLE001 - a diverging plant from one start point
         return {c: float("nan") for c in extra.COLUMNS if extra.COMPUTE[c] == "model"} | {
-            "note": f"failed: {_one_line(exc)}"}
+            "note": f"failed: {one_line(exc)}"}
     finally:
         if replay is not None:
             replay.close()
@@ -403,10 +447,6 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str, share=None) -> dict:
 FOLLOWED = ("the floor's speed follows the log through the harness's follower: the log "
             "holds no recorded actuation of the truth (generate it again)")
 """The floor's prediction note on a log made before the truth's actuation was recorded."""
-
-
-def _one_line(exc: BaseException) -> str:
-    return " ".join(str(exc).split()) or type(exc).__name__
 
 
 def failed_run(log: Run, name: str, vehicle: Vehicle, gain: float, status: str) -> Run:

@@ -40,6 +40,11 @@ class Profile:
     meta : dict
         Manoeuvre parameters, for the run's metadata.
 
+    See Also
+    --------
+    artic.make_profile : make one of the campaign's manoeuvres.
+    artic.simulate : drive a model through it.
+
     Examples
     --------
     >>> import artic
@@ -100,6 +105,11 @@ def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: fl
     ------
     ValueError
         For an unknown kind or side, or a non-positive speed or duration.
+
+    See Also
+    --------
+    artic.Profile : what it returns.
+    artic.simulate : drive a model through it.
 
     Examples
     --------

@@ -41,12 +41,15 @@ A campaign's truth is drawn once from its seed. Three kinds:
 
   Steering play of a few degrees and yard drainage slopes of 1-2 % are what
   roadworthiness checks and yard design guides allow; the rest are ordinary
-  spreads of a surveyed installation and a loaded trailer. Kept for
-  regression, as the truth of the release before.
+  spreads of a surveyed installation and a loaded trailer. Kept as the
+  positive control of the excess over the floor: known structural effects
+  switched on from the plant itself (``docs/design/truth.md``, "What the
+  structural and legacy truths still guard").
 - ``"legacy"``: the first truth artic had, the plant with four scalars changed
   (the steering ratio and offset, and the tractor tyres' LKY and LMUY), driven
-  by the plant's own speed controller. Kept for regression: the plant set
-  to it replays the logs (see ``tests/test_self_reproduction.py``).
+  by the plant's own speed controller. Kept because the plant set to it is
+  the truth exactly, so replaying its logs shows whatever the harness adds
+  (``tests/test_self_reproduction.py``; ``docs/design/truth.md``).
 
 Random processes, which no model of the vehicle can know, are the sensors'
 noise, the trailer unit's clock skew and the drift of the column's zero. The

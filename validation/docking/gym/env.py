@@ -157,6 +157,24 @@ class DockEnv(gym.Env):
         More keyword arguments of :func:`artic.validation.docking.run.drive`
         for every episode (for example ``timeout`` [s]).
 
+    Notes
+    -----
+    Version history (as Gymnasium's environments keep one; a change that alters an
+    episode's observations, rewards or ends for the same seed and actions will take a
+    new version):
+
+    - v0 (``artic/Dock-v0`` on the plant, ``artic/DockKIN-v0`` on KIN), 2026-11-27:
+      an episode is ``artic dock``'s run, one command at a time (its sensors,
+      actuators, failure checks and scores); the same day, ``sensors`` reaches the
+      run and an environment dropped without ``close()`` stops its run.
+    - v0, 2026-11-28: ``timeout`` and the actions are checked, unknown keywords named.
+    - v0, 2026-12-06: unknown reset options, a start that is not an integer in range
+      and unknown keywords at ``make`` are refused; the environment keeps its own
+      copies of what it returns; an abandoned run is neither scored nor recorded;
+      the reward's potential takes numpy's ``hypot`` (it differs from
+      ``math.hypot`` in the last bit for 0.6 % of pairs, so a reward may differ
+      from the release before in its last bit).
+
     Examples
     --------
     >>> import gymnasium as gym

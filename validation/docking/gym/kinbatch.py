@@ -179,6 +179,14 @@ class KinVectorEnv(VectorEnv):
     Each run's trace (every 10 ms step, for its scores at the end) is kept in logs
     shared by the runs, a record per period: memory grows with the longest
     running episode, about 1.4 kB per environment and step.
+
+    Version history (as Gymnasium's environments keep one):
+
+    - v0, 2026-12-06: ``gymnasium.make_vec("artic.gym:artic/DockKIN-v0",
+      vectorization_mode="vector_entry_point")`` makes this one batched step where
+      :func:`batchable` allows, equal to ``SyncVectorEnv`` of single environments
+      bit for bit, scores included; the same day it keeps its runs' traces in
+      shared logs, and refuses a step before its reset, as the single one does.
     """
 
     metadata = {"render_modes": ["rerun"], "render_fps": 10,

@@ -69,6 +69,15 @@ class DockVectorEnv(VectorEnv):
     **kwargs
         The keywords of :class:`~artic.validation.docking.gym.env.DockEnv`, for each.
 
+    Notes
+    -----
+    Version history (as Gymnasium's environments keep one):
+
+    - v0, 2026-12-06: ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")``
+      makes it for ``artic/Dock-v0`` (and for ``artic/DockKIN-v0`` where the batched
+      one does not apply): the episodes' runs step side by side on their threads,
+      with ``NEXT_STEP`` autoreset.
+
     Examples
     --------
     >>> import gymnasium as gym
