@@ -97,6 +97,10 @@ def _variants(items: list) -> tuple[list, np.ndarray]:
     return unique, index
 
 
+_SLEEP_ONLY = ("dof_length",)
+"""Model fields MuJoCo Warp reads only for sleeping, which the plant's model leaves off."""
+
+
 def _zero_force(m: mujoco.MjModel, a: int) -> bool:
     """Whether actuator ``a`` never has a force: fixed gain 0 and no bias (the tread states')."""
     return (m.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_FIXED
@@ -132,6 +136,8 @@ def _batched_fields(models: list[mujoco.MjModel], index: np.ndarray):
         if any(a.shape != a0.shape or not np.array_equal(a, a0, equal_nan=True)
                for a in per[1:] for a in [a[name]]):
             differ.append(name)
+    if not models[0].opt.enableflags & mujoco.mjtEnableBit.mjENBL_SLEEP:
+        differ = [n for n in differ if n not in _SLEEP_ONLY]  # read by sleeping alone
     refused = [n for n in differ if n not in batchable]
     if refused:
         raise UserError(f"vehicles: the worlds' trucks differ in {', '.join(refused)}, which "

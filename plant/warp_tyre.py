@@ -349,7 +349,8 @@ def spin_fit(h: float, scale: float, inv_inertia: float, q_x: float, n: float, R
 
 
 @wp.kernel
-def tyre_eval_kernel(p: TyreSet, moments: int, state: wp.array2d(dtype=float),
+def tyre_eval_kernel(tyre: wp.array(dtype=TyreSet), moments: int,
+                     state: wp.array2d(dtype=float),
                      out: wp.array2d(dtype=float)):
     """The tyre alone, as the C ``artic_tyre_eval``.
 
@@ -357,6 +358,7 @@ def tyre_eval_kernel(p: TyreSet, moments: int, state: wp.array2d(dtype=float),
     ``(Fx, Fy, Mz, My, du, dv, dphi)``.
     """
     i = wp.tid()
+    p = tyre[0]
     Fz = state[i, 0]
     Vx = state[i, 1]
     Vsx = state[i, 2]
