@@ -38,8 +38,8 @@ POS_TOL = 1e-4
 GAMMA_TOL = 1e-3  # [deg], on the same grounds (measured ~1e-5 deg after 1 s)
 
 
-def _newton(vehicle, tyre=None):
-    p = artic.Plant(vehicle)
+def _newton(vehicle, tyre=None, speed="follow"):
+    p = artic.Plant(vehicle, speed=speed)
     p.model.opt.solver = mujoco.mjtSolver.mjSOL_NEWTON
     if tyre is not None:
         p.tyres = [tyre(t) for t in p.tyres]
@@ -47,15 +47,16 @@ def _newton(vehicle, tyre=None):
     return p
 
 
-def _run(warp, hosts, steps=60):
+def _run(warp, hosts, steps=60, speed=lambda t: (-1.0, 0.0)):
     """Step both on a steering sweep; the largest position and gamma differences per world."""
     err = np.zeros((len(hosts), 2))
     for k in range(steps):
         delta = 0.12 * np.sin(2 * np.pi * k * DT / 2.0)
-        warp.step(DT, delta, -1.0, 0.0)
+        u1, u1_dot = speed(k * DT)
+        warp.step(DT, delta, u1, u1_dot)
         obs = warp.observe()
         for w, h in enumerate(hosts):
-            h.step(DT, delta, -1.0, 0.0)
+            h.step(DT, delta, u1, u1_dot)
             o = h.observe()
             err[w, 0] = max(err[w, 0], np.hypot(*(obs[w, :2] - o[:2])),
                             np.hypot(*(obs[w, 6:8] - o[6:8])))
@@ -122,6 +123,26 @@ def test_per_world_payload_position_and_friction():
         assert np.all(moved > 10 * err[:, 0].max()), (moved, err)
     for h in hosts:
         h.close()
+
+
+def test_driven_speed_with_drive_and_brake_torques():
+    """speed="drive": the driver's drive and brake torques, through a stop, as on the C plant."""
+    v = artic.load_vehicle("gosar2022-unloaded")
+    host = _newton(v, speed="drive")
+    with WarpPlant(v, n_worlds=2, speed="drive") as warp:
+        warp.reset(START)
+
+        def stop(t):  # -1 m/s to rest over 0.37 s, then held: the brakes work through zero
+            # (0.37 s: no 10 ms sample's command lands within float32's rounding of the
+            # driver's 0.05 m/s switch between braking and driving, where the two
+            # precisions could switch a step apart)
+            return (min(-1.0 + t / 0.37, 0.0), 1.0 / 0.37 if t < 0.37 else 0.0)
+
+        err, obs = _run(warp, [host], steps=60, speed=stop)
+        assert err[0, 0] < POS_TOL and err[0, 1] < GAMMA_TOL, err
+        assert abs(obs[0, 3]) < 0.1  # it stopped
+        assert not warp.failures()
+    host.close()
 
 
 def test_a_diverged_world_is_that_worlds_failure():
