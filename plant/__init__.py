@@ -9,8 +9,9 @@
 - :mod:`artic.plant.curves`: steady-state tyre curves;
 - :mod:`artic.plant.warp_plant`: many plants at once on MuJoCo Warp (the ``gpu`` extra),
   with :mod:`artic.plant.warp_tyre` (the tyre as Warp kernels), :mod:`artic.plant.warp_control`
-  (the steering, speed and divergence kernels) and :mod:`artic.plant.warp_check` (the
-  equivalence run against the C plant).
+  (the steering, speed and divergence kernels), :mod:`artic.plant.warp_loop` (the
+  harness's reversing feedback around it, on the device) and :mod:`artic.plant.warp_check`
+  (the equivalence run against the C plant).
 """
 
 from artic.plant.plant import Plant, PlantError, PlantWarning

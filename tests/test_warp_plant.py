@@ -22,7 +22,7 @@ import warp as wp  # noqa: E402
 import artic  # noqa: E402
 from artic.mjcf.errors import UserError  # noqa: E402
 from artic.mjcf.interface import InitialState  # noqa: E402
-from artic.plant import ctyre, warp_tyre  # noqa: E402
+from artic.plant import closedloop, ctyre, warp_loop, warp_tyre  # noqa: E402
 from artic.plant.warp_check import DT, compare, reverse_commands  # noqa: E402
 from artic.plant.warp_plant import WarpPlant  # noqa: E402
 
@@ -193,3 +193,35 @@ def test_30_s_reverse_within_a_millimetre():
     e = err["warp-f32 vs C-newton"]
     assert e["position [m]"] < 1e-3 and e["heading [deg]"] < 0.01 and e["gamma [deg]"] < 0.01, e
     assert err["worlds"]["position [m]"] == 0.0
+
+
+@pytest.mark.skipif(bool(closedloop.unavailable_reason()),
+                    reason="the compiled closed loop is not built")
+def test_batched_reversing_feedback_matches_the_c_loop():
+    """The feedback of eqs. (5)-(7) on the device, per world, against the C loop on the C plant."""
+    v = artic.load_vehicle("gosar2022-unloaded")
+    cmds = reverse_commands(1.2)
+    delta_c, u1, u1_dot = cmds.T
+    # a "measured" articulation the feedback must pull the truck towards
+    gamma_meas = 0.02 * np.sin(2 * np.pi * np.arange(len(u1)) * DT / 1.2)
+    weight = np.clip((np.arange(len(u1)) * DT - 0.2) / 0.3, 0.0, 1.0)  # ramps in, as reversing
+    args = dict(gain=1.5, delta_max=0.6, gamma_max=1.0)
+    start = InitialState(0.0, 0.0, 0.0, 0.0, u1=0.0)
+    host = artic.Plant(v)
+    host.model.opt.solver = mujoco.mjtSolver.mjSOL_NEWTON
+    host.reset(start)
+    ref = closedloop.run(host, np.full(len(u1) - 1, DT), delta_c, u1, u1_dot, gamma_meas,
+                         weight, **args)
+    host.close()
+    with WarpPlant(v, n_worlds=2) as warp:
+        warp.reset(start)
+        # world 1 follows a log with the opposite articulation
+        res = warp_loop.run(warp, DT, delta_c, u1, u1_dot, np.stack([gamma_meas, -gamma_meas]),
+                            weight, **args)
+    assert list(res.n_done) == [len(u1), len(u1)] and ref.n_done == len(u1)
+    assert np.abs(res.obs[0, :, :2] - ref.obs[:, :2]).max() < POS_TOL
+    assert np.degrees(np.abs(res.obs[0, :, 12] - ref.obs[:, 12]).max()) < GAMMA_TOL
+    # the feedback's own part, 1e-6 rad: float32 of a law of gain 1.5 on articulations of 0.02 rad
+    assert np.abs(res.delta_fb[0] - ref.delta_fb).max() < 1e-6
+    assert np.abs(ref.delta_fb).max() > 1e-3  # it worked
+    assert np.abs(res.delta_fb[1] - res.delta_fb[0]).max() > 1e-3  # per world
