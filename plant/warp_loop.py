@@ -166,15 +166,15 @@ def run(plant: WarpPlant, dt: float, delta_c, u1, u1_dot, gamma_meas, weight, ga
             wp.launch(advance_kernel, dim=1, inputs=[counter])
 
         graph = None
-        if plant._graph and n > 1:
-            with wp.ScopedCapture() as capture:
-                sample(True)
-            graph = capture.graph
         for k in range(n):
-            if k + 1 < n and graph is not None:
+            if graph is not None and k + 1 < n:
                 wp.capture_launch(graph)
-            else:
-                sample(k + 1 < n)
+                continue
+            sample(k + 1 < n)  # the first eagerly: the kernels load before the capture
+            if plant._graph and k == 0 and n > 2:
+                with wp.ScopedCapture() as capture:  # recorded, not run
+                    sample(True)
+                graph = capture.graph
     return BatchResult(obs.numpy().astype(float), delta.numpy().astype(float),
                        delta_fb.numpy().astype(float), saturated.numpy().astype(bool),
                        n_done.numpy().astype(int), plant.failures())

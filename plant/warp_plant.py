@@ -206,32 +206,37 @@ class WarpPlant:
         unique, self._variant = _variants(per_vehicle)
         # One host plant per distinct truck: its indices, constants and resets.
         self.hosts = [Plant(v, speed=speed, spin_fit=spin_fit) for v in unique]
-        h0 = self.hosts[0]
-        self.n_wheels = h0.n_wheels
-        self.wheel_names = h0.wheel_names
-        self.spin_fit = h0.spin_fit
-        models = []
-        for v, host in zip(unique, self.hosts, strict=True):
-            mm = compile_spec(build_model(host.vehicle, solver="newton"))
-            if (mm.nq, mm.nv, mm.nu, mm.na) != (host.model.nq, host.model.nv, host.model.nu,
-                                                host.model.na):
-                raise UserError(f"vehicles: {v.name} has another model layout than "
-                                f"{unique[0].name}; give trucks with the same axles")
-            if speed != "follow":
-                mm.actuator_gainprm[host._follower, 0] = 0.0
-                mm.actuator_biasprm[host._follower, 2] = 0.0
-            models.append(mm)
-        self.mj_model = models[0]
-        """The first truck's host model, with the Newton solver."""
-        self._check_memory()
-        with wp.ScopedDevice(self.device):
-            self.m = _batched_fields(models, self._variant)
-            self.d = mjw.put_data(models[0], mujoco.MjData(models[0]), nworld=self.n_worlds)
-            self._tables(per_friction, per_scaling)
-            self.m.callback = mjw.Callback(passive=self._passive)
-        self._graphs: dict[int, object] = {}
-        self._graph = graph and self.device.is_cuda
-        self.h = float(models[0].opt.timestep)
+        try:
+            h0 = self.hosts[0]
+            self.n_wheels = h0.n_wheels
+            self.wheel_names = h0.wheel_names
+            self.spin_fit = h0.spin_fit
+            models = []
+            for v, host in zip(unique, self.hosts, strict=True):
+                mm = compile_spec(build_model(host.vehicle, solver="newton"))
+                first = models[0] if models else mm
+                if (mm.nq, mm.nv, mm.nu, mm.na, mm.nbody) != (first.nq, first.nv, first.nu,
+                                                              first.na, first.nbody):
+                    raise UserError(f"vehicles: {v.name} has another model layout than "
+                                    f"{unique[0].name}; give trucks with the same axles")
+                if speed != "follow":
+                    mm.actuator_gainprm[host._follower, 0] = 0.0
+                    mm.actuator_biasprm[host._follower, 2] = 0.0
+                models.append(mm)
+            self.mj_model = models[0]
+            """The first truck's host model, with the Newton solver."""
+            self._check_memory()
+            with wp.ScopedDevice(self.device):
+                self.m = _batched_fields(models, self._variant)
+                self.d = mjw.put_data(models[0], mujoco.MjData(models[0]), nworld=self.n_worlds)
+                self._tables(per_friction, per_scaling)
+                self.m.callback = mjw.Callback(passive=self._passive)
+            self._graphs: dict[int, object] = {}
+            self._graph = graph and self.device.is_cuda
+            self.h = float(models[0].opt.timestep)
+        except BaseException:  # the host plants' callbacks go with the failed build
+            self.close()
+            raise
 
     # ------------------------------------------------------------ setup
     def _check_memory(self) -> None:
@@ -367,16 +372,16 @@ class WarpPlant:
         No host synchronisation: a batched controller can write the commands on
         the device and call this in a loop, or in a CUDA graph.
         """
-        if self._graph:
-            graph = self._graphs.get(n)
-            if graph is None:
-                with wp.ScopedDevice(self.device), wp.ScopedCapture() as capture:
-                    self._step_launches(n)
-                graph = self._graphs[n] = capture.graph
-            wp.capture_launch(graph)
-            return
         with wp.ScopedDevice(self.device):
-            self._step_launches(n)
+            graph = self._graphs.get(n)
+            if graph is not None:
+                wp.capture_launch(graph)
+                return
+            self._step_launches(n)  # eagerly: the kernels load before any capture
+            if self._graph:  # the next calls replay this step (a capture does not run it)
+                with wp.ScopedCapture() as capture:
+                    self._step_launches(n)
+                self._graphs[n] = capture.graph
 
     def _step_launches(self, n: int) -> None:
         self.ctl.before(self, n * self.h)

@@ -174,6 +174,8 @@ def test_bad_input_says_what_to_do():
         WarpPlant(v, n_worlds=0)
     with pytest.raises(UserError, match="friction: 2 values for 3 worlds; give one per world"):
         WarpPlant(v, n_worlds=3, friction=[1.0, 0.5])
+    with pytest.raises(UserError, match="six-axle has another model layout .* same axles"):
+        WarpPlant([v, artic.load_vehicle("six-axle")])
     with pytest.raises(UserError, match="n_worlds 100000000: about .* use at most about"):
         WarpPlant(v, n_worlds=10**8)
     if not wp.is_cuda_available():
