@@ -103,8 +103,8 @@ def test_worlds_follow_the_c_plant_and_each_other():
 
 
 def test_per_world_payload_position_and_friction():
-    """Worlds of different payloads, payload positions, friction and tyre scaling each follow
-    their C plant."""
+    """Worlds of different payloads, payload positions, semitrailer axles, friction and tyre
+    scaling each follow their C plant."""
     unloaded = artic.load_vehicle("gosar2022-unloaded")
     loaded = artic.load_vehicle("gosar2022-loaded")
     shifted = dataclasses.replace(loaded, plant=dataclasses.replace(
@@ -116,11 +116,14 @@ def test_per_world_payload_position_and_friction():
     def soft(t):
         return dataclasses.replace(t, LKY=0.7 * t.LKY)
 
+    longer = dataclasses.replace(loaded, axles=tuple(  # the semitrailer's axles 1 m back
+        dataclasses.replace(a, x=a.x - 1.0) if a.unit == 2 else a for a in loaded.axles))
+
     hosts = [_newton(unloaded), _newton(loaded), _newton(shifted), _newton(unloaded, slippery),
-             _newton(unloaded, soft)]
-    with WarpPlant([unloaded, loaded, shifted, unloaded, unloaded],
-                   friction=[1.0, 1.0, 1.0, 0.1, 1.0],
-                   tyre_scaling=[None, None, None, None, {"LKY": 0.7}]) as warp:
+             _newton(unloaded, soft), _newton(longer)]
+    with WarpPlant([unloaded, loaded, shifted, unloaded, unloaded, longer],
+                   friction=[1.0, 1.0, 1.0, 0.1, 1.0, 1.0],
+                   tyre_scaling=[None, None, None, None, {"LKY": 0.7}, None]) as warp:
         warp.reset(START)
         err, obs = _run(warp, hosts)
         assert np.all(err[:, 0] < POS_TOL) and np.all(err[:, 1] < GAMMA_TOL), err
