@@ -43,6 +43,9 @@ from artic.mjcf.masses import AxleLayout, Body, layout
 from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from artic.mjcf.vehicle import G, Vehicle
 
+SOLVERS = {"pgs": mujoco.mjtSolver.mjSOL_PGS, "newton": mujoco.mjtSolver.mjSOL_NEWTON}
+"""The constraint solvers the generator can set (:func:`build_vehicle`'s ``solver``)."""
+
 TIMESTEP = 1e-2
 """Default plant timestep [s], with the RK4 integrator: the logs' 10 ms sample.
 
@@ -175,14 +178,20 @@ def gravity(v: Vehicle) -> list[float]:
             -G * math.cos(th) * math.cos(ph)]
 
 
-def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
+def build_vehicle(v: Vehicle, solver: str = "pgs") -> mujoco.MjSpec:
     """The combination as an ``MjSpec``, without scene.
 
     Parameters
     ----------
     v : Vehicle
         Every number comes from here (and from its tyre file).
+    solver : str
+        The constraint solver, a key of :data:`SOLVERS`: ``"pgs"`` (the CPU
+        plant's) or ``"newton"`` (what MuJoCo Warp supports; the plant's signals
+        change by rounding only, see ``docs/design/warp-plant.md``).
     """
+    if solver not in SOLVERS:
+        raise ValueError(f"solver {solver!r}: expected one of {', '.join(SOLVERS)}")
     v = v.with_payload()
     lay = layout(v)
     spec = mujoco.MjSpec()
@@ -197,7 +206,7 @@ def build_vehicle(v: Vehicle) -> mujoco.MjSpec:
     # about 15 % cheaper), and every geom is visual, so collision is off. PGS
     # solves the constraints as one system, so MuJoCo's island discovery is
     # work for nothing (4 % of a step); without it the steps are bitwise equal.
-    spec.option.solver = mujoco.mjtSolver.mjSOL_PGS
+    spec.option.solver = SOLVERS[solver]
     spec.option.disableflags |= (mujoco.mjtDisableBit.mjDSBL_CONTACT
                                  | mujoco.mjtDisableBit.mjDSBL_ISLAND)
     spec.option.gravity = gravity(v)
@@ -309,9 +318,9 @@ def add_scene(spec: mujoco.MjSpec) -> None:
         cam.targetbody = nm.TRACTOR
 
 
-def build_model(v: Vehicle, scene: bool = True) -> mujoco.MjSpec:
-    """The combination, with the yard unless ``scene`` is false."""
-    spec = build_vehicle(v)
+def build_model(v: Vehicle, scene: bool = True, solver: str = "pgs") -> mujoco.MjSpec:
+    """The combination and, if ``scene``, the yard; ``solver`` as in :func:`build_vehicle`."""
+    spec = build_vehicle(v, solver)
     if scene:
         add_scene(spec)
     return spec

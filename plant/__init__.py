@@ -10,7 +10,12 @@
 - :mod:`artic.plant.closedloop`: the harness's loop around the plant, compiled
   (``_loop_c.c``): a whole log in one call without the GIL;
 - :mod:`artic.plant.standalone`: the plant as a standalone MJCF file, and :func:`load`;
-- :mod:`artic.plant.curves`: steady-state tyre curves.
+- :mod:`artic.plant.curves`: steady-state tyre curves;
+- :mod:`artic.plant.warp_plant`: many plants at once on MuJoCo Warp (the ``gpu`` extra),
+  with :mod:`artic.plant.warp_tyre` (the tyre as Warp kernels), :mod:`artic.plant.warp_control`
+  (the steering, speed and divergence kernels), :mod:`artic.plant.warp_loop` (the
+  harness's reversing feedback around it, on the device) and :mod:`artic.plant.warp_check`
+  (the equivalence run against the C plant).
 """
 
 from artic.plant.plant import Plant, PlantError, PlantWarning
