@@ -21,7 +21,7 @@ import warp as wp  # noqa: E402
 
 import artic  # noqa: E402
 from artic.mjcf.errors import UserError  # noqa: E402
-from artic.mjcf.interface import InitialState  # noqa: E402
+from artic.mjcf.interface import InitialState, LoopArgs  # noqa: E402
 from artic.plant import closedloop, ctyre, warp_loop, warp_tyre  # noqa: E402
 from artic.plant.warp_check import DT, compare, reverse_commands  # noqa: E402
 from artic.plant.warp_plant import WarpPlant  # noqa: E402
@@ -222,8 +222,8 @@ def test_batched_reversing_feedback_matches_the_c_loop():
     host = artic.Plant(v)
     host.model.opt.solver = mujoco.mjtSolver.mjSOL_NEWTON
     host.reset(start)
-    ref = closedloop.run(host, np.full(len(u1) - 1, DT), delta_c, u1, u1_dot, gamma_meas,
-                         weight, **args)
+    ref = closedloop.run(host, LoopArgs(np.full(len(u1) - 1, DT), delta_c, u1, u1_dot,
+                                        gamma_meas, weight, **args))
     host.close()
     with WarpPlant(v, n_worlds=2) as warp:
         warp.reset(start)
