@@ -52,6 +52,7 @@ from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
 from artic.validation.harness.reversing import DEFAULT_GAIN
 from artic.validation.logs.schema import CHECKS, MIN_SEGMENT, SOURCES
+from artic.validation.pbs import command as pbs_command
 from artic.validation.runs import runtime
 from artic.validation.runs.outputs import (
     OutDirLock,
@@ -707,6 +708,7 @@ def build_parser() -> argparse.ArgumentParser:
     camp.set_defaults(func=_campaign)
 
     dock_command.add_parser(sub)
+    pbs_command.add_parser(sub)
     return p
 
 
