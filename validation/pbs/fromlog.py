@@ -63,8 +63,10 @@ class PolylinePath:
         self._tree = cKDTree(self.xy)
 
     def frenet(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Station and left offset [m] of points ``(x, y)``: on the nearer of the nearest
-        vertex's two segments."""
+        """Station and left offset [m] of points ``(x, y)``.
+
+        Each point is projected on the nearer of its nearest vertex's two segments.
+        """
         p = np.c_[np.ravel(x), np.ravel(y)]
         _, i = self._tree.query(p)
         k = len(self.length_of)
