@@ -10,5 +10,6 @@ swing), offtracking.py (J695's steady and the FHWA turn's off-tracking),
 friction.py (steer-tyre friction demand), driver.py (the path-following
 driver), run.py (the manoeuvres on one model and its measures), fromlog.py
 (the measures of a measured run, for artic validate), tables.py (the tables
-and the PBS levels), figure.py (the swept paths drawn), command.py (artic pbs).
+and the PBS levels), figure.py (the swept paths drawn), command.py (artic pbs),
+trucks.py (each model's error per truck in the campaign, and over trucks).
 """

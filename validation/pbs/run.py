@@ -101,8 +101,8 @@ class ModelRun:
     measures: dict = field(default_factory=dict)
 
 
-def truth_seat(vehicle: Vehicle, seed: int):
-    """The yard truth of ``seed`` for ``vehicle``'s load, flat, without drift.
+def truth_seat(vehicle: Vehicle, seed: int, kind: str | None = None):
+    """The truth of ``seed`` (of ``kind``, the default's) for ``vehicle``'s load, flat, no drift.
 
     Returns its vehicle, its model (to close) and the driver's seat.
     """
@@ -115,18 +115,19 @@ def truth_seat(vehicle: Vehicle, seed: int):
         raise UserError(f"--models truth: the synthetic truth exists for "
                         f"{' and '.join(TRUTH_LOADS)} only, not {vehicle.name}; leave "
                         "truth out of --models")
-    truth = truth_configuration(seed, drift=False)
+    truth = (truth_configuration(seed, drift=False) if kind is None
+             else truth_configuration(seed, kind, drift=False))
     vt = truth_vehicle(load, truth, seed)
     model = truth_model(vt, truth, "follow")
     return vt, model, truth_actuation(model, vt.steering_for("mbd"), SteeringColumn(0.0, 0.0))
 
 
-def _build(name: str, vehicle: Vehicle, seed: int):
+def _build(name: str, vehicle: Vehicle, seed: int, kind: str | None = None):
     """(vehicle, model to drive, forces callable or None, closer)."""
     from artic.validation.models import build, close, driven
 
     if name == "truth":
-        vt, model, seat = truth_seat(vehicle, seed)
+        vt, model, seat = truth_seat(vehicle, seed, kind)
         return vt, seat, None, model.close
     m = build(name, vehicle)
     if name == "mbd":
@@ -142,10 +143,12 @@ def _build(name: str, vehicle: Vehicle, seed: int):
 
 
 def measure(name: str, v: Vehicle, drives: dict, f_pbs) -> dict[str, float]:
-    """Every measure of one model's drives (see :data:`MEASURES`)."""
+    """Every measure of one model's drives (:data:`MEASURES`); NaN for a manoeuvre not driven."""
     g = Geometry.of(v)
     p = paths(g)
-    out: dict[str, float] = {}
+    out: dict[str, float] = dict.fromkeys(MEASURES, math.nan)
+    if "pbs" not in drives:
+        return out
     t, obs, _ = drives["pbs"]
     m = Motion.from_observations(v, t, obs)
     path = p["pbs"][0]
@@ -156,9 +159,13 @@ def measure(name: str, v: Vehicle, drives: dict, f_pbs) -> dict[str, float]:
     out["steer_friction"] = (friction.friction_demand(f_pbs) if f_pbs is not None
                              else float("nan"))
     out["path_error"] = offtracking.path_error(path, m)
+    if "fhwa" not in drives:
+        return out
     t, obs, _ = drives["fhwa"]
     out["fhwa_offtracking"] = offtracking.max_offtracking(
         p["fhwa"][0], Motion.from_observations(v, t, obs))
+    if "j695" not in drives:
+        return out
     t, obs, _ = drives["j695"]
     c = p["j695"][0]
     m = Motion.from_observations(v, t, obs)
@@ -171,14 +178,21 @@ def measure(name: str, v: Vehicle, drives: dict, f_pbs) -> dict[str, float]:
     return out
 
 
-def run_model(name: str, vehicle: Vehicle, seed: int = 0) -> ModelRun:
-    """Drive model ``name`` (of :data:`MODELS`) through every manoeuvre and measure it."""
-    v, model, forces, closer = _build(name, vehicle, seed)
+def run_model(name: str, vehicle: Vehicle, seed: int = 0,
+              manoeuvres: tuple[str, ...] = MANOEUVRES, truth: str | None = None) -> ModelRun:
+    """Drive model ``name`` (of :data:`MODELS`) through ``manoeuvres`` and measure it.
+
+    ``seed`` and ``truth`` (a kind of :data:`artic.validation.synthetic.truth.TRUTHS`,
+    the default's if None) pick the truth.
+    """
+    v, model, forces, closer = _build(name, vehicle, seed, truth)
     out = ModelRun(name, v)
     g = Geometry.of(v)
     f_pbs = None
     try:
         for man, (path, speed) in paths(g).items():
+            if man not in manoeuvres:
+                continue
             t, obs, delta, f = drive_path(model, PathDriver(v, path, speed),
                                           forces if man == "pbs" else None)
             out.drives[man] = (t, obs, delta)
