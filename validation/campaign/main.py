@@ -1173,9 +1173,17 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     paths = {k: v for r in (tuning, validation, references, twins, oracle, tables, efficiency,
                             sweep, recordings) if r is not None
              for k, v in r.outputs.items() if ":" not in k and k != "gain_sweep_plot"}
+    paths["pbs_truck"] = _pbs_truck(c)
     return _report(c, paths, tables.value, tuning.value[0], efficiency.value,
                    sweep.value if sweep is not None else None, metrics, vs_plant,
                    twins.value if twins is not None else None)
+
+
+def _pbs_truck(c: _Campaign) -> Path:
+    """The low-speed measures of this truck's models against its truth (artic.validation.pbs)."""
+    from artic.validation.pbs.trucks import write_truck_table
+
+    return write_truck_table(c.out_dir, c.config.seed, c.models, c.config.truth)
 
 
 def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,

@@ -92,6 +92,7 @@ def run_seeds(config: CampaignConfig,
         counter = Counter(seeds, "trucks", progress, every=0.0)
         metrics, vs_plant, walls, reports, stages, twins = [], [], {}, {}, {}, []
         oracles: list[pd.DataFrame] = []
+        pbs: list[Path] = []
         marked: dict[str, list[pd.DataFrame]] = {}
         for k in range(seeds):
             s = seed + k
@@ -111,11 +112,17 @@ def run_seeds(config: CampaignConfig,
                 if f"paired_{d}" in paths:
                     marked.setdefault(d, []).append(
                         pd.read_csv(paths[f"paired_{d}"]).assign(seed=s))
+            if "pbs_truck" in paths:
+                pbs.append(paths["pbs_truck"])
             walls[s] = _wall(where, time.perf_counter() - t0)
             stages[s] = _stages(where)
             reports[s] = paths["report"].relative_to(out_dir)
             counter.step(f"seed {s} in {walls[s]:.0f} s; reverse eps_n {_eps_n_line(m)}",
                          always=True)
+        if pbs:  # the low-speed measures over trucks (artic.validation.pbs.trucks)
+            from artic.validation.pbs.trucks import write_pooled as write_pbs
+
+            write_pbs(out_dir, pbs)
         return write_pooled(out_dir, metrics, vs_plant, walls, reports, campaign, stages,
                             twins, marked, oracles)
 

@@ -52,6 +52,7 @@ from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
 from artic.validation.harness.reversing import DEFAULT_GAIN
 from artic.validation.logs.schema import CHECKS, MIN_SEGMENT, SOURCES
+from artic.validation.pbs import command as pbs_command
 from artic.validation.runs import runtime
 from artic.validation.runs.outputs import (
     OutDirLock,
@@ -231,6 +232,7 @@ def _validate(args: argparse.Namespace) -> int:
               f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
                                    "status in metrics.csv" if len(failed) else ""))
         print("\n" + per_run_lines(metrics))
+        _pbs_measures(out, logs, v, models)
         print("\n" + _noise_floor(logs, metrics, out, v, declared, args.noise))
         if args.recordings:
             _validate_recordings(out, logs, v, models, metrics)
@@ -304,6 +306,15 @@ def per_run_lines(metrics) -> str:
             shown += f"; {r.status}"
         lines.append(f"  {what:<{width}}  {shown}")
     return "\n".join(lines)
+
+
+def _pbs_measures(out: Path, logs, vehicle, models) -> None:
+    """The low-speed measures of each log and each model on it (artic.validation.pbs.fromlog)."""
+    from artic.validation.pbs.fromlog import write_validate_table
+
+    path = write_validate_table(out, logs, vehicle, models)
+    if path is not None:
+        print(f"wrote {path} (swept width and off-tracking of each log and model)")
 
 
 def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
@@ -708,6 +719,7 @@ def build_parser() -> argparse.ArgumentParser:
     camp.set_defaults(func=_campaign)
 
     dock_command.add_parser(sub)
+    pbs_command.add_parser(sub)
     return p
 
 
