@@ -20,7 +20,7 @@ def test_matrix_has_the_seed_counts_and_every_cell():
     paper = MATRIX[:PAPER]
     kinds = Counter(m.direction for m in paper)
     assert kinds == {"forward": 25, "reverse": 33}
-    assert len({m.name for m in MATRIX}) == 62
+    assert len({m.name for m in MATRIX}) == 63
     for load in ("unloaded", "loaded"):
         cs = {(m.amplitude_deg, m.speed_kph, m.side) for m in paper
               if m.kind == "constant-steer" and m.load == load}
