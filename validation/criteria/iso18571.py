@@ -146,8 +146,11 @@ def _shift_correlations(t: np.ndarray, c: np.ndarray, limit: int) -> np.ndarray:
     n_total = t.size
     shifts = np.arange(-limit, limit + 1)
     length = n_total - np.abs(shifts)
-    # sum of t[i] c[i + n] over the overlap, every n at once
-    cross = np.correlate(c, t, mode="full")[n_total - 1 + shifts]
+    # sum of t[i] c[i + n] over the overlap, every n at once (circular correlation by FFT,
+    # padded beyond 2 N so that no shift wraps)
+    size = 1 << (2 * n_total).bit_length()
+    circ = np.fft.irfft(np.fft.rfft(c, size) * np.conj(np.fft.rfft(t, size)), size)
+    cross = circ[shifts % size]
     ct, ct2 = np.concatenate(([0.0], np.cumsum(t))), np.concatenate(([0.0], np.cumsum(t * t)))
     cc, cc2 = np.concatenate(([0.0], np.cumsum(c))), np.concatenate(([0.0], np.cumsum(c * c)))
     pos = shifts >= 0  # t[:N - n] against c[n:]; else t[-n:] against c[:N + n]
@@ -180,23 +183,27 @@ def phase_score(shift: int, n_samples: int) -> float:
 
 @njit(cache=True)
 def _dtw_path(x: np.ndarray, y: np.ndarray, radius: int) -> tuple[np.ndarray, np.ndarray]:
-    """Indices into ``x`` and ``y`` along the warping path of least summed squared difference."""
+    """Indices into ``x`` and ``y`` along the warping path of least summed squared difference.
+
+    The accumulated cost is kept for the band alone: ``cost[i, j - i + radius]``.
+    """
     n, m = x.size, y.size
-    cost = np.full((n, m), np.inf)
+    w = 2 * radius + 1
+    cost = np.full((n, w), np.inf)
     for i in range(n):
         for j in range(max(0, i - radius), min(m, i + radius + 1)):
             d = (x[i] - y[j]) ** 2
             if i == 0 and j == 0:
-                cost[i, j] = d
+                cost[0, radius] = d
                 continue
             best = np.inf
-            if i > 0 and cost[i - 1, j] < best:
-                best = cost[i - 1, j]
-            if j > 0 and cost[i, j - 1] < best:
-                best = cost[i, j - 1]
-            if i > 0 and j > 0 and cost[i - 1, j - 1] < best:
-                best = cost[i - 1, j - 1]
-            cost[i, j] = d + best
+            if i > 0 and j - i + 1 + radius < w and cost[i - 1, j - i + 1 + radius] < best:
+                best = cost[i - 1, j - i + 1 + radius]  # (i - 1, j)
+            if j > 0 and j - 1 - i + radius >= 0 and cost[i, j - 1 - i + radius] < best:
+                best = cost[i, j - 1 - i + radius]  # (i, j - 1)
+            if i > 0 and j > 0 and cost[i - 1, j - i + radius] < best:
+                best = cost[i - 1, j - i + radius]  # (i - 1, j - 1)
+            cost[i, j - i + radius] = d + best
     ix = np.empty(n + m, np.int64)
     iy = np.empty(n + m, np.int64)
     i, j, k = n - 1, m - 1, 0
@@ -208,11 +215,11 @@ def _dtw_path(x: np.ndarray, y: np.ndarray, radius: int) -> tuple[np.ndarray, np
         # the predecessor of least accumulated cost; the diagonal wins a tie
         step, best = 0, np.inf
         if i > 0 and j > 0:
-            step, best = 2, cost[i - 1, j - 1]
-        if i > 0 and cost[i - 1, j] < best:
-            step, best = 0, cost[i - 1, j]
-        if j > 0 and cost[i, j - 1] < best:
-            step, best = 1, cost[i, j - 1]
+            step, best = 2, cost[i - 1, j - i + radius]
+        if i > 0 and j - i + 1 + radius < w and cost[i - 1, j - i + 1 + radius] < best:
+            step, best = 0, cost[i - 1, j - i + 1 + radius]
+        if j > 0 and j - 1 - i + radius >= 0 and cost[i, j - 1 - i + radius] < best:
+            step, best = 1, cost[i, j - 1 - i + radius]
         if step == 2:
             i, j = i - 1, j - 1
         elif step == 0:
@@ -244,11 +251,10 @@ def smoothed_derivative(signal: np.ndarray, dt: float) -> np.ndarray:
     """Central-difference derivative [unit/s], averaged over :data:`SLOPE_SMOOTHING` samples."""
     d = np.gradient(np.asarray(signal, dtype=float), dt)
     half = SLOPE_SMOOTHING // 2
-    out = np.empty_like(d)
-    for i in range(d.size):  # the window shrinks symmetrically at the ends
-        h = min(half, i, d.size - 1 - i)
-        out[i] = d[i - h:i + h + 1].mean()
-    return out
+    c = np.concatenate(([0.0], np.cumsum(d)))
+    i = np.arange(d.size)
+    h = np.minimum(half, np.minimum(i, d.size - 1 - i))  # shrinks symmetrically at the ends
+    return (c[i + h + 1] - c[i - h]) / (2 * h + 1)
 
 
 def slope_score(reference: np.ndarray, comparison: np.ndarray, dt: float) -> float:
