@@ -103,3 +103,15 @@ def test_compare_and_departure():
     dep = departure(table)
     assert dep.loc["big"].to_list() == [CENTRES[0]] * 3
     assert dep.loc["same"].isna().all()
+
+
+@pytest.mark.slow
+def test_the_study_drives_the_truth_and_each_model_on_the_sweep():
+    # seed 0's truth and KIN: every signal in every band, and KIN's articulation gain
+    # departs from the truth's somewhere in the sweep (its equivalent wheelbase, untuned)
+    from artic.validation.runs.frequency import frequency_study
+
+    table, dep = frequency_study(0, models=("kin",))
+    assert len(table) == 3 * len(CENTRES) and set(table["model"]) == {"kin"}
+    assert np.isfinite(table[["gain", "gain_truth", "phase", "phase_truth"]].to_numpy()).all()
+    assert list(dep.index) == ["kin"] and np.isfinite(dep.loc["kin", "gamma"])
