@@ -28,7 +28,7 @@ DEPARTURE = "frequency_departure"
 """The departure table's file stem."""
 
 _NOTE = (f"The lowest band [Hz] where a model's gain departs from the truth's by more than "
-         f"{GAIN_BOUND:.0%} or its phase by more than {PHASE_BOUND:g} deg (blank: within the "
+         f"{GAIN_BOUND:.0%} or its phase by more than {PHASE_BOUND:g} deg (-: within the "
          "bound over the whole sweep); the truth drives the swept sine, each model is driven "
          "by the log's steering (docs: guide/rating.md).")
 
