@@ -12,7 +12,7 @@ from artic.reduced import KIN, InitialState
 from artic.validation.logs.importers import import_source
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.sensors import SensorModel, measure
-from artic.validation.synthetic.testmatrix import MATRIX, PAPER, TUNING
+from artic.validation.synthetic.testmatrix import MATRIX, PAPER, TUNING, TUNING_SETS
 from tests.helpers import straight_log
 
 
@@ -20,7 +20,7 @@ def test_matrix_has_the_seed_counts_and_every_cell():
     paper = MATRIX[:PAPER]
     kinds = Counter(m.direction for m in paper)
     assert kinds == {"forward": 25, "reverse": 33}
-    assert len({m.name for m in MATRIX}) == 62
+    assert len({m.name for m in MATRIX}) == 63
     for load in ("unloaded", "loaded"):
         cs = {(m.amplitude_deg, m.speed_kph, m.side) for m in paper
               if m.kind == "constant-steer" and m.load == load}
@@ -40,8 +40,12 @@ def test_matrix_has_the_seed_counts_and_every_cell():
     for load in ("unloaded", "loaded"):
         assert sum(f"constant-steer-{load}-200deg-5kph" in n for n in TUNING) == 2
         assert sum(f"slalom-{load}-360deg-8kph" in n for n in TUNING) == 2
-    assert all(m.name in TUNING for m in MATRIX[PAPER:])
-    assert sum(m.direction == "forward" and m.name not in TUNING for m in MATRIX) == 21
+    # beyond the paper's: the 4 tuning slaloms, then the swept sine, validated, never tuned
+    assert [m.name in TUNING for m in MATRIX[PAPER:]] == [True] * 4 + [False]
+    assert MATRIX[-1].kind == "swept-sine" and MATRIX[-1].direction == "forward"
+    assert sum(m.direction == "forward" and m.name not in TUNING for m in MATRIX) == 22
+    for name in ("slaloms", "transient"):  # and no tuning set takes it
+        assert MATRIX[-1].name not in TUNING_SETS[name]
 
 
 @pytest.mark.parametrize("y0,psi0", [(3.0, 0.0), (-4.0, 8.0)])

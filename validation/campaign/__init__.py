@@ -14,5 +14,7 @@ and the gain sweep in ``runs/``, the tables, recordings and plots in ``review/``
   (the oracle rows), and each model's error split into form and parameters;
 - :mod:`~artic.validation.campaign.seeds`, :mod:`~artic.validation.campaign.seedreport`:
   several trucks (``--seeds N``) and their pooled report;
-- :mod:`~artic.validation.campaign.executors`: local processes or a Dask cluster.
+- :mod:`~artic.validation.campaign.executors`: local processes or a Dask cluster;
+- :mod:`~artic.validation.campaign.frequency`: the swept sine's frequency response, per
+  truck and over trucks.
 """

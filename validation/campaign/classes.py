@@ -39,7 +39,8 @@ from artic.validation.campaign.rankings import label, ranking_text
 from artic.validation.criteria.statistics import format_ci
 from artic.validation.review.tables import UNITS, markdown, paired_table, summary
 
-CLASSES = ("constant-steer", "slalom", "figure-8", "ramp-steer-reverse", "docking", "parking")
+CLASSES = ("constant-steer", "slalom", "figure-8", "swept-sine", "ramp-steer-reverse", "docking",
+           "parking")
 """The manoeuvre classes of the test matrix, in table order."""
 
 CLASS = "class"

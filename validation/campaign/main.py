@@ -92,7 +92,7 @@ import pandas as pd
 from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.mjcf.writer import fitted_changes, updated, write_vehicle
-from artic.validation.campaign import findings
+from artic.validation.campaign import findings, frequency
 from artic.validation.campaign.cache import Entry, StageCache, StageResult
 from artic.validation.campaign.config import SENSORS, CampaignConfig
 from artic.validation.campaign.executors import cluster_executor
@@ -1167,12 +1167,13 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     tables = _stage_tables(c, metrics, vs_plant, twins.value if twins is not None else None,
                            oracle.value if oracle is not None else None, tuning.value[2])
     efficiency = _stage_efficiency(c, metrics)
+    swept = frequency.write(c.out_dir, validation.value[2])  # the swept sine's responses
     sweep = _stage_sweep(c, logs, tuning) if cfg.sweep_models else None
     recordings = _stage_recordings(c, logs, tuning, references) if cfg.recordings else None
     # The result files by name (a stage's single runs and recordings are not named here).
     paths = {k: v for r in (tuning, validation, references, twins, oracle, tables, efficiency,
                             sweep, recordings) if r is not None
-             for k, v in r.outputs.items() if ":" not in k and k != "gain_sweep_plot"}
+             for k, v in r.outputs.items() if ":" not in k and k != "gain_sweep_plot"} | swept
     paths["pbs_truck"] = _pbs_truck(c)
     return _report(c, paths, tables.value, tuning.value[0], efficiency.value,
                    sweep.value if sweep is not None else None, metrics, vs_plant,

@@ -550,7 +550,8 @@ def build_parser() -> argparse.ArgumentParser:
                           "(a ramp to the amplitude, held); slalom (a sine past cones 12 m apart); "
                           "figure-8; ramp-steer-reverse (reversing, a 20 s ramp to the "
                           "amplitude from t = 5 s, held; no feedback, so it jackknifes "
-                          "some seconds later and the run stops there)")
+                          "some seconds later and the run stops there); swept-sine (a sine "
+                          "rising from 0.05 to 0.8 Hz over 60 s, then 5 s straight)")
     sim.add_argument("--amplitude-deg", type=options.AMPLITUDE_DEG, default=None,
                      help="steering-wheel amplitude [deg] (default 200 forward, 90 reverse)")
     sim.add_argument("--speed-kph", type=options.SPEED_KPH, default=None,
@@ -560,7 +561,7 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--duration", type=options.DURATION, default=None,
                      help="length [s] (default: one that completes the manoeuvre: straight "
                           "30, constant-steer 60, slalom six cones, figure-8 both "
-                          "circles, ramp-steer-reverse 60)")
+                          "circles, ramp-steer-reverse 60, swept-sine 65)")
     sim.add_argument("--out", required=True, type=options.output_path,
                      help="the run to write, .parquet (its folder must exist)")
     sim.set_defaults(func=_simulate)

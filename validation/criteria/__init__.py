@@ -30,7 +30,10 @@ their columns, units, computation and pooling), each in its own module:
   that generation records in a log for the floor's predictions);
 - ``dock_lat``, ``dock_lon`` [m], ``dock_psi`` [rad], dock errors:
   :mod:`~artic.validation.criteria.dock`, with :mod:`~artic.validation.criteria.points`
-  (points of the semitrailer from its sensor).
+  (points of the semitrailer from its sensor);
+- ``iso_gap_r1`` ... ``iso_gap`` [-], ISO/TS 18571's rating's shortfall ``1 - R`` per
+  signal: :mod:`~artic.validation.criteria.rating`, with
+  :mod:`~artic.validation.criteria.iso18571` (the standard's scores and rating).
 
 Then :mod:`~artic.validation.criteria.pooled`, the criteria of a log split at
 its gaps, and :mod:`~artic.validation.criteria.statistics`, confidence

@@ -13,7 +13,10 @@ criteria (:data:`artic.validation.criteria.metrics.CRITERIA`), in the order of
   ``pred_gamma_5m``, ``pred_gamma_10m`` [rad]:
   :mod:`artic.validation.criteria.prediction`;
 - ``dock_lat``, ``dock_lon`` [m] and ``dock_psi`` [rad]:
-  :mod:`artic.validation.criteria.dock`.
+  :mod:`artic.validation.criteria.dock`;
+- ``iso_gap_r1``, ``iso_gap_r2``, ``iso_gap_vy1``, ``iso_gap_vy2``, ``iso_gap_gamma`` and
+  ``iso_gap`` [-], ISO/TS 18571's rating's shortfall ``1 - R``:
+  :mod:`artic.validation.criteria.rating`.
 
 :data:`TABLE` is the one place that lists them. The runs
 (:mod:`artic.validation.runs.validate`) compute every row of it for every
@@ -31,7 +34,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from artic.mjcf.errors import UserError
-from artic.validation.criteria import dock, prediction
+from artic.validation.criteria import dock, prediction, rating
 
 if TYPE_CHECKING:
     from artic.mjcf.vehicle import Vehicle
@@ -88,6 +91,7 @@ TABLE: tuple[Criterion, ...] = (
     Criterion({c: prediction.UNITS[c] for c in prediction.COLUMNS}, "model", "mean"),
     Criterion({c: dock.UNITS[c] for c in dock.COLUMNS}, "artic.validation.criteria.dock:of_run",
               "last"),
+    Criterion(rating.UNITS, "artic.validation.criteria.rating:of_run", "mean"),
 )
 """The criteria beyond the paper's, in ``metrics.csv`` order."""
 

@@ -8,5 +8,7 @@ Used by ``artic validate``, the campaign and ``artic dock`` alike.
   and one per campaign (artic's only module that imports rerun);
 - :mod:`~artic.validation.review.plantshape`: the plant's bodies and geoms, as the
   recordings draw them;
-- :mod:`~artic.validation.review.plots`: static plots of a manoeuvre.
+- :mod:`~artic.validation.review.plots`: static plots of a manoeuvre;
+- :mod:`~artic.validation.review.frequency`: gain and phase of the yaw rates and
+  the articulation against the steering, each model against the truth.
 """

@@ -12,5 +12,7 @@
   MuJoCo's log and timers), made by the entry points;
 - :mod:`~artic.validation.runs.workers`: worker processes that end with their parent;
 - :mod:`~artic.validation.runs.warmup`: numba's compile ahead of first use, in a
-  process of its own.
+  process of its own;
+- :mod:`~artic.validation.runs.frequency`: the swept sine through the truth and each
+  model, and their frequency responses.
 """

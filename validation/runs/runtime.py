@@ -46,6 +46,7 @@ STALE_DAYS = 30
 """Cache folders unused for this long are removed [days]."""
 
 COMPILED_MODULES = ("harness/feedback.py", "harness/reducedloop.py", "criteria/pathdist.py",
+                    "criteria/iso18571.py",
                     "docking/geometry.py", "docking/planner.py", "docking/gym/kinbatch.py")
 """Modules of :mod:`validation` whose functions numba compiles (``feedback.py``'s
 plain-Python law is compiled by ``reducedloop.py`` and the docking planner)."""

@@ -83,10 +83,11 @@ from artic.validation.synthetic.truthmodel import timestep_for, truth_actuation,
 
 META_FILE = "meta.json"
 
-LONGEST_FIRST = ("docking", "parking", "figure-8", "slalom", "ramp-steer-reverse",
+LONGEST_FIRST = ("docking", "parking", "figure-8", "swept-sine", "slalom", "ramp-steer-reverse",
                  "constant-steer")
 """The manoeuvre kinds, longest drive first: a docking or parking driver takes
-50-210 s, a figure-of-8 two minutes, a ramp steer 25-55 s, a constant steer 40 s."""
+50-210 s, a figure-of-8 two minutes, the swept sine 65 s, a ramp steer 25-55 s, a
+constant steer 40 s."""
 
 MAX_SHUFFLES = 4
 """Shuffles (pull forward, reverse again) a docking driver allows himself; the

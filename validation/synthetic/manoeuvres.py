@@ -4,6 +4,12 @@ Each profile gives, per sample at 100 Hz, the steering-wheel angle
 ``delta_h`` [rad] (offset included) and the tractor speed ``u1`` [m/s]. The
 amplitude is a steering-wheel angle, as in the paper (200, 360, 500 deg forward;
 30 and 90 deg in reverse). ``side="left"`` steers to positive angles.
+
+Beyond the paper's kinds, ``swept-sine``: a forward sine of the steering wheel
+whose frequency rises exponentially from :data:`SWEEP_F0` to :data:`SWEEP_F1`
+over :data:`SWEEP_TIME`, faded in over :data:`RAMP_TIME` and followed by
+:data:`SWEEP_REST` of straight steering, for the frequency response
+(:mod:`artic.validation.review.frequency`).
 """
 
 from __future__ import annotations
@@ -15,7 +21,7 @@ import numpy as np
 
 from artic.mjcf.errors import UserError
 
-KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse")
+KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse", "swept-sine")
 
 DT = 0.01
 """Sample period of every profile [s]: 100 Hz, as the paper's INS."""
@@ -25,6 +31,18 @@ RAMP_TIME = 3.0
 
 SLALOM_PITCH = 12.0
 """Distance between slalom cones [m]."""
+
+SWEEP_F0, SWEEP_F1 = 0.05, 0.8
+"""The swept sine's first and last frequency [Hz]: from below the semitrailer's
+articulation lag at walking pace (its time constant, about its wheelbase over the
+speed, is 3 s at 10 km/h: 0.05 Hz) to a steering-wheel rate of 450 deg/s at
+90 deg of amplitude, about what a driver turns."""
+
+SWEEP_TIME = 60.0
+"""The sweep's length [s]: 15 s per octave, one period in the lowest and nine in the highest."""
+
+SWEEP_REST = 5.0
+"""Straight steering after the sweep [s], so the responses settle inside the record."""
 
 
 @dataclass(frozen=True)
@@ -70,13 +88,27 @@ def _circle_time(amp: float, u: float, L1: float, i_s: float) -> float:
     return 2.0 * math.pi * L1 / max(math.tan(abs(math.radians(amp)) / i_s), 1e-3) / u
 
 
+def swept_sine(t: np.ndarray) -> np.ndarray:
+    """The unit sweep [-] at times ``t`` [s], 0 after :data:`SWEEP_TIME`.
+
+    ``sin`` of a phase whose rate rises exponentially from :data:`SWEEP_F0` to
+    :data:`SWEEP_F1`; it ends at a zero of the sine, so the steering returns to
+    straight without a step.
+    """
+    k = math.log(SWEEP_F1 / SWEEP_F0) / SWEEP_TIME
+    phase = 2.0 * math.pi * SWEEP_F0 * np.expm1(k * np.minimum(t, SWEEP_TIME)) / k
+    end = 2.0 * math.pi * SWEEP_F0 * math.expm1(k * SWEEP_TIME) / k
+    last_zero = math.floor(end / math.pi) * math.pi
+    return np.where(phase < last_zero, np.sin(phase), 0.0)
+
+
 def default_duration(kind: str, amplitude_deg: float, speed_kph: float, L1: float = 3.8,
                      i_s: float = 21.0) -> float:
     """Length of a manoeuvre when none is given: one that completes it [s]."""
     u = speed_kph / 3.6
     return {"straight": 30.0, "constant-steer": 60.0, "slalom": 6.0 * SLALOM_PITCH / u,
             "figure-8": 2.0 * _circle_time(amplitude_deg, u, L1, i_s) + 3.0 * RAMP_TIME,
-            "ramp-steer-reverse": 60.0}[kind]
+            "ramp-steer-reverse": 60.0, "swept-sine": SWEEP_TIME + SWEEP_REST}[kind]
 
 
 def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: float | None = None,
@@ -149,6 +181,8 @@ def make_profile(kind: str, *, amplitude_deg: float | None = None, speed_kph: fl
         up = _smoothstep(t / RAMP_TIME)
         swap = _smoothstep((t - RAMP_TIME - circle) / (2 * RAMP_TIME))
         d = A * (up - 2.0 * swap)
+    elif kind == "swept-sine":
+        d = A * swept_sine(t) * _smoothstep(t / RAMP_TIME)
     else:  # ramp-steer-reverse: straight back, then a slow ramp to the amplitude
         d = A * np.clip((t - 5.0) / 20.0, 0.0, 1.0)
     u1 = np.full_like(t, -u if reverse else u)

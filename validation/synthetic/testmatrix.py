@@ -20,6 +20,10 @@ Tuning, 4 manoeuvres beyond the paper's matrix, appended after it (indices
 58-61): a slalom at 360 deg and 8 km/h per load condition, starting to the left
 and to the right. They are driven only for tuning.
 
+The frequency response, 1 manoeuvre beyond the paper's (index 62,
+:data:`SWEEP`): a swept sine of 90 deg at 10 km/h, loaded, validated as the
+others and analysed by :mod:`artic.validation.review.frequency`.
+
 The forward tuning set has 8 manoeuvres, as in the paper, 4 per load
 condition so that each is tuned on its own, of two kinds (:data:`TUNING`):
 the constant steers at 200 deg and 5 km/h, left and right, and the two
@@ -36,6 +40,10 @@ from dataclasses import asdict, dataclass
 
 from artic.mjcf.errors import UserError
 
+SWEEP = (90, 10)
+"""The swept sine's steering-wheel amplitude [deg] and speed [km/h]: 4.3 deg of road
+wheel, inside the tyres' linear range at the loaded truck's 10 km/h."""
+
 TUNING_SLALOM = (360.0, 8.0)
 """The tuning slaloms' steering-wheel amplitude [deg] and speed [km/h]: an
 amplitude and a speed the constant steers of the tuning set do not have."""
@@ -51,7 +59,7 @@ class Manoeuvre:
         Unique name, also the folder name of its export.
     kind : str
         ``constant-steer``, ``slalom``, ``figure-8``, ``ramp-steer-reverse``,
-        ``docking`` or ``parking``.
+        ``docking``, ``parking`` or ``swept-sine``.
     load : str
         ``unloaded`` or ``loaded``.
     amplitude_deg : float
@@ -109,6 +117,7 @@ def _matrix() -> tuple[Manoeuvre, ...]:
     for load in ("unloaded", "loaded"):  # the tuning slaloms, beyond the paper's matrix
         for side in ("left", "right"):
             cells.append(("slalom", load, int(TUNING_SLALOM[0]), int(TUNING_SLALOM[1]), side))
+    cells.append(("swept-sine", "loaded", *SWEEP, "left"))  # the frequency response
     out = []
     for i, (kind, load, amp, speed, side) in enumerate(cells):
         name = f"{i:02d}-{kind}-{load}-{amp}deg-{speed}kph-{side}" if amp else \
@@ -118,7 +127,7 @@ def _matrix() -> tuple[Manoeuvre, ...]:
 
 
 MATRIX = _matrix()
-"""All 62 manoeuvres, in order: the paper's 58, then the 4 tuning slaloms."""
+"""All 63 manoeuvres, in order: the paper's 58, the 4 tuning slaloms, the swept sine."""
 
 PAPER = 58
 """The paper's manoeuvres: the first 58 of :data:`MATRIX`."""
@@ -137,9 +146,8 @@ grows with the square of the speed) from i_s."""
 
 TUNING_SETS: dict[str, tuple[str, ...]] = {
     "default": TUNING,
-    "slaloms": tuple(m.name for m in MATRIX if m.index >= PAPER),
-    "transient": tuple(m.name for m in MATRIX
-                       if m.index >= PAPER or m.kind in ("slalom", "figure-8")),
+    "slaloms": tuple(m.name for m in MATRIX if m.index >= PAPER and m.kind == "slalom"),
+    "transient": tuple(m.name for m in MATRIX if m.kind in ("slalom", "figure-8")),
 }
 """The campaign's choices of tuning manoeuvres (``artic campaign --tuning``), 4 to 6 per
 direction's forward logs, none validated:

@@ -32,7 +32,7 @@ lies inside RK4's stability region at 10 ms (``tests/test_truth_timestep.py``),
 and on every forward manoeuvre of the test matrix the truth at 10 ms is
 within 1 cm, 0.05 deg and 1e-3 rad/s of itself at 1 ms, driven and replayed."""
 
-FORWARD_KINDS = ("constant-steer", "slalom", "figure-8")
+FORWARD_KINDS = ("constant-steer", "slalom", "figure-8", "swept-sine")
 """The manoeuvre kinds the truth integrates at :data:`FORWARD_TIMESTEP`."""
 
 PLANT_TRUTH_TIMESTEP = 5e-3
