@@ -135,3 +135,21 @@ def test_a_row_not_testable_is_never_a_finding():
     assert np.isfinite(row["diff_lo"])
     assert "not testable at n = 20" in paired_markdown(pairs)
     assert "not testable at n = 20" in ranking_text(pairs, "eps_n")
+
+
+def test_the_rating_columns_are_a_family_of_their_own():
+    """Adding ISO/TS 18571's columns leaves the distance criteria's Holm family as it was."""
+    from statsmodels.stats.multitest import multipletests
+
+    from artic.validation.review.tables import corrected
+
+    p = [0.001, 0.004, 0.02, 0.03, 0.01, 0.2]
+    crit = ["eps_p", "eps_n", "J_steer", "steer_fb", "iso_gap", "iso_gap_r1"]
+    rows = pd.DataFrame({"criterion": crit, "p": p, "resolved": True})
+    out = corrected(rows)
+    dist, rate = np.array(p[:4]), np.array(p[4:])
+    # Holm written out (statsmodels' own), per family: the same p values alone.
+    assert np.allclose(out["p_adj"][:4], multipletests(dist, method="holm")[1])
+    assert np.allclose(out["p_adj"][4:], multipletests(rate, method="holm")[1])
+    # One family of six would have made eps_n's 0.004 into 0.02, J_steer's 0.02 into 0.06.
+    assert out["p_adj"][2] == pytest.approx(0.04) and bool(out["resolved_adj"][2])

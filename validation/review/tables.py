@@ -338,22 +338,36 @@ def _model_pairs(metrics: pd.DataFrame, direction: str, criteria: list[str] | No
             yield c, a, b, table
 
 
+RATING_PREFIX = "iso_gap"
+"""Criteria of ISO/TS 18571's rating: a family of their own in :func:`corrected`."""
+
 PAIRED_COLUMNS = ["criterion", "a", "b", "n", "diff", "diff_lo", "diff_hi", "resolved", "lower",
                   "test", "p", "p_adj", "resolved_adj"]
 """The columns of :func:`paired_table`."""
 
 
 def corrected(rows: pd.DataFrame) -> pd.DataFrame:
-    """``rows`` with ``p_adj`` (Holm over all its rows, one family) and ``resolved_adj``.
+    """``rows`` with ``p_adj`` (Holm within each family) and ``resolved_adj``.
 
     The family is the whole table: every pair of models and every criterion
     of one direction against one reference
-    (:mod:`artic.validation.criteria.multiplicity` says why Holm). A row not
-    testable (NaN ``p``) is left out of the family and is never resolved after
-    the correction.
+    (:mod:`artic.validation.criteria.multiplicity` says why Holm), except the
+    columns of ISO/TS 18571's rating (``iso_gap*``), a question of their own
+    asked beside the paper's distance criteria: they form a second family, so
+    that adding the rating did not change which distance rankings resolve. A
+    row not testable (NaN ``p``) is left out of its family and is never
+    resolved after the correction.
     """
     out = rows.copy()
-    out["p_adj"] = holm(out["p"].to_numpy(dtype=float)) if len(out) else []
+    out["p_adj"] = np.nan
+    if len(out):
+        rating = out["criterion"].astype(str).str.startswith(RATING_PREFIX).to_numpy()
+        p = out["p"].to_numpy(dtype=float)
+        adj = np.full(p.size, np.nan)
+        for family in (rating, ~rating):
+            if family.any():
+                adj[family] = holm(p[family])
+        out["p_adj"] = adj
     out["resolved_adj"] = (out["p_adj"] < ALPHA) & out["resolved"].astype(bool) \
         if len(out) else []
     return out
