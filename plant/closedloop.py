@@ -35,6 +35,7 @@ import numpy as np
 
 from artic.mjcf import extensions
 from artic.plant import ctyre
+from artic.plant.follower import FOLLOW_KI
 
 if TYPE_CHECKING:
     from artic.plant.plant import Plant
@@ -275,7 +276,6 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
 def _struct(plant: Plant, gain: float, delta_max: float, gamma_max: float,
             gather: np.ndarray) -> _Loop:
     from artic.mjcf.vehicle import G
-    from artic.plant.plant import FOLLOW_KI
 
     m = plant.model
     s = _Loop()

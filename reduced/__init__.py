@@ -19,8 +19,3 @@ def __getattr__(name: str):
 
         return getattr(models, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-if __name__ != "artic.reduced":  # a bare `import reduced` from the repository root
-    raise ImportError(f"{__file__} is artic.reduced: import artic.reduced, not {__name__} (a "
-                      "second copy of its modules would make isinstance fail between them)")

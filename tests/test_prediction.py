@@ -144,7 +144,7 @@ def test_the_plant_predicts_through_its_compiled_loop(log, unloaded):
 def test_truth_states_come_back_exactly_from_the_metadata(log):
     import json
 
-    from artic.validation.criteria.metrics import travelled
+    from artic.validation.criteria.distance import travelled
     from artic.validation.criteria.prediction import (
         STATE_KEY,
         candidates,

@@ -21,7 +21,3 @@ The rooms (each ``__init__`` lists its modules):
 - ``docking/``: the docking benchmark;
 - ``cli/``: the ``artic`` command line.
 """
-
-if __name__ != "artic.validation":  # a bare `import validation` from the repository root
-    raise ImportError(f"{__file__} is artic.validation: import artic.validation, not {__name__} (a "
-                      "second copy of its modules would make isinstance fail between them)")

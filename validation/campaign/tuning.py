@@ -65,7 +65,7 @@ from artic.mjcf.errors import UserError
 from artic.mjcf.interface import OBS_INDEX
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.cli.progress import duration
-from artic.validation.criteria.metrics import distance_mean_abs, distance_weights
+from artic.validation.criteria.distance import distance_mean_abs, distance_weights
 from artic.validation.harness.batch import run_batch, run_many
 from artic.validation.harness.loop import DEFAULT_GAIN, steered, unsteered_inputs
 from artic.validation.harness.steering import SteeringMap

@@ -105,7 +105,7 @@ import numpy as np
 from artic.mjcf.interface import InitialState, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.direction import direction_of
-from artic.validation.criteria.metrics import travelled
+from artic.validation.criteria.distance import travelled
 from artic.validation.criteria.points import axle_x, trailer_point
 from artic.validation.criteria.truthrecords import (  # noqa: F401  (their home before)
     ACTUATION_FIELDS,
