@@ -3,7 +3,7 @@
 This package depends on numpy, numba and :mod:`mjcf` (the vehicle file and the
 signals): never on mujoco, rerun, pandas, :mod:`plant` or :mod:`validation`.
 Where numba caches the compiled models is the entry point's choice
-(:mod:`artic.validation.runs.runtime`).
+(:mod:`artic.validation.plumbing.runtime`).
 """
 
 from artic.mjcf.interface import OBSERVATION, InitialState, wrap_angle

@@ -19,10 +19,10 @@ from artic.plant import Plant
 from artic.reduced import KIN
 from artic.validation.campaign.efficiency import from_runs
 from artic.validation.campaign.report import budget_table
-from artic.validation.cli.progress import BUDGET, Budget, budget_text
 from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_inputs, run_inputs
 from artic.validation.harness.steering import SteeringMap
+from artic.validation.plumbing.budget import BUDGET, Budget, budget_text
 from artic.validation.runs.validate import validate_runs
 from tests.helpers import straight_log
 

@@ -603,7 +603,7 @@ def code_of(name: str) -> str:
     """A fingerprint of a registered model's code, for the campaign's cache keys.
 
     ``""`` for a built-in model, which artic's own code fingerprint covers
-    (:mod:`artic.validation.runs.fingerprint`). For a registered model:
+    (:mod:`artic.validation.plumbing.fingerprint`). For a registered model:
     the hash of its entry and of the source file of its build's module, or,
     when that file cannot be read, a value new in every process, so that its
     cached results are never reused.

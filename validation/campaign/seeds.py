@@ -33,9 +33,10 @@ import numpy as np
 import pandas as pd
 
 from artic.validation.campaign.config import CampaignConfig
-from artic.validation.cli.progress import Counter, stderr
 from artic.validation.criteria.statistics import format_ci, mean_ci
 from artic.validation.logs.runfile import atomic_write_text
+from artic.validation.plumbing.outputs import OutDirLock, clean_stale
+from artic.validation.plumbing.progress import Counter, stderr
 from artic.validation.review.tables import (
     by_seed,
     differences,
@@ -46,7 +47,6 @@ from artic.validation.review.tables import (
     spread_markdown,
     write_table,
 )
-from artic.validation.runs.outputs import OutDirLock, clean_stale
 
 TABLES = {("logs", "forward"): "table2_forward", ("logs", "reverse"): "table3_reverse",
           ("plant", "forward"): "table2_vs_plant", ("plant", "reverse"): "table3_vs_plant"}

@@ -21,7 +21,7 @@ Subcommands:
 
 Errors in the user's input end with exit code 2 and a one-line message that
 names the file and what to change; no traceback. That covers the options
-(every number finite and in range, see :mod:`artic.validation.cli.options`), the
+(every number finite and in range, see :mod:`artic.validation.plumbing.options`), the
 output locations (checked before the work starts; a read-only, full or
 wrong-type path is named with the system's reason), the input files
 (malformed CSV, Parquet, ``.mat``, JSON or TOML), a run too long for the
@@ -48,12 +48,11 @@ from pathlib import Path
 from artic.mjcf import schema
 from artic.mjcf.errors import PlantError, UserError
 from artic.mjcf.vehicle import load_vehicle
-from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
 from artic.validation.harness.reversing import DEFAULT_GAIN
 from artic.validation.logs.schema import CHECKS, MIN_SEGMENT, SOURCES
-from artic.validation.runs import runtime
-from artic.validation.runs.outputs import (
+from artic.validation.plumbing import options, runtime
+from artic.validation.plumbing.outputs import (
     OutDirLock,
     check_output_dir,
     check_output_file,

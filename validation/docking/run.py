@@ -56,7 +56,6 @@ from artic.mjcf.interface import OBS_INDEX, InitialState
 from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
 from artic.plant.plant import PlantError
-from artic.validation.cli.progress import Counter
 from artic.validation.docking.conditions import ActuatorDelay, road
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
@@ -80,6 +79,7 @@ from artic.validation.docking.variants import (
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build, driven
+from artic.validation.plumbing.progress import Counter
 from artic.validation.synthetic.sensors import SensorModel
 
 DT = 0.1

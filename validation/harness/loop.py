@@ -58,7 +58,6 @@ import pandas as pd
 
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.cli.progress import BUDGET
 from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.reversing import DEFAULT_GAIN, feedback_weight
 from artic.validation.harness.steering import SteeringMap
@@ -70,6 +69,7 @@ from artic.validation.harness.yawsteer import (
 )
 from artic.validation.logs.runfile import MAX_POSITION, Run, new_frame
 from artic.validation.models import Model, compiled_form, driven, own_loop, steering_for
+from artic.validation.plumbing.budget import BUDGET
 
 SPEED_WINDOW = 0.5
 """Length of the speed filter's window [s] (see the module docstring)."""
@@ -278,7 +278,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
 def count_run(kind: str, t: np.ndarray, n_done: int) -> None:
     """Count a run of ``n_done`` samples of ``t`` [s] in the process's budget.
 
-    :data:`artic.validation.cli.progress.BUDGET`.
+    :data:`artic.validation.plumbing.budget.BUDGET`.
     """
     n = int(n_done)
     BUDGET.add(kind, float(t[n - 1] - t[0]) if n > 1 else 0.0)

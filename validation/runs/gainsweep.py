@@ -34,7 +34,6 @@ import pandas as pd
 
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.kinematic import kin_parameters
-from artic.validation.cli.progress import Counter
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.criteria.statistics import mean_ci
 from artic.validation.harness.batch import BatchResult, run_batch
@@ -42,6 +41,7 @@ from artic.validation.harness.loop import LoopInputs, loop_inputs
 from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import spec, steering_for
+from artic.validation.plumbing.progress import Counter
 
 DEFAULT_GAINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
 """Gains swept by default [rad/rad]; the bound of every vehicle is added."""

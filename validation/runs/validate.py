@@ -29,7 +29,6 @@ import pyarrow.parquet as pq
 
 from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
 from artic.validation.criteria.direction import direction_of
 from artic.validation.criteria.fixedscale import Scale, campaign_scale, eps_n_fixed
@@ -47,6 +46,8 @@ from artic.validation.logs.runfile import (
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
 from artic.validation.models import build, close, floor_replay, spec
+from artic.validation.plumbing.budget import BUDGET
+from artic.validation.plumbing.progress import Counter, stderr
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -89,7 +90,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         twin run again).
     progress : callable, optional
         Receives progress lines (counts and the time left, see
-        :class:`artic.validation.cli.progress.Counter`), one line for the runs reused,
+        :class:`artic.validation.plumbing.progress.Counter`), one line for the runs reused,
         and one line per run whose model had to limit something
         (:mod:`artic.validation.harness.plantnotes`) or stopped early.
     reuse_key : str, optional
@@ -461,4 +462,4 @@ def write_metrics(df: pd.DataFrame, path: Path) -> Path:
 
 
 stderr_progress = stderr
-"""Print a progress line to standard error (:func:`artic.validation.cli.progress.stderr`)."""
+"""Print a progress line to standard error (:func:`artic.validation.plumbing.progress.stderr`)."""

@@ -4,7 +4,7 @@ From an empty cache, numba compiles the reduced models' harness loop and the
 path-distance tree in about 4 s, on one core, the first time a campaign tunes
 KIN and computes a criterion. :func:`start` does it in a background process
 while the campaign generates its logs, and writes numba's on-disk cache
-(:mod:`artic.validation.runs.runtime` chooses its folder); the campaign then loads the
+(:mod:`artic.validation.plumbing.runtime` chooses its folder); the campaign then loads the
 compiled functions from it in a fraction of a second. A warm cache makes the
 process a no-op. Nothing computed here is kept but the compiled code, so the
 campaign's numbers are the same with or without it.
@@ -46,7 +46,7 @@ def compile_all() -> None:
 
 
 def _child(parent: int) -> None:
-    from artic.validation.runs.workers import init_worker
+    from artic.validation.plumbing.workers import init_worker
 
     init_worker(parent)  # ends with the campaign, if the campaign is killed
     compile_all()

@@ -150,7 +150,7 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
                          f"{dask.timeout:g} s ({type(exc).__name__}); check the address, or "
                          "raise --scheduler-timeout") from None
     try:
-        from artic.validation.runs.runtime import mujoco_settings
+        from artic.validation.plumbing.runtime import mujoco_settings
 
         # no MUJOCO_LOG.TXT in the workers' folders, and no step timers
         client.run(mujoco_settings)

@@ -39,7 +39,7 @@ def init_worker(parent: int) -> None:
     parent : int
         The process id of the process that starts the pool.
     """
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.mujoco_settings()
     if os.getppid() != parent:
