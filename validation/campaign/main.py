@@ -96,6 +96,7 @@ from artic.validation.campaign import findings
 from artic.validation.campaign.cache import Entry, StageCache, StageResult
 from artic.validation.campaign.config import SENSORS, CampaignConfig
 from artic.validation.campaign.executors import cluster_executor
+from artic.validation.campaign.seeds import run_seeds
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.criteria.multiplicity import CORRECTION
 from artic.validation.logs.importers import import_source
@@ -504,9 +505,7 @@ def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict
     else:
         config = CampaignConfig(Path(config), **options)
     if config.seeds > 1:
-        from artic.validation.campaign.seeds import run_seeds
-
-        return run_seeds(config)
+        return run_seeds(config, run_campaign)
     config = config.resolved()
     out_dir = config.out_dir
     out_dir.mkdir(parents=True, exist_ok=True)

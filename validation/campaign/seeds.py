@@ -61,7 +61,7 @@ def seed_dir(out_dir: Path, seed: int) -> Path:
     return Path(out_dir) / f"seed-{seed}"
 
 
-def run_seeds(config: CampaignConfig,
+def run_seeds(config: CampaignConfig, run_campaign: Callable[[CampaignConfig], dict[str, Path]],
               progress: Callable[[str], None] = stderr) -> dict[str, Path]:
     """Run ``config.seeds`` campaigns (seeds ``config.seed`` on) and write the pooled results.
 
@@ -70,6 +70,10 @@ def run_seeds(config: CampaignConfig,
     config : CampaignConfig
         The campaign; each truck's goes to ``config.out_dir/seed-K``
         (:meth:`~artic.validation.campaign.config.CampaignConfig.for_seed`).
+    run_campaign : callable
+        Runs one truck's campaign from its configuration and returns its result
+        files (:func:`artic.validation.campaign.main.run_campaign`, which calls
+        this function: passed in, so that this module does not import it).
     progress : callable
         Receives one line per finished truck, with its reverse eps_n and the time left.
 
@@ -78,8 +82,6 @@ def run_seeds(config: CampaignConfig,
     dict
         Result files by name.
     """
-    from artic.validation.campaign.main import run_campaign
-
     out_dir, seeds, seed = config.out_dir, config.seeds, config.seed
     campaign = {k: v for k, v in config.options().items() if k not in ("seed", "seeds")}
     out_dir = Path(out_dir)

@@ -67,7 +67,6 @@ from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.distance import distance_mean_abs, distance_weights
 from artic.validation.harness.batch import run_batch, run_many
 from artic.validation.harness.loop import DEFAULT_GAIN, steered, unsteered_inputs
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
 from artic.validation.models import spec, steering_for
 from artic.validation.plumbing.progress import duration
@@ -221,7 +220,7 @@ class Objective:
         vehicles = [self.vehicle_at(x) for x in xs]
         inputs = []
         for v in vehicles:
-            steering = SteeringMap.from_steering(steering_for(v, self.model))
+            steering = steering_for(v, self.model)
             inputs.append([steered(base, steering, f"{log.name}: column delta_h")
                            for log, base in zip(self.logs, self._unsteered, strict=True)])
         build = spec(self.model).build

@@ -324,8 +324,8 @@ def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
 def _tune(args: argparse.Namespace) -> int:
     from artic.mjcf.writer import fitted_changes, updated, write_vehicle
     from artic.validation.campaign.tuning import tune
-    from artic.validation.harness.yawsteer import wants_yaw_rate
     from artic.validation.logs.consistency import accepted_in
+    from artic.validation.logs.yawsteer import wants_yaw_rate
     from artic.validation.models import parse_models
     from artic.validation.runs.validate import stderr_progress
 

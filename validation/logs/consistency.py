@@ -620,10 +620,8 @@ def check_jump(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context,
 def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
                    scale: LogScale = FULL_SIZE) -> Finding | None:
     """Steering wheel through eq. (3): within reach, and turning the tractor as it does."""
-    from artic.validation.harness.steering import SteeringMap
-
     s = vehicle.steering_for("kin")
-    smap = SteeringMap.from_steering(s)
+    smap = s
     dh = df["delta_h"].to_numpy(float)
     delta = np.asarray(smap.road_wheel(dh), dtype=float)
     reach = STEER_REACH * vehicle.steering.delta_max

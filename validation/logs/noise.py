@@ -47,8 +47,8 @@ import pandas as pd
 from scipy.signal import lfilter
 
 from artic.mjcf.interface import wrap_angle
-from artic.validation.logs.channelmap import DIMENSION, UNITS
 from artic.validation.logs.runfile import LogError
+from artic.validation.logs.units import DIMENSION, UNITS
 
 CHANNELS = (*(f"{c}_{i}" for i in (1, 2) for c in ("x", "y", "psi", "v_x", "v_y", "r")),
             "gamma")

@@ -38,7 +38,6 @@ from artic.validation.criteria.metrics import run_metrics
 from artic.validation.criteria.statistics import mean_ci
 from artic.validation.harness.batch import BatchResult, run_batch
 from artic.validation.harness.loop import LoopInputs, loop_inputs
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import spec, steering_for
 from artic.validation.plumbing.progress import Counter
@@ -138,7 +137,7 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
 
 def _inputs(model: str, vehicle: Vehicle, logs: Sequence[Run]) -> list[LoopInputs]:
     """The harness's inputs of ``model`` on each log (:func:`loop_inputs`)."""
-    steering = SteeringMap.from_steering(steering_for(vehicle, model))
+    steering = steering_for(vehicle, model)
     return [loop_inputs(log, vehicle, steering) for log in logs]
 
 

@@ -45,9 +45,10 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.models import build, close, floor_replay, spec
+from artic.validation.models import build, close, spec
 from artic.validation.plumbing.budget import BUDGET
 from artic.validation.plumbing.progress import Counter, stderr
+from artic.validation.synthetic.floor import floor_replay
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -376,7 +377,7 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str, share=None) -> dict:
     that has states (``set_full_state``) but whose log holds none leaves
     every start point out rather than start with its hidden states zeroed.
     Started, it replays the truth's own recorded actuation
-    (:func:`artic.validation.models.floor_replay`); a log without one has it
+    (:func:`artic.validation.synthetic.floor.floor_replay`); a log without one has it
     driven by the harness's speed follower, and its note says so.
     """
     replay = None

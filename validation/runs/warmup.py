@@ -29,7 +29,6 @@ def compile_all() -> None:
     from artic.validation.criteria.metrics import run_metrics
     from artic.validation.harness.batch import run_batch
     from artic.validation.harness.loop import loop_inputs
-    from artic.validation.harness.steering import SteeringMap
     from artic.validation.logs.runfile import Run, new_frame
     from artic.validation.models import spec
 
@@ -40,7 +39,7 @@ def compile_all() -> None:
     obs[:, 0] = obs[:, 6] = -t
     obs[:, 6] += -8.0  # the semitrailer's sensor behind the tractor's
     log = Run(new_frame(t, np.zeros(t.size), obs), {"name": "warm-up"})
-    steering = SteeringMap.from_steering(vehicle.steering_for("kin"))
+    steering = vehicle.steering_for("kin")
     res = run_batch(spec("kin").build, vehicle, [loop_inputs(log, vehicle, steering)])
     run_metrics(log.frame, new_frame(t, np.zeros(t.size), res.obs[0]), beyond=False)
 

@@ -9,11 +9,11 @@ amplitude is a steering-wheel angle, as in the paper (200, 360, 500 deg forward;
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from artic.mjcf.errors import UserError
+from artic.validation.harness.profile import Profile
 
 KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse")
 
@@ -25,34 +25,6 @@ RAMP_TIME = 3.0
 
 SLALOM_PITCH = 12.0
 """Distance between slalom cones [m]."""
-
-
-@dataclass(frozen=True)
-class Profile:
-    """Inputs of a manoeuvre.
-
-    Parameters
-    ----------
-    kind : str
-        One of :data:`KINDS`.
-    t, delta_h, u1 : ndarray
-        Time [s], steering-wheel angle [rad], tractor speed [m/s].
-    meta : dict
-        Manoeuvre parameters, for the run's metadata.
-
-    Examples
-    --------
-    >>> import artic
-    >>> profile = artic.make_profile("ramp-steer-reverse", duration=10.0)
-    >>> bool((profile.u1 <= 0).all()), profile.kind
-    (True, 'ramp-steer-reverse')
-    """
-
-    kind: str
-    t: np.ndarray
-    delta_h: np.ndarray
-    u1: np.ndarray
-    meta: dict
 
 
 def _smoothstep(x: np.ndarray) -> np.ndarray:

@@ -88,9 +88,8 @@ def truth_actuation(model, steering, column, pedals=None, record: bool = False):
     The yard truth has its own (:class:`artic.validation.synthetic.yardtruth.YardSeat`,
     its own steering gear; ``steering`` is not used); the plant's truths sit
     behind :class:`artic.validation.synthetic.actuation.TruthActuation` with the
-    truth file's steering map (``steering``: a map with ``road_wheel`` and
-    ``steering_wheel``, or the vehicle's :class:`artic.mjcf.vehicle.Steering`,
-    of which the harness's map is built). ``record``: keep the model's full
+    truth file's steering map (``steering``, a :class:`artic.mjcf.steering.Steering`).
+    ``record``: keep the model's full
     state at every observation, in the seat's ``states`` (for the floor's
     open-loop predictions).
     """
@@ -100,8 +99,4 @@ def truth_actuation(model, steering, column, pedals=None, record: bool = False):
         return YardSeat(model, column, pedals, record=record)
     from artic.validation.synthetic.actuation import TruthActuation
 
-    if not hasattr(steering, "road_wheel"):
-        from artic.validation.harness.steering import SteeringMap
-
-        steering = SteeringMap.from_steering(steering)
     return TruthActuation(model, steering, column, pedals, record=record)

@@ -89,7 +89,7 @@ def steering_wheel(smap, delta: np.ndarray, delta_max: float) -> np.ndarray:
 
     Parameters
     ----------
-    smap : SteeringMap
+    smap : Steering
         Eq. (3) of a model.
     delta : ndarray
         Road-wheel angle [rad].
