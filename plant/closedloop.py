@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from artic.mjcf import extensions
+from artic.mjcf.vehicle import G
 from artic.plant import ctyre
 from artic.plant.follower import FOLLOW_KI
 
@@ -275,8 +276,6 @@ def run(plant: Plant, dt: np.ndarray, delta_c: np.ndarray, u1: np.ndarray,
 
 def _struct(plant: Plant, gain: float, delta_max: float, gamma_max: float,
             gather: np.ndarray) -> _Loop:
-    from artic.mjcf.vehicle import G
-
     m = plant.model
     s = _Loop()
     s.tractor_body, s.trailer_body = plant._tractor, plant._trailer

@@ -7,6 +7,7 @@ Where numba caches the compiled models is the entry point's choice
 """
 
 from artic.mjcf.interface import OBSERVATION, InitialState, wrap_angle
+from artic.reduced import models
 from artic.reduced.control import KIN, STM
 from artic.reduced.models import Driven
 
@@ -15,7 +16,5 @@ __all__ = ["KIN", "OBSERVATION", "STM", "Driven", "InitialState", "wrap_angle"]
 
 def __getattr__(name: str):
     if name in ("KinematicModel", "SingleTrackModel"):  # former names: they warn
-        from artic.reduced import models
-
         return getattr(models, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

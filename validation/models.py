@@ -125,6 +125,7 @@ def driven(model: object) -> Model:
         holder (:class:`artic.reduced.models.Driven`); or a :class:`Model`.
     """
     if is_state_space(model):
+        # Here, not at the top: the registry is light to import; numba loads with a model.
         from artic.reduced.models import Driven
 
         return Driven(model)
@@ -151,18 +152,21 @@ def close(model: Model) -> None:
 
 
 def _kin(vehicle: Vehicle) -> Model:
+    # Here, not at the top: numba loads with the first KIN built, not with the registry.
     from artic.reduced.control import KIN
 
     return KIN(vehicle)
 
 
 def _stm(vehicle: Vehicle) -> Model:
+    # Here, not at the top: numba loads with the first STM built, not with the registry.
     from artic.reduced.control import STM
 
     return STM(vehicle)
 
 
 def _mbd(vehicle: Vehicle) -> Model:
+    # Here, not at the top: MuJoCo loads with the first plant built, not with the registry.
     from artic.plant import Plant
 
     return Plant(vehicle)

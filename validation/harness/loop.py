@@ -56,7 +56,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pandas as pd
 
-from artic.mjcf.interface import InitialState
+from artic.mjcf.interface import OBSERVATION, InitialState
 from artic.mjcf.steering import Steering
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.harness.feedback import feedback_law
@@ -233,6 +233,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
     args = loop_args(inputs, vehicle, gain)
     form = compiled_form(model)
     if form is not None:
+        # Here, not at the top: numba loads only for KIN and the STM, not for the plant's runs.
         from artic.validation.harness.reducedloop import (
             compiled_loop,  # numba: only for KIN and the STM
         )
@@ -284,8 +285,6 @@ def beyond_limits(o: np.ndarray) -> str:
 
     The text begins with :data:`DIVERGED`.
     """
-    from artic.mjcf.interface import OBSERVATION
-
     for name, value, limit in zip(OBSERVATION, o, OBSERVATION_LIMIT, strict=True):
         if not math.isfinite(value):
             return f"{DIVERGED}{name} stopped being finite"

@@ -47,6 +47,7 @@ from artic.validation.logs.checks import MAX_JUMP, Report, check_jumps, clean_ti
 from artic.validation.logs.consistency import CANONICAL, Context
 from artic.validation.logs.derive import TRACTOR, TRAILER, derive_tractor, derive_trailer
 from artic.validation.logs.differentiate import derivative, rates_from_pose, smooth_speed
+from artic.validation.logs.oxts import radii
 from artic.validation.logs.runfile import LogError, Run, check_frame
 from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS, MIN_SEGMENT
@@ -140,8 +141,6 @@ def _clean(stream: Stream, chmap: ChannelMap, report: Report, factor: float,
 
 def _local_plane(cleaned: list[_Clean], chmap: ChannelMap, report: Report) -> None:
     """Latitude and longitude [rad] to east and north [m] in the plane tangent at the first fix."""
-    from artic.validation.logs.oxts import radii
-
     geo = {e.channel: e.unit for e in chmap.entries.values() if e.unit in GEODETIC}
     if not geo:
         return

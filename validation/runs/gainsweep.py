@@ -38,7 +38,7 @@ from artic.validation.criteria.metrics import run_metrics
 from artic.validation.criteria.statistics import mean_ci
 from artic.validation.harness.batch import BatchResult, run_batch
 from artic.validation.harness.loop import LoopInputs, loop_inputs
-from artic.validation.logs.runfile import Run, new_frame
+from artic.validation.logs.runfile import Run, atomic_write, new_frame
 from artic.validation.models import spec, steering_for
 from artic.validation.plumbing.progress import Counter
 
@@ -57,6 +57,7 @@ def model_lengths(vehicle: Vehicle, model: str = "kin") -> tuple[float, float, f
     if model == "paper":
         return vehicle.L1, vehicle.L1c, vehicle.L2
     if model == "kin":
+        # Here, not at the top: numba loads only for a sweep of KIN.
         from artic.reduced.control import KIN
 
         L1, L1c, L2 = KIN(vehicle).params
@@ -182,8 +183,6 @@ def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:
     model's own ``K_min`` is a dotted line in its colour.
     """
     from matplotlib.figure import Figure
-
-    from artic.validation.logs.runfile import atomic_write
 
     bounds = sweep.attrs["K_min"]
     fig = Figure(figsize=(10, 4), layout="constrained")

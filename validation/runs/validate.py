@@ -329,6 +329,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     ``share``: the floor's replay runs to return (``True``) or reuse
     (:func:`artic.validation.criteria.prediction.prediction_errors`).
     """
+    # Here, not at the top: the notes load MuJoCo, which a reduced model's run needs not.
     from artic.validation.harness.plantnotes import collect, summary
 
     t0 = time.perf_counter()

@@ -25,6 +25,7 @@ import numpy as np
 
 def compile_all() -> None:
     """Run a 0.2 s reversing log through KIN's compiled loop and the criteria."""
+    # Here, not at the top: the compiling is the child process's; the parent loads none of it.
     from artic.mjcf.vehicle import load_vehicle
     from artic.validation.criteria.metrics import run_metrics
     from artic.validation.harness.batch import run_batch
@@ -45,6 +46,7 @@ def compile_all() -> None:
 
 
 def _child(parent: int) -> None:
+    # Here, not at the top: in the child process only.
     from artic.validation.plumbing.workers import init_worker
 
     init_worker(parent)  # ends with the campaign, if the campaign is killed

@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.synthetic.actuation import TruthActuation
 
 TIMESTEP = 5e-3
 """The independent truth's own step [s], RK4, on the reversing manoeuvres
@@ -74,6 +75,7 @@ def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow",
         Unused by the truths built here (kept for the callers' signature).
     """
     if truth.get("kind") == "independent":
+        # Here, not at the top: MuJoCo and the truth's C loop load with the first truth built.
         from artic.validation.synthetic.yardtruth import YardSetup, YardTruth
 
         return YardTruth(vehicle, YardSetup.of(truth), speed)
@@ -93,10 +95,9 @@ def truth_actuation(model, steering, column, pedals=None, record: bool = False):
     state at every observation, in the seat's ``states`` (for the floor's
     open-loop predictions).
     """
+    # Here, not at the top: MuJoCo and the truth's C loop load with the first truth built.
     from artic.validation.synthetic.yardtruth import YardSeat, YardTruth
 
     if isinstance(model, YardTruth):
         return YardSeat(model, column, pedals, record=record)
-    from artic.validation.synthetic.actuation import TruthActuation
-
     return TruthActuation(model, steering, column, pedals, record=record)
