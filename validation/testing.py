@@ -72,6 +72,10 @@ import pytest
 
 from artic.mjcf.errors import UserError
 
+# The fixtures import artic's rooms inside themselves, not here: pytest loads this
+# plugin in every session of every project that installs artic, which should not
+# pay for MuJoCo, numba or pandas until a test asks for them.
+
 if TYPE_CHECKING:
     from artic.mjcf.vehicle import Vehicle
     from artic.validation.logs.runfile import Run
