@@ -82,7 +82,7 @@ _PUBLIC = {
     "validate_runs": ("artic.validation.runs.validate", "validate_runs"),
     "run_campaign": ("artic.validation.campaign.main", "run_campaign"),
     "CampaignConfig": ("artic.validation.campaign.config", "CampaignConfig"),
-    "Profile": ("artic.validation.harness.profile", "Profile"),
+    "Profile": ("artic.validation.logs.profile", "Profile"),
     "make_profile": ("artic.validation.synthetic.manoeuvres", "make_profile"),
     "Controller": ("artic.validation.docking.controllers.base", "Controller"),
     "Command": ("artic.validation.docking.controllers.base", "Command"),

@@ -16,9 +16,9 @@ from artic.validation.campaign.main import run_campaign
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.docking.controllers.base import Command, Controller
 from artic.validation.harness.loop import run_closed_loop
-from artic.validation.harness.profile import Profile
 from artic.validation.harness.simulate import simulate
 from artic.validation.logs.importers import read_log
+from artic.validation.logs.profile import Profile
 from artic.validation.logs.runfile import LogError, Run, read_run, write_run
 from artic.validation.models import build as build_model
 from artic.validation.models import model_spec, register_model

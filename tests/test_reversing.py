@@ -15,7 +15,6 @@ import pytest
 from artic.mjcf import load_vehicle
 from artic.reduced import KIN, STM, Driven
 from artic.validation.harness.loop import run_closed_loop, unsteered_inputs
-from artic.validation.harness.profile import Profile
 from artic.validation.harness.reversing import (
     DEAD_BAND,
     HANDOVER,
@@ -24,6 +23,7 @@ from artic.validation.harness.reversing import (
     reversing,
 )
 from artic.validation.harness.simulate import simulate
+from artic.validation.logs.profile import Profile
 from artic.validation.logs.runfile import Run
 from tests.helpers import as_log
 

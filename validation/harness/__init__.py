@@ -9,8 +9,8 @@
   decided with hysteresis on the speed) and its weight, handed over in ramps;
 - :mod:`~artic.validation.harness.batch`: many logs through the harness at once;
 - :mod:`~artic.validation.harness.simulate`: open-loop simulation of a manoeuvre,
-  and a driver who steers the articulation onto a reference;
-  :mod:`~artic.validation.harness.profile`: the manoeuvre's inputs it drives;
+  and a driver who steers the articulation onto a reference, through a
+  manoeuvre's inputs (:mod:`artic.validation.logs.profile`);
 - :mod:`~artic.validation.harness.plantnotes`: what the plant had to limit during
   a run, collected per run instead of printed.
 

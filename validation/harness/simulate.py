@@ -21,7 +21,7 @@ from artic.mjcf.steering import Steering
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.loop import LoopInputs, beyond_limits, run_inputs
-from artic.validation.harness.profile import Profile
+from artic.validation.logs.profile import Profile
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import Model, driven, steering_for
 

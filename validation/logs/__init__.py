@@ -24,7 +24,9 @@
   what such a log lacks (rates from poses, one unit from the other), and the
   speed smoothed as the harness reads it;
   :mod:`~artic.validation.logs.yawsteer`: steering from the measured yaw rate,
-  for logs without a steering channel.
+  for logs without a steering channel;
+- :mod:`~artic.validation.logs.profile`: a manoeuvre's inputs as time series, which
+  the synthetic campaign makes and the harness's open-loop simulation drives.
 
 The logs sit below the harness and every other room of :mod:`artic.validation`
 but the plumbing, which they may import; they import no room above.

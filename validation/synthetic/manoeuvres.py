@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from artic.mjcf.errors import UserError
-from artic.validation.harness.profile import Profile
+from artic.validation.logs.profile import Profile
 
 KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse")
 

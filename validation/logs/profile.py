@@ -2,8 +2,8 @@
 
 :func:`artic.validation.synthetic.manoeuvres.make_profile` builds the test
 matrix's; :func:`artic.validation.harness.simulate.simulate` drives any model
-through one. The class lives with the harness that reads it, below the
-synthetic campaign that makes it.
+through one. The class lives with the logs, below both: the generator of the
+synthetic campaign never imports the harness its logs validate.
 """
 
 from __future__ import annotations
