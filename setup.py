@@ -62,17 +62,30 @@ class BuildExt(build_ext):
         super().run()
         if os.environ.get("ARTIC_NO_PRECOMPILE", "") not in ("", "0"):
             return
-        # The checkout maps artic.reduced to reduced/ by itself (artic/__init__.py).
         root = os.path.dirname(os.path.abspath(__file__))
-        where = root if (self.inplace or getattr(self, "editable_mode", False)) else self.build_lib
+        editable = self.inplace or getattr(self, "editable_mode", False)
+        where = root if editable else self.build_lib
         env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
         # Keep what the build environment put on the path (pip's isolated build
         # reaches its numba and numpy through PYTHONPATH), after the package.
         env["PYTHONPATH"] = os.pathsep.join(
             p for p in (os.path.abspath(where), os.environ.get("PYTHONPATH", "")) if p)
         print(f"artic: filling numba's cache of KIN and the STM under {where}")
-        done = subprocess.run([sys.executable, "-m", "artic.reduced.precompile"], env=env,
-                              cwd=where, check=False)
+        # A wheel's build folder holds artic/reduced/; a checkout holds reduced/, which
+        # the editable install's finder maps only once installed, so the child maps it
+        # as package-dir does (PathFinder looks the last part of the name up in root).
+        code = ("import runpy" if not editable else
+                "import sys; from importlib.machinery import PathFinder\n"
+                "class Rooms:\n"
+                "    @staticmethod\n"
+                "    def find_spec(name, path=None, target=None):\n"
+                f"        if name in {tuple(f'artic.{r}' for r in ROOMS)!r}:\n"
+                f"            return PathFinder.find_spec(name, [{root!r}])\n"
+                "sys.meta_path.append(Rooms)\n"
+                "import runpy")
+        done = subprocess.run(
+            [sys.executable, "-c", code + "; runpy.run_module('artic.reduced.precompile', "
+             "run_name='__main__', alter_sys=True)"], env=env, cwd=where, check=False)
         if done.returncode != 0:
             print("artic: numba's cache was not filled; a reduced model's first call compiles")
 

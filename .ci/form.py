@@ -27,7 +27,8 @@ ROOT_MODULES = frozenset({"__init__.py", "models.py", "testing.py"})
 """What validation's root holds: the model registry every room reads, and the pytest
 plugin (its import path, ``artic.validation.testing``, is what users write)."""
 
-ROOMS = "harness/, criteria/, runs/, review/, cli/, logs/, synthetic/, campaign/, docking/"
+ROOMS = ("plumbing/, logs/, harness/, criteria/, synthetic/, runs/, review/, campaign/, docking/, "
+         "cli/")
 
 
 def job(doc: str | None) -> str:

@@ -44,21 +44,15 @@ Docking controllers
 from __future__ import annotations
 
 import importlib
-import os
 import sys
 import types
 from typing import Any
 
 # artic.mjcf, .plant, .reduced and .validation are the folders mjcf/, plant/,
-# reduced/ and validation/ beside this one (setup.py's package-dir mapping; a
-# wheel stores them as artic/mjcf/...). Run from a checkout, where the folder
-# artic/ holds this file alone, they are found beside it: the checkout's root
-# joins this package's search path.
-_here = os.path.dirname(os.path.abspath(__file__))
-if not os.path.isdir(os.path.join(_here, "mjcf")) and os.path.isfile(
-        os.path.join(os.path.dirname(_here), "mjcf", "__init__.py")):
-    __path__.append(os.path.dirname(_here))
-del _here
+# reduced/ and validation/ at the repository root: setup.py maps them under this
+# name (package-dir), a wheel stores them as artic/mjcf/..., and an editable
+# install's finder maps each to its folder. This package's search path is its
+# own folder alone.
 
 # name -> (module, attribute): the public API, imported on first use.
 _PUBLIC = {
@@ -88,7 +82,7 @@ _PUBLIC = {
     "validate_runs": ("artic.validation.runs.validate", "validate_runs"),
     "run_campaign": ("artic.validation.campaign.main", "run_campaign"),
     "CampaignConfig": ("artic.validation.campaign.config", "CampaignConfig"),
-    "Profile": ("artic.validation.synthetic.manoeuvres", "Profile"),
+    "Profile": ("artic.validation.logs.profile", "Profile"),
     "make_profile": ("artic.validation.synthetic.manoeuvres", "make_profile"),
     "Controller": ("artic.validation.docking.controllers.base", "Controller"),
     "Command": ("artic.validation.docking.controllers.base", "Command"),

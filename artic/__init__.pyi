@@ -18,12 +18,13 @@ from artic.validation.docking.controllers.base import Command, Controller
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import simulate
 from artic.validation.logs.importers import read_log
+from artic.validation.logs.profile import Profile
 from artic.validation.logs.runfile import LogError, Run, read_run, write_run
 from artic.validation.models import build as build_model
 from artic.validation.models import model_spec, register_model
 from artic.validation.models import names as model_names
 from artic.validation.runs.validate import validate_runs
-from artic.validation.synthetic.manoeuvres import Profile, make_profile
+from artic.validation.synthetic.manoeuvres import make_profile
 
 __version__: str
 __all__ = [

@@ -33,7 +33,6 @@ from artic.reduced import KIN, STM
 from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_inputs, run_inputs
 from artic.validation.harness.simulate import simulate
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
 from artic.validation.logs.schema import COLUMNS
 from artic.validation.synthetic.manoeuvres import make_profile
@@ -84,7 +83,7 @@ def main() -> dict[str, list[float]]:
     sim = sum(float(log.frame.t.iloc[-1]) for log in logs)
     out: dict[str, list[float]] = {}
     for cls in (KIN, STM):
-        steering = SteeringMap.from_steering(v.steering_for(cls.name))
+        steering = v.steering_for(cls.name)
         inputs = [loop_inputs(log, v, steering) for log in logs]
         variants = {
             "batch, 2 threads": lambda cls=cls, inputs=inputs: run_batch(cls, v, inputs, 3.0, 2),
@@ -116,7 +115,7 @@ def main() -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.configure()
     main()

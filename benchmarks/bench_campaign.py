@@ -9,7 +9,7 @@ folder, and prints the median and range over the runs of
   warm-up process it starts, read with psutil when the stage's progress line
   opens and closes it);
 - the multibody seconds each stage simulated (the plant's and the truth's runs,
-  :class:`artic.validation.cli.progress.Budget`) and what they would cost at the
+  :class:`artic.validation.plumbing.budget.Budget`) and what they would cost at the
   plant's own rate: the simulated steps (at the logs' 10 ms) times the plant's
   measured CPU time a step (:class:`artic.Plant` stepped at 100 Hz in this
   process, RK4 at its 10 ms, a constant steer at 5 km/h). ``CPU / physics`` is

@@ -36,7 +36,6 @@ from _timing import bare_steps
 from artic.mjcf import load_vehicle
 from artic.plant import Plant
 from artic.validation.harness.loop import LoopInputs, run_inputs
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
 
 ROUNDS = 3
@@ -47,7 +46,7 @@ def _inputs(vehicle) -> LoopInputs:
     from artic.mjcf.interface import InitialState
 
     prof = make_profile("constant-steer", amplitude_deg=200.0, speed_kph=5.0, side="left")
-    steering = SteeringMap.from_steering(vehicle.steering_for("mbd"))
+    steering = vehicle.steering_for("mbd")
     n = prof.t.size
     u1_dot = np.zeros(n)
     u1_dot[:-1] = np.diff(prof.u1) / np.diff(prof.t)
@@ -160,7 +159,7 @@ def main() -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.configure()
     main()

@@ -79,7 +79,7 @@ def main() -> dict[str, dict[str, list[float]]] | None:
 
 
 if __name__ == "__main__":
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.configure()
     main()

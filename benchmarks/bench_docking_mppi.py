@@ -76,7 +76,7 @@ def main() -> dict[str, dict[str, list[float]]]:
 
 
 if __name__ == "__main__":
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.configure()
     main()

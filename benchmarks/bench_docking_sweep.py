@@ -90,7 +90,7 @@ def main(small: bool = False) -> dict[str, list[float]]:
 
 
 if __name__ == "__main__":
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.configure()
     main(small="--small" in sys.argv[1:])

@@ -124,7 +124,7 @@ def main() -> dict[str, float]:
 
 
 if __name__ == "__main__":
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.configure()  # as the artic command does: MuJoCo's step timers quiet
     main()

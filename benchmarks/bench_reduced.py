@@ -23,7 +23,6 @@ from artic.reduced import KIN, STM
 from artic.validation.criteria.pathdist import distance_to_polyline
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation, simulate
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
 from artic.validation.logs.schema import COLUMNS
 from artic.validation.synthetic.manoeuvres import make_profile
@@ -37,7 +36,7 @@ def _logs(v):
     t = np.arange(0.0, 60.0, 0.01)
     rev = drive_articulation(STM(v), v, t, np.full_like(t, -3 / 3.6),
                              math.radians(30) * np.clip(t / 30, 0, 1),
-                             steering=SteeringMap.from_steering(s))
+                             steering=s)
     return [Run(r.frame[list(COLUMNS)], {"name": n}) for r, n in ((fwd, "fwd"), (rev, "rev"))]
 
 

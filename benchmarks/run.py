@@ -32,7 +32,7 @@ def main() -> int:
               f"with `python3 -m venv .venv && .venv/bin/pip install -e .`, then run "
               f"`.venv/bin/python benchmarks/run.py`", file=sys.stderr)
         return 2
-    from artic.validation.runs import runtime
+    from artic.validation.plumbing import runtime
 
     runtime.configure()  # as the artic command does: numba's cache folder first
     print(f"artic benchmarks on {platform.machine()}, Python {platform.python_version()}")

@@ -9,7 +9,3 @@ from artic.mjcf.schema import VehicleFileError
 from artic.mjcf.vehicle import Axle, Steering, Vehicle, load_vehicle, preset_names
 
 __all__ = ["Axle", "Steering", "Vehicle", "VehicleFileError", "load_vehicle", "preset_names"]
-
-if __name__ != "artic.mjcf":  # a bare `import mjcf` from the repository root
-    raise ImportError(f"{__file__} is artic.mjcf: import artic.mjcf, not {__name__} (a "
-                      "second copy of its modules would make isinstance fail between them)")

@@ -33,74 +33,16 @@ whatever the class.
 from __future__ import annotations
 
 import math
-import warnings
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from artic.mjcf.errors import UserError
+# The warning is named here too: users filter artic.mjcf.plausible.PlausibilityWarning.
+from artic.mjcf.ranges import PlausibilityWarning, Range  # noqa: F401
 from artic.mjcf.schema import VehicleFileError
+from artic.mjcf.tir import TirError, read_tir
 
 if TYPE_CHECKING:  # pragma: no cover
     from artic.mjcf.vehicle import Vehicle
-
-
-class PlausibilityWarning(UserWarning):
-    """A parameter lies outside the range usual for a tractor-semitrailer."""
-
-
-@dataclass(frozen=True)
-class Range:
-    """Possible ``[lo, hi]`` and plausible ``[plo, phi]`` values of one number, in its unit."""
-
-    lo: float
-    plo: float
-    phi: float
-    hi: float
-    unit: str = ""
-
-    def judge(self, value: float, where: str) -> None:
-        """Refuse ``value`` outside the possible range, warn outside the plausible one.
-
-        Parameters
-        ----------
-        value : float
-            The number.
-        where : str
-            ``"FILE: key 'KEY'"``, for the messages.
-
-        Raises
-        ------
-        ValueError
-            Outside the possible range (the caller turns it into its file error).
-        """
-        if not math.isfinite(value):
-            raise UserError(f"{where}: {value!r} is not a finite number")
-        if not self.possible(value):
-            raise UserError(f"{where}: {value:g}{self._u} is impossible for a "
-                             f"tractor-semitrailer (possible: {self.span}); check the value "
-                             "and its unit")
-        self.warn(value, where, stacklevel=4)
-
-    @property
-    def _u(self) -> str:
-        return f" {self.unit}" if self.unit else ""
-
-    @property
-    def span(self) -> str:
-        """The possible range as text, ``"1 to 15 m"``."""
-        return f"{self.lo:g} to {self.hi:g}{self._u}"
-
-    def possible(self, value: float) -> bool:
-        """Whether ``value`` lies in the possible range."""
-        return self.lo <= value <= self.hi
-
-    def warn(self, value: float, where: str, stacklevel: int = 3) -> None:
-        """Warn (:class:`PlausibilityWarning`) when ``value`` is outside the plausible range."""
-        if not self.plo <= value <= self.phi:
-            warnings.warn(f"{where}: {value:g}{self._u} is unusual (usual: {self.plo:g} to "
-                          f"{self.phi:g}{self._u}); check it", PlausibilityWarning,
-                          stacklevel=stacklevel)
 
 
 INF = math.inf
@@ -272,8 +214,6 @@ def check_tir_file(path: Path, context: str) -> Path:
     VehicleFileError
         ``context`` (the vehicle file and key) followed by the tyre file's error.
     """
-    from artic.mjcf.tir import TirError, read_tir
-
     try:
         read_tir(path)
     except TirError as exc:
@@ -308,8 +248,6 @@ def check_tyre_data(v: Vehicle, model: str,
     VehicleFileError
         Naming the vehicle file, the key and what fits.
     """
-    from artic.mjcf.tir import read_tir
-
     where = f"{v.path or v.name}: key"
     if model == "stm" and not (math.isfinite(v.f) and math.isfinite(v.sigma_alpha)):
         raise VehicleFileError(

@@ -7,7 +7,7 @@ what it cannot read, with the file and line in the message; it never quotes
 the file's content, so that a misnamed file is not echoed to the terminal.
 
 Every number must be finite. The coefficients the plant uses are judged
-against :data:`COEFFICIENT_RANGES` (see :class:`artic.mjcf.plausible.Range`): an
+against :data:`COEFFICIENT_RANGES` (see :class:`artic.mjcf.ranges.Range`): an
 impossible value (a zero relaxation length, a negative radius, a friction
 of 50) is refused naming the key, an unusual one warned about. Pairs of
 range limits must be ordered.
@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from artic.mjcf.errors import UserError
-from artic.mjcf.plausible import Range
+from artic.mjcf.ranges import Range
 
 _SECTION = re.compile(r"^\[(?P<name>[A-Z0-9_]+)\]\s*$")
 _ENTRY = re.compile(r"^(?P<key>[A-Za-z_][A-Za-z0-9_]*)\s*=\s*(?P<value>.+?)\s*$")

@@ -31,6 +31,7 @@ from artic.mjcf import schema
 from artic.mjcf.errors import UserError
 from artic.mjcf.plausible import check_plausible, check_tir_file
 from artic.mjcf.schema import VehicleFileError
+from artic.mjcf.steering import Steering
 
 G = 9.81
 """Gravitational acceleration [m/s^2], as used for the paper's axle loads."""
@@ -85,31 +86,6 @@ class Axle:
     suspension_damping: float
     wheel_inertia: float
     tyre_file: str = ""
-
-
-@dataclass(frozen=True)
-class Steering:
-    """Steering-map parameters of eq. (3).
-
-    Parameters
-    ----------
-    i_s : float
-        Steering ratio [-].
-    q : float
-        Asymmetry factor [1/rad].
-    delta_h_offset : float
-        Steering-wheel angle read while driving straight [rad].
-    delta_max : float
-        Largest road-wheel angle [rad].
-    steering_arm : float
-        Steering-arm length of the tie-rod trapezoid [m].
-    """
-
-    i_s: float
-    q: float
-    delta_h_offset: float
-    delta_max: float
-    steering_arm: float = 0.25
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,3 @@ from artic.plant.plant import Plant, PlantError, PlantWarning
 from artic.plant.standalone import load
 
 __all__ = ["Plant", "PlantError", "PlantWarning", "load"]
-
-if __name__ != "artic.plant":  # a bare `import plant` from the repository root
-    raise ImportError(f"{__file__} is artic.plant: import artic.plant, not {__name__} (a "
-                      "second copy of its modules would make isinstance fail between them)")

@@ -34,7 +34,9 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from artic.mjcf import extensions
+from artic.mjcf.vehicle import G
 from artic.plant import ctyre
+from artic.plant.follower import FOLLOW_KI
 
 if TYPE_CHECKING:
     from artic.mjcf.interface import LoopArgs
@@ -269,9 +271,6 @@ def run(plant: Plant, args: LoopArgs, extras: bool = False) -> LoopResult:
 
 def _struct(plant: Plant, gain: float, delta_max: float, gamma_max: float,
             gather: np.ndarray) -> _Loop:
-    from artic.mjcf.vehicle import G
-    from artic.plant.plant import FOLLOW_KI
-
     m = plant.model
     s = _Loop()
     s.tractor_body, s.trailer_body = plant._tractor, plant._trailer

@@ -21,6 +21,7 @@ from artic.mjcf.errors import PlantError
 from artic.mjcf.interface import InitialState, rotate
 from artic.mjcf.vehicle import G
 from artic.plant import closedloop
+from artic.plant.follower import FOLLOW_KI
 from artic.plant.tyre import check_ranges, steady_deflections
 
 SPEED_KP = 2.0
@@ -35,11 +36,6 @@ BRAKE_SPIN_SCALE = 0.5
 PARKING_BRAKE_GRADE = 0.2
 """Parking brake capacity: it holds the combination on this gradient [-] (20 %;
 EU rules ask for 18 % for a laden combination)."""
-
-FOLLOW_KI = 5.0
-"""Speed follower: integral gain [1/s] on the speed error, added to the servo's
-set-point. With the servo's 20 /s bandwidth the loop is critically damped
-(``s^2 + 20 s + 100``)."""
 
 DRIVE_FORCE_MAX = 0.15
 """Full throttle: drive force at the wheels as a fraction of the combination's

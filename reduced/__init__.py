@@ -3,10 +3,11 @@
 This package depends on numpy, numba and :mod:`mjcf` (the vehicle file and the
 signals): never on mujoco, rerun, pandas, :mod:`plant` or :mod:`validation`.
 Where numba caches the compiled models is the entry point's choice
-(:mod:`artic.validation.runs.runtime`).
+(:mod:`artic.validation.plumbing.runtime`).
 """
 
 from artic.mjcf.interface import OBSERVATION, InitialState, wrap_angle
+from artic.reduced import models
 from artic.reduced.control import KIN, STM
 from artic.reduced.models import Driven
 
@@ -15,12 +16,5 @@ __all__ = ["KIN", "OBSERVATION", "STM", "Driven", "InitialState", "wrap_angle"]
 
 def __getattr__(name: str):
     if name in ("KinematicModel", "SingleTrackModel"):  # former names: they warn
-        from artic.reduced import models
-
         return getattr(models, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-if __name__ != "artic.reduced":  # a bare `import reduced` from the repository root
-    raise ImportError(f"{__file__} is artic.reduced: import artic.reduced, not {__name__} (a "
-                      "second copy of its modules would make isinstance fail between them)")

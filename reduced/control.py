@@ -55,6 +55,7 @@ from numba import njit
 
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState, rotate, wrap_angle
+from artic.mjcf.plausible import check_tyre_data
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced import integrate
 from artic.reduced.jacobians import kin_jacobian, stm_jacobian_batch
@@ -966,8 +967,6 @@ class STM(ReducedModel):
 
     def __init__(self, vehicle: Vehicle, f: float | None = None,
                  trailer_axles: np.ndarray | None = None) -> None:
-        from artic.mjcf.plausible import check_tyre_data
-
         check_tyre_data(vehicle, "stm")  # a scale model may have none: refused, by key
         self.vehicle = vehicle
         self.params = stm_params(vehicle, f, trailer_axles)

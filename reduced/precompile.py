@@ -14,7 +14,7 @@ differs (a wheel built on another machine).
 
 The cache is not used, and the first call compiles once, where numba looks
 elsewhere: ``NUMBA_CACHE_DIR`` set (the ``artic`` command and the tests set it,
-:mod:`artic.validation.runs.runtime`; its warm-up covers them), or a
+:mod:`artic.validation.plumbing.runtime`; its warm-up covers them), or a
 ``site-packages`` that the user cannot write (numba then caches in the user's
 cache folder).
 

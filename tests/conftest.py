@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from artic.validation.runs import runtime
+from artic.validation.plumbing import runtime
 
 # As the artic command does: numba's cache folder before any compiled model is imported.
 runtime.configure()

@@ -15,7 +15,6 @@ import numpy as np
 from artic.mjcf import load_vehicle
 from artic.reduced import STM, InitialState
 from artic.validation.harness.simulate import simulate
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.synthetic.driver import DockingDriver, drive_to_dock
 from artic.validation.synthetic.manoeuvres import make_profile
@@ -43,7 +42,7 @@ def _docking() -> Run:
     t, obs, delta, _, docked = drive_to_dock(
         STM(v), drv, InitialState(10.0, 3.0, math.radians(5.0), 0.0))
     assert docked
-    dh = SteeringMap.from_steering(v.steering_for("stm")).steering_wheel(delta)
+    dh = v.steering_for("stm").steering_wheel(delta)
     frame = measure(new_frame(t, dh, obs), np.random.default_rng(12))
     return Run(frame, {"name": "docking", "manoeuvre": "docking", "direction": "reverse",
                        "load": "unloaded", "source": "synthetic"})

@@ -102,14 +102,15 @@ def test_the_four_root_folders_are_artic_without_links():
     assert Path(artic.__file__).resolve() == (ROOT / "artic" / "__init__.py").resolve()
 
 
-@pytest.mark.parametrize("pkg", PACKAGES)
-def test_a_bare_import_from_the_root_is_refused(pkg):
-    # From the repository root, `import mjcf` would load a second copy of
-    # artic.mjcf's modules, whose classes isinstance would tell apart.
-    done = subprocess.run([sys.executable, "-c", f"import {pkg}"], cwd=ROOT,
-                          capture_output=True, text=True)
-    assert done.returncode != 0
-    assert f"import artic.{pkg}, not {pkg}" in done.stderr, done.stderr[-500:]
+def test_artic_searches_its_own_folder_alone():
+    # The checkout's other files (setup.py, the tests' conftest, the docs'
+    # conf.py) are no modules of artic: its search path is artic/ alone, and
+    # the install maps the four folders by name (package-dir).
+    import artic
+
+    assert [Path(p).resolve() for p in artic.__path__] == [(ROOT / "artic").resolve()]
+    for name in ("artic.setup", "artic.tests", "artic.docs", "artic.benchmarks"):
+        assert importlib.util.find_spec(name) is None, name
 
 
 def test_the_stub_lists_the_public_api():
@@ -156,8 +157,10 @@ def _lint():
 
 @pytest.mark.skipif(_lint() is None,
                     reason="import-linter is not installed (it is in the [test] extra)")
-def test_a_sideways_import_breaks_the_contract(tmp_path):
-    # A copy of the tree with one forbidden import added: reduced -> plant.
+def test_a_forbidden_import_breaks_its_contract(tmp_path):
+    # A copy of the tree that keeps every contract, then one forbidden import at a
+    # time: sideways between the packages (reduced -> plant), upward between
+    # validation's rooms (logs -> harness), and a cycle (units <-> noise in logs/).
     (tmp_path / "artic").mkdir()
     shutil.copy(ROOT / "artic" / "__init__.py", tmp_path / "artic" / "__init__.py")
     for pkg in PACKAGES:
@@ -167,10 +170,23 @@ def test_a_sideways_import_breaks_the_contract(tmp_path):
     env = {"PATH": "", "PYTHONPATH": str(tmp_path)}
     ok = subprocess.run([_lint()], cwd=tmp_path, capture_output=True, text=True, env=env)
     assert ok.returncode == 0, ok.stdout[-2000:]
-    f = tmp_path / "artic" / "reduced" / "models.py"
-    f.write_text(f.read_text() + "\nimport artic.plant  # noqa\n")
-    broken = subprocess.run([_lint()], cwd=tmp_path, capture_output=True, text=True, env=env)
-    assert broken.returncode != 0 and "BROKEN" in broken.stdout, broken.stdout[-2000:]
+    for module, line, contract in (
+            ("reduced/models.py", "import artic.plant", "validation -> {plant, reduced} -> mjcf"),
+            ("validation/logs/schema.py", "import artic.validation.harness.loop",
+             "validation's rooms in layers"),
+            ("validation/logs/units.py", "import artic.validation.logs.noise",
+             "no import cycles")):
+        f = tmp_path / "artic" / module
+        before = f.read_text()
+        f.write_text(before + f"\n{line}  # noqa\n")
+        broken = subprocess.run([_lint()], cwd=tmp_path, capture_output=True, text=True,
+                                env=env)
+        f.write_text(before)
+        # The list of contracts, each followed by KEPT or BROKEN (long names wrap).
+        listed = " ".join(broken.stdout.split()).split("Contracts: ")[0]
+        verdict = listed[listed.index(contract) + len(contract):]
+        verdict = min((verdict.find(v), v) for v in (" KEPT", " BROKEN") if v in verdict)[1]
+        assert broken.returncode != 0 and verdict == " BROKEN", (module, broken.stdout[-3000:])
 
 
 @pytest.mark.slow

@@ -10,12 +10,11 @@ from artic.reduced import KIN, STM, Driven
 from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_args, loop_inputs, run_inputs
 from artic.validation.harness.reducedloop import compiled_loop
-from artic.validation.harness.steering import SteeringMap
 from tests.helpers import straight_log
 
 
 def inputs_for(vehicle, name):
-    steering = SteeringMap.from_steering(vehicle.steering_for(name))
+    steering = vehicle.steering_for(name)
     logs = [straight_log(n=400, u=-0.8, gamma0=0.05), straight_log(n=250, u=1.5, delta_h=2.0),
             straight_log(n=2000, u=-1.0, gamma0=0.3)]
     return [loop_inputs(log, vehicle, steering) for log in logs]

@@ -19,16 +19,15 @@ from artic.plant import Plant
 from artic.reduced import KIN
 from artic.validation.campaign.efficiency import from_runs
 from artic.validation.campaign.report import budget_table
-from artic.validation.cli.progress import BUDGET, Budget, budget_text
 from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_inputs, run_inputs
-from artic.validation.harness.steering import SteeringMap
+from artic.validation.plumbing.budget import BUDGET, Budget, budget_text
 from artic.validation.runs.validate import validate_runs
 from tests.helpers import straight_log
 
 
 def inputs(vehicle, name, log):
-    return loop_inputs(log, vehicle, SteeringMap.from_steering(vehicle.steering_for(name)))
+    return loop_inputs(log, vehicle, vehicle.steering_for(name))
 
 
 def test_the_harness_counts_each_run_with_the_time_it_simulated(unloaded):

@@ -20,7 +20,6 @@ import pytest
 from artic.mjcf.interface import LoopArgs
 from artic.plant import Plant, PlantError, PlantWarning, closedloop
 from artic.validation.harness.loop import loop_inputs, run_inputs
-from artic.validation.harness.steering import SteeringMap
 from tests.helpers import straight_log
 
 TOL = 1e-9
@@ -42,7 +41,7 @@ def _speed_log(n: int = 1500, dt: float = 0.01):
 
 
 def _both(vehicle, log, gain=3.0, inputs=None, plant_kw=None):
-    steering = SteeringMap.from_steering(vehicle.steering_for("mbd"))
+    steering = vehicle.steering_for("mbd")
     inp = inputs if inputs is not None else loop_inputs(log, vehicle, steering)
     out = []
     for compiled in (True, False):
@@ -88,7 +87,7 @@ def test_compiled_loop_weighs_the_feedback_as_python_does(unloaded):
     # on the log's 0.25 rad, the log's articulation then is 0): C = Python, and the
     # term is w K wrap(e) sample by sample.
     log = straight_log(n=800, u=-1.0, gamma0=0.25)
-    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    steering = unloaded.steering_for("mbd")
     inp = loop_inputs(log, unloaded, steering)
     w = 0.5 - 0.5 * np.cos(2 * math.pi * inp.t / 4.0)
     inp = replace(inp, weight=w)
@@ -127,7 +126,7 @@ def test_steering_beyond_the_linkage_is_warned_once_as_in_python(unloaded):
 
 @needs_loop
 def test_a_diverged_step_raises_the_same_error(unloaded):
-    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    steering = unloaded.steering_for("mbd")
     inp = loop_inputs(straight_log(n=200, u=2.0), unloaded, steering)
     inp.delta_c[50] = np.nan  # a NaN steering command: MuJoCo refuses the control
     errors = []
@@ -143,7 +142,7 @@ def test_a_diverged_step_raises_the_same_error(unloaded):
 
 @needs_loop
 def test_plants_on_threads_give_the_serial_numbers(unloaded):
-    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    steering = unloaded.steering_for("mbd")
     logs = [straight_log(n=600, u=-1.0, gamma0=g) for g in (0.1, -0.2, 0.3)]
     inputs = [loop_inputs(log, unloaded, steering) for log in logs]
 
@@ -188,7 +187,7 @@ def test_without_the_extension_the_python_loop_runs_and_says_so(unloaded, monkey
     # Python loop, with one warning, and the run is the same.
     import artic.plant.plant as plant_module
 
-    steering = SteeringMap.from_steering(unloaded.steering_for("mbd"))
+    steering = unloaded.steering_for("mbd")
     inp = loop_inputs(straight_log(n=300, u=-1.0, gamma0=0.2), unloaded, steering)
     with Plant(unloaded) as p:
         compiled = run_inputs(p, inp, unloaded, 3.0)

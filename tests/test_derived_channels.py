@@ -20,10 +20,10 @@ from artic.validation.criteria.metrics import (
 from artic.validation.criteria.pooled import pool, pool_segments, whole_logs
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import simulate
-from artic.validation.harness.yawsteer import road_wheel_from_yaw_rate, speed_floor
 from artic.validation.logs.derive import derive_tractor, derive_trailer
 from artic.validation.logs.differentiate import derivative, rates_from_pose, sinusoid_gain
 from artic.validation.logs.runfile import Run, read_run
+from artic.validation.logs.yawsteer import road_wheel_from_yaw_rate, speed_floor
 from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.manoeuvres import make_profile
 from tests.hostile_logs import docking
@@ -119,7 +119,7 @@ def test_derive_tractor_on_a_rigid_turn(unloaded):
 
 # ------------------------------------------------------------------ steering from the yaw rate
 def test_yaw_rate_steering_is_kins_inverse_and_calm_at_standstill(unloaded):
-    from artic.validation.harness.yawsteer import equivalent_wheelbase
+    from artic.validation.logs.yawsteer import equivalent_wheelbase
 
     L1 = equivalent_wheelbase(unloaded)
     u = np.array([2.0, -1.5, 1.0])

@@ -8,8 +8,8 @@ import pytest
 
 from artic.mjcf.errors import ArticError, PlantError, UnsupportedVehicleError, UserError
 from artic.mjcf.schema import VehicleFileError
+from artic.mjcf.steering import SteeringRangeError
 from artic.validation.cli import commands
-from artic.validation.harness.steering import SteeringRangeError
 from artic.validation.logs.runfile import LogError
 
 

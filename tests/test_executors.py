@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from artic.validation.campaign.executors import cluster_executor
-from artic.validation.cli.progress import BUDGET
+from artic.validation.plumbing.budget import BUDGET
 from artic.validation.runs.validate import validate_runs
 from artic.validation.synthetic.generate import generate_campaign
 from tests.helpers import straight_log

@@ -13,9 +13,9 @@ import pytest
 from artic.plant import Plant, PlantError
 from artic.validation.cli.commands import main
 from artic.validation.logs.runfile import read_run, write_run
+from artic.validation.plumbing.runtime import MujocoWarning
 from artic.validation.review.tables import summary
 from artic.validation.runs import validate as val
-from artic.validation.runs.runtime import MujocoWarning
 from tests.hostile_logs import docking, slalom
 
 DIVERGE_AT = 5.0

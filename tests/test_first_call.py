@@ -3,7 +3,7 @@
 ``pip install`` fills the cache (``setup.py``'s ``build_ext`` runs
 :mod:`artic.reduced.precompile`) where a user's process reads it:
 ``reduced/__pycache__`` beside the sources, with ``NUMBA_CACHE_DIR`` unset.
-The tests set ``NUMBA_CACHE_DIR`` for themselves (:mod:`artic.validation.runs.runtime`),
+The tests set ``NUMBA_CACHE_DIR`` for themselves (:mod:`artic.validation.plumbing.runtime`),
 so nothing they compile lands there: what the fresh process finds is the install's.
 """
 

@@ -38,7 +38,8 @@ from artic.validation.criteria.prediction import (
 )
 from artic.validation.logs.importers import import_source
 from artic.validation.logs.runfile import META_KEY, parse_meta
-from artic.validation.models import build, floor_replay
+from artic.validation.models import build
+from artic.validation.synthetic.floor import floor_replay
 from artic.validation.synthetic.generate import simulate_manoeuvre, write_export
 from artic.validation.synthetic.sensors import SensorModel
 from artic.validation.synthetic.testmatrix import MATRIX

@@ -109,7 +109,7 @@ def test_compare_and_departure():
 def test_the_study_drives_the_truth_and_each_model_on_the_sweep():
     # seed 0's truth and KIN: every signal in every band, and KIN's articulation gain
     # departs from the truth's somewhere in the sweep (its equivalent wheelbase, untuned)
-    from artic.validation.runs.frequency import frequency_study
+    from artic.validation.review.frequencystudy import frequency_study
 
     table, dep = frequency_study(0, models=("kin",))
     assert len(table) == 3 * len(CENTRES) and set(table["model"]) == {"kin"}

@@ -12,7 +12,7 @@ gym = pytest.importorskip("gymnasium", reason="the gym extra (pip install 'artic
                                               "is not installed")
 
 import artic.gym  # noqa: E402 - registers the environments
-import artic.validation.harness.steering  # noqa: E402
+import artic.mjcf.steering  # noqa: E402
 from artic.mjcf.errors import UserError  # noqa: E402
 from artic.validation.docking.controllers import load  # noqa: E402
 from artic.validation.docking.gym import reward  # noqa: E402
@@ -128,8 +128,7 @@ def test_the_shaped_rewards_add_up_to_the_progress_and_the_outcome():
 def test_the_action_scale_reaches_each_lock_and_the_speed_limit():
     vehicle = artic.load_vehicle(VEHICLE)
     scale = ActionScale.of(vehicle)
-    steering = artic.validation.harness.steering.SteeringMap.from_steering(
-        vehicle.steering_for("kin"))
+    steering = vehicle.steering_for("kin")
     lock = vehicle.steering.delta_max
     # +1 and -1 reach the road wheels' lock on their side, 0 points them straight.
     for share, delta in ((1.0, lock), (-1.0, -lock), (0.0, 0.0)):

@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
+from artic.mjcf.steering import Steering
 from artic.reduced import KIN, STM
 from artic.reduced.kinematic import kin_rhs
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation, simulate
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
 from tests.helpers import as_log, straight_log
 
@@ -124,7 +124,7 @@ def test_kin_validated_against_its_own_log_gives_zero(unloaded):
     t = np.arange(0, 40, 0.01)
     gref = math.radians(25) * np.clip(t / 20, 0, 1)
     drv = drive_articulation(KIN(v, "paper"), v, t, np.full_like(t, U_REV), gref,
-                             steering=SteeringMap.from_steering(s))
+                             steering=s)
     rev = as_log(drv, "kin-rev")
     m = run_metrics(rev.frame, run_closed_loop(KIN(v, "paper"), rev, v).frame)
     assert abs(rev.frame["gamma"].iloc[-1]) > math.radians(20)
@@ -139,7 +139,8 @@ def test_speed_input_corrects_sensor_offset(unloaded):
 
     log = straight_log(n=10, u=1.0)
     log.frame["r_1"] = 0.2
-    inputs = loop_inputs(log, unloaded, SteeringMap(21.0, 0.0, 0.0))
+    linear = Steering(21.0, 0.0, 0.0, delta_max=unloaded.steering.delta_max)
+    inputs = loop_inputs(log, unloaded, linear)
     assert inputs.u1[0] == pytest.approx(1.0 + 0.2 * unloaded.sensor1[1])
 
 

@@ -20,11 +20,11 @@ import pyarrow.parquet as pq
 import pytest
 import scipy.io
 
-from artic.validation.cli import options
 from artic.validation.cli.commands import main
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import read_run, write_run
 from artic.validation.logs.schema import COLUMNS
+from artic.validation.plumbing import options
 from tests.hostile_logs import slalom
 
 

@@ -139,7 +139,7 @@ def test_distance_rms_weights_distance_not_time():
 
 
 def test_travelled_ends_at_s_max():
-    from artic.validation.criteria.metrics import distance_weights, travelled
+    from artic.validation.criteria.distance import distance_weights, travelled
 
     t = np.linspace(0.0, 10.0, 101)
     f = pd.DataFrame({"t": t, "v_x_1": -np.sin(t), "v_y_1": 0.1 * np.cos(t)})

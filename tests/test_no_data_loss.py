@@ -25,7 +25,7 @@ from artic.mjcf.writer import updated, write_vehicle
 from artic.validation.cli.commands import main
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, atomic_write_text, write_run
-from artic.validation.runs.outputs import LOCK_NAME, OutDirLock, clean_stale
+from artic.validation.plumbing.outputs import LOCK_NAME, OutDirLock, clean_stale
 from artic.validation.synthetic import generate
 from artic.validation.synthetic.testmatrix import MATRIX, TUNING
 from tests.hostile_logs import slalom
@@ -47,7 +47,7 @@ def test_two_campaigns_in_one_folder(tmp_path, capsys):
     holder = python(f"""
         import sys, time
         sys.argv = ["artic", "campaign", "--out-dir", {str(out)!r}]
-        from artic.validation.runs.outputs import OutDirLock
+        from artic.validation.plumbing.outputs import OutDirLock
         with OutDirLock({str(out)!r}, "campaign"):
             print("locked", flush=True)
             time.sleep(60)
@@ -176,7 +176,7 @@ def test_workers_end_with_their_parent():
     parent = python("""
         import os, time
         from concurrent.futures import ProcessPoolExecutor
-        from artic.validation.runs.workers import init_worker
+        from artic.validation.plumbing.workers import init_worker
         pool = ProcessPoolExecutor(2, initializer=init_worker, initargs=(os.getpid(),))
         busy = [pool.submit(time.sleep, 600) for _ in range(2)]
         while len(pool._processes) < 2:
@@ -208,7 +208,7 @@ def test_workers_end_with_their_parent():
 def test_mujoco_log_not_in_the_current_folder(tmp_path, monkeypatch, unloaded):
     import mujoco
 
-    from artic.validation.runs.runtime import MujocoWarning
+    from artic.validation.plumbing.runtime import MujocoWarning
 
     monkeypatch.chdir(tmp_path)
     m = mujoco.MjModel.from_xml_string(
@@ -325,7 +325,7 @@ def _square_and_pid(x):
 def test_completed_gives_every_task_once_and_its_pool_ends_when_closed_early():
     import contextlib
 
-    from artic.validation.runs.workers import completed
+    from artic.validation.plumbing.workers import completed
 
     tasks = [(k, (k,)) for k in range(6)]
     serial = dict(completed(_square_and_pid, tasks, jobs=1))

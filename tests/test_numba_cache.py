@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numba
 
-from artic.validation.runs import runtime
+from artic.validation.plumbing import runtime
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -99,7 +99,7 @@ def test_old_folders_go_after_a_month(tmp_path, monkeypatch):
 
 
 def test_run_caches_follow_the_computing_code_only(tmp_path):
-    from artic.validation.runs import fingerprint
+    from artic.validation.plumbing import fingerprint
 
     roots = {}
     for pkg in fingerprint.PACKAGES:

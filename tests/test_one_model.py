@@ -18,7 +18,6 @@ from artic.reduced.single_track import StmParameters, stm_parameters
 from artic.validation.harness.batch import run_batch
 from artic.validation.harness.loop import loop_inputs, run_closed_loop
 from artic.validation.harness.simulate import simulate
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.synthetic.manoeuvres import make_profile
 
 STEER_ERROR = 1.4
@@ -112,7 +111,7 @@ def test_a_replaced_rhs_changes_the_harness_result(unloaded, logs):
 def test_the_batch_honours_a_replaced_rhs(unloaded, logs):
     # The campaign's path (run_batch) takes no compiled path for the subclass either.
     log = logs["constant-steer"]
-    inp = loop_inputs(log, unloaded, SteeringMap.from_steering(unloaded.steering_for("kin")))
+    inp = loop_inputs(log, unloaded, unloaded.steering_for("kin"))
     kin = run_batch(artic.KIN, unloaded, [inp], 3.0, 1)
     over = run_batch(Oversteered, unloaded, [inp], 3.0, 1)
     direct = run_closed_loop(Oversteered(unloaded), log, unloaded)

@@ -15,7 +15,6 @@ from artic.plant.tyre import TyreParams, TyreRangeWarning
 from artic.reduced import STM, Driven, InitialState
 from artic.validation.harness.loop import run_closed_loop
 from artic.validation.harness.simulate import drive_articulation
-from artic.validation.harness.steering import SteeringMap
 from tests.helpers import PRESETS, needs_compiled, straight_log
 
 
@@ -253,7 +252,7 @@ def test_reverse_ramp_steer_is_held_by_the_harness(unloaded):
     v = unloaded
     t = np.arange(0.0, 35.0, 0.01)
     gref = math.radians(30.0) * np.clip((t - 3.0) / 20.0, 0.0, 1.0)
-    s = SteeringMap.from_steering(v.steering_for("mbd"))
+    s = v.steering_for("mbd")
     log = drive_articulation(STM(v), v, t, np.full_like(t, -3 / 3.6), gref,
                              steering=s)
     log.meta["name"] = "ramp"

@@ -144,7 +144,7 @@ def test_the_plant_predicts_through_its_compiled_loop(log, unloaded):
 def test_truth_states_come_back_exactly_from_the_metadata(log):
     import json
 
-    from artic.validation.criteria.metrics import travelled
+    from artic.validation.criteria.distance import travelled
     from artic.validation.criteria.prediction import (
         STATE_KEY,
         candidates,
@@ -182,11 +182,10 @@ def test_the_reduced_models_start_as_the_harness_starts_them(log, unloaded):
     from artic.reduced import STM
     from artic.validation.criteria.prediction import starter
     from artic.validation.harness.loop import loop_inputs, run_inputs, window
-    from artic.validation.harness.steering import SteeringMap
 
     for model in (Driven(KIN(unloaded)), Driven(STM(unloaded))):
         assert starter(model, None, 0.0) == model.reset  # their own reset, unchanged
-        inputs = loop_inputs(log, unloaded, SteeringMap.from_steering(unloaded.steering))
+        inputs = loop_inputs(log, unloaded, unloaded.steering)
         part = window(inputs, log.frame, 1500, 2500)
         a = run_inputs(model, part, unloaded, gain=0.0)[0]
         b = run_inputs(model, part, unloaded, gain=0.0, start=model.reset)[0]
@@ -196,11 +195,10 @@ def test_the_reduced_models_start_as_the_harness_starts_them(log, unloaded):
 def plant_log(plant, log, vehicle) -> Run:
     """The plant's own closed-loop run of ``log``, with the steering wheel it applied."""
     from artic.validation.harness.loop import run_closed_loop
-    from artic.validation.harness.steering import SteeringMap
 
     run = run_closed_loop(plant, log, vehicle, extras=False)
     frame = run.frame[list(log.frame.columns)].copy()
-    steering = SteeringMap.from_steering(vehicle.steering_for("mbd"))
+    steering = vehicle.steering_for("mbd")
     frame["delta_h"] = np.asarray(steering.steering_wheel(run.frame["delta"].to_numpy()))
     return Run(frame, {"name": "own", "direction": "reverse", "manoeuvre": "test"})
 

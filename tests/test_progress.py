@@ -6,8 +6,8 @@ import warnings
 
 from artic.plant import PlantWarning
 from artic.plant.tyre import TyreRangeWarning
-from artic.validation.cli.progress import Counter, duration
 from artic.validation.harness.plantnotes import collect, summary
+from artic.validation.plumbing.progress import Counter, duration
 
 
 def test_counter_counts_throttles_and_estimates():
@@ -29,7 +29,7 @@ def test_the_first_estimate_leaves_out_the_start_up(monkeypatch):
     # The references stage's first estimate said about 1 h 04 min and settled near 10 min
     # (issue 46, item 19): its first item carried the start-up. 60 s of start-up, then one
     # item a second: with 96 left after the fourth item, about 96 s, not 96 x 15 s.
-    from artic.validation.cli import progress
+    from artic.validation.plumbing import progress
 
     now = [0.0]
     monkeypatch.setattr(progress.time, "perf_counter", lambda: now[0])

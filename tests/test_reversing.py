@@ -23,8 +23,8 @@ from artic.validation.harness.reversing import (
     reversing,
 )
 from artic.validation.harness.simulate import simulate
+from artic.validation.logs.profile import Profile
 from artic.validation.logs.runfile import Run
-from artic.validation.synthetic.manoeuvres import Profile
 from tests.helpers import as_log
 
 DT = 0.01
@@ -234,9 +234,8 @@ def test_the_feedback_is_handed_over_without_a_step(unloaded, cls):
     assert jump.max() < math.radians(0.1)
     # The same run in Python's loop (a model without a compiled form) gives the same bits.
     from artic.validation.harness.loop import _python_loop, loop_args, steered
-    from artic.validation.harness.steering import SteeringMap
 
-    steering = SteeringMap.from_steering(v.steering_for(cls.name))
+    steering = v.steering_for(cls.name)
     inp = steered(inputs, steering, "test")
     model = Driven(cls(v))
     model.reset(inp.initial)

@@ -1,5 +1,5 @@
-"""The process-wide settings of the artic command (artic.validation.runs.runtime), each in a fresh
-process.
+"""The process-wide settings of the artic command (artic.validation.plumbing.runtime), each in
+a fresh process.
 
 MuJoCo's callbacks and numba's configuration are per process, and the
 bindings' default timer cannot be put back once replaced, so every check runs
@@ -35,7 +35,7 @@ def compiled():
 
 def test_configure_stops_the_default_step_timer():
     out = run(STEP + "mujoco.mj_step(m, d); a = d.timer[T].duration\n"
-              "from artic.validation.runs import runtime; runtime.configure()\n"
+              "from artic.validation.plumbing import runtime; runtime.configure()\n"
               "mujoco.mj_step(m, d); mujoco.mj_step(m, d)\n"
               "print(a > 0, d.timer[T].duration == a, d.timer[T].number)")
     # timed before, not after; the steps still count
@@ -46,13 +46,13 @@ def test_configure_keeps_a_users_timer():
     out = run(STEP + "n = [0]\n"
               "def clock():\n    n[0] += 1\n    return float(n[0])\n"
               "mujoco.set_mjcb_time(clock)\n"
-              "from artic.validation.runs import runtime; runtime.configure()\n"
+              "from artic.validation.plumbing import runtime; runtime.configure()\n"
               "mujoco.mj_step(m, d); print(mujoco.get_mjcb_time() is clock, n[0] > 0)")
     assert out == ["True", "True"]
 
 
 def test_configure_does_not_import_numba_and_numba_then_uses_the_folder():
-    out = run("import sys; from artic.validation.runs import runtime; f = runtime.configure()\n"
+    out = run("import sys; from artic.validation.plumbing import runtime; f = runtime.configure()\n"
               "print('numba' in sys.modules)\n"
               "import numba; print(numba.config.CACHE_DIR == str(f))")
     assert out == ["False", "True"]

@@ -7,9 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from artic.validation.harness.steering import SteeringMap, SteeringRangeError
+from artic.mjcf.steering import Steering, SteeringRangeError
 
-MAP = SteeringMap(i_s=20.0, q=0.01, delta_h_offset=math.radians(5.0))
+# The largest road-wheel angle plays no part in eq. (3); a tractor's, for a whole map.
+DELTA_MAX = math.radians(40.0)
+MAP = Steering(i_s=20.0, q=0.01, delta_h_offset=math.radians(5.0), delta_max=DELTA_MAX)
 
 
 def test_offset_gives_straight_wheels():
@@ -33,19 +35,19 @@ def test_positive_q_steers_less_left_than_right():
 def test_inverse_round_trip():
     d = np.linspace(-0.4, 0.4, 101)
     np.testing.assert_allclose(MAP.road_wheel(MAP.steering_wheel(d)), d, atol=1e-14)
-    linear = SteeringMap(20.0, 0.0, 0.0)
+    linear = Steering(20.0, 0.0, 0.0, delta_max=DELTA_MAX)
     assert linear.steering_wheel(0.1) == pytest.approx(2.0)
 
 
 def test_monotonic_guard_refuses_the_fold():
-    printed = SteeringMap(i_s=21.0, q=0.1, delta_h_offset=0.0)
+    printed = Steering(i_s=21.0, q=0.1, delta_h_offset=0.0, delta_max=DELTA_MAX)
     # The printed q = 0.1 /rad folds at 1/(2q) = 5 rad = 286 deg: a 500 deg turn fails.
     with pytest.raises(SteeringRangeError, match="monotonic"):
         printed.check_range(np.radians([0.0, 500.0]), "test")
     printed.check_range(np.radians([0.0, 200.0]))
     MAP.check_range(np.radians([-500.0, 500.0]))
     # A negative q folds on the right-turn side, and only there.
-    mirrored = SteeringMap(20.0, -0.1, 0.0)
+    mirrored = Steering(20.0, -0.1, 0.0, delta_max=DELTA_MAX)
     mirrored.check_range(np.radians([0.0, 500.0]))
     with pytest.raises(SteeringRangeError, match="-500 deg"):
         mirrored.check_range(np.radians([0.0, -500.0]))
@@ -65,7 +67,7 @@ def test_the_scalar_path_is_the_array_path_to_the_bit():
     # must agree exactly, not to a tolerance.
     rng = np.random.default_rng(3)
     for q in (0.0, 0.01, 0.03):
-        m = SteeringMap(i_s=21.7, q=q, delta_h_offset=0.087)
+        m = Steering(i_s=21.7, q=q, delta_h_offset=0.087, delta_max=DELTA_MAX)
         for x in rng.uniform(-8.0, 8.0, 200):
             x = float(x)
             assert m.road_wheel(x) == float(m.road_wheel(np.array([x]))[0])

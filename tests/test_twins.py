@@ -102,7 +102,7 @@ def test_the_truths_states_cover_every_candidate_of_the_log_and_of_its_twin(reve
     # The floor starts from the truth's recorded state at each start-point
     # candidate; the twin's travelled distance differs from the log's by the
     # sensors' noise, so its marks fall on other samples: both sets are recorded.
-    from artic.validation.criteria.metrics import travelled
+    from artic.validation.criteria.distance import travelled
     from artic.validation.criteria.prediction import candidates, truth_states
 
     path, twin_path = reverse_exports

@@ -25,11 +25,11 @@ def test_after_the_warm_up_the_campaign_calls_load_from_the_cache(tmp_path):
     # same calls loads every function from disk and compiles nothing. If the warm-up
     # passed other argument types than the campaign does, numba would compile again.
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    warm = ("from artic.validation.runs import runtime; runtime.configure(); "
+    warm = ("from artic.validation.plumbing import runtime; runtime.configure(); "
             "from artic.validation.runs import warmup; p = warmup.start(); p.join(); "
             "raise SystemExit(p.exitcode)")
     subprocess.run([sys.executable, "-c", warm], env=env, check=True, timeout=300)
-    check = ("import json; from artic.validation.runs import runtime; runtime.configure(); "
+    check = ("import json; from artic.validation.plumbing import runtime; runtime.configure(); "
              "from artic.validation.runs.warmup import compile_all; compile_all(); "
              "from artic.validation.criteria import pathdist; "
              "from artic.validation.harness import reducedloop; "

@@ -6,22 +6,24 @@ At this level, the two modules everything shares:
   models, built-in and registered from outside;
 - :mod:`~artic.validation.testing`: the pytest plugin for users' cross-model checks.
 
-The rooms (each ``__init__`` lists its modules):
+The rooms, top to bottom (each ``__init__`` lists its modules); a room imports
+only the rooms below it, and rooms on one line import neither each other:
 
-- ``harness/``: the closed loop and its reversing feedback law, eqs. (5)-(7), the
-  steering map, when reversing is on, many logs at once, open-loop simulation;
+- ``cli/``: the ``artic`` command line;
+- ``campaign/``: the main job: tuning, the efficiency study, the report, several
+  trucks | ``docking/``: the docking benchmark;
+- ``runs/``: validating runs (``artic validate`` and the campaign alike) |
+  ``review/``: the summary tables, Rerun recordings and plots;
+- ``synthetic/``: the generated measured campaign, its truth, drivers and sensors;
 - ``criteria/``: the paper's criteria, eqs. (8)-(10), the criteria beyond them,
   and the statistics that qualify them;
+- ``harness/``: the closed loop and its reversing feedback law, eqs. (5)-(7), many
+  logs at once, open-loop simulation;
+- ``models.py``: the model protocol and registry;
 - ``logs/``: the signal schema, run files, checks and repairs, the importers;
-- ``synthetic/``: the generated measured campaign, its truth, drivers and sensors;
-- ``runs/``: validating runs (``artic validate`` and the campaign alike), and the
-  processes and output folders they run in;
-- ``review/``: the summary tables, Rerun recordings and plots;
-- ``campaign/``: the main job: tuning, the efficiency study, the report, several trucks;
-- ``docking/``: the docking benchmark;
-- ``cli/``: the ``artic`` command line.
-"""
+- ``plumbing/``: process-wide: the simulated-time budget, progress, output
+  folders, executors, workers, settings.
 
-if __name__ != "artic.validation":  # a bare `import validation` from the repository root
-    raise ImportError(f"{__file__} is artic.validation: import artic.validation, not {__name__} (a "
-                      "second copy of its modules would make isinstance fail between them)")
+``pyproject.toml``'s import-linter contracts check the layers (docs/contributing.md
+draws them).
+"""

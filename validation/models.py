@@ -125,6 +125,7 @@ def driven(model: object) -> Model:
         holder (:class:`artic.reduced.models.Driven`); or a :class:`Model`.
     """
     if is_state_space(model):
+        # Here, not at the top: the registry is light to import; numba loads with a model.
         from artic.reduced.models import Driven
 
         return Driven(model)
@@ -151,18 +152,21 @@ def close(model: Model) -> None:
 
 
 def _kin(vehicle: Vehicle) -> Model:
+    # Here, not at the top: numba loads with the first KIN built, not with the registry.
     from artic.reduced.control import KIN
 
     return KIN(vehicle)
 
 
 def _stm(vehicle: Vehicle) -> Model:
+    # Here, not at the top: numba loads with the first STM built, not with the registry.
     from artic.reduced.control import STM
 
     return STM(vehicle)
 
 
 def _mbd(vehicle: Vehicle) -> Model:
+    # Here, not at the top: MuJoCo loads with the first plant built, not with the registry.
     from artic.plant import Plant
 
     return Plant(vehicle)
@@ -173,42 +177,23 @@ def _floor(vehicle: Vehicle, log: Run | None = None) -> Model:
 
     Every deterministic mechanism of the truth that made the log, through the
     harness: for the independent truth its own model, tyres, column, play and
-    all (:func:`artic.validation.synthetic.truthplant.truth_model`); for the
+    all (:func:`artic.validation.synthetic.truthmodel.truth_model`); for the
     structural and legacy truths the plant. ``vehicle`` is the truth's, with
     the log's yard slope (the campaign's ``_floor`` makes it). Left out are
     what no model can know: the sensors' noise, the trailer unit's clock skew
     and the drift of the column's zero. Without a log, the plant. The
     independent truth steps as it did making the log, at its step for the
-    log's kind (:func:`artic.validation.synthetic.truthplant.timestep_for`).
+    log's kind (:func:`artic.validation.synthetic.truthmodel.timestep_for`).
     """
     truth = (log.meta.get("truth") if log is not None else None) or {}
     if truth.get("kind") == "independent":
-        from artic.validation.synthetic.truthplant import timestep_for, truth_model
+        # Upward, and allowed by name in pyproject's layers contract: the registry's
+        # floor is the truth of each log, which the synthetic room models.
+        from artic.validation.synthetic.truthmodel import timestep_for, truth_model
 
         return truth_model(vehicle, truth, speed="follow",
                            timestep=timestep_for(log.meta.get("kind")))
     return _mbd(vehicle)
-
-
-def floor_replay(vehicle: Vehicle, log: Run) -> Model | None:
-    """The floor replaying the truth's own actuation, for the open-loop predictions.
-
-    The truth of ``log`` in the speed mode that made it (its driver's pedals),
-    wrapped to take at every step what it was given then
-    (:class:`artic.validation.criteria.prediction.Replay`): the reference of
-    what a perfect model could predict. ``None`` when the log holds no
-    recorded actuation (a log made before it was recorded): the floor then
-    predicts through the harness's speed follower.
-    """
-    from artic.validation.criteria.prediction import Replay, recorded_actuation
-
-    actuation = recorded_actuation(log.meta)
-    if actuation is None:
-        return None
-    from artic.validation.synthetic.truthplant import truth_model
-
-    return Replay(truth_model(vehicle, log.meta.get("truth") or {}, speed=actuation.speed),
-                  actuation)
 
 
 @dataclass(frozen=True)
@@ -620,7 +605,7 @@ def code_of(name: str) -> str:
     """A fingerprint of a registered model's code, for the campaign's cache keys.
 
     ``""`` for a built-in model, which artic's own code fingerprint covers
-    (:mod:`artic.validation.runs.fingerprint`). For a registered model:
+    (:mod:`artic.validation.plumbing.fingerprint`). For a registered model:
     the hash of its entry and of the source file of its build's module, or,
     when that file cannot be read, a value new in every process, so that its
     cached results are never reused.

@@ -18,7 +18,7 @@ Fixtures
         measured through its sensor models
         (:mod:`artic.validation.synthetic.generate`). Made once and cached
         in pytest's cache folder, under a key of artic's code fingerprint
-        (:mod:`artic.validation.runs.fingerprint`), the seed and the
+        (:mod:`artic.validation.plumbing.fingerprint`), the seed and the
         manoeuvres, so a later session reads it back until artic changes.
         The ini options ``artic_logs`` (manoeuvre names or name prefixes of
         :data:`artic.validation.synthetic.testmatrix.MATRIX`) and
@@ -72,6 +72,10 @@ import pytest
 
 from artic.mjcf.errors import UserError
 
+# The fixtures import artic's rooms inside themselves, not here: pytest loads this
+# plugin in every session of every project that installs artic, which should not
+# pay for MuJoCo, numba or pandas until a test asks for them.
+
 if TYPE_CHECKING:
     from artic.mjcf.vehicle import Vehicle
     from artic.validation.logs.runfile import Run
@@ -95,10 +99,10 @@ _configured = False
 
 
 def _configure() -> None:
-    """Make artic's process settings (:func:`artic.validation.runs.runtime.configure`), once."""
+    """Make artic's process settings (:func:`artic.validation.plumbing.runtime.configure`), once."""
     global _configured
     if not _configured:
-        from artic.validation.runs import runtime
+        from artic.validation.plumbing import runtime
 
         runtime.configure()
         _configured = True
@@ -157,7 +161,7 @@ def session_logs(config: pytest.Config, tmp_path_factory: pytest.TempPathFactory
     """
     _configure()
     from artic.validation.campaign.main import load_logs
-    from artic.validation.runs import fingerprint
+    from artic.validation.plumbing import fingerprint
 
     try:
         seed = int(str(config.getini("artic_seed")).strip() or 0)

@@ -2,7 +2,7 @@
 
 A stage's key (:meth:`StageCache.key`) is the hash of
 
-- artic's code and data (:func:`artic.validation.runs.fingerprint.code`: every
+- artic's code and data (:func:`artic.validation.plumbing.fingerprint.code`: every
   module, preset and tyre file that computes results, the MuJoCo and numpy
   versions), and a registered model's own code where the stage runs it;
 - the :class:`~artic.validation.campaign.config.CampaignConfig` fields the
@@ -38,7 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from artic.validation.logs.runfile import atomic_write_text
-from artic.validation.runs import fingerprint
+from artic.validation.plumbing import fingerprint
 
 FOLDER = "cache"
 """The entries' folder under the campaign's output folder."""

@@ -176,7 +176,7 @@ class CampaignConfig:
         saved stage times (``timings.json``) and efficiency belong to this key.
         """
         from artic.validation.models import code_of
-        from artic.validation.runs import fingerprint
+        from artic.validation.plumbing import fingerprint
 
         c = self.resolved()
         outside = {m: code for m in c.models or () if (code := code_of(m))}

@@ -66,7 +66,7 @@ campaign per seed in ``OUT/seed-K`` and pools them in ``OUT``
 (:mod:`artic.validation.campaign.seeds`); one seed writes into ``OUT`` itself.
 
 One campaign at a time per output folder: a second one is refused, naming the
-first (:class:`artic.validation.runs.outputs.OutDirLock`). The temporaries a killed
+first (:class:`artic.validation.plumbing.outputs.OutDirLock`). The temporaries a killed
 campaign left behind are removed when the next one starts.
 
 A (log, model) pair that fails becomes a row of ``metrics.csv`` with its
@@ -96,7 +96,7 @@ from artic.validation.campaign import findings, frequency
 from artic.validation.campaign.cache import Entry, StageCache, StageResult
 from artic.validation.campaign.config import SENSORS, CampaignConfig
 from artic.validation.campaign.executors import cluster_executor
-from artic.validation.cli.progress import BUDGET, Counter, budget_text
+from artic.validation.campaign.seeds import run_seeds
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.criteria.multiplicity import CORRECTION
 from artic.validation.logs.importers import import_source
@@ -109,21 +109,24 @@ from artic.validation.logs.runfile import (
     read_run,
 )
 from artic.validation.models import code_of
+from artic.validation.plumbing import fingerprint
+from artic.validation.plumbing.budget import BUDGET, budget_text
+from artic.validation.plumbing.outputs import OutDirLock, clean_stale
+from artic.validation.plumbing.progress import Counter
+from artic.validation.plumbing.workers import completed
 from artic.validation.review.tables import (
     paired_markdown,
     paired_table,
     summary,
     write_table,
 )
-from artic.validation.runs import fingerprint, warmup
-from artic.validation.runs.outputs import OutDirLock, clean_stale
+from artic.validation.runs import warmup
 from artic.validation.runs.validate import (
     is_failed,
     stderr_progress,
     validate_runs,
     write_metrics,
 )
-from artic.validation.runs.workers import completed
 from artic.validation.synthetic.generate import META_FILE, generate_campaign
 from artic.validation.synthetic.sensors import SensorModel
 from artic.validation.synthetic.testmatrix import TUNING
@@ -143,7 +146,7 @@ class Stages:
     A stage that only reused earlier results (see :meth:`reused`) reports the
     wall time it took when it was computed, from ``saved``, so that a resumed
     campaign's report matches the original run's; likewise its simulated
-    time (:data:`artic.validation.cli.progress.BUDGET` counted over the stage),
+    time (:data:`artic.validation.plumbing.budget.BUDGET` counted over the stage),
     from ``saved_budget``. ``save`` receives the times, the budgets and
     which stages were reused after every stage.
     """
@@ -507,9 +510,7 @@ def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict
     else:
         config = CampaignConfig(Path(config), **options)
     if config.seeds > 1:
-        from artic.validation.campaign.seeds import run_seeds
-
-        return run_seeds(config)
+        return run_seeds(config, run_campaign)
     config = config.resolved()
     out_dir = config.out_dir
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -463,7 +463,7 @@ def budget_table(stages: dict[str, float], budget: dict[str, dict]) -> list[str]
 
     Beside each stage's wall time, the multibody runs (the plant and the
     truth, MuJoCo) and reduced-model runs it made and the seconds they
-    simulated (:class:`artic.validation.cli.progress.Budget`), and the stage's
+    simulated (:class:`artic.validation.plumbing.budget.Budget`), and the stage's
     share of the multibody seconds: the campaign's cost in numbers that do not
     depend on the machine.
     """

@@ -33,9 +33,10 @@ import numpy as np
 import pandas as pd
 
 from artic.validation.campaign.config import CampaignConfig
-from artic.validation.cli.progress import Counter, stderr
 from artic.validation.criteria.statistics import format_ci, mean_ci
 from artic.validation.logs.runfile import atomic_write_text
+from artic.validation.plumbing.outputs import OutDirLock, clean_stale
+from artic.validation.plumbing.progress import Counter, stderr
 from artic.validation.review.tables import (
     by_seed,
     differences,
@@ -46,7 +47,6 @@ from artic.validation.review.tables import (
     spread_markdown,
     write_table,
 )
-from artic.validation.runs.outputs import OutDirLock, clean_stale
 
 TABLES = {("logs", "forward"): "table2_forward", ("logs", "reverse"): "table3_reverse",
           ("plant", "forward"): "table2_vs_plant", ("plant", "reverse"): "table3_vs_plant"}
@@ -61,7 +61,7 @@ def seed_dir(out_dir: Path, seed: int) -> Path:
     return Path(out_dir) / f"seed-{seed}"
 
 
-def run_seeds(config: CampaignConfig,
+def run_seeds(config: CampaignConfig, run_campaign: Callable[[CampaignConfig], dict[str, Path]],
               progress: Callable[[str], None] = stderr) -> dict[str, Path]:
     """Run ``config.seeds`` campaigns (seeds ``config.seed`` on) and write the pooled results.
 
@@ -70,6 +70,10 @@ def run_seeds(config: CampaignConfig,
     config : CampaignConfig
         The campaign; each truck's goes to ``config.out_dir/seed-K``
         (:meth:`~artic.validation.campaign.config.CampaignConfig.for_seed`).
+    run_campaign : callable
+        Runs one truck's campaign from its configuration and returns its result
+        files (:func:`artic.validation.campaign.main.run_campaign`, which calls
+        this function: passed in, so that this module does not import it).
     progress : callable
         Receives one line per finished truck, with its reverse eps_n and the time left.
 
@@ -78,8 +82,6 @@ def run_seeds(config: CampaignConfig,
     dict
         Result files by name.
     """
-    from artic.validation.campaign.main import run_campaign
-
     out_dir, seeds, seed = config.out_dir, config.seeds, config.seed
     campaign = {k: v for k, v in config.options().items() if k not in ("seed", "seeds")}
     out_dir = Path(out_dir)

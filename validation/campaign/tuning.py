@@ -64,13 +64,12 @@ from scipy.optimize import least_squares, minimize
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import OBS_INDEX
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.cli.progress import duration
-from artic.validation.criteria.metrics import distance_mean_abs, distance_weights
+from artic.validation.criteria.distance import distance_mean_abs, distance_weights
 from artic.validation.harness.batch import run_batch, run_many
 from artic.validation.harness.loop import DEFAULT_GAIN, steered, unsteered_inputs
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
 from artic.validation.models import spec, steering_for
+from artic.validation.plumbing.progress import duration
 
 SIGNALS = (("r_1", "r"), ("r_2", "r"), ("v_y_1", "v_y"), ("v_y_2", "v_y"))
 
@@ -221,7 +220,7 @@ class Objective:
         vehicles = [self.vehicle_at(x) for x in xs]
         inputs = []
         for v in vehicles:
-            steering = SteeringMap.from_steering(steering_for(v, self.model))
+            steering = steering_for(v, self.model)
             inputs.append([steered(base, steering, f"{log.name}: column delta_h")
                            for log, base in zip(self.logs, self._unsteered, strict=True)])
         build = spec(self.model).build

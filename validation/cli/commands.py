@@ -21,7 +21,7 @@ Subcommands:
 
 Errors in the user's input end with exit code 2 and a one-line message that
 names the file and what to change; no traceback. That covers the options
-(every number finite and in range, see :mod:`artic.validation.cli.options`), the
+(every number finite and in range, see :mod:`artic.validation.plumbing.options`), the
 output locations (checked before the work starts; a read-only, full or
 wrong-type path is named with the system's reason), the input files
 (malformed CSV, Parquet, ``.mat``, JSON or TOML), a run too long for the
@@ -48,13 +48,12 @@ from pathlib import Path
 from artic.mjcf import schema
 from artic.mjcf.errors import PlantError, UserError, one_line
 from artic.mjcf.vehicle import load_vehicle
-from artic.validation.cli import options
 from artic.validation.docking import command as dock_command
 from artic.validation.harness.reversing import DEFAULT_GAIN
 from artic.validation.logs.schema import CHECKS, MIN_SEGMENT, SOURCES
 from artic.validation.pbs import command as pbs_command
-from artic.validation.runs import runtime
-from artic.validation.runs.outputs import (
+from artic.validation.plumbing import options, runtime
+from artic.validation.plumbing.outputs import (
     OutDirLock,
     check_output_dir,
     check_output_file,
@@ -336,8 +335,8 @@ def _validate_recordings(out: Path, logs, vehicle, models, metrics) -> None:
 def _tune(args: argparse.Namespace) -> int:
     from artic.mjcf.writer import fitted_changes, updated, write_vehicle
     from artic.validation.campaign.tuning import tune
-    from artic.validation.harness.yawsteer import wants_yaw_rate
     from artic.validation.logs.consistency import accepted_in
+    from artic.validation.logs.yawsteer import wants_yaw_rate
     from artic.validation.models import parse_models
     from artic.validation.runs.validate import stderr_progress
 

@@ -1,6 +1,6 @@
 """The ``artic`` console script.
 
-The process-wide settings of :mod:`artic.validation.runs.runtime` (numba's cache
+The process-wide settings of :mod:`artic.validation.plumbing.runtime` (numba's cache
 folder, MuJoCo's warnings and timers) must be made before the compiled models are
 imported: :func:`artic.validation.cli.commands.main` makes them once the command line
 is parsed, so that ``artic --help`` loads neither numba nor MuJoCo. This module

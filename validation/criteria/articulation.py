@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf.interface import wrap_angle
-from artic.validation.criteria.metrics import distance_rms, distance_weights
+from artic.validation.criteria.distance import distance_rms, distance_weights
 
 if TYPE_CHECKING:
     from artic.mjcf.vehicle import Vehicle

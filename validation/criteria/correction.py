@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from artic.validation.criteria.metrics import distance_rms, distance_weights
+from artic.validation.criteria.distance import distance_rms, distance_weights
 
 if TYPE_CHECKING:
     from artic.mjcf.vehicle import Vehicle

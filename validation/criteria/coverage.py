@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from artic.validation.criteria.metrics import distance_rms, distance_weights
+from artic.validation.criteria.distance import distance_rms, distance_weights
 from artic.validation.criteria.pathdist import distance_to_polyline
 
 if TYPE_CHECKING:

@@ -38,7 +38,8 @@ from pathlib import Path
 import numpy as np
 
 from artic.validation.criteria.direction import DIRECTIONS, direction_of
-from artic.validation.criteria.metrics import NOISE_FLOOR, distance_weights
+from artic.validation.criteria.distance import distance_weights
+from artic.validation.criteria.metrics import NOISE_FLOOR
 from artic.validation.logs.runfile import Run, atomic_write_text
 
 SCALE_FILE = "eps_n_fixed_scale.json"

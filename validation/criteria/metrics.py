@@ -30,6 +30,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from artic.validation.criteria.articulation import eps_gamma
+from artic.validation.criteria.coverage import eps_cover
+from artic.validation.criteria.distance import (
+    distance_mean_abs,
+    distance_rms,
+    distance_weights,
+)
 from artic.validation.criteria.pathdist import distance_to_polyline
 
 CRITERIA = ("eps_y1", "eps_y2", "eps_p", "eps_r1", "eps_r2", "eps_a",
@@ -42,53 +49,6 @@ UNITS = {"eps_y1": "m", "eps_y2": "m", "eps_p": "m", "eps_r1": "rad/s", "eps_r2"
 
 NOISE_FLOOR = {"r": 1e-3, "v_y": 1e-3}
 """Mean absolute signal [rad/s, m/s] below which normalising by it means nothing."""
-
-
-def distance_weights(t: np.ndarray, speed: np.ndarray) -> np.ndarray:
-    """Trapezoidal weights ``w_k`` with ``integral g ds ~ sum_k w_k g_k`` [m].
-
-    Parameters
-    ----------
-    t : ndarray
-        Time [s], increasing.
-    speed : ndarray
-        Speed over ground, any sign [m/s]; its magnitude is used.
-
-    Returns
-    -------
-    ndarray
-        Weights; they sum to the distance travelled ``s_max``.
-    """
-    v = np.abs(np.asarray(speed, dtype=float))
-    ds = 0.5 * (v[1:] + v[:-1]) * np.diff(np.asarray(t, dtype=float))
-    w = np.zeros_like(v)
-    w[:-1] += 0.5 * ds
-    w[1:] += 0.5 * ds
-    return w
-
-
-def travelled(frame: pd.DataFrame) -> np.ndarray:
-    """Running distance of the tractor sensor, ``integral |v| dt`` (trapezoidal) [m].
-
-    The same integral as :func:`distance_weights`; its last value is ``s_max``.
-    """
-    v = np.hypot(frame["v_x_1"], frame["v_y_1"]).to_numpy()
-    ds = 0.5 * (v[1:] + v[:-1]) * np.diff(frame["t"].to_numpy())
-    return np.concatenate([[0.0], np.cumsum(ds)])
-
-
-def distance_rms(eps: np.ndarray, w: np.ndarray) -> float:
-    """Eq. (8): ``sqrt(integral eps**2 ds / s_max)``."""
-    s_max = float(np.sum(w))
-    if s_max <= 0.0:
-        return float("nan")
-    return float(np.sqrt(np.sum(w * np.square(eps)) / s_max))
-
-
-def distance_mean_abs(x: np.ndarray, w: np.ndarray) -> float:
-    """Distance-averaged mean of ``|x|``."""
-    s_max = float(np.sum(w))
-    return float(np.sum(w * np.abs(x)) / s_max) if s_max > 0 else float("nan")
 
 
 def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
@@ -166,9 +126,6 @@ def run_metrics(measured: pd.DataFrame, model: pd.DataFrame,
         out["J_steer"] = float("nan")
     result = {k: out[k] for k in CRITERIA}
     if beyond:
-        from artic.validation.criteria.articulation import eps_gamma
-        from artic.validation.criteria.coverage import eps_cover
-
         result["eps_gamma"] = eps_gamma(meas, model) if n else float("nan")
         result["eps_cover"] = eps_cover(meas, model) if positions else float("nan")
     result["s_max"] = float(np.sum(w))

@@ -47,10 +47,11 @@ import pandas as pd
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria import columns as extra
 from artic.validation.criteria import dock
+from artic.validation.criteria.direction import direction_of
 from artic.validation.criteria.fixedscale import eps_n_fixed
-from artic.validation.criteria.metrics import CRITERIA, run_metrics
+from artic.validation.criteria.metrics import CRITERIA, UNITS, run_metrics
 from artic.validation.logs.noise import ChannelNoise, add_noise
-from artic.validation.logs.runfile import Run
+from artic.validation.logs.runfile import Run, read_run
 from artic.validation.logs.schema import COLUMNS
 
 DRAWS = 16
@@ -175,9 +176,6 @@ def of_runs(logs: Sequence[Run], metrics: pd.DataFrame, runs_dir: Path, vehicle:
         ``score``, the model's own value in ``metrics`` (its magnitude for
         :data:`SIGNED`).
     """
-    from artic.validation.criteria.direction import direction_of
-    from artic.validation.logs.runfile import read_run
-
     parts = []
     for log in logs:
         noise = declared.get(log.name)
@@ -211,8 +209,6 @@ def text(table: pd.DataFrame, source: str) -> str:
     score over the same logs; the last column the floor over the lowest of
     those scores.
     """
-    from artic.validation.criteria.metrics import UNITS
-
     units = {**UNITS, **extra.UNITS}
     models = list(dict.fromkeys(table["model"]))
     runs = len(table[["log", "model"]].drop_duplicates())

@@ -105,7 +105,7 @@ import numpy as np
 from artic.mjcf.interface import InitialState, wrap_angle
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.direction import direction_of
-from artic.validation.criteria.metrics import travelled
+from artic.validation.criteria.distance import travelled
 from artic.validation.criteria.points import axle_x, trailer_point
 from artic.validation.criteria.truthrecords import (  # noqa: F401  (their home before)
     ACTUATION_FIELDS,
@@ -122,7 +122,6 @@ from artic.validation.criteria.truthrecords import (  # noqa: F401  (their home 
     truth_states,
 )
 from artic.validation.harness.loop import loop_inputs, run_inputs, window
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import Run
 from artic.validation.models import Model, driven, steering_for
 
@@ -367,7 +366,7 @@ def prediction_errors(model: Model, log: Run, vehicle: Vehicle, spacing: float =
     if direction_of(log) != "reverse":
         return out | {"note": "not a reverse log", "wall_s": time.perf_counter() - t0}
     frame = log.frame
-    steering = SteeringMap.from_steering(steering_for(vehicle, model))
+    steering = steering_for(vehicle, model)
     inputs = loop_inputs(log, vehicle, steering)
     s = travelled(frame)
     starts = start_points(s, inputs.reversing, spacing)

@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf.errors import UserError
-from artic.validation.criteria.metrics import travelled
+from artic.validation.criteria.distance import travelled
 
 SPACING = 10.0
 """Travelled distance between the predictions' start points [m]

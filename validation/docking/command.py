@@ -56,7 +56,7 @@ PAIRED_METRICS = ("lateral_error_m", "heading_error_deg", "time_s")
 
 def add_parser(sub) -> None:
     """Add ``dock`` to the ``artic`` subcommands ``sub``."""
-    from artic.validation.cli import options
+    from artic.validation.plumbing import options
 
     p = sub.add_parser("dock", help="the docking benchmark: controllers dock the plant in a yard")
     p.add_argument("--list", action="store_true",
@@ -190,7 +190,7 @@ def run(args: argparse.Namespace) -> int:
         if args.truth and sweep[0].name in ("friction", "grade"):
             raise UserError(f"--sweep {sweep[0].name} acts on the plant built from the vehicle "
                             "file; the truth has its own tyres and slope: leave --truth out")
-    from artic.validation.runs.executors import DaskOptions
+    from artic.validation.plumbing.executors import DaskOptions
 
     dask = DaskOptions(timeout=args.scheduler_timeout, tls_ca_file=args.tls_ca_file,
                        tls_cert=args.tls_cert, tls_key=args.tls_key)
@@ -204,7 +204,6 @@ def run(args: argparse.Namespace) -> int:
 
     from artic.mjcf.plausible import check_tyre_data
     from artic.mjcf.vehicle import load_vehicle
-    from artic.validation.cli.progress import stderr
     from artic.validation.docking.controllers import load
     from artic.validation.docking.plots import plot_errors
     from artic.validation.docking.run import benchmark, run_name
@@ -212,7 +211,8 @@ def run(args: argparse.Namespace) -> int:
     from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
     from artic.validation.docking.sensing import SENSOR_SETS, sensor_set
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
-    from artic.validation.runs.outputs import OutDirLock, check_output_dir, clean_stale
+    from artic.validation.plumbing.outputs import OutDirLock, check_output_dir, clean_stale
+    from artic.validation.plumbing.progress import stderr
 
     sensors = sensor_set(args.sensors)  # a bad name is one line, before any run
     scenarios = (list(SCENARIOS) if args.scenario.strip() == "all"
@@ -299,14 +299,14 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
     """``artic dock --sweep``: the runs (resumed), then sweep.csv, its pairs, .md and .png."""
     import pandas as pd
 
-    from artic.validation.cli.progress import stderr
     from artic.validation.docking import sweep as sw
     from artic.validation.docking.plots import plot_sweep
     from artic.validation.docking.scores import COLUMNS
     from artic.validation.docking.sensing import sensor_set
     from artic.validation.docking.variants import check_trailer
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
-    from artic.validation.runs.outputs import OutDirLock, clean_stale
+    from artic.validation.plumbing.outputs import OutDirLock, clean_stale
+    from artic.validation.plumbing.progress import stderr
 
     axis, levels = sweep
     specs = sw.plan(axis, levels, scenarios, vehicles, controllers, range(args.seeds),

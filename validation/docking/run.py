@@ -56,7 +56,6 @@ from artic.mjcf.interface import OBS_INDEX, InitialState
 from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
 from artic.plant.plant import PlantError
-from artic.validation.cli.progress import Counter
 from artic.validation.docking.conditions import ActuatorDelay, road
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
@@ -77,9 +76,9 @@ from artic.validation.docking.variants import (
     draw_semitrailer,
     effective_wheelbase,
 )
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.logs.runfile import new_frame
 from artic.validation.models import build, driven
+from artic.validation.plumbing.progress import Counter
 from artic.validation.synthetic.sensors import SensorModel
 
 DT = 0.1
@@ -369,7 +368,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
             stream, articulation_model(sensor_set, articulation_noise_deg),
             np.random.default_rng([seed, number, ARTICULATION_STREAM]), n_ctrl + 1, DT,
             Frames.of(vehicle), plant_vehicle.sensor1_yaw - plant_vehicle.sensor2_yaw)
-    mbd = SteeringMap.from_steering(plant_vehicle.steering_for(yard_model))
+    mbd = plant_vehicle.steering_for(yard_model)
     boxes = box_array(yard.obstacles)
     x0 = frames.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma)
     xs, ys = frames.tractor_sensor_of_kin(x0)
@@ -563,7 +562,7 @@ def truth_yard(vehicle, truth_seed: int, number: int, seed: int) -> tuple:
     vt = truth_vehicle(load, truth, truth_seed, slope(truth_seed, number * 1000 + seed, truth))
 
     def build():
-        steering = SteeringMap.from_steering(vt.steering_for("mbd"))
+        steering = vt.steering_for("mbd")
         # The independent truth's play is in its model's column; only the drift is here.
         play = 0.0 if truth["kind"] == "independent" else truth.get("backlash", 0.0)
         column = SteeringColumn(play, truth.get("drift_rate", 0.0))

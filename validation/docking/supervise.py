@@ -83,7 +83,7 @@ def calling(what: str, t: float = 0.0) -> Iterator[None]:
 def _worker(conn, hb, parent: int) -> None:
     """A worker's loop: receive ``(fn, args)``, send back ``("ok", result)`` or the error."""
     global _heartbeat
-    from artic.validation.runs.workers import init_worker
+    from artic.validation.plumbing.workers import init_worker
 
     init_worker(parent)
     _heartbeat = hb

@@ -11,7 +11,7 @@ sets.
 machine to the benchmark's supervised worker processes (``--jobs``; a
 controller that crashes or hangs fails its run), or with ``--executor dask``
 to the campaign's Dask executor
-(:func:`artic.validation.runs.executors.cluster_executor`: a local cluster,
+(:func:`artic.validation.plumbing.executors.cluster_executor`: a local cluster,
 or ``--scheduler ADDRESS`` with its TLS options; the cluster must be trusted).
 Each finished run is written at once, atomically, as
 ``sweep_runs/AXIS=LEVEL-SCENARIO-VEHICLE-CONTROLLER-SEED.json`` holding what
@@ -320,14 +320,14 @@ def vehicle_fingerprint(vehicle: str) -> str:
 def code_fingerprint(controller: str) -> str:
     """A short hash of the code a run of ``controller`` executes.
 
-    artic's computing code (:func:`artic.validation.runs.fingerprint.code`, the
+    artic's computing code (:func:`artic.validation.plumbing.fingerprint.code`, the
     campaign's cache key: the plant, the models, the benchmark and the built-in
     controllers) and, for a ``module:Class`` controller, its module's source file
     (found without importing the module itself; a module that cannot be found adds nothing, and
     its runs fail on their own).
     """
     from artic.validation.docking.controllers import BUILTIN
-    from artic.validation.runs import fingerprint
+    from artic.validation.plumbing import fingerprint
 
     h = hashlib.sha256(fingerprint.code().encode())
     if controller not in BUILTIN and ":" in controller:
@@ -527,7 +527,7 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
             for name, row in done:
                 yield by_name[name], row
         return
-    from artic.validation.runs.executors import cluster_executor
+    from artic.validation.plumbing.executors import cluster_executor
 
     with cluster_executor(executor, jobs, scheduler, dask) as pool:
         futures = {pool.submit(run_in_child, s, rec): s for s in specs}
@@ -554,7 +554,7 @@ def sweep(specs: Sequence[RunSpec], out: Path, jobs: int = 1, executor: str = "l
     Each run's row is written to ``out/sweep_runs`` as it finishes
     (:func:`write_run`), so an interrupted sweep resumes (:func:`done_runs`).
     """
-    from artic.validation.cli.progress import Counter
+    from artic.validation.plumbing.progress import Counter
 
     folder = Path(out) / RUNS_DIR
     others = _other_runs(folder, specs)

@@ -7,12 +7,13 @@
   the STM, compiled by numba;
 - :mod:`~artic.validation.harness.reversing`: when the feedback is on (reversing
   decided with hysteresis on the speed) and its weight, handed over in ramps;
-- :mod:`~artic.validation.harness.steering`: the steering map, eq. (3);
-  :mod:`~artic.validation.harness.yawsteer`: steering from the measured yaw rate,
-  for logs without a steering channel;
 - :mod:`~artic.validation.harness.batch`: many logs through the harness at once;
 - :mod:`~artic.validation.harness.simulate`: open-loop simulation of a manoeuvre,
-  and a driver who steers the articulation onto a reference;
+  and a driver who steers the articulation onto a reference, through a
+  manoeuvre's inputs (:mod:`artic.validation.logs.profile`);
 - :mod:`~artic.validation.harness.plantnotes`: what the plant had to limit during
   a run, collected per run instead of printed.
+
+The steering map of eq. (3) is the vehicle's (:mod:`artic.mjcf.steering`); steering
+from the measured yaw rate is a log's (:mod:`artic.validation.logs.yawsteer`).
 """

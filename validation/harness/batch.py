@@ -119,6 +119,7 @@ def run_many(model_factory, vehicles: Sequence[Vehicle], inputs: Sequence[LoopIn
     run is independent of the others, so the numbers do not depend on ``jobs``.
     The longest runs start first, which keeps the threads busy to the end.
     """
+    # Here, not at the top: the notes load MuJoCo, which a batch of KIN or the STM needs not.
     from artic.validation.harness.plantnotes import collect, summary
 
     def one(i):

@@ -25,7 +25,7 @@ Inputs per sample ``k`` (held over the step to ``k + 1``):
 - ``delta_center`` from the log's ``delta_h`` through the model's eq. (3) map,
   or, for a log steered from its yaw rate (``--steer-from yaw-rate``, or a
   ``delta_h`` derived at import), the road-wheel angle of
-  :mod:`artic.validation.harness.yawsteer`;
+  :mod:`artic.validation.logs.yawsteer`;
 - the tractor speed ``u1 = v_x_1 + r_1 * y_s1``, exact for a rigid tractor
   whose sensor sits ``y_s1`` off its centre line, smoothed by a quadratic
   Savitzky-Golay filter over :data:`SPEED_WINDOW` and rising linearly to the
@@ -56,41 +56,21 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pandas as pd
 
-from artic.mjcf.interface import InitialState, LoopArgs
+from artic.mjcf.interface import OBSERVATION, InitialState, LoopArgs
+from artic.mjcf.steering import Steering
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.cli.progress import BUDGET
 from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.reversing import DEFAULT_GAIN, feedback_weight
-from artic.validation.harness.steering import SteeringMap
-from artic.validation.harness.yawsteer import (
+from artic.validation.logs.differentiate import smooth_speed
+from artic.validation.logs.runfile import MAX_POSITION, Run, new_frame
+from artic.validation.logs.yawsteer import (
     equivalent_wheelbase,
     road_wheel_from_yaw_rate,
     steering_wheel,
     wants_yaw_rate,
 )
-from artic.validation.logs.runfile import MAX_POSITION, Run, new_frame
 from artic.validation.models import Model, compiled_form, driven, own_loop, steering_for
-
-SPEED_WINDOW = 0.5
-"""Length of the speed filter's window [s] (see the module docstring)."""
-
-
-def smooth_speed(t: np.ndarray, u: np.ndarray, window: float = SPEED_WINDOW) -> np.ndarray:
-    """Quadratic Savitzky-Golay smoothing of a speed signal sampled at ``t`` [m/s].
-
-    The log's time base is uniform (the importers make it so); the window is
-    the odd number of samples nearest to ``window`` seconds. Logs shorter
-    than the window are returned unchanged.
-    """
-    if u.size < 5:
-        return u.copy()
-    n = int(round(window / float(np.median(np.diff(t)))))
-    n += 1 - n % 2
-    if n < 5 or n > u.size:
-        return u.copy()
-    from scipy.signal import savgol_filter  # here: scipy.signal takes a second to import
-
-    return savgol_filter(u, n, 2, mode="interp")
+from artic.validation.plumbing.budget import BUDGET
 
 
 @dataclass(frozen=True)
@@ -113,7 +93,7 @@ class LoopInputs:
         return self.weight > 0.0
 
 
-def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs:
+def loop_inputs(run: Run, vehicle: Vehicle, steering: Steering) -> LoopInputs:
     """Derive the harness inputs from a log.
 
     Parameters
@@ -122,7 +102,7 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
         A checked log in the signal schema.
     vehicle : Vehicle
         For the tractor sensor's lateral offset.
-    steering : SteeringMap
+    steering : Steering
         The model's eq. (3) map.
     """
     inputs = unsteered_inputs(run, vehicle)
@@ -132,8 +112,8 @@ def loop_inputs(run: Run, vehicle: Vehicle, steering: SteeringMap) -> LoopInputs
 
 
 def yaw_steered(inputs: LoopInputs, run: Run, vehicle: Vehicle,
-                steering: SteeringMap) -> LoopInputs:
-    """``inputs`` steered from the measured yaw rate (:mod:`artic.validation.harness.yawsteer`).
+                steering: Steering) -> LoopInputs:
+    """``inputs`` steered from the measured yaw rate (:mod:`artic.validation.logs.yawsteer`).
 
     ``delta_h`` becomes the steering-wheel angle that gives ``delta_c`` through
     the model's map, for the record.
@@ -198,7 +178,7 @@ def window(inputs: LoopInputs, frame: pd.DataFrame, start: int, stop: int) -> Lo
                                                              float(inputs.u1[start]))))
 
 
-def steered(inputs: LoopInputs, steering: SteeringMap, source: str) -> LoopInputs:
+def steered(inputs: LoopInputs, steering: Steering, source: str) -> LoopInputs:
     """``inputs`` with ``delta_c`` from ``steering``, after checking its range.
 
     Raises
@@ -253,6 +233,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
     args = loop_args(inputs, vehicle, gain)
     form = compiled_form(model)
     if form is not None:
+        # Here, not at the top: numba loads only for KIN and the STM, not for the plant's runs.
         from artic.validation.harness.reducedloop import (
             compiled_loop,  # numba: only for KIN and the STM
         )
@@ -278,7 +259,7 @@ def run_inputs(model: Model, inputs: LoopInputs, vehicle: Vehicle,
 def count_run(kind: str, t: np.ndarray, n_done: int) -> None:
     """Count a run of ``n_done`` samples of ``t`` [s] in the process's budget.
 
-    :data:`artic.validation.cli.progress.BUDGET`.
+    :data:`artic.validation.plumbing.budget.BUDGET`.
     """
     n = int(n_done)
     BUDGET.add(kind, float(t[n - 1] - t[0]) if n > 1 else 0.0)
@@ -304,8 +285,6 @@ def beyond_limits(o: np.ndarray) -> str:
 
     The text begins with :data:`DIVERGED`.
     """
-    from artic.mjcf.interface import OBSERVATION
-
     for name, value, limit in zip(OBSERVATION, o, OBSERVATION_LIMIT, strict=True):
         if not math.isfinite(value):
             return f"{DIVERGED}{name} stopped being finite"
@@ -385,7 +364,7 @@ def run_closed_loop(model: Model, run: Run, vehicle: Vehicle,
     >>> bool(abs(run.frame["gamma"] - log.frame["gamma"]).max() < 1e-6)  # [rad]
     True
     """
-    steering = SteeringMap.from_steering(steering_for(vehicle, model))
+    steering = steering_for(vehicle, model)
     inputs = loop_inputs(run, vehicle, steering)
     extra: dict[str, np.ndarray] | None = {} if extras else None
     obs, delta, delta_fb, sat, n = run_inputs(model, inputs, vehicle, gain, extra)

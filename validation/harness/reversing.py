@@ -5,7 +5,7 @@ only while the tractor reverses. Deciding that sample by sample from the sign
 of a measured speed switches the feedback on in forward runs: at standstill
 the speed is noise about zero, and every negative sample would count. The
 decision here is on the harness's own speed input ``u1`` (the measured speed,
-smoothed over :data:`artic.validation.harness.loop.SPEED_WINDOW`), once per log, with
+smoothed over :data:`artic.validation.logs.differentiate.SPEED_WINDOW`), once per log, with
 a dead band and a minimum duration:
 
 - a *reversing stretch* is a run of samples with ``u1 < -v_off`` that reaches

@@ -17,13 +17,13 @@ import math
 import numpy as np
 
 from artic.mjcf.interface import InitialState
+from artic.mjcf.steering import Steering
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.loop import LoopInputs, beyond_limits, run_inputs
-from artic.validation.harness.steering import SteeringMap
+from artic.validation.logs.profile import Profile
 from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.models import Model, driven, steering_for
-from artic.validation.synthetic.manoeuvres import Profile
 
 
 def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
@@ -59,7 +59,7 @@ def simulate(model: Model, vehicle: Vehicle, profile: Profile) -> Run:
     >>> run.frame.shape[0], bool(run.frame["gamma"].abs().max() > 0.01)  # it turned [rad]
     (801, True)
     """
-    steering = SteeringMap.from_steering(steering_for(vehicle, model))
+    steering = steering_for(vehicle, model)
     steering.check_range(profile.delta_h, f"manoeuvre {profile.kind}")
     u1_dot = np.zeros_like(profile.u1)
     u1_dot[:-1] = np.diff(profile.u1) / np.diff(profile.t)
@@ -100,7 +100,7 @@ def steady_articulation_delta(gamma: float, vehicle: Vehicle) -> float:
 
 def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.ndarray,
                        gamma_ref: np.ndarray, gain: float = 2.0,
-                       steering: SteeringMap | None = None) -> Run:
+                       steering: Steering | None = None) -> Run:
     """Drive a model with a driver who steers the articulation onto a reference.
 
     ``delta = delta_ss(gamma_ref) + gain * (gamma - gamma_ref)`` while
@@ -117,7 +117,7 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
         Time [s], tractor speed [m/s] and articulation reference [rad].
     gain : float
         Driver gain [rad/rad]; above ``L1 / (L2 - L1c)`` to stabilise.
-    steering : SteeringMap, optional
+    steering : Steering, optional
         Map used to record ``delta_h`` from the road-wheel angle; the
         vehicle's (for ``model.name``) by default.
 
@@ -126,7 +126,7 @@ def drive_articulation(model: Model, vehicle: Vehicle, t: np.ndarray, u1: np.nda
     Run
         Signal schema with ``delta_h`` as the driver turned the wheel.
     """
-    steering = steering or SteeringMap.from_steering(steering_for(vehicle, model))
+    steering = steering or steering_for(vehicle, model)
     n = t.size
     model = driven(model)
     model.reset(InitialState(0.0, 0.0, 0.0, float(gamma_ref[0]), u1=float(u1[0])))

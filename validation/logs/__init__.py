@@ -17,7 +17,17 @@
 - :mod:`~artic.validation.logs.channels`, :mod:`~artic.validation.logs.channelmap`,
   :mod:`~artic.validation.logs.bags`, :mod:`~artic.validation.logs.assemble`: any
   other CSV (its own names, units and clock), ROS bags and MCAP files, through a
-  channel map, split at gaps, onto 100 Hz;
+  channel map, split at gaps, onto 100 Hz; :mod:`~artic.validation.logs.units`:
+  the unit names a map may write, and each channel's dimension;
+  :mod:`~artic.validation.logs.noise`: the sensors' noise a map declares;
 - :mod:`~artic.validation.logs.differentiate`, :mod:`~artic.validation.logs.derive`:
-  what such a log lacks (rates from poses, one unit from the other).
+  what such a log lacks (rates from poses, one unit from the other), and the
+  speed smoothed as the harness reads it;
+  :mod:`~artic.validation.logs.yawsteer`: steering from the measured yaw rate,
+  for logs without a steering channel;
+- :mod:`~artic.validation.logs.profile`: a manoeuvre's inputs as time series, which
+  the synthetic campaign makes and the harness's open-loop simulation drives.
+
+The logs sit below the harness and every other room of :mod:`artic.validation`
+but the plumbing, which they may import; they import no room above.
 """

@@ -26,7 +26,7 @@ interpolated, time going back refused). Then:
   ``gamma`` (:mod:`artic.validation.logs.derive`), with ``gamma_rate`` or the
   same differentiator on ``gamma``; without ``delta_h``, the steering-wheel
   angle that turns the tractor at its yaw rate through the vehicle's map
-  (:mod:`artic.validation.harness.yawsteer`), so that the models are steered from
+  (:mod:`artic.validation.logs.yawsteer`), so that the models are steered from
   the yaw rate. Each derivation is one line of the report and of
   ``meta["derived"]``.
 """
@@ -46,10 +46,16 @@ from artic.validation.logs.channelmap import GEODETIC, POSE, RATES, ChannelMap, 
 from artic.validation.logs.checks import MAX_JUMP, Report, check_jumps, clean_time, fill_nan_runs
 from artic.validation.logs.consistency import CANONICAL, Context
 from artic.validation.logs.derive import TRACTOR, TRAILER, derive_tractor, derive_trailer
-from artic.validation.logs.differentiate import derivative, rates_from_pose
+from artic.validation.logs.differentiate import derivative, rates_from_pose, smooth_speed
+from artic.validation.logs.oxts import radii
 from artic.validation.logs.runfile import LogError, Run, check_frame
 from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS, MIN_SEGMENT
+from artic.validation.logs.yawsteer import (
+    equivalent_wheelbase,
+    road_wheel_from_yaw_rate,
+    steering_wheel,
+)
 
 RATE = 100.0
 """Sample rate of the canonical log [Hz]."""
@@ -135,8 +141,6 @@ def _clean(stream: Stream, chmap: ChannelMap, report: Report, factor: float,
 
 def _local_plane(cleaned: list[_Clean], chmap: ChannelMap, report: Report) -> None:
     """Latitude and longitude [rad] to east and north [m] in the plane tangent at the first fix."""
-    from artic.validation.logs.oxts import radii
-
     geo = {e.channel: e.unit for e in chmap.entries.values() if e.unit in GEODETIC}
     if not geo:
         return
@@ -384,17 +388,9 @@ def complete(df: pd.DataFrame, chmap: ChannelMap, vehicle: Vehicle) -> tuple[pd.
 
 def _delta_h_from_yaw_rate(df: pd.DataFrame, vehicle: Vehicle) -> np.ndarray:
     """The steering-wheel angle that turns the tractor at its yaw rate (KIN's map) [rad]."""
-    from artic.validation.harness.loop import smooth_speed
-    from artic.validation.harness.steering import SteeringMap
-    from artic.validation.harness.yawsteer import (
-        equivalent_wheelbase,
-        road_wheel_from_yaw_rate,
-        steering_wheel,
-    )
-
     t = df["t"].to_numpy()
     r1 = df["r_1"].to_numpy()
     u1 = smooth_speed(t, df["v_x_1"].to_numpy() + r1 * vehicle.sensor1[1])
     delta = road_wheel_from_yaw_rate(u1, smooth_speed(t, r1), equivalent_wheelbase(vehicle))
-    smap = SteeringMap.from_steering(vehicle.steering_for("kin"))
+    smap = vehicle.steering_for("kin")
     return steering_wheel(smap, delta, vehicle.steering.delta_max)

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from artic.validation.logs.assemble import Stream
 from artic.validation.logs.channelmap import ChannelMap, Entry
 from artic.validation.logs.runfile import LogError
 
@@ -225,8 +226,6 @@ def read_bag(path: Path, chmap: ChannelMap) -> tuple[list, list[str]]:
     LogError
         One line naming the file, the topic and the field.
     """
-    from artic.validation.logs.assemble import Stream
-
     rosbag1, rosbag2, typesys = _rosbags()
     path = Path(path)
     if not path.exists():

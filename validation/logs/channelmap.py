@@ -40,7 +40,7 @@ other unit's channels are derived (:mod:`artic.validation.logs.derive`).
 Velocities ``v_x_i, v_y_i`` and yaw rates ``r_i`` not named are derived from
 the pose (:mod:`artic.validation.logs.differentiate`); ``gamma_rate`` is
 optional; without ``delta_h`` the models are steered from the measured yaw
-rate (:mod:`artic.validation.harness.yawsteer`). Everything derived is marked as
+rate (:mod:`artic.validation.logs.yawsteer`). Everything derived is marked as
 derived in the run's metadata, the import report and ``artic validate``.
 
 A map may also declare its sensors' noise in a ``[noise]`` table (standard
@@ -58,18 +58,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from artic.validation.logs.differentiate import WINDOW
+from artic.validation.logs.noise import parse_noise
 from artic.validation.logs.runfile import LogError
-
-UNITS: dict[str, tuple[str, float]] = {
-    "s": ("time", 1.0), "ms": ("time", 1e-3),
-    "m": ("length", 1.0), "cm": ("length", 0.01), "mm": ("length", 1e-3),
-    "m/s": ("speed", 1.0), "km/h": ("speed", 1 / 3.6), "mph": ("speed", 0.44704),
-    "rad": ("angle", 1.0), "deg": ("angle", math.pi / 180),
-    "rad/s": ("rate", 1.0), "deg/s": ("rate", math.pi / 180),
-    "quaternion": ("angle", 1.0),
-    "latitude": ("length", math.pi / 180), "longitude": ("length", math.pi / 180),
-}
-"""Unit name to (dimension, factor to SI)."""
+from artic.validation.logs.units import DIMENSION, UNITS
 
 QUATERNION_CHANNELS = ("psi_1", "psi_2", "gamma")
 """Channels that may be given as a quaternion (its yaw)."""
@@ -79,14 +70,6 @@ GEODETIC = {"latitude": ("y_1", "y_2"), "longitude": ("x_1", "x_2")}
 
 POSE = {i: (f"x_{i}", f"y_{i}", f"psi_{i}") for i in (1, 2)}
 RATES = {i: (f"v_x_{i}", f"v_y_{i}", f"r_{i}") for i in (1, 2)}
-
-DIMENSION: dict[str, str] = {
-    "delta_h": "angle", "gamma": "angle", "gamma_rate": "rate",
-    **{f"{c}_{i}": d for i in (1, 2) for c, d in (("x", "length"), ("y", "length"),
-                                                  ("psi", "angle"), ("v_x", "speed"),
-                                                  ("v_y", "speed"), ("r", "rate"))},
-}
-"""Every channel a map may name, with its dimension."""
 
 TIME_SOURCES = ("header", "receive")
 
@@ -223,8 +206,6 @@ def read_map(path: Path | dict) -> ChannelMap:
                        "[time], [channels] and optionally [derive] and [noise]")
     noise = {}
     if "noise" in data:
-        from artic.validation.logs.noise import parse_noise  # it reads this module's units
-
         noise = parse_noise(data["noise"], str(path))
     time = data.get("time")
     if not isinstance(time, dict):

@@ -94,6 +94,7 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf.errors import UserError
+from artic.mjcf.vehicle import load_vehicle
 from artic.validation.logs.checks import MAX_GAP, MAX_JUMP
 from artic.validation.logs.runfile import LogError
 from artic.validation.logs.scale import FULL_SIZE, LogScale
@@ -620,10 +621,8 @@ def check_jump(t: np.ndarray, df: pd.DataFrame, i: int, ctx: Context,
 def check_steering(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
                    scale: LogScale = FULL_SIZE) -> Finding | None:
     """Steering wheel through eq. (3): within reach, and turning the tractor as it does."""
-    from artic.validation.harness.steering import SteeringMap
-
     s = vehicle.steering_for("kin")
-    smap = SteeringMap.from_steering(s)
+    smap = s
     dh = df["delta_h"].to_numpy(float)
     delta = np.asarray(smap.road_wheel(dh), dtype=float)
     reach = STEER_REACH * vehicle.steering.delta_max
@@ -727,8 +726,6 @@ def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
 
 def _default_vehicle(vehicle):
     if vehicle is None:
-        from artic.mjcf.vehicle import load_vehicle
-
         return load_vehicle("gosar2022-unloaded")
     return vehicle
 
@@ -1067,8 +1064,6 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
     if "steering" in run:
         steer_vehicle = vehicle
         if steer_vehicle is None:
-            from artic.mjcf.vehicle import load_vehicle
-
             steer_vehicle = load_vehicle("gosar2022-unloaded")
         if (f := check_steering(t, frame, steer_vehicle, ctx, sc)) is not None:
             yield f

@@ -109,3 +109,26 @@ def sinusoid_gain(window: float, period: float) -> float:
     """The differentiator's gain on a sinusoid of ``period`` [s] (see the module docstring)."""
     x = math.pi * window / period
     return 3.0 * (math.sin(x) - x * math.cos(x)) / x ** 3 if x > 1e-6 else 1.0
+
+
+SPEED_WINDOW = 0.5
+"""Length of the window [s] over which the harness smooths a log's speed
+(:mod:`artic.validation.harness.loop`, :func:`smooth_speed`)."""
+
+
+def smooth_speed(t: np.ndarray, u: np.ndarray, window: float = SPEED_WINDOW) -> np.ndarray:
+    """Quadratic Savitzky-Golay smoothing of a speed signal sampled at ``t`` [m/s].
+
+    The log's time base is uniform (the importers make it so); the window is
+    the odd number of samples nearest to ``window`` seconds. Logs shorter
+    than the window are returned unchanged.
+    """
+    if u.size < 5:
+        return u.copy()
+    n = int(round(window / float(np.median(np.diff(t)))))
+    n += 1 - n % 2
+    if n < 5 or n > u.size:
+        return u.copy()
+    from scipy.signal import savgol_filter  # here: scipy.signal takes a second to import
+
+    return savgol_filter(u, n, 2, mode="interp")

@@ -34,6 +34,7 @@ import pandas as pd
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.logs import consistency
 from artic.validation.logs.bags import is_bag
+from artic.validation.logs.channels import import_mapped, map_context, tractor_only_map
 from artic.validation.logs.oxts import import_mat, import_oxts, read_csv
 from artic.validation.logs.runfile import (
     LogError,
@@ -194,8 +195,6 @@ def import_runs(path: Path, accept: Collection[str] = (), vehicle=None,
                        "names a topic and field per channel: pass --channels MAP.toml (the "
                        "logs guide of artic's documentation has an example)")
     if channels is not None or _tractor_only(path):
-        from artic.validation.logs.channels import import_mapped, map_context, tractor_only_map
-
         geometry = vehicle if vehicle is not None else load_vehicle("gosar2022-unloaded")
         spec = channels or tractor_only_map(path)
         runs, report = import_mapped(path, spec, geometry, accept, LogScale.of(vehicle))

@@ -47,8 +47,9 @@ import pandas as pd
 from scipy.signal import lfilter
 
 from artic.mjcf.interface import wrap_angle
-from artic.validation.logs.channelmap import DIMENSION, UNITS
+from artic.mjcf.plausible import PlausibilityWarning
 from artic.validation.logs.runfile import LogError
+from artic.validation.logs.units import DIMENSION, UNITS
 
 CHANNELS = (*(f"{c}_{i}" for i in (1, 2) for c in ("x", "y", "psi", "v_x", "v_y", "r")),
             "gamma")
@@ -182,8 +183,6 @@ def _judge(where: str, key: str, name: str, value: float, unit: str, factor: flo
            dimension: str) -> None:
     """Refuse a noise no sensor of ``dimension`` has; warn beyond the usual (see above)."""
     import warnings
-
-    from artic.mjcf.plausible import PlausibilityWarning
 
     r = NOISE_RANGES[dimension]
     si = value * factor

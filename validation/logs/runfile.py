@@ -22,10 +22,10 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from artic.mjcf.errors import UserError
+from artic.mjcf.files import TEMP_SUFFIX, public_mode
 from artic.mjcf.interface import wrap_angle
 from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS, UNIT_HINT
-from artic.validation.runs.outputs import TEMP_SUFFIX, public_mode
 
 META_KEY = b"artic"
 

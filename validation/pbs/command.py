@@ -22,7 +22,7 @@ DEFAULT_MODELS = "kin,stm,mbd,truth"
 
 def add_parser(sub) -> None:
     """Add ``pbs`` to the ``artic`` subcommands ``sub``."""
-    from artic.validation.cli import options
+    from artic.validation.plumbing import options
 
     p = sub.add_parser("pbs", help="low-speed performance measures (swept path, swings, "
                                    "off-tracking) on every model and the truth")
@@ -79,7 +79,7 @@ def run(args: argparse.Namespace) -> int:
     from artic.validation.pbs.figure import plot_swept_paths
     from artic.validation.pbs.run import run_model
     from artic.validation.pbs.tables import markdown, table, write_tables
-    from artic.validation.runs.outputs import check_output_dir
+    from artic.validation.plumbing.outputs import check_output_dir
 
     vehicle = load_vehicle(args.vehicle)
     names = _models(args.models, vehicle)

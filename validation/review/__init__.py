@@ -10,5 +10,7 @@ Used by ``artic validate``, the campaign and ``artic dock`` alike.
   recordings draw them;
 - :mod:`~artic.validation.review.plots`: static plots of a manoeuvre;
 - :mod:`~artic.validation.review.frequency`: gain and phase of the yaw rates and
-  the articulation against the steering, each model against the truth.
+  the articulation against the steering, each model against the truth;
+- :mod:`~artic.validation.review.frequencystudy`: the swept sine through the truth and
+  each model, and their frequency responses.
 """

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from artic.validation.criteria.metrics import travelled
+from artic.validation.criteria.distance import travelled
 from artic.validation.logs.runfile import Run, atomic_write
 from artic.validation.models import REGISTRY
 

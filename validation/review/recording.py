@@ -49,7 +49,7 @@ from rerun.chunk import RrdReader
 from artic.mjcf.outline import DOCK_DEPTH, DOCK_FACE, outline
 from artic.mjcf.tir import read_tir
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.criteria.metrics import distance_weights, travelled
+from artic.validation.criteria.distance import distance_weights, travelled
 from artic.validation.criteria.pathdist import distance_to_polyline
 from artic.validation.logs.runfile import Run
 from artic.validation.models import colour as model_colour

@@ -33,6 +33,7 @@ import numpy as np
 import pandas as pd
 
 from artic.validation.criteria import columns as extra
+from artic.validation.criteria.coverage import FOLLOW_BOUND, PATH_CRITERIA
 from artic.validation.criteria.multiplicity import (
     ALPHA,
     CORRECTION,
@@ -98,8 +99,6 @@ def progress(metrics: pd.DataFrame) -> pd.DataFrame:
     run that follows scores. The column ``off_run`` is 1 for such a run, 0
     otherwise; ``metrics.csv`` keeps the values as computed.
     """
-    from artic.validation.criteria.coverage import FOLLOW_BOUND, PATH_CRITERIA
-
     if "eps_cover" not in metrics or OFF_RUN in metrics:
         return metrics
     cover = pd.to_numeric(metrics["eps_cover"], errors="coerce")

@@ -34,14 +34,13 @@ import pandas as pd
 
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.kinematic import kin_parameters
-from artic.validation.cli.progress import Counter
 from artic.validation.criteria.metrics import run_metrics
 from artic.validation.criteria.statistics import mean_ci
 from artic.validation.harness.batch import BatchResult, run_batch
 from artic.validation.harness.loop import LoopInputs, loop_inputs
-from artic.validation.harness.steering import SteeringMap
-from artic.validation.logs.runfile import Run, new_frame
+from artic.validation.logs.runfile import Run, atomic_write, new_frame
 from artic.validation.models import spec, steering_for
+from artic.validation.plumbing.progress import Counter
 
 DEFAULT_GAINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
 """Gains swept by default [rad/rad]; the bound of every vehicle is added."""
@@ -58,6 +57,7 @@ def model_lengths(vehicle: Vehicle, model: str = "kin") -> tuple[float, float, f
     if model == "paper":
         return vehicle.L1, vehicle.L1c, vehicle.L2
     if model == "kin":
+        # Here, not at the top: numba loads only for a sweep of KIN.
         from artic.reduced.control import KIN
 
         L1, L1c, L2 = KIN(vehicle).params
@@ -138,7 +138,7 @@ def gain_sweep(logs_by_vehicle: Mapping[str, tuple[Vehicle, Sequence[Run]]],
 
 def _inputs(model: str, vehicle: Vehicle, logs: Sequence[Run]) -> list[LoopInputs]:
     """The harness's inputs of ``model`` on each log (:func:`loop_inputs`)."""
-    steering = SteeringMap.from_steering(steering_for(vehicle, model))
+    steering = steering_for(vehicle, model)
     return [loop_inputs(log, vehicle, steering) for log in logs]
 
 
@@ -183,8 +183,6 @@ def plot_gain_sweep(sweep: pd.DataFrame, path, gain: float) -> None:
     model's own ``K_min`` is a dotted line in its colour.
     """
     from matplotlib.figure import Figure
-
-    from artic.validation.logs.runfile import atomic_write
 
     bounds = sweep.attrs["K_min"]
     fig = Figure(figsize=(10, 4), layout="constrained")

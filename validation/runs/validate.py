@@ -31,7 +31,6 @@ import pyarrow.parquet as pq
 
 from artic.mjcf.errors import UserError, one_line
 from artic.mjcf.vehicle import Vehicle
-from artic.validation.cli.progress import BUDGET, Counter, stderr
 from artic.validation.criteria import columns as extra
 from artic.validation.criteria.direction import direction_of
 from artic.validation.criteria.fixedscale import Scale, campaign_scale, eps_n_fixed
@@ -48,7 +47,10 @@ from artic.validation.logs.runfile import (
     write_run,
 )
 from artic.validation.logs.schema import COLUMNS, MODEL_SIGNALS
-from artic.validation.models import build, close, floor_replay, spec
+from artic.validation.models import build, close, spec
+from artic.validation.plumbing.budget import BUDGET
+from artic.validation.plumbing.progress import Counter, stderr
+from artic.validation.synthetic.floor import floor_replay
 
 FAILED = ("failed", "refused")
 """Status prefixes of a (log, model) pair without a result."""
@@ -124,7 +126,7 @@ def validate_runs(logs: Sequence[Run], vehicle: Vehicle | Callable[[Run], Vehicl
         twin run again).
     progress : callable, optional
         Receives progress lines (counts and the time left, see
-        :class:`artic.validation.cli.progress.Counter`), one line for the runs reused,
+        :class:`artic.validation.plumbing.progress.Counter`), one line for the runs reused,
         and one line per run whose model had to limit something
         (:mod:`artic.validation.harness.plantnotes`) or stopped early.
     reuse_key : str, optional
@@ -371,6 +373,7 @@ def _simulate(name: str, log: Run, vehicle: Vehicle | Callable[[Run], Vehicle],
     ``share``: the floor's replay runs to return (``True``) or reuse
     (:func:`artic.validation.criteria.prediction.prediction_errors`).
     """
+    # Here, not at the top: the notes load MuJoCo, which a reduced model's run needs not.
     from artic.validation.harness.plantnotes import collect, summary
 
     t0 = time.perf_counter()
@@ -419,7 +422,7 @@ def _predict(model, log: Run, vehicle: Vehicle, name: str, share=None) -> dict:
     that has states (``set_full_state``) but whose log holds none leaves
     every start point out rather than start with its hidden states zeroed.
     Started, it replays the truth's own recorded actuation
-    (:func:`artic.validation.models.floor_replay`); a log without one has it
+    (:func:`artic.validation.synthetic.floor.floor_replay`); a log without one has it
     driven by the harness's speed follower, and its note says so.
     """
     replay = None
@@ -501,4 +504,4 @@ def write_metrics(df: pd.DataFrame, path: Path) -> Path:
 
 
 stderr_progress = stderr
-"""Print a progress line to standard error (:func:`artic.validation.cli.progress.stderr`)."""
+"""Print a progress line to standard error (:func:`artic.validation.plumbing.progress.stderr`)."""

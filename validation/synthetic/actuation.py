@@ -31,7 +31,7 @@ from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import G
 
 if TYPE_CHECKING:  # the plant's truths only; the yard truth's seat has its own gear
-    from artic.validation.harness.steering import SteeringMap
+    from artic.mjcf.steering import Steering
 
 
 @dataclass
@@ -154,7 +154,7 @@ class TruthActuation:
     ----------
     plant : plant.Plant
         Built with ``speed="pedals"`` when ``pedals`` is given.
-    steering : SteeringMap
+    steering : Steering
         The truth's own steering map (steering wheel to road wheel).
     column : SteeringColumn
         Free play and drift.
@@ -167,7 +167,7 @@ class TruthActuation:
 
     name = "mbd"
 
-    def __init__(self, plant, steering: SteeringMap, column: SteeringColumn,
+    def __init__(self, plant, steering: Steering, column: SteeringColumn,
                  pedals: PedalDriver | None = None, record: bool = False) -> None:
         self.plant = plant
         self.steering = steering

@@ -49,6 +49,7 @@ import numpy as np
 from artic.mjcf.interface import wrap_angle
 from artic.mjcf.outline import DOCK_FACE, outline
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.models import driven
 
 DELAY = 0.25
 """The driver's reaction delay [s]: perception to the wheel's first move."""
@@ -283,8 +284,6 @@ def drive_dock(vehicle, driver: DockingDriver, initial, max_time: float = 240.0)
         Longest drive [s].
     """
     if not callable(getattr(vehicle, "reset", None)):  # a state-space model (KIN, STM)
-        from artic.validation.models import driven
-
         vehicle = driven(vehicle)
     wheel = getattr(vehicle, "step_steering_wheel", None)
     vehicle.reset(initial)

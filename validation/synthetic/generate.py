@@ -52,9 +52,9 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf.errors import UserError
+from artic.mjcf.files import TEMP_SUFFIX, public_mode
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import Steering, Vehicle
-from artic.validation.cli.progress import BUDGET, Counter
 from artic.validation.criteria.truthrecords import (
     ACTUATION_KEY,
     STATE_KEY,
@@ -63,9 +63,10 @@ from artic.validation.criteria.truthrecords import (
 )
 from artic.validation.logs.oxts import export_oxts
 from artic.validation.logs.runfile import Run, new_frame
-from artic.validation.runs import fingerprint
-from artic.validation.runs.outputs import TEMP_SUFFIX, public_mode
-from artic.validation.runs.workers import completed
+from artic.validation.plumbing import fingerprint
+from artic.validation.plumbing.budget import BUDGET
+from artic.validation.plumbing.progress import Counter
+from artic.validation.plumbing.workers import completed
 from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, TruthActuation
 from artic.validation.synthetic.driver import DockingDriver, drive_dock
 from artic.validation.synthetic.manoeuvres import make_profile
@@ -425,7 +426,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     missing = []
     for m in todo:
         meta = out_dir / m.name / META_FILE
-        # Reuse only what this seed and this code made (see artic.validation.runs.fingerprint).
+        # Reuse only what this seed and this code made (see artic.validation.plumbing.fingerprint).
         twin = twins / m.name / META_FILE if twins is not None else None
         if not (meta.is_file() and _same(meta, seed, sensors, config)) or (
                 twin is not None and not (twin.is_file()

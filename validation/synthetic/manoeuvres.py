@@ -15,11 +15,11 @@ over :data:`SWEEP_TIME`, faded in over :data:`RAMP_TIME` and followed by
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from artic.mjcf.errors import UserError
+from artic.validation.logs.profile import Profile
 
 KINDS = ("straight", "constant-steer", "slalom", "figure-8", "ramp-steer-reverse", "swept-sine")
 
@@ -43,39 +43,6 @@ SWEEP_TIME = 60.0
 
 SWEEP_REST = 5.0
 """Straight steering after the sweep [s], so the responses settle inside the record."""
-
-
-@dataclass(frozen=True)
-class Profile:
-    """Inputs of a manoeuvre.
-
-    Parameters
-    ----------
-    kind : str
-        One of :data:`KINDS`.
-    t, delta_h, u1 : ndarray
-        Time [s], steering-wheel angle [rad], tractor speed [m/s].
-    meta : dict
-        Manoeuvre parameters, for the run's metadata.
-
-    See Also
-    --------
-    artic.make_profile : make one of the campaign's manoeuvres.
-    artic.simulate : drive a model through it.
-
-    Examples
-    --------
-    >>> import artic
-    >>> profile = artic.make_profile("ramp-steer-reverse", duration=10.0)
-    >>> bool((profile.u1 <= 0).all()), profile.kind
-    (True, 'ramp-steer-reverse')
-    """
-
-    kind: str
-    t: np.ndarray
-    delta_h: np.ndarray
-    u1: np.ndarray
-    meta: dict
 
 
 def _smoothstep(x: np.ndarray) -> np.ndarray:

@@ -72,7 +72,7 @@ from pathlib import Path
 import numpy as np
 
 from artic.mjcf.errors import UserError
-from artic.mjcf.vehicle import Vehicle, load_vehicle
+from artic.mjcf.vehicle import Vehicle, load_vehicle, resolve_vehicle_path, vehicle_from_dict
 from artic.mjcf.writer import updated, write_vehicle
 
 TRUTHS = ("independent", "structural", "legacy")
@@ -251,8 +251,6 @@ def truth_data(load: str, truth: dict, seed: int) -> dict:
 
 def truth_vehicle(load: str, truth: dict, seed: int, slope_: dict | None = None) -> Vehicle:
     """The truth of one load condition, with the yard's slope of one manoeuvre."""
-    from artic.mjcf.vehicle import resolve_vehicle_path, vehicle_from_dict
-
     v = vehicle_from_dict(truth_data(load, truth, seed),
                           resolve_vehicle_path(f"gosar2022-{load}"))
     if slope_:

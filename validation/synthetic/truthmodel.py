@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from artic.mjcf.vehicle import Vehicle
+from artic.validation.synthetic.actuation import TruthActuation
 
 TIMESTEP = 5e-3
 """The independent truth's own step [s], RK4, on the reversing manoeuvres
@@ -74,6 +75,7 @@ def truth_model(vehicle: Vehicle, truth: Mapping, speed: str = "follow",
         Unused by the truths built here (kept for the callers' signature).
     """
     if truth.get("kind") == "independent":
+        # Here, not at the top: MuJoCo and the truth's C loop load with the first truth built.
         from artic.validation.synthetic.yardtruth import YardSetup, YardTruth
 
         return YardTruth(vehicle, YardSetup.of(truth), speed)
@@ -88,20 +90,14 @@ def truth_actuation(model, steering, column, pedals=None, record: bool = False):
     The yard truth has its own (:class:`artic.validation.synthetic.yardtruth.YardSeat`,
     its own steering gear; ``steering`` is not used); the plant's truths sit
     behind :class:`artic.validation.synthetic.actuation.TruthActuation` with the
-    truth file's steering map (``steering``: a map with ``road_wheel`` and
-    ``steering_wheel``, or the vehicle's :class:`artic.mjcf.vehicle.Steering`,
-    of which the harness's map is built). ``record``: keep the model's full
+    truth file's steering map (``steering``, a :class:`artic.mjcf.steering.Steering`).
+    ``record``: keep the model's full
     state at every observation, in the seat's ``states`` (for the floor's
     open-loop predictions).
     """
+    # Here, not at the top: MuJoCo and the truth's C loop load with the first truth built.
     from artic.validation.synthetic.yardtruth import YardSeat, YardTruth
 
     if isinstance(model, YardTruth):
         return YardSeat(model, column, pedals, record=record)
-    from artic.validation.synthetic.actuation import TruthActuation
-
-    if not hasattr(steering, "road_wheel"):
-        from artic.validation.harness.steering import SteeringMap
-
-        steering = SteeringMap.from_steering(steering)
     return TruthActuation(model, steering, column, pedals, record=record)

@@ -52,6 +52,7 @@ from artic.mjcf.builder import build_model
 from artic.mjcf.errors import UserError
 from artic.mjcf.vehicle import G, Vehicle
 from artic.plant import Plant
+from artic.plant.closedloop import SOURCES
 from artic.plant.plant import BRAKE_DECEL_MAX, PARKING_BRAKE_GRADE
 from artic.validation.synthetic import tmeasy, truthc
 from artic.validation.synthetic.column import Column
@@ -323,8 +324,6 @@ class TruthPlant(Plant):
 
 
 def _sources() -> tuple[str, ...]:
-    from artic.plant.closedloop import SOURCES
-
     return SOURCES
 
 

@@ -38,7 +38,6 @@ from artic.mjcf.vehicle import Vehicle
 from artic.validation.docking.geometry import Frames
 from artic.validation.docking.planner import Plan, steady_delta
 from artic.validation.docking.scenarios import Yard
-from artic.validation.harness.steering import SteeringMap
 
 
 @dataclass(frozen=True)
@@ -181,7 +180,7 @@ class Controller:
         self.task = task
         self.vehicle = task.vehicle
         self.frames = Frames.of(task.vehicle)
-        self.steering = SteeringMap.from_steering(task.vehicle.steering_for("kin"))
+        self.steering = task.vehicle.steering_for("kin")
 
     def command(self, obs: Observation) -> Command:
         """The command for the next sample period."""

@@ -70,7 +70,6 @@ from artic.validation.docking.scenarios import scenario as find_scenario
 from artic.validation.docking.scores import estimate_scores, score
 from artic.validation.docking.sensing import SensorStream
 from artic.validation.docking.variants import Draw, effective_wheelbase
-from artic.validation.harness.steering import SteeringMap
 from artic.validation.synthetic.sensors import SensorModel
 
 N_SUB = round(DT / PLANT_DT)
@@ -99,7 +98,7 @@ def _periods(kind, P, s1, s2, live, x, wheel, u, t, wheel_target, u_target, stee
     """One controller period of ``N_SUB`` plant steps for the runs ``live``.
 
     The operations of ``drive``'s plant loop, in its order: the actuators' rate
-    limits, the steering map (``SteeringMap.road_wheel``), KIN's step and
+    limits, the steering map (``Steering.road_wheel``), KIN's step and
     signals (``Driven.step``, ``Driven.observe``), the jackknife check on the
     wrapped articulation. ``x, wheel, u, t`` advance in place; ``true, wheels,
     speeds, times`` receive each step's; ``steps`` how many were taken (fewer
@@ -224,7 +223,7 @@ class KinVectorEnv(VectorEnv):
         v = self.vehicle
         self._frames = Frames.of(v)
         self._model = KIN(v)
-        steering = SteeringMap.from_steering(v.steering_for("kin"))
+        steering = v.steering_for("kin")
         self._map = (float(steering.i_s), float(steering.q), float(steering.delta_h_offset))
         self._wheel0 = float(steering.steering_wheel(0.0))
         self._sensors = SensorModel()

@@ -31,7 +31,6 @@ from artic.mjcf.interface import OBSERVATION
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.docking.controllers.base import Command, Controller, Observation
 from artic.validation.docking.run import SPEED_MAX
-from artic.validation.harness.steering import SteeringMap
 
 _UNITS = {"x": "m", "y": "m", "psi": "rad", "v": "m/s", "r": "rad/s", "gamma": "rad"}
 
@@ -120,7 +119,7 @@ class ActionScale:
     def of(cls, vehicle: Vehicle) -> ActionScale:
         """The scale of ``vehicle``: its steering map (KIN's, eq. (3)) and the yard's limit."""
         steering = vehicle.steering_for("kin")
-        road = SteeringMap.from_steering(steering)
+        road = steering
         offset = float(road.steering_wheel(0.0))
         left = float(road.steering_wheel(steering.delta_max)) - offset
         right = offset - float(road.steering_wheel(-steering.delta_max))

@@ -109,6 +109,7 @@ def quiet_mujoco_timers() -> None:
 
     if mujoco.get_mjcb_time() is not None:  # the user's (or ours, already)
         return
+    # Here, not at the top: MuJoCo loads only in a process that steps the plant.
     from artic.plant.ctyre import zero_clock
 
     clock = zero_clock()

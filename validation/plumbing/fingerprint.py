@@ -28,7 +28,7 @@ PRESENTATION = frozenset({
     "validation/campaign/report.py", "validation/review/tables.py",
     "validation/review/plots.py", "validation/review/recording.py",
     "validation/cli/commands.py", "validation/cli/entry.py", "validation/review/plantshape.py",
-    "validation/cli/progress.py", "validation/campaign/rankings.py",
+    "validation/plumbing/progress.py", "validation/campaign/rankings.py",
     "validation/campaign/seeds.py", "validation/campaign/seedreport.py",
     "validation/testing.py",
 })

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from artic.mjcf.errors import UserError
+from artic.validation.plumbing.runtime import mujoco_settings
 
 NO_DISTRIBUTED = ("the dask executor needs the 'distributed' package: "
                   'pip install "artic[distributed]"')
@@ -150,8 +151,6 @@ def cluster_executor(kind: str = "local", jobs: int = 1, address: str | None = N
                          f"{dask.timeout:g} s ({type(exc).__name__}); check the address, or "
                          "raise --scheduler-timeout") from None
     try:
-        from artic.validation.runs.runtime import mujoco_settings
-
         # no MUJOCO_LOG.TXT in the workers' folders, and no step timers
         client.run(mujoco_settings)
     except Exception:  # noqa: BLE001 - a worker without mujoco, or gone: nothing to route

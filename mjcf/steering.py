@@ -1,10 +1,10 @@
-"""The steering map of eq. (3): steering-wheel angle to road-wheel angle.
+"""The steering map of eq. (3): its parameters, and steering-wheel angle to road-wheel angle.
 
 ``delta = (d - q d**2) / i_s`` with ``d = delta_h - delta_h_offset``.
 
 A positive ``q`` lowers the road-wheel angle for left turns (``d > 0``) and
 raises it for right turns, as a tie-rod linkage driven from the left wheel
-does. The map is monotonic only while ``d < 1 / (2 q)``; :class:`SteeringMap`
+does. The map is monotonic only while ``d < 1 / (2 q)``; :class:`Steering`
 refuses a range in use beyond that instead of folding back silently.
 """
 
@@ -16,7 +16,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from artic.mjcf.errors import UserError
-from artic.mjcf.vehicle import Steering
 
 
 class SteeringRangeError(UserError):
@@ -24,8 +23,8 @@ class SteeringRangeError(UserError):
 
 
 @dataclass(frozen=True)
-class SteeringMap:
-    """Eq. (3) with the steering-wheel offset.
+class Steering:
+    """The steering map of eq. (3) and its parameters, as the vehicle file gives them.
 
     Parameters
     ----------
@@ -34,17 +33,18 @@ class SteeringMap:
     q : float
         Asymmetry factor [1/rad].
     delta_h_offset : float
-        Steering-wheel angle while driving straight [rad].
+        Steering-wheel angle read while driving straight [rad].
+    delta_max : float
+        Largest road-wheel angle [rad].
+    steering_arm : float
+        Steering-arm length of the tie-rod trapezoid [m].
     """
 
     i_s: float
     q: float
     delta_h_offset: float
-
-    @classmethod
-    def from_steering(cls, s: Steering) -> SteeringMap:
-        """Build the map from a vehicle's steering parameters."""
-        return cls(s.i_s, s.q, s.delta_h_offset)
+    delta_max: float
+    steering_arm: float = 0.25
 
     @property
     def fold(self) -> float:

@@ -16,10 +16,10 @@ import pandas as pd
 
 from artic.mjcf.vehicle import load_vehicle
 from artic.validation.harness.simulate import simulate
+from artic.validation.logs.profile import Profile
 from artic.validation.logs.runfile import Run
 from artic.validation.models import build
 from artic.validation.review.frequency import compare, departure
-from artic.validation.synthetic.manoeuvres import Profile
 
 
 def sweep_log(seed: int = 0) -> Run:

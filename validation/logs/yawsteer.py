@@ -51,6 +51,7 @@ def speed_floor(u1: np.ndarray) -> float:
 
 def equivalent_wheelbase(vehicle: Vehicle) -> float:
     """The tractor's low-speed steady-turn wheelbase ``L1`` [m] (KIN's)."""
+    # Here, not at the top: numba loads only for a log steered from its yaw rate.
     from artic.reduced.kinematic import wheelbases
 
     return wheelbases(vehicle)[0]
@@ -89,7 +90,7 @@ def steering_wheel(smap, delta: np.ndarray, delta_max: float) -> np.ndarray:
 
     Parameters
     ----------
-    smap : SteeringMap
+    smap : Steering
         Eq. (3) of a model.
     delta : ndarray
         Road-wheel angle [rad].

@@ -20,6 +20,8 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 
+from artic.validation.plumbing import runtime
+
 PARENT_POLL = 1.0
 """Seconds between two checks of the parent [s]."""
 
@@ -39,8 +41,6 @@ def init_worker(parent: int) -> None:
     parent : int
         The process id of the process that starts the pool.
     """
-    from artic.validation.runs import runtime
-
     runtime.mujoco_settings()
     if os.getppid() != parent:
         os._exit(1)
