@@ -30,6 +30,10 @@ myst_heading_anchors = 3
 
 autosummary_generate = True
 autodoc_typehints = "none"  # numpydoc's Parameters sections carry the types and units
+# The Warp plant's modules import warp and mujoco_warp, which only the gpu extra
+# installs; the docs build (the test extra) documents them against stand-ins, so
+# the API pages list them whether or not the extra is installed.
+autodoc_mock_imports = ["warp", "mujoco_warp"]
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 
