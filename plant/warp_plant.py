@@ -264,8 +264,6 @@ class WarpPlant:
         h0 = self.hosts[0]
         idx = [h0._hub, h0._hub_body, h0._root, h0._wheel_body, h0._spin_dof, h0._act_u,
                h0._act_v, h0._act_w, h0._tread_u, h0._tread_v, h0._tread_w, h0._tyre_set]
-        self._wheels = wp.array(np.column_stack(idx).astype(np.int32), dtype=int)
-        self._n_tyres = wp.array(h0._n_tyres.astype(np.float32), dtype=float)
         m = self.mj_model
         spin_act = -np.ones((self.n_wheels, 2), dtype=np.int32)
         joint_trn = (int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT))
@@ -280,7 +278,6 @@ class WarpPlant:
                     raise UserError(f"wheel {self.wheel_names[i]}: the Warp plant's spin fit "
                                     "takes at most a drive and a brake motor on a spin joint")
                 spin_act[i, j] = a
-        self._spin_act = wp.array(spin_act, dtype=int)
         sets = []
         for w in range(self.n_worlds):
             host = self.hosts[self._variant[w]]
@@ -297,7 +294,13 @@ class WarpPlant:
         self.tyre_sets: list[list[TyreParams]] = sets
         """Every world's tyre coefficient sets, scaled as they run."""
         flat = np.stack([warp_tyre.tyre_sets(row) for row in sets])
-        self._tyres = wp.array(flat, dtype=warp_tyre.TyreSet)
+        self._wheel_ends = warp_tyre.gather(
+            warp_tyre.Wheels, table=wp.array(np.column_stack(idx).astype(np.int32), dtype=int),
+            spin_act=wp.array(spin_act, dtype=int),
+            n_tyres=wp.array(h0._n_tyres.astype(np.float32), dtype=float),
+            tyres=wp.array(flat, dtype=warp_tyre.TyreSet),
+            moments=int(h0.vehicle.plant.tyre_moments), fit_scale=float(self.spin_fit))
+        self._passive_for = None  # the callback's arguments, for the model and data they are of
         self._forces = wp.zeros((self.n_worlds, self.n_wheels), dtype=wp.vec3)
         self._outside = wp.zeros(self.n_worlds, dtype=int)
         self.ctl = warp_control.Tables.build(self, sets)
@@ -305,16 +308,17 @@ class WarpPlant:
     # ------------------------------------------------------------ the callback
     def _passive(self, m, d) -> None:
         """MuJoCo Warp's passive callback: every wheel end of every world."""
-        wp.launch(warp_tyre.passive_kernel, dim=(d.nworld, self.n_wheels), inputs=[
-            m.opt.timestep, m.body_parentid, m.body_rootid, m.body_dofnum, m.body_dofadr,
-            m.dof_parentid, m.dof_invweight0, m.dof_frictionloss, m.actuator_gainprm,
-            m.actuator_ctrlrange, m.actuator_forcerange, m.actuator_gear,
-            m.actuator_ctrllimited, m.actuator_forcelimited,
-            int(not (self.mj_model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CLAMPCTRL)),
-            d.site_xpos, d.site_xmat, d.cvel, d.subtree_com, d.cdof, d.qvel, d.act,
-            d.qfrc_applied, self._wheels, self._spin_act, self._n_tyres, self._tyres,
-            int(self.hosts[0].vehicle.plant.tyre_moments), float(self.spin_fit)],
-            outputs=[d.ctrl, d.qfrc_passive, self._forces, self._outside])
+        known = self._passive_for
+        if known is None or known[0] is not m or known[1] is not d:
+            clamp = not (self.mj_model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CLAMPCTRL)
+            self._passive_for = (m, d, [
+                warp_tyre.gather(warp_tyre.Tree, m),
+                warp_tyre.gather(warp_tyre.SpinModel, m, timestep=m.opt.timestep,
+                                 clamp_ctrl=int(clamp)),
+                warp_tyre.gather(warp_tyre.Motion, d), self._wheel_ends])
+        wp.launch(warp_tyre.passive_kernel, dim=(d.nworld, self.n_wheels),
+                  inputs=self._passive_for[2],
+                  outputs=[d.ctrl, d.qfrc_passive, self._forces, self._outside])
 
     # ------------------------------------------------------------ interface
     def reset(self, initial: InitialState | Sequence[InitialState], steady: bool = False) -> None:

@@ -313,18 +313,30 @@ def out_of_range(p: TyreSet, Fz: float, kappa: float, alpha: float):
     return 0
 
 
+@wp.struct
+class SpinMode:
+    """One wheel end's spin/tread mode (:class:`artic.plant.spinmode.Mode`), units as there."""
+
+    inv_inertia: float
+    q_x: float
+    n: float
+    Re: float
+    k: float
+    c: float
+    b: float
+
+
 @wp.func
-def spin_fit(h: float, scale: float, inv_inertia: float, q_x: float, n: float, Re: float,
-             k: float, c: float, b: float, f_spin: float, f_u: float):
+def spin_fit(h: float, scale: float, mode: SpinMode, f_spin: float, f_u: float):
     """spinmode.fit, term by term: ``(dFx, ddu)``."""
     if not (scale > 0.0 and h > 0.0):
         return 0.0, 0.0
-    g = q_x * n * inv_inertia
+    g = mode.q_x * mode.n * mode.inv_inertia
     s = h / scale
-    p0 = s * g * c * Re
-    p1 = s * g * k
-    p2 = s * Re
-    p3 = -s * b
+    p0 = s * g * mode.c * mode.Re
+    p1 = s * g * mode.k
+    p2 = s * mode.Re
+    p3 = -s * mode.b
     w0 = s * f_spin
     w1 = s * f_u
     for _i in range(3):
@@ -345,7 +357,7 @@ def spin_fit(h: float, scale: float, inv_inertia: float, q_x: float, n: float, R
         return 0.0, 0.0
     y0 = -(n3 * w0 - n1 * w1) / det
     y1 = -(-n2 * w0 + n0 * w1) / det
-    return c * Re * y0 + k * y1, Re * y0 - b * y1
+    return mode.c * mode.Re * y0 + mode.k * y1, mode.Re * y0 - mode.b * y1
 
 
 @wp.kernel
@@ -384,71 +396,115 @@ def cdof_dot(cdof: wp.spatial_vector, tc: wp.vec3, F: wp.vec3):
     return wp.dot(wp.spatial_top(cdof), tc) + wp.dot(wp.spatial_bottom(cdof), F)
 
 
+@wp.struct
+class Tree:
+    """The model's kinematic tree: MuJoCo Warp's model fields of the same names."""
+
+    body_parentid: wp.array(dtype=int)
+    body_rootid: wp.array(dtype=int)
+    body_dofnum: wp.array(dtype=int)
+    body_dofadr: wp.array(dtype=int)
+    dof_parentid: wp.array(dtype=int)
+
+
+@wp.struct
+class SpinModel:
+    """What the spin fit reads of the model: MuJoCo Warp's model fields of the same names.
+
+    The step, the spin dofs' inverse inertias and friction, the drive and brake
+    motors' gains, ranges and gears, and ``clamp_ctrl`` (1 where MuJoCo clamps
+    the controls to their ranges).
+    """
+
+    timestep: wp.array(dtype=float)
+    dof_invweight0: wp.array2d(dtype=float)
+    dof_frictionloss: wp.array2d(dtype=float)
+    actuator_gainprm: wp.array2d(dtype=wp.types.vector(10, wp.float32))
+    actuator_ctrlrange: wp.array2d(dtype=wp.vec2)
+    actuator_forcerange: wp.array2d(dtype=wp.vec2)
+    actuator_gear: wp.array2d(dtype=wp.spatial_vector)
+    actuator_ctrllimited: wp.array(dtype=bool)
+    actuator_forcelimited: wp.array(dtype=bool)
+    clamp_ctrl: int
+
+
+@wp.struct
+class Motion:
+    """What the tyre reads of the data: MuJoCo Warp's data fields of the same names.
+
+    The hubs' frames, the bodies' velocities and the dofs' axes, the spins, the
+    tread states (activations) and the applied forces.
+    """
+
+    site_xpos: wp.array2d(dtype=wp.vec3)
+    site_xmat: wp.array2d(dtype=wp.mat33)
+    cvel: wp.array2d(dtype=wp.spatial_vector)
+    subtree_com: wp.array2d(dtype=wp.vec3)
+    cdof: wp.array2d(dtype=wp.spatial_vector)
+    qvel: wp.array2d(dtype=float)
+    act: wp.array2d(dtype=float)
+    qfrc_applied: wp.array2d(dtype=float)
+
+
+@wp.struct
+class Wheels:
+    """The plant's wheel ends and tyres on the device.
+
+    ``table``: per wheel end the hub site, hub body, root body, wheel body, spin
+    dof, the three tread activations, the three tread actuators and the tyre set;
+    ``spin_act``: the drive and brake motors on its spin (-1: none); ``n_tyres``:
+    its tyres; ``tyres``: per world, the tyre sets; ``moments``: 1 for the aligning
+    and bore moments; ``fit_scale``: the spin fit's ``z_0`` (0: no fit).
+    """
+
+    table: wp.array2d(dtype=int)
+    spin_act: wp.array2d(dtype=int)
+    n_tyres: wp.array(dtype=float)
+    tyres: wp.array2d(dtype=TyreSet)
+    moments: int
+    fit_scale: float
+
+
+def gather(kind, source=None, **values):
+    """A ``kind`` struct: each field from ``values``, or else ``source``'s of its name.
+
+    ``kind`` is a Warp struct (:class:`Tree`...); ``source`` a MuJoCo Warp model or data.
+    """
+    out = kind()
+    for name in kind.vars:
+        setattr(out, name, values[name] if name in values else getattr(source, name))
+    return out
+
+
 @wp.kernel
-def passive_kernel(
-    # model
-    timestep: wp.array(dtype=float),
-    body_parentid: wp.array(dtype=int),
-    body_rootid: wp.array(dtype=int),
-    body_dofnum: wp.array(dtype=int),
-    body_dofadr: wp.array(dtype=int),
-    dof_parentid: wp.array(dtype=int),
-    dof_invweight0: wp.array2d(dtype=float),
-    dof_frictionloss: wp.array2d(dtype=float),
-    actuator_gainprm: wp.array2d(dtype=wp.types.vector(10, wp.float32)),
-    actuator_ctrlrange: wp.array2d(dtype=wp.vec2),
-    actuator_forcerange: wp.array2d(dtype=wp.vec2),
-    actuator_gear: wp.array2d(dtype=wp.spatial_vector),
-    actuator_ctrllimited: wp.array(dtype=bool),
-    actuator_forcelimited: wp.array(dtype=bool),
-    clamp_ctrl: int,
-    # data
-    site_xpos: wp.array2d(dtype=wp.vec3),
-    site_xmat: wp.array2d(dtype=wp.mat33),
-    cvel: wp.array2d(dtype=wp.spatial_vector),
-    subtree_com: wp.array2d(dtype=wp.vec3),
-    cdof: wp.array2d(dtype=wp.spatial_vector),
-    qvel: wp.array2d(dtype=float),
-    act: wp.array2d(dtype=float),
-    qfrc_applied: wp.array2d(dtype=float),
-    # the plant's wheel table and tyres
-    wheels: wp.array2d(dtype=int),
-    spin_act: wp.array2d(dtype=int),
-    n_tyres: wp.array(dtype=float),
-    tyres: wp.array2d(dtype=TyreSet),
-    moments: int,
-    fit_scale: float,
-    # outputs
-    ctrl: wp.array2d(dtype=float),
-    qfrc_passive: wp.array2d(dtype=float),
-    forces: wp.array2d(dtype=wp.vec3),
-    outside: wp.array(dtype=int),
-):
+def passive_kernel(tree: Tree, model: SpinModel, motion: Motion, wheels: Wheels,
+                   ctrl: wp.array2d(dtype=float), qfrc_passive: wp.array2d(dtype=float),
+                   forces: wp.array2d(dtype=wp.vec3), outside: wp.array(dtype=int)):
     """The tyre of wheel end ``i`` of world ``w``: the C ``artic_passive``'s loop body."""
     w, i = wp.tid()
-    hub = wheels[i, 0]
-    hub_body = wheels[i, 1]
-    root = wheels[i, 2]
-    wheel_body = wheels[i, 3]
-    spin = wheels[i, 4]
-    n = n_tyres[i]
-    p = tyres[w, wheels[i, 11]]
+    hub = wheels.table[i, 0]
+    hub_body = wheels.table[i, 1]
+    root = wheels.table[i, 2]
+    wheel_body = wheels.table[i, 3]
+    spin = wheels.table[i, 4]
+    n = wheels.n_tyres[i]
+    p = wheels.tyres[w, wheels.table[i, 11]]
     R0 = p.UNLOADED_RADIUS
-    pos = site_xpos[w, hub]
-    R = site_xmat[w, hub]
+    pos = motion.site_xpos[w, hub]
+    R = motion.site_xmat[w, hub]
     hx = wp.vec3(R[0, 0], R[1, 0], 0.0)
     norm = wp.sqrt(hx[0] * hx[0] + hx[1] * hx[1])
     if norm < 1e-9:  # hub axis vertical: no heading, no tyre force
         forces[w, i] = wp.vec3(0.0, 0.0, 0.0)
-        ctrl[w, wheels[i, 8]] = 0.0
-        ctrl[w, wheels[i, 9]] = 0.0
-        ctrl[w, wheels[i, 10]] = 0.0
+        ctrl[w, wheels.table[i, 8]] = 0.0
+        ctrl[w, wheels.table[i, 9]] = 0.0
+        ctrl[w, wheels.table[i, 10]] = 0.0
         return
     hx = hx / norm
     hy = wp.vec3(-hx[1], hx[0], 0.0)
-    cv = cvel[w, hub_body]
+    cv = motion.cvel[w, hub_body]
     om = wp.spatial_top(cv)
-    r = pos - subtree_com[w, root]
+    r = pos - motion.subtree_com[w, root]
     vel = wp.spatial_bottom(cv) + wp.cross(om, r)
     rho = R0 - pos[2]
     Fz = 0.0
@@ -458,55 +514,65 @@ def passive_kernel(
     Vx = wp.dot(vel, hx)
     Vy = wp.dot(vel, hy)
     Re = R0 - wp.max(rho, 0.0) / 3.0
-    Vsx = Vx - qvel[w, spin] * Re
-    u = act[w, wheels[i, 5]]
-    v = act[w, wheels[i, 6]]
-    phi = act[w, wheels[i, 7]]
+    Vsx = Vx - motion.qvel[w, spin] * Re
+    u = motion.act[w, wheels.table[i, 5]]
+    v = motion.act[w, wheels.table[i, 6]]
+    phi = motion.act[w, wheels.table[i, 7]]
     du, dv, dphi, kappa, alpha = wheel_rates(p, Fz, Vx, Vsx, Vy, om[2], u, v, phi)
-    Fx, Fy, Mz, My, k_x, c_x, b_x = wheel_forces(p, Fz, Vx, Vsx, Vy, u, v, phi, dphi, moments)
+    Fx, Fy, Mz, My, k_x, c_x, b_x = wheel_forces(p, Fz, Vx, Vsx, Vy, u, v, phi, dphi,
+                                                 wheels.moments)
     point = wp.vec3(pos[0], pos[1], 0.0)
     F = (n * Fx) * hx + (n * Fy) * hy + wp.vec3(0.0, 0.0, n * Fz)
     T = (n * My) * hy + wp.vec3(0.0, 0.0, n * Mz)
     # the torque about the root's subtree centre of mass (cdof's reference point)
-    com = subtree_com[w, body_rootid[wheel_body]]
+    com = motion.subtree_com[w, tree.body_rootid[wheel_body]]
     lever = point - com
-    if fit_scale > 0.0 and dof_frictionloss[w % dof_frictionloss.shape[0], spin] == 0.0:
-        q_x = cdof_dot(cdof[w, spin], wp.cross(lever, hx), hx)
-        Q = cdof_dot(cdof[w, spin], T + wp.cross(lever, F), F)
+    frictionloss = model.dof_frictionloss[w % model.dof_frictionloss.shape[0], spin]
+    if wheels.fit_scale > 0.0 and frictionloss == 0.0:
+        q_x = cdof_dot(motion.cdof[w, spin], wp.cross(lever, hx), hx)
+        Q = cdof_dot(motion.cdof[w, spin], T + wp.cross(lever, F), F)
         # the drive and brake on the spin joint, as mj_fwdActuation will compute them
         q_act = 0.0
         for j in range(2):
-            a = spin_act[i, j]
+            a = wheels.spin_act[i, j]
             if a >= 0:
                 x = ctrl[w, a]
-                if actuator_ctrllimited[a] and clamp_ctrl != 0:
-                    cr = actuator_ctrlrange[w % actuator_ctrlrange.shape[0], a]
+                if model.actuator_ctrllimited[a] and model.clamp_ctrl != 0:
+                    cr = model.actuator_ctrlrange[w % model.actuator_ctrlrange.shape[0], a]
                     x = wp.min(wp.max(x, cr[0]), cr[1])
-                f = actuator_gainprm[w % actuator_gainprm.shape[0], a][0] * x
-                if actuator_forcelimited[a]:
-                    fr = actuator_forcerange[w % actuator_forcerange.shape[0], a]
+                f = model.actuator_gainprm[w % model.actuator_gainprm.shape[0], a][0] * x
+                if model.actuator_forcelimited[a]:
+                    fr = model.actuator_forcerange[w % model.actuator_forcerange.shape[0], a]
                     f = wp.min(wp.max(f, fr[0]), fr[1])
-                q_act += actuator_gear[w % actuator_gear.shape[0], a][0] * f
-        inv_I = dof_invweight0[w % dof_invweight0.shape[0], spin]
-        f_spin = (Q + q_act + qfrc_passive[w, spin] + qfrc_applied[w, spin]) * inv_I
-        h = timestep[w % timestep.shape[0]]
-        dFx, ddu = spin_fit(h, fit_scale, inv_I, q_x, n, Re, k_x, c_x, b_x, f_spin, du)
+                q_act += model.actuator_gear[w % model.actuator_gear.shape[0], a][0] * f
+        inv_I = model.dof_invweight0[w % model.dof_invweight0.shape[0], spin]
+        f_spin = (Q + q_act + qfrc_passive[w, spin] + motion.qfrc_applied[w, spin]) * inv_I
+        h = model.timestep[w % model.timestep.shape[0]]
+        mode = SpinMode()
+        mode.inv_inertia = inv_I
+        mode.q_x = q_x
+        mode.n = n
+        mode.Re = Re
+        mode.k = k_x
+        mode.c = c_x
+        mode.b = b_x
+        dFx, ddu = spin_fit(h, wheels.fit_scale, mode, f_spin, du)
         du = du + ddu
         F = F + (n * dFx) * hx
-    ctrl[w, wheels[i, 8]] = du
-    ctrl[w, wheels[i, 9]] = dv
-    ctrl[w, wheels[i, 10]] = dphi
+    ctrl[w, wheels.table[i, 8]] = du
+    ctrl[w, wheels.table[i, 9]] = dv
+    ctrl[w, wheels.table[i, 10]] = dphi
     forces[w, i] = F
     if out_of_range(p, Fz, kappa, alpha) != 0:
         wp.atomic_add(outside, w, 1)
     # qfrc_passive += J' [F; T] along the wheel body's chain of dofs
     body = wheel_body
-    while body > 0 and body_dofnum[body] == 0:
-        body = body_parentid[body]
+    while body > 0 and tree.body_dofnum[body] == 0:
+        body = tree.body_parentid[body]
     if body <= 0:
         return
     tc = T + wp.cross(lever, F)
-    j = body_dofadr[body] + body_dofnum[body] - 1
+    j = tree.body_dofadr[body] + tree.body_dofnum[body] - 1
     while j >= 0:
-        wp.atomic_add(qfrc_passive, w, j, cdof_dot(cdof[w, j], tc, F))
-        j = dof_parentid[j]
+        wp.atomic_add(qfrc_passive, w, j, cdof_dot(motion.cdof[w, j], tc, F))
+        j = tree.dof_parentid[j]
