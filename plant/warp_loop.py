@@ -28,6 +28,7 @@ import warp as wp
 from artic.mjcf.errors import UserError
 from artic.plant.warp_control import wrap
 from artic.plant.warp_plant import WarpPlant
+from artic.plant.warp_tyre import gather
 
 _PI = wp.constant(3.14159265358979323846)
 
@@ -39,51 +40,85 @@ def wrap_angle(a: float):
     return _PI - (x - 2.0 * _PI * wp.floor(x / (2.0 * _PI)))
 
 
+@wp.struct
+class Logs:
+    """The logs' inputs, one row per log (one for all worlds, or one per world).
+
+    Per sample: the road-wheel angle from the steering map [rad], the measured
+    articulation [rad], the feedback's weight [-], the speed [m/s] and its rate [m/s^2].
+    """
+
+    delta_c: wp.array2d(dtype=float)
+    gamma_meas: wp.array2d(dtype=float)
+    weight: wp.array2d(dtype=float)
+    u1: wp.array2d(dtype=float)
+    u1_dot: wp.array2d(dtype=float)
+
+
+@wp.struct
+class Law:
+    """The steering law's constants, one for all worlds.
+
+    The feedback's gain K [rad/rad], the road-wheel limit and the jackknife limit
+    [rad], and the hitch's ``qpos`` address.
+    """
+
+    gain: float
+    delta_max: float
+    gamma_max: float
+    hitch_qpos: int
+
+
+@wp.struct
+class Records:
+    """Per world and sample, what :class:`BatchResult` returns, and which worlds stopped."""
+
+    obs: wp.array3d(dtype=float)
+    delta: wp.array2d(dtype=float)
+    delta_fb: wp.array2d(dtype=float)
+    saturated: wp.array2d(dtype=int)
+    n_done: wp.array(dtype=int)
+    stopped: wp.array(dtype=int)
+
+
 @wp.kernel
-def law_kernel(counter: wp.array(dtype=int), delta_c: wp.array2d(dtype=float),
-               gamma_meas: wp.array2d(dtype=float), weight: wp.array2d(dtype=float),
-               u1: wp.array2d(dtype=float), u1_dot: wp.array2d(dtype=float),
-               gain: float, delta_max: float, gamma_max: float,
-               qpos: wp.array2d(dtype=float), hitch_qpos: int,
+def law_kernel(counter: wp.array(dtype=int), logs: Logs, law: Law, qpos: wp.array2d(dtype=float),
                sensor_yaw: wp.array2d(dtype=float), signals: wp.array2d(dtype=float),
-               command: wp.array2d(dtype=float), obs: wp.array3d(dtype=float),
-               delta: wp.array2d(dtype=float), delta_fb: wp.array2d(dtype=float),
-               saturated: wp.array2d(dtype=int), n_done: wp.array(dtype=int),
-               stopped: wp.array(dtype=int)):
+               command: wp.array2d(dtype=float), records: Records):
     """Sample ``counter[0]`` of world ``w``: the law, the records and the stop."""
     w = wp.tid()
     k = counter[0]
-    if stopped[w] != 0:
+    if records.stopped[w] != 0:
         return
     # slot of the world's log: one log for all worlds, or one each
-    lw = w % delta_c.shape[0]
-    gamma = wrap_angle(-qpos[w, hitch_qpos] + sensor_yaw[w, 0] - sensor_yaw[w, 1])
+    lw = w % logs.delta_c.shape[0]
+    gamma = wrap_angle(-qpos[w, law.hitch_qpos] + sensor_yaw[w, 0] - sensor_yaw[w, 1])
     fb = 0.0
-    if weight[lw, k] != 0.0:
-        fb = weight[lw, k] * gain * wrap(gamma - gamma_meas[lw, k])
-    dl = delta_c[lw, k] + fb
+    if logs.weight[lw, k] != 0.0:
+        fb = logs.weight[lw, k] * law.gain * wrap(gamma - logs.gamma_meas[lw, k])
+    dl = logs.delta_c[lw, k] + fb
     limited = 0
-    if dl > delta_max:
-        dl = delta_max
+    if dl > law.delta_max:
+        dl = law.delta_max
         limited = 1
-    elif dl < -delta_max:
-        dl = -delta_max
+    elif dl < -law.delta_max:
+        dl = -law.delta_max
         limited = 1
     finite = True
     for j in range(13):
-        obs[w, k, j] = signals[w, j]
+        records.obs[w, k, j] = signals[w, j]
         if not wp.isfinite(signals[w, j]):
             finite = False
-    delta[w, k] = dl
-    delta_fb[w, k] = dl - delta_c[lw, k]
-    saturated[w, k] = limited
-    n_done[w] = k + 1
-    if wp.abs(signals[w, 12]) > gamma_max or not finite:
-        stopped[w] = 1
+    records.delta[w, k] = dl
+    records.delta_fb[w, k] = dl - logs.delta_c[lw, k]
+    records.saturated[w, k] = limited
+    records.n_done[w] = k + 1
+    if wp.abs(signals[w, 12]) > law.gamma_max or not finite:
+        records.stopped[w] = 1
         return
     command[w, 0] = dl
-    command[w, 1] = u1[lw, k]
-    command[w, 2] = u1_dot[lw, k]
+    command[w, 1] = logs.u1[lw, k]
+    command[w, 2] = logs.u1_dot[lw, k]
 
 
 @wp.kernel
@@ -145,22 +180,24 @@ def run(plant: WarpPlant, dt: float, delta_c, u1, u1_dot, gamma_meas, weight, ga
     nw, dev = plant.n_worlds, plant.device
     nsub = max(1, round(dt / plant.h))
     with wp.ScopedDevice(dev):
-        arrays = [wp.array(a, dtype=float) for a in logs]
-        counter = wp.zeros(1, dtype=int)
-        obs = wp.array(np.full((nw, n, 13), np.nan, dtype=np.float32), dtype=float)
-        delta = wp.array(np.full((nw, n), np.nan, dtype=np.float32), dtype=float)
-        delta_fb = wp.array(np.full((nw, n), np.nan, dtype=np.float32), dtype=float)
-        saturated = wp.zeros((nw, n), dtype=int)
-        n_done = wp.zeros(nw, dtype=int)
-        stopped = wp.zeros(nw, dtype=int)
+        inputs = gather(Logs, **{k: wp.array(a, dtype=float) for k, a in zip(
+            ("delta_c", "gamma_meas", "weight", "u1", "u1_dot"), logs, strict=True)})
         hitch = int(plant.mj_model.jnt_qposadr[plant.hosts[0]._hitch_yaw])
+        law = gather(Law, gain=float(gain), delta_max=float(delta_max),
+                     gamma_max=float(gamma_max), hitch_qpos=hitch)
+        counter = wp.zeros(1, dtype=int)
+        records = gather(
+            Records, obs=wp.array(np.full((nw, n, 13), np.nan, dtype=np.float32), dtype=float),
+            delta=wp.array(np.full((nw, n), np.nan, dtype=np.float32), dtype=float),
+            delta_fb=wp.array(np.full((nw, n), np.nan, dtype=np.float32), dtype=float),
+            saturated=wp.zeros((nw, n), dtype=int), n_done=wp.zeros(nw, dtype=int),
+            stopped=wp.zeros(nw, dtype=int))
 
         def sample(step: bool) -> None:
             plant.ctl.observe(plant)
             wp.launch(law_kernel, dim=nw, inputs=[
-                counter, *arrays, float(gain), float(delta_max), float(gamma_max),
-                plant.d.qpos, hitch, plant.ctl.sensor_yaw, plant.ctl.signals],
-                outputs=[plant.ctl.command, obs, delta, delta_fb, saturated, n_done, stopped])
+                counter, inputs, law, plant.d.qpos, plant.ctl.sensors.yaw, plant.ctl.signals],
+                outputs=[plant.ctl.command, records])
             if step:
                 plant._step_launches(nsub)
             wp.launch(advance_kernel, dim=1, inputs=[counter])
@@ -175,6 +212,7 @@ def run(plant: WarpPlant, dt: float, delta_c, u1, u1_dot, gamma_meas, weight, ga
                 with wp.ScopedCapture() as capture:  # recorded, not run
                     sample(True)
                 graph = capture.graph
-    return BatchResult(obs.numpy().astype(float), delta.numpy().astype(float),
-                       delta_fb.numpy().astype(float), saturated.numpy().astype(bool),
-                       n_done.numpy().astype(int), plant.failures())
+    return BatchResult(records.obs.numpy().astype(float), records.delta.numpy().astype(float),
+                       records.delta_fb.numpy().astype(float),
+                       records.saturated.numpy().astype(bool),
+                       records.n_done.numpy().astype(int), plant.failures())

@@ -419,8 +419,8 @@ class WarpPlant:
 
     def failures(self) -> dict[int, str]:
         """The worlds that diverged, each with one line saying when; empty when none did."""
-        failed = self.ctl.failed.numpy()
-        when = self.ctl.fail_time.numpy()
+        failed = self.ctl.state.failed.numpy()
+        when = self.ctl.state.fail_time.numpy()
         return {int(w): f"world {w}: the simulation diverged within the step after "
                         f"t = {when[w]:.3f} s; it is held at that state (re-run it on the CPU "
                         "plant, artic.Plant, to find where)"
@@ -428,7 +428,7 @@ class WarpPlant:
 
     def steer_limited(self) -> np.ndarray:
         """Per world, the number of steps whose steering command the linkage limited."""
-        return self.ctl.steer_limited.numpy().astype(int)
+        return self.ctl.state.steer_limited.numpy().astype(int)
 
     def tyre_range_counts(self) -> np.ndarray:
         """Per world, tyre evaluations of a loaded wheel outside its file's ranges."""
