@@ -74,7 +74,7 @@ class BuildExt(build_ext):
         # A wheel's build folder holds artic/reduced/; a checkout holds reduced/, which
         # the editable install's finder maps only once installed, so the child maps it
         # as package-dir does (PathFinder looks the last part of the name up in root).
-        code = ("import runpy" if not editable else
+        code = ("import sys" if not editable else
                 "import sys; from importlib.machinery import PathFinder\n"
                 "class Rooms:\n"
                 "    @staticmethod\n"
@@ -82,10 +82,10 @@ class BuildExt(build_ext):
                 f"        if name in {tuple(f'artic.{r}' for r in ROOMS)!r}:\n"
                 f"            return PathFinder.find_spec(name, [{root!r}])\n"
                 "sys.meta_path.append(Rooms)\n"
-                "import runpy")
+                "pass")
         done = subprocess.run(
-            [sys.executable, "-c", code + "; runpy.run_module('artic.reduced.precompile', "
-             "run_name='__main__', alter_sys=True)"], env=env, cwd=where, check=False)
+            [sys.executable, "-c", code + "; from artic.validation.plumbing.runtime import "
+             "fill_install_cache; fill_install_cache()"], env=env, cwd=where, check=False)
         if done.returncode != 0:
             print("artic: numba's cache was not filled; a reduced model's first call compiles")
 

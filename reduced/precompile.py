@@ -12,11 +12,13 @@ valid wherever the files are installed; an entry also names the CPU it was
 compiled for and numba's version, and numba compiles afresh where either
 differs (a wheel built on another machine).
 
-The cache is not used, and the first call compiles once, where numba looks
-elsewhere: ``NUMBA_CACHE_DIR`` set (the ``artic`` command and the tests set it,
-:mod:`artic.validation.plumbing.runtime`; its warm-up covers them), or a
-``site-packages`` that the user cannot write (numba then caches in the user's
-cache folder).
+``pip install`` runs it through
+:func:`artic.validation.plumbing.runtime.fill_install_cache`, which also marks
+the folder with the hash of the compiled sources, so that the ``artic`` command
+and the tests read this same cache while the sources are unchanged. It is not
+used, and the first call compiles once, where numba looks elsewhere:
+``NUMBA_CACHE_DIR`` set by the user, sources edited since the install, or a
+``site-packages`` that the user cannot write.
 
 Run by hand (``python -m artic.reduced.precompile``) it does the same for the
 environment it runs in.

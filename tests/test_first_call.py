@@ -3,8 +3,9 @@
 ``pip install`` fills the cache (``setup.py``'s ``build_ext`` runs
 :mod:`artic.reduced.precompile`) where a user's process reads it:
 ``reduced/__pycache__`` beside the sources, with ``NUMBA_CACHE_DIR`` unset.
-The tests set ``NUMBA_CACHE_DIR`` for themselves (:mod:`artic.validation.plumbing.runtime`),
-so nothing they compile lands there: what the fresh process finds is the install's.
+The ``artic`` command and the tests read the same folder while it holds today's
+sources (:func:`artic.validation.plumbing.runtime.configure`), so a new user's
+command, with an empty home folder, loads what the install compiled.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import numpy as np
 import pytest
 
 from artic.reduced import control, precompile
+from artic.validation.plumbing import runtime
 from tests.helpers import FIRST_ROLLOUT
 
 
@@ -53,3 +55,23 @@ def test_the_first_rollout_after_install_loads_numbas_cache_within_half_a_second
     # a first call: about 0.35 s of it is numba's one-off set-up of its compiler
     # context and its probe of scipy's BLAS, which any first compiled call pays.
     assert min(got["cpu"] for got in runs) <= 0.5, runs
+
+
+def test_a_command_with_an_empty_home_loads_the_installs_cache(tmp_path):
+    # A new user's process configured as the artic command and the tests are: with
+    # the install's cache current, numba is left on it, and the first rollout loads
+    # (a hit, no miss) instead of compiling into a cache under the empty home.
+    if not runtime.install_cache_current():
+        pytest.fail("the install's numba cache does not hold today's sources: "
+                    "pip install -e . fills it (artic.validation.plumbing.runtime)")
+    env = {k: v for k, v in os.environ.items()
+           if k != "NUMBA_CACHE_DIR" and not k.startswith(("COV_CORE", "COVERAGE"))}
+    env["HOME"] = env["XDG_CACHE_HOME"] = str(tmp_path)
+    code = ("from artic.validation.plumbing import runtime; "
+            "print(runtime.configure())\n" + FIRST_ROLLOUT)
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True, timeout=300).stdout.strip().splitlines()
+    assert out[0] == str(runtime.install_cache())
+    got = json.loads(out[-1])
+    assert got["misses"] == 0 and got["hits"] == 1, got
+    assert not (tmp_path / "artic").exists()  # nothing compiled under the home folder

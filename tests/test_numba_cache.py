@@ -56,6 +56,9 @@ def test_editing_the_report_keeps_the_cache():
 def test_cache_folder_in_use():
     # conftest configured the process as the artic command does.
     folder = runtime.configure()
+    if folder == runtime.install_cache():  # the install's: numba's default folders
+        assert runtime.install_cache_current() and not numba.config.CACHE_DIR
+        return
     assert folder is None or numba.config.CACHE_DIR == str(folder)
     if folder is not None:
         assert folder.name == runtime.source_hash()
@@ -82,6 +85,7 @@ def test_importing_reduced_sets_nothing():
 
 def test_old_folders_go_after_a_month(tmp_path, monkeypatch):
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setattr(runtime, "install_cache_current", lambda: False)  # sources edited
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     saved = numba.config.CACHE_DIR
     base = tmp_path / "artic" / "numba"
@@ -114,3 +118,31 @@ def test_run_caches_follow_the_computing_code_only(tmp_path):
     harness = roots["validation"] / "harness" / "loop.py"
     harness.write_text(harness.read_text() + "\n# an edit of the harness\n")
     assert fingerprint.code_hash(roots) != before  # the runs are recomputed
+
+
+def test_the_install_clears_entries_of_other_sources_and_marks_its_cache(tmp_path, monkeypatch):
+    from artic.reduced import precompile
+
+    src = tmp_path / "reduced" / "model.py"
+    cache = src.parent / "__pycache__"
+    cache.mkdir(parents=True)
+    src.write_text("x = 1\n")
+    entries = [cache / "model.f-3.py311.nbi", cache / "model.f-3.py311.1.nbc"]
+    pyc = cache / "model.cpython-311.pyc"
+    for f in (*entries, pyc):
+        f.write_bytes(b"old")
+    (cache / runtime.INSTALL_MARK).write_text("other-sources\n")
+    calls = []
+    monkeypatch.setattr(runtime, "compiled_sources", lambda: [src])
+    monkeypatch.setattr(precompile, "compile_all", lambda: calls.append(1))
+    assert runtime.install_cache() == cache and not runtime.install_cache_current()
+    runtime.fill_install_cache()
+    # numba would keep a caller whose callee changed: entries of other sources go.
+    assert calls == [1] and not any(f.exists() for f in entries) and pyc.exists()
+    assert (cache / runtime.INSTALL_MARK).read_text().strip() == runtime.source_hash([src])
+    assert runtime.install_cache_current()
+    entries[0].write_bytes(b"today's")  # compiled from today's sources: kept
+    runtime.fill_install_cache()
+    assert entries[0].exists() and calls == [1, 1]
+    src.write_text("x = 2\n")  # an edit: the command leaves the install's cache
+    assert not runtime.install_cache_current()

@@ -17,10 +17,17 @@ HEAVY = ("mujoco", "numba", "rerun", "pandas", "scipy", "pyarrow", "matplotlib")
 """What ``--help`` must not load: the simulator, the compiler, the viewer, the tables."""
 
 
-def loaded_after(argv: list[str], env: dict[str, str] | None = None) -> tuple[int, dict]:
-    """Exit code of the ``artic`` entry point on ``argv`` in a fresh process, and what it loaded."""
+def loaded_after(argv: list[str], env: dict[str, str] | None = None,
+                 edited: bool = False) -> tuple[int, dict]:
+    """Exit code of the ``artic`` entry point on ``argv`` in a fresh process, and what it loaded.
+
+    ``edited``: as if a compiled source had changed since the install.
+    """
     code = (
         "import json, os, sys\n"
+        + ("from artic.validation.plumbing import runtime\n"
+           "runtime.install_cache_current = lambda: False\n" if edited else ""))
+    code += (
         "from artic.validation.cli.entry import main\n"
         f"rc = main({argv!r})\n"
         "print(json.dumps({'rc': rc, 'heavy': [m for m in " + repr(HEAVY)
@@ -45,7 +52,7 @@ def test_a_command_configures_numbas_cache_once_parsed(tmp_path):
     # command that runs still points numba at artic's folder before compiling anything.
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     env["XDG_CACHE_HOME"] = str(tmp_path)
-    rc, out = loaded_after(["vehicle", "show", "gosar2022-unloaded", "--json"], env)
+    rc, out = loaded_after(["vehicle", "show", "gosar2022-unloaded", "--json"], env, edited=True)
     assert rc == 0
     assert out["cache"] is not None and out["cache"].startswith(str(tmp_path / "artic" / "numba"))
     assert "mujoco" in out["heavy"]  # its warnings and timers are set for the command

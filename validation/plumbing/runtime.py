@@ -15,6 +15,15 @@ editing any equation moves it to a fresh folder. Folders no version has used
 for :data:`STALE_DAYS` are removed. Setting ``NUMBA_CACHE_DIR`` yourself
 overrides this.
 
+**The install's cache is that cache.** ``pip install`` compiles KIN and the STM
+(:func:`fill_install_cache`) into numba's default folder beside the sources,
+``reduced/__pycache__``, which a library user's process reads, and marks it
+with the hash of the sources it was compiled from (:data:`INSTALL_MARK`). While
+that mark is the hash of today's sources and the folder is writable,
+:func:`configure` leaves numba there, so the command, the tests and the library
+read one cache and a fresh machine compiles nothing twice; once a compiled
+source is edited, the command moves to the hashed folder as above.
+
 **MuJoCo's log.** MuJoCo reports its warnings (a simulation gone unstable)
 through a process-wide handler; without one it appends them to
 ``MUJOCO_LOG.TXT`` in the current folder, wherever the user happens to be.
@@ -81,6 +90,46 @@ def source_hash(files: list[Path] | None = None) -> str:
     return h.hexdigest()[:12]
 
 
+INSTALL_MARK = "artic-numba-sources.txt"
+"""The file in :func:`install_cache` naming the sources' hash it was compiled from."""
+
+
+def install_cache() -> Path:
+    """The default numba cache folder of the reduced models, ``reduced/__pycache__``."""
+    return compiled_sources()[0].parent / "__pycache__"
+
+
+def install_cache_current() -> bool:
+    """Whether :func:`install_cache` was filled from today's sources and can be written."""
+    folder = install_cache()
+    try:
+        mark = (folder / INSTALL_MARK).read_text().strip()
+    except OSError:
+        return False
+    return mark == source_hash() and os.access(folder, os.W_OK)
+
+
+def fill_install_cache() -> None:
+    """Compile KIN and the STM into :func:`install_cache` and mark it (run by ``pip install``).
+
+    numba must use its default folders (``NUMBA_CACHE_DIR`` unset). Entries left
+    there by other sources are removed first: numba would keep a caller whose
+    callee changed.
+    """
+    folder = install_cache()
+    if not install_cache_current():
+        for d in {p.parent / "__pycache__" for p in compiled_sources()}:
+            for f in (*d.glob("*.nbi"), *d.glob("*.nbc")):
+                f.unlink(missing_ok=True)
+    from artic.reduced.precompile import compile_all
+
+    compile_all()
+    folder.mkdir(exist_ok=True)
+    part = folder / f".{INSTALL_MARK}.part"
+    part.write_text(source_hash() + "\n")
+    part.replace(folder / INSTALL_MARK)
+
+
 class MujocoWarning(UserWarning):
     """A warning MuJoCo itself raised (see :func:`route_mujoco_warnings`)."""
 
@@ -124,14 +173,20 @@ def mujoco_settings() -> None:
 
 
 def configure() -> Path | None:
-    """Point numba's cache at ``$XDG_CACHE_HOME/artic/numba/<hash>`` (or ~/.cache).
+    """Point numba's cache at the install's, or at ``$XDG_CACHE_HOME/artic/numba/<hash>``.
 
-    Also makes the MuJoCo settings of :func:`mujoco_settings`.
+    The install's (:func:`install_cache`, numba's default folders) while it is
+    current (:func:`install_cache_current`); otherwise the hashed folder under
+    ``$XDG_CACHE_HOME`` (or ~/.cache). Also makes the MuJoCo settings of
+    :func:`mujoco_settings`.
 
-    Returns the folder, or ``None`` when ``NUMBA_CACHE_DIR`` is set by the
-    user or the home folder is read-only (numba then uses its own locations).
+    Returns the folder (:func:`install_cache` for the install's), or ``None``
+    when ``NUMBA_CACHE_DIR`` is set by the user or the home folder is
+    read-only (numba then uses its own locations).
     """
     mujoco_settings()
+    if os.environ.get("NUMBA_CACHE_DIR") in (None, "") and install_cache_current():
+        return install_cache()
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "artic" / "numba"
     folder = base / source_hash()
     if os.environ.get("NUMBA_CACHE_DIR") not in (None, "", str(folder)):
