@@ -11,12 +11,17 @@ change and no result depends on, which is dropped from both sides first:
 
 - the ``wall_s``, ``build_s``, ``wall_per_sim_s`` and ``real_time_factor``
   columns of a ``.csv`` (the runs' own times: ``metrics*.csv``, ``efficiency.csv``);
-- ``timings.json`` whole (the stage times), and in any other ``.json`` every
-  key named ``wall_s``, ``build_s``, ``path``, ``outputs`` or ``stages``
-  (times, and the output folder's absolute paths);
-- in ``report.md``: the lines that quote wall times or the output folder (the
-  stage table, the efficiency table, the closing lines), matched by
-  :data:`TIMED_LINE`; the report's other lines are compared.
+- ``timings.json``, ``efficiency.csv`` and ``cache/efficiency.json`` whole
+  (wall times and nothing else; only their presence is compared), and in any
+  other ``.json`` every key of :data:`TIMED_KEYS`: times, the output folder's
+  paths and files' modification times, and the code fingerprints and stage keys
+  (``key``, ``generator``: they change with any edit of artic's code, the
+  results not);
+- in ``report.md``: the lines that quote wall times, the code fingerprint or
+  the output folder (the efficiency figures, the closing lines), matched by
+  :data:`TIMED_LINE`, the sections of :data:`TIMED_SECTIONS` whole (the
+  efficiency table, the stage table), and the tuning table's wall-time cell
+  (the cell before a row's closing ``ok``); the report's other lines are compared.
 
 Everything else must be identical byte for byte.
 """
@@ -32,9 +37,13 @@ from pathlib import Path
 
 SUFFIXES = (".csv", ".md", ".json")
 TIMED_COLUMNS = ("wall_s", "build_s", "wall_per_sim_s", "real_time_factor")
-TIMED_KEYS = ("wall_s", "build_s", "path", "outputs", "stages")
+TIMED_KEYS = ("wall_s", "build_s", "path", "outputs", "stages", "mtime_ns", "key", "generator")
 SKIP = ("timings.json",)
-TIMED_LINE = re.compile(r"( s\b| s;| s\)|wall|Wall|real.time|/tmp/|\bms\b|per simulated)")
+PRESENCE = ("efficiency.csv", "cache/efficiency.json")
+TIMED_LINE = re.compile(r"( s\b| s;| s\)|wall|Wall|real.time|/tmp/|\bms\b|per simulated|"
+                        r"\(code [0-9a-f]+\)|Efficiency)")
+TIMED_SECTIONS = ("## Computational efficiency", "## Wall time by stage")
+TUNING_ROW = re.compile(r"\| [^|]* \| ok \|$")
 
 
 def _csv(text: str) -> str:
@@ -65,7 +74,13 @@ def normalised(path: Path, root: Path) -> str:
         except ValueError:
             return text
     if path.name == "report.md":
-        return "\n".join(line for line in text.splitlines() if not TIMED_LINE.search(line))
+        kept, timed = [], False
+        for line in text.splitlines():
+            if line.startswith("## "):
+                timed = line in TIMED_SECTIONS
+            if not timed and not TIMED_LINE.search(line):
+                kept.append(TUNING_ROW.sub("| - | ok |", line))
+        return "\n".join(kept)
     return text
 
 
@@ -84,7 +99,7 @@ def compare(ref: Path, cand: Path) -> list[str]:
             out.append(f"{name}: missing from {cand}")
         elif name not in a:
             out.append(f"{name}: extra in {cand}")
-        elif a[name].read_bytes() == b[name].read_bytes():
+        elif name in PRESENCE or a[name].read_bytes() == b[name].read_bytes():
             continue
         else:
             x, y = normalised(a[name], ref), normalised(b[name], cand)
