@@ -19,7 +19,9 @@ folder, and prints the median and range over the runs of
 - the whole run's wall and CPU time and its peak memory: the largest single
   process's resident set (what ``/usr/bin/time -v`` reports) and the peak of the
   tree's summed resident sets, sampled every 0.2 s (an upper bound: it counts
-  pages the processes share once per process).
+  pages the processes share once per process), and per stage the peak of the
+  tree's summed resident sets over the stage (the same samples, between the
+  stage's opening and closing lines).
 
 Options: ``--runs N``; ``--no-recordings`` (the campaign's own option);
 ``--only`` (the campaign's, to try the benchmark on a part); ``--cold-cache``
@@ -127,23 +129,28 @@ def run_once(recordings: bool, cold_cache: bool, only: str = "") -> dict:
                                  stderr=subprocess.PIPE, text=True)
         proc = psutil.Process(child.pid)
         peak = [0]
+        samples: list[tuple[float, int]] = []  # (time, tree RSS) for the stages' peaks
         done = threading.Event()
 
         def sample() -> None:
             while not done.wait(SAMPLE):
                 try:
-                    peak[0] = max(peak[0], _tree_rss(proc))
+                    rss = _tree_rss(proc)
                 except psutil.NoSuchProcess:
                     return
+                peak[0] = max(peak[0], rss)
+                samples.append((time.perf_counter(), rss))
 
         sampler = threading.Thread(target=sample, daemon=True)
         sampler.start()
         cpu_at: dict[str, list[float]] = {}
+        when: dict[str, list[float]] = {}
         tail = []
         for line in child.stderr:  # "== NAME" opens a stage, "== NAME: ..." closes it
             tail = (tail + [line])[-20:]
             if (name := stage_of(line)) is not None:
                 cpu_at.setdefault(name, []).append(_tree_cpu(proc))
+                when.setdefault(name, []).append(time.perf_counter())
         # This run's own rusage: its CPU and its largest process's resident set, the
         # command's and every descendant's it waited for (as /usr/bin/time -v reads them).
         _, status, usage = os.wait4(child.pid, 0)
@@ -158,10 +165,13 @@ def run_once(recordings: bool, cold_cache: bool, only: str = "") -> dict:
     for name, wall_s in timings["stages"].items():
         marks = cpu_at.get(name, [])
         budget = timings.get("budget", {}).get(name, {})
+        span = when.get(name, [])
+        inside = [r for t, r in list(samples) if len(span) >= 2 and span[0] <= t <= span[-1]]
         stages[name] = {"wall": wall_s,
                         "cpu": marks[-1] - marks[0] if len(marks) >= 2 else float("nan"),
                         "multibody_s": float(budget.get("multibody", (0, 0.0))[1]),
-                        "reduced_s": float(budget.get("reduced", (0, 0.0))[1])}
+                        "reduced_s": float(budget.get("reduced", (0, 0.0))[1]),
+                        "rss": max(inside) if inside else float("nan")}
     largest = usage.ru_maxrss * 1024  # kB on Linux
     return {"wall": wall, "cpu": usage.ru_utime + usage.ru_stime, "stages": stages,
             "largest_rss": largest, "tree_rss": peak[0]}
@@ -193,21 +203,23 @@ def main(runs: int = 3, recordings: bool = True, cold_cache: bool = False,
     print(f"\ncampaign{'' if recordings else ' --no-recordings'}"
           f"{' (cold numba cache)' if cold_cache else ''}, {os.cpu_count()} cores, "
           f"median (range) of {runs} runs")
-    print("| stage | wall [s] | CPU [s] | multibody simulated [s] | physics at the plant's "
-          "rate [s CPU] | CPU / physics |")
-    print("|---|---|---|---|---|---|")
+    print("| stage | wall [s] | CPU [s] | multibody simulated [s] | plant steps (10 ms) | "
+          "physics at the plant's rate [s CPU] | CPU / physics | peak tree RSS [MB] |")
+    print("|---|---|---|---|---|---|---|---|")
     for name in names:
         rows = [r["stages"][name] for r in results if name in r["stages"]]
         physics = rows[0]["multibody_s"] / DT * step
         ratio = [s["cpu"] / physics for s in rows] if physics > 0 else []
         print(f"| {name} | {_med([s['wall'] for s in rows])} | {_med([s['cpu'] for s in rows])} "
-              f"| {rows[0]['multibody_s']:.0f} | {physics:.1f} | "
-              f"{_med(ratio, '{:.1f}') if ratio else '-'} |")
+              f"| {rows[0]['multibody_s']:.0f} | {rows[0]['multibody_s'] / DT:.0f} | "
+              f"{physics:.1f} | {_med(ratio, '{:.1f}') if ratio else '-'} | "
+              f"{_med([s['rss'] / 1e6 for s in rows], '{:.0f}')} |")
     total_mb = sum(results[0]["stages"][n]["multibody_s"] for n in names)
     physics = total_mb / DT * step
     print(f"| total | {_med([r['wall'] for r in results])} | {_med([r['cpu'] for r in results])} "
-          f"| {total_mb:.0f} | {physics:.1f} | "
-          f"{_med([r['cpu'] / physics for r in results], '{:.1f}')} |")
+          f"| {total_mb:.0f} | {total_mb / DT:.0f} | {physics:.1f} | "
+          f"{_med([r['cpu'] / physics for r in results], '{:.1f}')} | "
+          f"{_med([r['tree_rss'] / 1e6 for r in results], '{:.0f}')} |")
     largest = _med([r["largest_rss"] / 1e6 for r in results], "{:.0f}")
     tree = _med([r["tree_rss"] / 1e6 for r in results], "{:.0f}")
     print(f"peak memory: largest process {largest} MB; process tree {tree} MB")

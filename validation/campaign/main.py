@@ -617,6 +617,7 @@ class _Campaign:
                 result = StageResult(name, key, False, dict(outputs), value)
             self.timer.reused(result.reused)
         self.results[name] = result
+        release_memory()
         return result
 
     def derived(self, name: str, make: Callable[[], Any]) -> StageResult:
@@ -631,7 +632,29 @@ class _Campaign:
             value = make()
             self.timer.reused(reused)
         self.results[name] = StageResult(name, "", reused, {}, value)
+        release_memory()
         return self.results[name]
+
+
+def release_memory() -> None:
+    """Collect what a finished stage left unreferenced and give freed heap back to the system.
+
+    Between stages, for the campaign's peak memory: a stage's temporaries (the
+    runs' frames, the models' MuJoCo data) are freed in cycles that only the
+    collector breaks, and glibc keeps freed arenas mapped until ``malloc_trim``
+    returns them. Elsewhere than glibc the trim is skipped. Nothing computed
+    depends on it.
+    """
+    import ctypes
+    import gc
+    import sys
+
+    gc.collect()
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL("libc.so.6").malloc_trim(0)
+        except (OSError, AttributeError):  # not glibc (musl has no malloc_trim)
+            pass
 
 
 def _stage_logs(c: _Campaign) -> StageResult:
@@ -751,8 +774,8 @@ def _stage_references(c: _Campaign, logs: StageResult, tuning: StageResult,
     def tables() -> tuple[pd.DataFrame, pd.DataFrame | None, pd.DataFrame]:
         # The floor's runs as their metadata (criteria, key): the tables read no
         # more, and no recording draws them.
-        floor = _floor(c.out_dir, validated, cfg.seed, cfg.truth, cfg.gain, key, c.jobs, c.pool,
-                       scale, samples=False, replays=c.replays)
+        floor = _floor(c.out_dir, validated, _Settings.of(c, key, scale), samples=False,
+                       replays=c.replays)
         both = pd.concat([metrics, floor], ignore_index=True)
         both["load"] = both["log"].map(load_of)
         vs_plant = None
@@ -780,7 +803,6 @@ def _stage_references(c: _Campaign, logs: StageResult, tuning: StageResult,
 def _stage_twins(c: _Campaign, logs: StageResult, tuning: StageResult,
                  validation: StageResult) -> StageResult:
     """Stage 4b: every model and the floor on the noise-free twins; value the metrics."""
-    cfg = c.config
     key = c.cache.key("twins", c.fields("models", "gain", "seed", "truth"),
                       [logs, tuning, validation])
     _, vehicles, tuning_logs = tuning.value
@@ -789,8 +811,8 @@ def _stage_twins(c: _Campaign, logs: StageResult, tuning: StageResult,
 
     def table() -> pd.DataFrame:
         try:
-            twins = _twins(c.out_dir, logs.value[1], tuning_logs, vehicles, c.models, cfg.seed,
-                           cfg.truth, cfg.gain, key, c.jobs, c.pool, scale, c.replays)
+            twins = _twins(c.out_dir, logs.value[1], tuning_logs, vehicles, c.models,
+                           _Settings.of(c, key, scale), c.replays)
         finally:
             c.replays.clear()  # the twins were their only use
         twins["load"] = twins["log"].map(load_of)
@@ -1226,9 +1248,30 @@ def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
     return paths
 
 
-def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, key: str,
-           jobs: int, pool: Executor | None, scale: dict | None = None,
-           samples: bool = True, replays: dict | None = None) -> pd.DataFrame:
+@dataclasses.dataclass(frozen=True)
+class _Settings:
+    """What the references' and the twins' runs share: the truck, the loop, the workers."""
+
+    seed: int
+    truth: str
+    gain: float
+    """K [rad/rad]."""
+    key: str
+    """The stage's key, the prefix of every run's reuse key."""
+    jobs: int
+    pool: Executor | None
+    scale: dict | None
+    """``eps_n_fixed``'s scale, the measured logs'."""
+
+    @classmethod
+    def of(cls, c: _Campaign, key: str, scale: dict | None) -> _Settings:
+        """The settings of campaign ``c``'s stage of ``key``."""
+        cfg = c.config
+        return cls(cfg.seed, cfg.truth, cfg.gain, key, c.jobs, c.pool, scale)
+
+
+def _floor(out_dir: Path, logs: list[Run], s: _Settings, samples: bool = True,
+           replays: dict | None = None) -> pd.DataFrame:
     """The truth against the logs: the ``floor`` rows of the tables against logs.
 
     Each log's floor is the truth that made it (:func:`artic.validation.models.build`
@@ -1238,21 +1281,20 @@ def _floor(out_dir: Path, logs: list[Run], seed: int, truth: str, gain: float, k
     """
     from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
 
-    config = truth_configuration(seed, truth)
+    config = truth_configuration(s.seed, s.truth)
 
     def vehicle_of(log: Run) -> Vehicle:
-        return truth_vehicle(log.meta["load"], config, seed, log.meta.get("slope"))
+        return truth_vehicle(log.meta["load"], config, s.seed, log.meta.get("slope"))
 
-    return validate_runs(logs, vehicle_of, ["floor"], gain=gain, out_dir=out_dir,
-                         progress=stderr_progress, reuse_key=f"{key}.floor", jobs=jobs,
-                         executor=pool, label="references, the truth", scale=scale,
+    return validate_runs(logs, vehicle_of, ["floor"], gain=s.gain, out_dir=out_dir,
+                         progress=stderr_progress, reuse_key=f"{s.key}.floor", jobs=s.jobs,
+                         executor=s.pool, label="references, the truth", scale=s.scale,
                          samples=samples, replays=replays)
 
 
 def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
-           vehicles: dict[str, Vehicle], models: Sequence[str], seed: int, truth: str,
-           gain: float, key: str, jobs: int, pool: Executor | None,
-           scale: dict | None, replays: dict | None = None) -> pd.DataFrame:
+           vehicles: dict[str, Vehicle], models: Sequence[str], s: _Settings,
+           replays: dict | None = None) -> pd.DataFrame:
     """Every model and the floor on the noise-free twins of the validated logs.
 
     The same tuned vehicles, gain and ``eps_n_fixed`` scale as on the logs,
@@ -1268,13 +1310,13 @@ def _twins(out_dir: Path, twin_logs: list[Run], tuning_logs: set[str],
     for load in LOADS:
         group = [log for log in validated if log.meta.get("load") == load]
         if group:
-            parts.append(validate_runs(group, vehicles[load], models, gain=gain,
+            parts.append(validate_runs(group, vehicles[load], models, gain=s.gain,
                                        out_dir=twin_out, progress=stderr_progress,
-                                       reuse_key=f"{key}.{load}.twins", jobs=jobs,
-                                       executor=pool, label=f"twins, {load}", scale=scale,
+                                       reuse_key=f"{s.key}.{load}.twins", jobs=s.jobs,
+                                       executor=s.pool, label=f"twins, {load}", scale=s.scale,
                                        samples=False))
-    parts.append(_floor(twin_out, validated, seed, truth, gain, f"{key}.twins", jobs, pool,
-                        scale, samples=False, replays=replays))
+    parts.append(_floor(twin_out, validated, dataclasses.replace(s, key=f"{s.key}.twins"),
+                        samples=False, replays=replays))
     out = pd.concat(parts, ignore_index=True)
     out.attrs["reused"] = sum(p.attrs.get("reused", 0) for p in parts)
     return out
