@@ -18,8 +18,6 @@ WAITING = {
     # The campaign's stages, in the file the campaign's speed work is changing now.
     ("validation/campaign/main.py", "_twins"),
     ("validation/campaign/main.py", "_floor"),
-    # Its one caller is in validation/docking/run.py, which the docking work owns.
-    ("validation/review/recording.py", "record_docking"),
 }
 """Functions over the limit that wait for their owners' work to merge: (file, name)."""
 
