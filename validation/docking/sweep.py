@@ -69,7 +69,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from artic.mjcf.errors import UserError
+from artic.mjcf.errors import UserError, one_line
 
 RUNS_DIR = "sweep_runs"
 """Folder of the per-run files in the output folder."""
@@ -537,7 +537,7 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
                     row = f.result()
                 except Exception as exc:  # noqa: BLE001 - a lost worker or a raising run
                     row = _failed(s, "run failed on the cluster: "
-                                     + " ".join(f"{type(exc).__name__}: {exc}".split()))
+                                     + one_line(f"{type(exc).__name__}: {exc}"))
                 yield s, row
         finally:
             for f in futures:
