@@ -75,13 +75,12 @@ def test_the_cli_refuses_a_bad_sweep_before_writing_anything(tmp_path, capsys):
                                            ("trailer_length_error", "trailer"),
                                            ("payload", "trailer")])
 def test_the_other_parts_axes_say_not_available_until_their_part_is_there(name, keyword):
-    import inspect
 
-    from artic.validation.docking.run import drive
+    from artic.validation.docking.spec import CONDITIONS, RUN_OPTIONS
 
     axis = sw.AXES[name]
     level = "tractor" if axis.categorical else "1"
-    if keyword in inspect.signature(drive).parameters and axis.missing() is None:
+    if keyword in CONDITIONS + RUN_OPTIONS and axis.missing() is None:
         assert sw.parse_sweep(f"{name}={level}")[0] is axis
         return
     with pytest.raises(UserError, match=f"--sweep {name}: not available yet: "):
@@ -89,18 +88,16 @@ def test_the_other_parts_axes_say_not_available_until_their_part_is_there(name, 
 
 
 def test_each_axis_sets_drives_keywords_and_its_nominal_is_drives_default():
-    import inspect
+    from artic.validation.docking.spec import Conditions
 
-    from artic.validation.docking.run import drive
-
-    params = inspect.signature(drive).parameters
+    defaults = Conditions()  # drive's defaults for these keywords
     for name in ("delay", "steer_rate", "friction", "grade"):
         axis = sw.AXES[name]
         kw = axis.keywords(axis.nominal)
         assert axis.missing() is None
         for key, value in kw.items():
             # The nominal level is drive's default: a sweep's nominal runs are today's.
-            assert params[key].default == pytest.approx(value), name
+            assert getattr(defaults, key) == pytest.approx(value), name
 
 
 # ---------------------------------------------------------------- tiers

@@ -14,12 +14,6 @@ ROOT = Path(__file__).resolve().parents[1]
 ROOMS = ("artic", "mjcf", "plant", "reduced", "validation")
 MAX_PARAMETERS = 10
 
-WAITING = {
-    # Its one caller is in validation/docking/run.py, which the docking work owns.
-    ("validation/review/recording.py", "record_docking"),
-}
-"""Functions over the limit that wait for their owners' work to merge: (file, name)."""
-
 
 def parameter_count(fn: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
     """Parameters of ``fn`` as a caller gives them: ``self``/``cls`` left out, ``*``/``**`` one."""
@@ -47,14 +41,7 @@ def long_lists(root: Path = ROOT) -> dict[tuple[str, str], int]:
 
 def test_no_function_takes_more_than_ten_parameters():
     found = long_lists()
-    new = {k: n for k, n in found.items() if k not in WAITING}
-    assert not new, f"more than {MAX_PARAMETERS} parameters (group them in an object): {new}"
-
-
-def test_the_waiting_list_holds_only_functions_still_over_the_limit():
-    # A function brought under the limit leaves the list, so the list cannot hide a new one.
-    stale = sorted(WAITING - set(long_lists()))
-    assert not stale, f"under the limit now: remove from WAITING: {stale}"
+    assert not found, f"more than {MAX_PARAMETERS} parameters (group them in an object): {found}"
 
 
 def test_the_count_sees_a_long_list(tmp_path):

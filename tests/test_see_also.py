@@ -21,9 +21,6 @@ WITHOUT = {
     "SingleTrackModel": "a former name of STM",
     "LogError": "an error class", "PlantError": "an error class",
     "VehicleFileError": "an error class",
-    # The docking controllers' base and command: validation/docking/ is the docking
-    # work's, which adds theirs.
-    "Controller": "the docking work's", "Command": "the docking work's",
 }
 """Public names without a See Also section, and why."""
 

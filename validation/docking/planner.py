@@ -222,8 +222,7 @@ def _poses(x, P, x_ref):
 
 
 @njit(cache=True)
-def rollout(x0, direction, mode, value, steps, ds, P, delta_max, gamma_max, x_ref,
-            tractor_box, trailer_box, boxes):
+def rollout(x0, direction, mode, value, steps, ds, kin, outlines):
     """One motion primitive of KIN, checked as it goes.
 
     Parameters
@@ -238,14 +237,12 @@ def rollout(x0, direction, mode, value, steps, ds, P, delta_max, gamma_max, x_re
         [rad].
     steps : int
         Steps of ``ds`` [m].
-    P : ndarray
-        KIN's ``[L1, L1c, L2]``.
-    delta_max, gamma_max : float
-        Steering and articulation limits [rad].
-    x_ref : float
-        KIN's point ahead of the drive axle [m].
-    tractor_box, trailer_box, boxes : ndarray
-        Outlines and obstacles, as :func:`artic.validation.docking.geometry.first_hit`.
+    kin : tuple
+        ``(P, delta_max, gamma_max, x_ref)``: KIN's ``[L1, L1c, L2]``, the steering
+        and articulation limits [rad] and KIN's point ahead of the drive axle [m].
+    outlines : tuple
+        ``(tractor_box, trailer_box, boxes)``: outlines and obstacles, as
+        :func:`artic.validation.docking.geometry.first_hit`.
 
     Returns
     -------
@@ -258,6 +255,8 @@ def rollout(x0, direction, mode, value, steps, ds, P, delta_max, gamma_max, x_re
 
     The road-wheel angle turns at most :data:`STEER_RATE` per metre.
     """
+    P, delta_max, gamma_max, x_ref = kin
+    tractor_box, trailer_box, boxes = outlines
     out = np.empty((steps + 1, 5))
     x = x0[:4].copy()
     # Beyond this primitive's limit (a cusp after a sharper forward piece), the
@@ -288,30 +287,31 @@ def rollout(x0, direction, mode, value, steps, ds, P, delta_max, gamma_max, x_re
 
 
 @njit(cache=True)
-def expand(x0, prims, steps, ds, P, delta_max, gamma_max, x_ref, tractor_box, trailer_box,
-           boxes):
+def expand(x0, prims, steps, ds, kin, outlines):
     """Every motion primitive from ``x0``, in one compiled call.
 
-    :func:`rollout` of each row ``(direction, mode, value, steering limit)`` of ``prims``.
+    :func:`rollout` of each row ``(direction, mode, value, steering limit)`` of ``prims``,
+    with ``kin`` and ``outlines`` as :func:`rollout` takes them (the steering limit the
+    smaller of ``kin``'s and the row's).
 
     Returns
     -------
     pieces : ndarray, shape (n, steps + 1, 5)
     ok : ndarray of bool, shape (n,)
     """
+    P, delta_max, gamma_max, x_ref = kin
     n = prims.shape[0]
     pieces = np.empty((n, steps + 1, 5))
     ok = np.empty(n, dtype=np.bool_)
     for j in range(n):
         pieces[j], ok[j] = rollout(x0, prims[j, 0], int(prims[j, 1]), prims[j, 2], steps, ds,
-                                   P, min(delta_max, prims[j, 3]), gamma_max, x_ref,
-                                   tractor_box, trailer_box, boxes)
+                                   (P, min(delta_max, prims[j, 3]), gamma_max, x_ref),
+                                   outlines)
     return pieces, ok
 
 
 @njit(cache=True)
-def final_approach(x0, x_dock, y_dock, rear, ds, max_steps, P, delta_max, gamma_max, x_ref,
-                   tractor_box, trailer_box, boxes, K, y_sat, landing):
+def final_approach(x0, goal, ds, max_steps, kin, outlines, law):
     """KIN reversed onto the door's centre line until the rear reaches the face.
 
     The law is the reversing LQR of :mod:`artic.validation.docking.linear`
@@ -325,6 +325,18 @@ def final_approach(x0, x_dock, y_dock, rear, ds, max_steps, P, delta_max, gamma_
     ----------
     x0 : ndarray, shape (5,)
         Start state ``[X, Y, psi_1, gamma, delta]``.
+    goal : tuple
+        ``(x_dock, y_dock, rear)``: the door's centre on its face [m] and the
+        semitrailer's rear behind its kingpin [m].
+    ds : float
+        Step [m].
+    max_steps : int
+        Most steps before giving up.
+    kin, outlines : tuple
+        As :func:`rollout` takes them.
+    law : tuple
+        ``(K, y_sat, landing)``: the LQR's gains, the clip of the lateral error [m]
+        and the landing tolerances.
 
     Returns
     -------
@@ -335,6 +347,10 @@ def final_approach(x0, x_dock, y_dock, rear, ds, max_steps, P, delta_max, gamma_
         Whether it landed (``landing``: lateral [m], heading and articulation
         [rad]) without a collision or passing the limits.
     """
+    x_dock, y_dock, rear = goal
+    P, delta_max, gamma_max, x_ref = kin
+    tractor_box, trailer_box, boxes = outlines
+    K, y_sat, landing = law
     out = np.empty((max_steps + 1, 5))
     x = x0[:4].copy()
     delta = max(-delta_max, min(delta_max, x0[4]))  # turned back at standstill
@@ -455,7 +471,8 @@ class HybridAStar:
         P = fr.P
         boxes = self.obstacles(yard)
         dmax = STEER_SHARE * vehicle.steering.delta_max
-        args = (P, dmax, GAMMA_PLAN, fr.x_ref, fr.tractor_box, fr.trailer_box, boxes)
+        kin = (P, dmax, GAMMA_PLAN, fr.x_ref)
+        outlines = (fr.tractor_box, fr.trailer_box, boxes)
         x0 = np.r_[fr.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma), 0.0]
         if abs(start.gamma) > GAMMA_PLAN:
             raise PlanningError(f"the start's articulation {math.degrees(start.gamma):.1f} deg "
@@ -487,9 +504,9 @@ class HybridAStar:
                          + [(-1.0, 1, f * GAMMA_PLAN, d_rev) for f in fractions])
         steps = round(PRIMITIVE_LENGTH / STEP)
         max_steps = round(MAX_APPROACH / STEP)
-        fa = (yard.x_dock, yard.y_dock, fr.rear, STEP, max_steps, P,
-              REVERSE_STEER_SHARE * vehicle.steering.delta_max, *args[2:],
-              gains(fr.kin, -1, STEP, APPROACH_WEIGHTS), Y_SAT, np.array(LANDING))
+        fa = ((yard.x_dock, yard.y_dock, fr.rear), STEP, max_steps,
+              (P, REVERSE_STEER_SHARE * vehicle.steering.delta_max, GAMMA_PLAN, fr.x_ref),
+              outlines, (gains(fr.kin, -1, STEP, APPROACH_WEIGHTS), Y_SAT, np.array(LANDING)))
         order = 0
         heap = [(WEIGHT * h(x0), order, _Node(0.0, x0, 0, None, None))]
         closed: set[tuple] = set()
@@ -509,7 +526,7 @@ class HybridAStar:
                 approach, ok = final_approach(node.state, *fa)
                 if ok:
                     return Plan(self._segments(node, approach), expansions)
-            pieces, oks = expand(node.state, prims, steps, STEP, *args)
+            pieces, oks = expand(node.state, prims, steps, STEP, kin, outlines)
             for j in range(len(prims)):
                 if not oks[j]:
                     continue

@@ -40,6 +40,7 @@ except the compute times.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import time
 import traceback
@@ -51,7 +52,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from artic.mjcf.errors import UserError
+from artic.mjcf.errors import UserError, one_line
 from artic.mjcf.interface import OBS_INDEX, InitialState
 from artic.mjcf.vehicle import load_vehicle
 from artic.plant import Plant, PlantWarning
@@ -60,7 +61,7 @@ from artic.validation.docking.conditions import ActuatorDelay, road
 from artic.validation.docking.controllers import Command, Observation, Task, load
 from artic.validation.docking.geometry import Frames, box_array, first_hit
 from artic.validation.docking.identify import WheelbaseIdentifier
-from artic.validation.docking.planner import HybridAStar, Plan, Planner, PlanningError
+from artic.validation.docking.planner import HybridAStar, Plan, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
 from artic.validation.docking.scores import COLUMNS, estimate_scores, score, tiers
 from artic.validation.docking.sensing import (
@@ -69,6 +70,7 @@ from artic.validation.docking.sensing import (
     articulation_model,
     sensor_set,
 )
+from artic.validation.docking.spec import STEER_RATE, Conditions, DockRun, split_options
 from artic.validation.docking.supervise import calling, supervised
 from artic.validation.docking.variants import (
     Draw,
@@ -97,9 +99,6 @@ SPEED = 4.0 / 3.6
 ACCEL_MAX = 0.5
 """Largest change of speed [m/s^2]: the docking driver's pedal."""
 
-STEER_RATE = math.radians(360.0)
-"""Largest steering-wheel rate [rad/s]: an electric steering actuator's, and
-what the synthetic driver turns (0.3 rad/s of road wheel through 21:1)."""
 
 SETTLE = 3.0
 """Time the run waits for the plant to stop after the controller is done [s]."""
@@ -189,15 +188,12 @@ def _fail(trace: Trace, reason: str) -> None:
 
 
 def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
-          planner: Planner | None = None, sensors: SensorModel | None = None,
-          timeout: float | None = None, yard_model: str = "mbd",
-          record: Path | None = None, truth: int | None = None,
-          realtime: bool = True, sensor_set: str = "full",
-          articulation_noise_deg: float | None = None,
-          trailer: str | Draw = "nominal", *, delay: float = 0.0,
-          steer_rate: float = STEER_RATE, friction: float = 1.0,
-          grade: float = 0.0) -> Result:
-    """One docking run on the plant.
+          **options) -> Result:
+    """One docking run on the plant: :func:`dock` with its keywords split into objects.
+
+    ``options`` are :class:`~artic.validation.docking.spec.DockRun`'s and
+    :class:`~artic.validation.docking.spec.Conditions`' fields
+    (:func:`~artic.validation.docking.spec.split_options`), as below.
 
     Parameters
     ----------
@@ -271,6 +267,24 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     Result
         Its :attr:`Result.row` holds the scores (:func:`artic.validation.docking.scores.score`).
     """
+    run, conditions = split_options(options)
+    return dock(DockRun(scen, vehicle_name, controller, seed, **run), conditions)
+
+
+def dock(run: DockRun, conditions: Conditions | None = None) -> Result:
+    """One docking run on the plant: ``run`` under ``conditions`` (see :func:`drive`).
+
+    ``conditions`` are the benchmark's (:class:`~artic.validation.docking.spec.Conditions`'
+    defaults) if not given.
+    """
+    scen, vehicle_name, controller, seed = run.scenario, run.vehicle, run.controller, run.seed
+    planner, timeout, yard_model = run.planner, run.timeout, run.yard_model
+    record = run.record
+    c = conditions = conditions or Conditions()
+    sensors, sensor_set, articulation_noise_deg = c.sensors, c.sensor_set, \
+        c.articulation_noise_deg
+    truth, trailer, steer_rate = c.truth, c.trailer, c.steer_rate
+    friction, grade = c.friction, c.grade
     sensor_set_ = _sensor_set(sensor_set, articulation_noise_deg)
     vehicle = load_vehicle(vehicle_name)
     cls = load(controller) if isinstance(controller, str) else controller
@@ -321,10 +335,11 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
     if plan is not None:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlantWarning)  # the lock is the actuator's limit
-            _closed_loop(trace, vehicle, yard, start, frames, cls, plan, seed, scen.number,
-                         sensors, timeout, yard_model, record is not None,
-                         plant_vehicle, actuation, realtime, sensor_set_,
-                         articulation_noise_deg, identifier, delay, steer_rate)
+            _closed_loop(trace, _Loop(vehicle, yard, start, frames, cls, plan, scen.number,
+                                      plant_vehicle, actuation, identifier),
+                         dataclasses.replace(run, timeout=timeout, record=record),
+                         dataclasses.replace(conditions, sensors=sensors,
+                                             sensor_set=sensor_set_))
     row = {"scenario": scen.name, "vehicle": vehicle.name, "controller": cname,
            "plant": yard_model if truth is None else f"truth-{truth}", "seed": seed,
            **score(trace, yard, plant_vehicle, frames, start),
@@ -346,19 +361,38 @@ def drive(scen: Scenario, vehicle_name: str, controller: str | type, seed: int,
         except Exception as exc:  # noqa: BLE001 - an output error, not the run's
             # A full disk measures the disk, not the controller: the run keeps its scores,
             # and the command reports the recording (RECORDING_ERROR) and exits non-zero.
-            row[RECORDING_ERROR] = f"{record}: {_one_line(exc)}"
+            row[RECORDING_ERROR] = f"{record}: {one_line(_named(exc))}"
     return result
 
 
-def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames, cls: type,
-                 plan: Plan, seed: int, number: int, sensors: SensorModel,
-                 timeout: float, yard_model: str, extras: bool = False,
-                 plant_vehicle=None, actuation: Callable | None = None,
-                 realtime: bool = True, sensor_set: str = "full",
-                 articulation_noise_deg: float | None = None,
-                 identifier: WheelbaseIdentifier | None = None, delay: float = 0.0,
-                 steer_rate: float = STEER_RATE) -> None:
-    plant_vehicle = plant_vehicle or vehicle
+@dataclass(frozen=True)
+class _Loop:
+    """What :func:`dock` prepared for the closed loop: the world the run starts in."""
+
+    vehicle: object
+    yard: Yard
+    start: Start
+    frames: Frames
+    cls: type
+    plan: Plan
+    number: int
+    plant_vehicle: object = None
+    actuation: Callable | None = None
+    identifier: WheelbaseIdentifier | None = None
+
+
+def _closed_loop(trace: Trace, loop: _Loop, run: DockRun, conditions: Conditions) -> None:
+    """The run's loop (steps 3-6 of the module's), ``run``'s timeout and sensors resolved."""
+    vehicle, yard, start, frames, cls = loop.vehicle, loop.yard, loop.start, loop.frames, \
+        loop.cls
+    plan, number, identifier, actuation = loop.plan, loop.number, loop.identifier, \
+        loop.actuation
+    seed, timeout, yard_model, realtime = run.seed, run.timeout, run.yard_model, run.realtime
+    extras = run.record is not None
+    sensors, sensor_set = conditions.sensors, conditions.sensor_set
+    articulation_noise_deg = conditions.articulation_noise_deg
+    delay, steer_rate = conditions.delay, conditions.steer_rate
+    plant_vehicle = loop.plant_vehicle or vehicle
     n_sub = round(DT / PLANT_DT)
     n_ctrl = int(round(timeout / DT))
     stream = SensorStream(sensors, np.random.default_rng([seed, number, SENSOR_STREAM]),
@@ -379,7 +413,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
     except KeyboardInterrupt:
         raise
     except BaseException as exc:  # noqa: BLE001 - a user's controller (sys.exit too): a failed run
-        _fail(trace, f"controller error: {_one_line(exc)}")
+        _fail(trace, f"controller error: {one_line(_named(exc))}")
         return
     if actuation is not None:  # the truth behind its steering column and pedals
         plant, yard_plant = actuation()
@@ -416,7 +450,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                 except KeyboardInterrupt:
                     raise
                 except BaseException as exc:  # noqa: BLE001 - the user's code (sys.exit too)
-                    _fail(trace, f"controller error: {_one_line(exc)} "
+                    _fail(trace, f"controller error: {one_line(_named(exc))} "
                                  f"({_where(exc)})")
                     return
                 trace.solve_ms.append(solve_ms)
@@ -462,7 +496,7 @@ def _closed_loop(trace: Trace, vehicle, yard: Yard, start: Start, frames: Frames
                         plant.step(PLANT_DT, float(mbd.road_wheel(wheel)), u,
                                    (u_next - u) / PLANT_DT)
                 except (PlantError, FloatingPointError) as exc:  # the plant or the yard truth
-                    _fail(trace, f"plant diverged: {_one_line(exc)}")
+                    _fail(trace, f"plant diverged: {one_line(_named(exc))}")
                     return
                 u = u_next
                 trace.t.append(trace.t[-1] + PLANT_DT)
@@ -588,7 +622,7 @@ def write_recording(result: Result, vehicle, path: Path, seen_vehicle=None) -> P
     controller knows; ``vehicle`` if not given) places it.
     """
     from artic.validation.docking.scores import rear_point
-    from artic.validation.review.recording import record_docking
+    from artic.validation.review.recording import DockIntent, DockScene, record_docking
 
     tr = result.trace
     a = tr.arrays()
@@ -615,9 +649,10 @@ def write_recording(result: Result, vehicle, path: Path, seen_vehicle=None) -> P
     row = result.row
     name = run_name(row["scenario"], row["vehicle"], row["controller"], row["seed"])
     obstacles = [(b.name, b.x_min, b.x_max, b.y_min, b.y_max) for b in result.yard.obstacles]
-    return record_docking(path, name, frame, vehicle, obstacles, result.yard.doors,
-                          (result.yard.x_dock, result.yard.y_dock), plan, horizons,
-                          scores_text(row), references, seen)
+    scene = DockScene(obstacles, result.yard.doors, (result.yard.x_dock, result.yard.y_dock),
+                      plan)
+    return record_docking(path, name, frame, vehicle, scene,
+                          DockIntent(horizons, references, seen), scores_text(row))
 
 
 def scores_text(row: dict) -> str:
@@ -641,8 +676,9 @@ def _safe(text: str) -> str:
     return "".join(c if c.isalnum() or c in "._-" else "_" for c in str(text))
 
 
-def _one_line(exc: BaseException) -> str:
-    return " ".join(f"{type(exc).__name__}: {exc}".split())
+def _named(exc: BaseException) -> str:
+    """``exc``'s type and message, as a run's failure names a controller's or plant's error."""
+    return f"{type(exc).__name__}: {exc}"
 
 
 def _where(exc: BaseException) -> str:
@@ -658,16 +694,13 @@ def run_name(scen: str, vehicle: str, controller: str, seed: int) -> str:
     return f"{scen}-{_safe(Path(vehicle).stem)}-{_safe(controller)}-{seed}"
 
 
-def _task(scen_name: str, vehicle: str, controller: str, seed: int,
-          sensors: SensorModel | None, recordings: Path | None, truth: int | None,
-          realtime: bool = True, sensor_set: str = "full",
-          trailer: str | Draw = "nominal") -> dict:
+def _task(scen_name: str, vehicle: str, controller: str, seed: int, conditions: Conditions,
+          recordings: Path | None, realtime: bool = True) -> dict:
     """A worker's job: one run, its scores row only (traces stay in the worker)."""
     record = (None if recordings is None
               else recordings / f"{run_name(scen_name, vehicle, controller, seed)}.rrd")
-    return drive(scenario(scen_name), vehicle, controller, seed, sensors=sensors,
-                 record=record, truth=truth, realtime=realtime, sensor_set=sensor_set,
-                 trailer=trailer).row
+    return dock(DockRun(scenario(scen_name), vehicle, controller, seed, record=record,
+                        realtime=realtime), conditions).row
 
 
 def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: int | None,
@@ -697,10 +730,8 @@ def failed_row(scen_name: str, vehicle: str, controller: str, seed: int, truth: 
 def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str,
               seeds: Sequence[int], jobs: int = 1,
               progress: Callable[[str], None] | None = None,
-              sensors: SensorModel | None = None,
-              recordings: Path | None = None, truth: int | None = None,
-              realtime: bool = True, deadline: float | None = None,
-              sensor_set: str = "full", trailer: str | Draw = "nominal") -> list[dict]:
+              recordings: Path | None = None, deadline: float | None = None,
+              realtime: bool = True, **conditions) -> list[dict]:
     """Every scenario x vehicle x seed with one controller; rows in that order.
 
     The runs go to supervised worker processes
@@ -730,22 +761,24 @@ def benchmark(scenarios: Sequence[str], vehicles: Sequence[str], controller: str
     deadline : float, optional
         Longest controller call before its run is ended as hung [s]
         (:data:`artic.validation.docking.supervise.CALL_DEADLINE` by default).
-    sensor_set : str
-        What the controllers see (``artic dock --sensors``, see :func:`drive`).
-    trailer : str or Draw
-        The plant's semitrailer: ``"nominal"``, ``"unknown"`` or a given one (see
-        :func:`drive`).
+    **conditions
+        The :class:`~artic.validation.docking.spec.Conditions` of every run, e.g.
+        ``sensor_set`` (what the controllers see, ``artic dock --sensors``) and
+        ``trailer`` (``"nominal"``, ``"unknown"`` or a given one; see :func:`drive`).
     """
-    sensor_set = _sensor_set(sensor_set, None)
-    tasks = [((s, v, seed), (s, v, controller, seed, sensors, recordings, truth, realtime,
-                             sensor_set, trailer))
+    run_options, cond = split_options(conditions)
+    if run_options:
+        raise TypeError(f"benchmark() got an unexpected keyword argument "
+                        f"{sorted(run_options)[0]!r}")
+    cond = dataclasses.replace(cond, sensor_set=_sensor_set(cond.sensor_set, None))
+    tasks = [((s, v, seed), (s, v, controller, seed, cond, recordings, realtime))
              for s in scenarios for v in vehicles for seed in seeds]
     counter = Counter(len(tasks), f"docking ({controller})", progress)
     rows: dict[tuple, dict] = {}
 
     def failed(key, args, reason):
-        s, v, c, seed, _, _, tr, _, sset, trl = args
-        return failed_row(s, v, c, seed, tr, reason, sset, trl)
+        s, v, c, seed, co, _, _ = args
+        return failed_row(s, v, c, seed, co.truth, reason, co.sensor_set, co.trailer)
 
     with contextlib.closing(supervised(_task, tasks, jobs, failed, deadline)) as done:
         for key, row in done:

@@ -39,6 +39,8 @@ from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import wait
 
+from artic.mjcf.errors import one_line
+
 CALL_DEADLINE = 60.0
 """Longest a controller's ``reset`` or one ``command`` may take before its run is ended as
 hung [s]: 600 sample periods, far beyond what the real-time criterion fails (a controller
@@ -101,7 +103,7 @@ def _worker(conn, hb, parent: int) -> None:
         except KeyboardInterrupt:
             return
         except BaseException as exc:  # noqa: BLE001 - reported as the run's failure
-            out = ("error", " ".join(f"{type(exc).__name__}: {exc}".split()))
+            out = ("error", one_line(f"{type(exc).__name__}: {exc}"))
         hb[0] = 0.0
         try:
             conn.send(out)
@@ -180,12 +182,12 @@ def in_child(fn: Callable, *args: object) -> object:
             try:
                 out = ("ok", fn(*args))
             except BaseException as exc:  # noqa: BLE001 - reported to the parent
-                out = ("error", " ".join(f"{type(exc).__name__}: {exc}".split()))
+                out = ("error", one_line(f"{type(exc).__name__}: {exc}"))
             try:
                 data = pickle.dumps(out)
             except Exception as exc:  # noqa: BLE001 - an answer that cannot travel is one
                 data = pickle.dumps(("error", "its result cannot be sent back ("
-                                     + " ".join(f"{type(exc).__name__}: {exc}".split()) + ")"))
+                                     + one_line(f"{type(exc).__name__}: {exc}") + ")"))
             with os.fdopen(w, "wb") as f:
                 f.write(data)
         except BaseException:  # noqa: BLE001 - the parent reports the missing answer

@@ -59,7 +59,6 @@ import contextlib
 import dataclasses
 import hashlib
 import importlib.util
-import inspect
 import json
 import math
 from collections.abc import Callable, Iterator, Sequence
@@ -70,7 +69,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from artic.mjcf.errors import UserError
+from artic.mjcf.errors import UserError, one_line
 
 RUNS_DIR = "sweep_runs"
 """Folder of the per-run files in the output folder."""
@@ -84,9 +83,9 @@ def _available() -> str | None:
 def _drive_takes(keyword: str, part: str) -> Callable[[], str | None]:
     """An axis's check: ``drive`` has ``keyword`` (the other part of the issue is merged)."""
     def check() -> str | None:
-        from artic.validation.docking.run import drive
+        from artic.validation.docking.spec import CONDITIONS, RUN_OPTIONS
 
-        if keyword in inspect.signature(drive).parameters:
+        if keyword in CONDITIONS + RUN_OPTIONS:  # drive's keywords
             return None
         return f"{part} (drive's {keyword}=) is not in this artic"
     return check
@@ -538,7 +537,7 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
                     row = f.result()
                 except Exception as exc:  # noqa: BLE001 - a lost worker or a raising run
                     row = _failed(s, "run failed on the cluster: "
-                                     + " ".join(f"{type(exc).__name__}: {exc}".split()))
+                                     + one_line(f"{type(exc).__name__}: {exc}"))
                 yield s, row
         finally:
             for f in futures:

@@ -39,6 +39,7 @@ import os
 import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -610,13 +611,48 @@ DOCK_PLOTS = (("steering_wheel", "Steering wheel delta_h [deg]"),
 """The docking recording's plots: entity under ``/signals`` and title."""
 
 
+class DockScene(NamedTuple):
+    """The yard a docking recording draws, and the planner's path through it.
+
+    Attributes
+    ----------
+    obstacles : sequence of (name, x_min, x_max, y_min, y_max)
+        The yard's obstacles [m]: the dock, its far edge, parked semitrailers.
+    doors : sequence of float
+        The doors' centre lines [m].
+    dock_face : tuple of float
+        The dock face's x and the target door's y [m].
+    plan : sequence of ndarray
+        The planner's path as polylines ``(n, 2)`` [m].
+    """
+
+    obstacles: Sequence[tuple[str, float, float, float, float]]
+    doors: Sequence[float]
+    dock_face: tuple[float, float]
+    plan: Sequence[np.ndarray]
+
+
+class DockIntent(NamedTuple):
+    """What a docking controller intended and saw at its samples, for the recording.
+
+    Attributes
+    ----------
+    horizons : sequence of (float, ndarray or None)
+        The controller's predicted path ``(n, 2)`` [m] at each of its samples [s].
+    references : sequence of (float, ndarray or None)
+        The plan's points ``(n, 2)`` [m] it tracked at each sample.
+    seen : tuple of ndarray, optional
+        Its samples' times [s], the articulation [rad] and the semitrailer's rear
+        ``(n, 2)`` [m] it saw.
+    """
+
+    horizons: Sequence[tuple[float, np.ndarray | None]]
+    references: Sequence[tuple[float, np.ndarray | None]] = ()
+    seen: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+
 def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
-                   obstacles: Sequence[tuple[str, float, float, float, float]],
-                   doors: Sequence[float], dock_face: tuple[float, float],
-                   plan: Sequence[np.ndarray],
-                   horizons: Sequence[tuple[float, np.ndarray | None]], text: str,
-                   references: Sequence[tuple[float, np.ndarray | None]] = (),
-                   seen: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> Path:
+                   scene: DockScene, intent: DockIntent, text: str) -> Path:
     """Write one docking run's recording.
 
     Parameters
@@ -630,6 +666,15 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         :meth:`artic.plant.Plant.extras` (rows without them are skipped).
     vehicle : Vehicle
         The plant's parameters.
+    scene : DockScene
+        The yard and the plan, as below.
+    intent : DockIntent
+        The controller's horizons, references and what it saw, as below.
+    text : str
+        Markdown for the description: the scores.
+
+    The fields of ``scene`` and ``intent``:
+
     obstacles : sequence of (name, x_min, x_max, y_min, y_max)
         The yard's obstacles [m]: the dock, its far edge, parked semitrailers.
     doors : sequence of float
@@ -642,8 +687,6 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         The controller's predicted path ``(n, 2)`` [m] at each of its samples
         [s], ``None`` where it gave none: one row of ``/yard/horizon`` per
         sample, empty where ``None`` (so that no stale horizon stays drawn).
-    text : str
-        Markdown for the description: the scores.
     references : sequence of (float, ndarray or None)
         The plan's points ``(n, 2)`` [m] the controller tracked at each
         sample, the one it tracked then first: one row per sample of
@@ -656,6 +699,8 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
         ``/yard/seen/rear`` at every sample with its whole path
         ``/yard/seen/rear_path`` (orange).
     """
+    obstacles, doors, dock_face, plan = scene
+    horizons, references, seen = intent
     f = frame
     t = f["t"].to_numpy()
     s = travelled(f)

@@ -89,6 +89,12 @@ class Command:
         the one it compares itself with now, then those its horizon aims at,
         for the recording.
 
+    See Also
+    --------
+    artic.Controller : the base whose ``command`` returns one.
+    artic.KIN : the kinematic model a controller predicts with.
+    artic.Plant : the multibody plant the command drives.
+
     Examples
     --------
     Reverse at 1 m/s with the steering wheel a quarter turn to the left:
@@ -143,6 +149,13 @@ class Task:
 
 class Controller:
     """Base of the docking controllers; subclasses write :meth:`command`.
+
+    See Also
+    --------
+    artic.Command : what :meth:`command` returns.
+    artic.load_vehicle : the vehicle the controller is told.
+    artic.KIN : the kinematic model a controller predicts with.
+    artic.STM : the single-track model, with tyres and inertia.
 
     Examples
     --------

@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import inspect
 import math
 import numbers
 from pathlib import Path
@@ -58,10 +57,11 @@ from artic.validation.docking.gym.spaces import (
     observation_vector,
     stopped_at_dock,
 )
-from artic.validation.docking.run import drive, run_name
+from artic.validation.docking.run import run_name
 from artic.validation.docking.scenarios import SCENARIOS
 from artic.validation.docking.scenarios import scenario as find_scenario
 from artic.validation.docking.sensing import sensor_set
+from artic.validation.docking.spec import OPTIONS
 
 _TRUNCATIONS = ("timeout",)
 _STARTS = 2**31 - 1
@@ -75,7 +75,7 @@ _SET_BY_ENV = {"scen": "scenario", "vehicle_name": "vehicle", "controller": None
                "realtime": None, "sensor_set": "sensors"}
 # drive()'s parameters the environment sets itself, and the keyword that sets them.
 
-DRIVE_OPTIONS = tuple(p for p in inspect.signature(drive).parameters
+DRIVE_OPTIONS = tuple(p for p in OPTIONS
                       if p not in _SET_BY_ENV and p != "sensors")  # `sensors` is the set here
 """The keywords of :func:`~artic.validation.docking.run.drive` an environment passes on."""
 

@@ -93,9 +93,13 @@ def batchable(kwargs: dict[str, Any]) -> bool:
 
 
 @njit(cache=True)
-def _periods(kind, P, s1, s2, live, x, wheel, u, t, wheel_target, u_target, steer_step,
-             accel_step, dt, i_s, q, offset, gamma_max, true, wheels, speeds, times, steps):
+def _periods(model, live, state, targets, actuators, gamma_max, logs):
     """One controller period of ``N_SUB`` plant steps for the runs ``live``.
+
+    ``model`` is KIN's ``(kind, P, s1, s2)``, ``state`` the runs' ``(x, wheel, u, t)``,
+    ``targets`` their ``(wheel_target, u_target)``, ``actuators`` the limits and the
+    steering map ``(steer_step, accel_step, dt, i_s, q, offset)``, ``logs`` the arrays
+    ``(true, wheels, speeds, times, steps)``.
 
     The operations of ``drive``'s plant loop, in its order: the actuators' rate
     limits, the steering map (``Steering.road_wheel``), KIN's step and
@@ -104,6 +108,11 @@ def _periods(kind, P, s1, s2, live, x, wheel, u, t, wheel_target, u_target, stee
     speeds, times`` receive each step's; ``steps`` how many were taken (fewer
     than ``N_SUB`` when the run jackknifed at the last).
     """
+    kind, P, s1, s2 = model
+    x, wheel, u, t = state
+    wheel_target, u_target = targets
+    steer_step, accel_step, dt, i_s, q, offset = actuators
+    true, wheels, speeds, times, steps = logs
     two_pi = 2.0 * math.pi
     for i in range(live.size):
         if not live[i]:
@@ -524,10 +533,11 @@ class KinVectorEnv(VectorEnv):
             wheels, speeds, times = np.zeros((n, N_SUB)), np.zeros((n, N_SUB)), \
                 np.zeros((n, N_SUB))
             steps = np.zeros(n, np.int64)
-            _periods(m.kind, m.P, m._s1, m._s2, live, self._x, self._wheel, self._u, self._t,
-                     self._wheel_target, self._u_target, STEER_RATE * PLANT_DT,
-                     ACCEL_MAX * PLANT_DT, PLANT_DT, i_s, q, offset, self.vehicle.gamma_max,
-                     true, wheels, speeds, times, steps)
+            _periods((m.kind, m.P, m._s1, m._s2), live,
+                     (self._x, self._wheel, self._u, self._t),
+                     (self._wheel_target, self._u_target),
+                     (STEER_RATE * PLANT_DT, ACCEL_MAX * PLANT_DT, PLANT_DT, i_s, q, offset),
+                     self.vehicle.gamma_max, (true, wheels, speeds, times, steps))
             self._period_log.append((live.copy(), steps, times, true, wheels, speeds))
             rows = np.flatnonzero(live)
             self._steps[rows] += steps[rows]
