@@ -56,7 +56,7 @@ def small_campaign(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="session")
 def default_campaign(tmp_path_factory) -> Path:
-    """The README's first command's campaign (all 62 manoeuvres, recordings), once per
+    """The README's first command's campaign (all 63 manoeuvres, recordings), once per
     session, for the slow tests that check it whole; read only."""
     out = tmp_path_factory.mktemp("default-campaign") / "out"
     run_campaign(out, jobs=os.cpu_count() or 1)

@@ -177,12 +177,13 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
 
 @pytest.mark.slow
 def test_whole_campaign(default_campaign):
-    # The main job on all 62 manoeuvres (the paper's 58 and the 4 tuning
-    # slaloms), as the README's first command runs it (the session's one,
-    # tests/conftest.py, which tests/test_output_size.py weighs).
+    # The main job on all 63 manoeuvres (the paper's 58, the 4 tuning
+    # slaloms and the swept sine of the frequency response), as the README's
+    # first command runs it (the session's one, tests/conftest.py, which
+    # tests/test_output_size.py weighs).
     out = default_campaign
     metas = [json.loads(p.read_text()) for p in (out / "synthetic").glob("*/meta.json")]
-    assert Counter(m["direction"] for m in metas) == {"forward": 29, "reverse": 33}
+    assert Counter(m["direction"] for m in metas) == {"forward": 30, "reverse": 33}
     assert {(m["kind"], m["load"], m["amplitude_deg"], m["speed_kph"], m["side"])
             for m in metas} == {(c.kind, c.load, c.amplitude_deg, c.speed_kph, c.side)
                                 for c in MATRIX}
@@ -197,12 +198,12 @@ def test_whole_campaign(default_campaign):
     # 0-7; tests/test_truth_driver.py drives one shuffle against its closed form): none
     # needs more than one, where the harness-law driver it replaced reached its cap of 4.
     assert max(m.get("shuffles", 0) for m in metas) <= 1
-    # Tables for all three models and the floor: 21 forward manoeuvres (the
-    # paper's 25 less the 4 constant steers for tuning) and 33 reverse, every
-    # run complete.
+    # Tables for all three models and the floor: 22 forward manoeuvres (the
+    # paper's 25 less the 4 constant steers for tuning, and the swept sine) and
+    # 33 reverse, every run complete.
     t2 = pd.read_csv(out / "table2_forward.csv", index_col=0)
     t3 = pd.read_csv(out / "table3_reverse.csv", index_col=0)
-    assert (t2["n"] == 21).all() and (t3["n"] == 33).all()
+    assert (t2["n"] == 22).all() and (t3["n"] == 33).all()
     assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
     assert (pd.read_csv(out / "metrics.csv").status == "ok").all()
     # No model beats the floor, the truth's own plant through the same harness.
@@ -212,7 +213,7 @@ def test_whole_campaign(default_campaign):
     p2 = pd.read_csv(out / "table2_vs_plant.csv", index_col=0)
     p3 = pd.read_csv(out / "table3_vs_plant.csv", index_col=0)
     assert set(p2.index) == set(p3.index) == {"kin", "stm"}
-    assert (p2["n"] == 21).all() and (p3["n"] == 33).all()
+    assert (p2["n"] == 22).all() and (p3["n"] == 33).all()
     # Tuning recovers what it can. The structural truth has understeer no model
     # has (the steering yields to the aligning moment, softer trailer tyres,
     # the tridem's bore torque), which every fit can only put into a larger
@@ -226,7 +227,7 @@ def test_whole_campaign(default_campaign):
             assert 1.0 < fit["i_s"] / i_s_true < 1.12, (load, model)
             assert abs(fit["delta_h_offset"] - truth["delta_h_offset"]) < math.radians(1.5), \
                 (load, model)
-    assert len(list((out / "recordings").glob("*.rrd"))) == 54 + 1
+    assert len(list((out / "recordings").glob("*.rrd"))) == 55 + 1
     check_recordings(out)
     assert "## Discussion" in (out / "report.md").read_text()
 

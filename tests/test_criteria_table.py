@@ -112,11 +112,11 @@ def test_adding_a_criterion_is_one_module_and_one_row(tmp_path):
     crit = copy / "validation" / "criteria"
     (crit / "heading.py").write_text(NEW_CRITERION)
     table = (crit / "columns.py").read_text()
-    last = '              "last"),\n)'
-    assert table.count(last) == 1
-    (crit / "columns.py").write_text(table.replace(last, '              "last"),\n'
-                                     '    Criterion({"eps_psi2": "rad"}, '
-                                     '"artic.validation.criteria.heading:of_run", "rms"),\n)'))
+    # The row goes last in TABLE: before the first line that closes a tuple after it opens.
+    end = table.index("\n)\n", table.index("\nTABLE: tuple"))
+    (crit / "columns.py").write_text(table[:end] + '\n    Criterion({"eps_psi2": "rad"}, '
+                                     '"artic.validation.criteria.heading:of_run", "rms"),'
+                                     + table[end:])
 
     out = tmp_path / "val"
     code = textwrap.dedent(f"""

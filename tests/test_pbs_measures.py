@@ -161,3 +161,17 @@ def test_levels_are_the_best_limit_met():
     assert standards.level("tail_swing", 0.31) == "2"
     assert standards.level("fhwa_offtracking", 1.0) == ""
     assert standards.level("steer_friction", float("nan")) == ""
+
+
+def test_a_vehicle_without_a_tyre_file_has_its_steer_edge_at_the_track():
+    # The scale-model preset is for KIN alone and names no tyre file: the steer
+    # tyre's edge is its track's half, and with a file it lies half the WIDTH outside.
+    from artic.validation.pbs.motion import Geometry
+
+    scale = load_vehicle("scale-model-1to14")
+    assert not scale.tyre_file
+    front = max(scale.tractor_axles, key=lambda a: a.x)
+    assert Geometry.of(scale).steer_edge == pytest.approx(0.5 * front.track, abs=1e-12)
+    truck = load_vehicle("gosar2022-loaded")
+    front = max(truck.tractor_axles, key=lambda a: a.x)
+    assert Geometry.of(truck).steer_edge > 0.5 * front.track + 0.1  # a 315 mm truck tyre

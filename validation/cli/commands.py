@@ -231,7 +231,7 @@ def _validate(args: argparse.Namespace) -> int:
               f"{out / 'runs'}" + (f"; {len(failed)} (log, model) pair(s) failed, see their "
                                    "status in metrics.csv" if len(failed) else ""))
         print("\n" + per_run_lines(metrics))
-        _pbs_measures(out, logs, v, models)
+        _pbs_measures(out, logs, v, metrics)
         print("\n" + _noise_floor(logs, metrics, out, v, declared, args.noise))
         if args.recordings:
             _validate_recordings(out, logs, v, models, metrics)
@@ -307,11 +307,13 @@ def per_run_lines(metrics) -> str:
     return "\n".join(lines)
 
 
-def _pbs_measures(out: Path, logs, vehicle, models) -> None:
-    """The low-speed measures of each log and each model on it (artic.validation.pbs.fromlog)."""
+def _pbs_measures(out: Path, logs, vehicle, metrics) -> None:
+    """The low-speed measures of each log and each model with a result on it (pbs.fromlog)."""
     from artic.validation.pbs.fromlog import write_validate_table
+    from artic.validation.runs.validate import is_failed
 
-    path = write_validate_table(out, logs, vehicle, models)
+    ok = [(r.log, r.model) for r in metrics.itertuples() if not is_failed(r.status)]
+    path = write_validate_table(out, logs, vehicle, ok)
     if path is not None:
         print(f"wrote {path} (swept width and off-tracking of each log and model)")
 

@@ -145,19 +145,31 @@ def validate_table(logs: Sequence[Run], vehicle: Vehicle,
 
 
 def write_validate_table(out_dir: Path, logs: Sequence[Run], vehicle: Vehicle,
-                         models: Sequence[str]) -> Path | None:
+                         pairs: Sequence[tuple[str, str]]) -> Path | None:
     """Write ``pbs_measures.csv`` from the runs ``artic validate`` left in ``out_dir/runs``.
 
-    A pair without a run file (it failed) is left out; returns None where no row remains.
+    Parameters
+    ----------
+    out_dir : Path
+        The validation's output folder.
+    logs : sequence of Run
+        The measured logs.
+    vehicle : Vehicle
+        The vehicle the logs and runs are of.
+    pairs : sequence of (str, str)
+        The (log, model) pairs with a result; a failed pair's run file holds no
+        samples and is not read, nor is a pair without a run file (a pooled
+        segment's row).
+
+    Returns
+    -------
+    Path or None
+        The table, or None where no row remains.
     """
     from artic.validation.logs.runfile import read_run
 
-    runs = {}
-    for log in logs:
-        for m in models:
-            p = Path(out_dir) / "runs" / f"{log.name}.{m}.parquet"
-            if p.exists():
-                runs[(log.name, m)] = read_run(p)
+    files = {(name, m): Path(out_dir) / "runs" / f"{name}.{m}.parquet" for name, m in pairs}
+    runs = {pair: read_run(p) for pair, p in files.items() if p.exists()}
     df = validate_table(logs, vehicle, runs)
     if df.empty:
         return None

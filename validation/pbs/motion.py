@@ -21,7 +21,8 @@ vehicle's geometry, whichever model or log the motion came from:
   last axle) and the width (the widest track plus
   :data:`~artic.mjcf.outline.BODY_CLEARANCE` a side);
 - the steer tyre's outer edge is half the tyre file's ``WIDTH`` outside the
-  steer axle's track.
+  steer axle's track; a vehicle without a tyre file (one for KIN alone, such
+  as the scale-model preset) has its edge at the track.
 
 The semitrailer is placed at the kingpin the tractor's pose gives, so that a
 model's hitch is rigid in the drawing even where the truth's fifth wheel has
@@ -75,7 +76,8 @@ class Geometry:
         """The geometry of vehicle ``v`` (see the module docstring for the sources)."""
         o = outline(v)
         front = max(v.tractor_axles, key=lambda a: a.x)
-        width = read_tir(v.tyre_file_for(front)).number("WIDTH", 0.315)
+        tyre = v.tyre_file_for(front)
+        width = read_tir(tyre).number("WIDTH", 0.315) if tyre else 0.0
         return cls(L1=float(front.x), L1c=v.L1c, L2=v.L2,
                    steer_edge=0.5 * front.track + 0.5 * width, half_width=0.5 * o.width,
                    tractor_front=o.tractor_front, tractor_rear=o.tractor_rear,
