@@ -1226,7 +1226,8 @@ def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
         forward_vs_plant=t.forward_p, reverse_vs_plant=t.reverse_p, truth=cfg.truth,
         metrics_vs_plant=vs_plant, paired=t.paired, twins=twins, noise_share=t.shares,
         headline_criteria=t.headlines, sensors=cfg.sensors, drift=cfg.drift,
-        classes=t.classes, form=t.oracle)
+        classes=t.classes, form=t.oracle, pbs=_table(paths.get("pbs_truck")),
+        departure=_table(paths.get("frequency_departure"), index_col=0))
 
     def draft() -> None:
         text = rep.render(results)  # the summary recording's copy, before the last timing
@@ -1246,6 +1247,11 @@ def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
         print(_closing_summary(t.forward, t.reverse, stage.times, paths["report"], len(failed),
                                stage.budget))
     return paths
+
+
+def _table(path: Path | None, index_col: int | None = None) -> pd.DataFrame | None:
+    """A table the campaign wrote, for the report; None where it wrote none."""
+    return pd.read_csv(path, index_col=index_col) if path is not None else None
 
 
 @dataclasses.dataclass(frozen=True)

@@ -21,7 +21,7 @@ import jinja2
 import numpy as np
 import pandas as pd
 
-from artic.validation.campaign import findings
+from artic.validation.campaign import findings, measures
 from artic.validation.campaign.rankings import (
     excess_text,
     label,
@@ -84,6 +84,10 @@ class CampaignResults:
     """Per direction, the tables per manoeuvre class (see ``campaign/main.py``'s ``_by_class``)."""
     form: dict[str, Any] = field(default_factory=dict)
     """Per direction, the oracle rows' split into form and parameters (``_form``)."""
+    pbs: pd.DataFrame | None = None
+    """The truck's low-speed measures (``pbs_truck.csv``), if the campaign drove the turn."""
+    departure: pd.DataFrame | None = None
+    """The swept sine's departure bands (``frequency_departure.csv``), if it was validated."""
 
     def __post_init__(self) -> None:
         for d in ("forward", "reverse"):
@@ -626,7 +630,8 @@ def render(r: CampaignResults) -> str:
         total=sum(r.stages.values()), headline_section=headline_section(r),
         headline=headline(r), discussion=discussion(r), tables=tables,
         sections=[*large_articulation(r), *class_sections(r), *form_sections(r),
-                  *paired_sections(r), *noise_sections(r)],
+                  *paired_sections(r), *noise_sections(r),
+                  *measures.truck_lines(r.pbs, r.paired, r.departure)],
         per_load=[(load, markdown(table)) for load, table in r.per_load.items()],
         tuning_n=sum(len(part.get("logs", [])) for part in r.tuned.values()),
         tuning_logs="; ".join(f"{load}: {', '.join(part.get('logs', []))}"

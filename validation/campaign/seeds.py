@@ -257,9 +257,10 @@ def write_pooled(out_dir: Path, metrics: list[pd.DataFrame], vs_plant: list[pd.D
         paths["docking_parking"] = atomic_write_text(
             out_dir / "docking_parking.md", f"# Docking and parking on their own, pooled over "
             f"{len(walls)} trucks\n\n" + "\n".join(answer) + "\n")
-    from artic.validation.campaign import frequency
+    from artic.validation.campaign import frequency, measures
 
     paths |= frequency.write_pooled(out_dir, [out_dir / Path(r).parent for r in reports.values()])
+    results.extra += measures.pooled_lines(out_dir, results.paired)
     text = seedreport.render(results, logs)
     paths["report"] = atomic_write_text(out_dir / "report.md", text)
     print(seedreport.closing(results, paths["report"]))
