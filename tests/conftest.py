@@ -3,9 +3,11 @@
 A campaign is the costliest thing a test can make, so each kind is made once per
 session and shared by every test that reads its output: ``default_campaign`` (the
 README's first command, for the slow end-to-end checks) and ``small_campaign``
-(every cached stage on two manoeuvres, for the fast set). No test writes into
-them; a test that changes a campaign works in a copy (``shutil.copytree`` keeps
-the files' times, so the stage cache stays valid there).
+(every cached stage on two manoeuvres, for the fast set). Across processes
+(pytest-xdist) each test file runs whole in one, the default campaign's file
+first. No test writes into them; a test that changes a campaign works in a
+copy (``shutil.copytree`` keeps the files' times, so the stage cache stays
+valid there).
 """
 
 from __future__ import annotations
@@ -34,6 +36,29 @@ def pytest_configure(config):
         from artic.validation import testing
 
         config.pluginmanager.register(testing, "artic")
+    if getattr(config.option, "dist", "no") == "loadfile":
+        # Deal the files in the order the collection hook below sorts them
+        # (pytest-xdist's default deals the files with the most tests first).
+        config.option.loadscopereorder = False
+
+
+def _distributed(config) -> bool:
+    """Whether pytest-xdist deals this run's files to processes: its controller or a worker."""
+    return hasattr(config, "workerinput") or getattr(config.option, "dist", "no") == "loadfile"
+
+
+def pytest_collection_modifyitems(config, items):
+    # Across processes (the README's ``-n auto --dist loadfile``) each test file
+    # runs whole in one process, so its module fixtures are made once. The
+    # files are dealt in this order: first the one that reads the default
+    # campaign (the costliest fixture, minutes; tests/test_default_campaign.py),
+    # then the files with slow tests, then the rest, so that the long work
+    # starts early and the processes end together. Without xdist, nothing changes.
+    if not _distributed(config):
+        return
+    campaign = {item.path for item in items if "default_campaign" in item.fixturenames}
+    slow = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: (item.path not in campaign, item.path not in slow))
 
 
 @pytest.fixture(scope="session")

@@ -132,3 +132,29 @@ def rates_jacobian(p, eps: float = 1e-6) -> np.ndarray:
         A[:, k] = (rate(e) - rate(-e)) / (2.0 * eps)
     rate(np.zeros(n))
     return A
+
+
+def check_recordings(out):
+    """Read every recording back: each holds every sample of each model's run."""
+    # Imported here: the conftest imports this module, and a test session need
+    # not load Rerun and pandas before a test asks for them.
+    import math
+
+    import pandas as pd
+
+    from artic.validation.logs.importers import import_source
+    from artic.validation.review.recording import PLOT_RATE, read_rows
+
+    metrics = pd.read_csv(out / "metrics.csv")
+    for path in (out / "recordings").glob("*.rrd"):
+        rows = read_rows(path)
+        if path.stem == "campaign":
+            assert rows["/criteria/eps_n/kin"] == metrics.log.nunique()
+            continue
+        log, _ = import_source(out / "synthetic" / path.stem)
+        # One plot row per PLOT_RATE sample of the log, every model's line in it.
+        every = round(1.0 / (PLOT_RATE * 0.01))
+        assert rows["/signals/articulation"] == math.ceil(len(log.frame) / every), path.name
+        if "mbd" in set(metrics.model):
+            assert rows["/yard/mbd/axle.front/wheel.front.L"] > 0
+            assert rows["/yard/mbd/tyre_forces"] > 0

@@ -1,40 +1,24 @@
-"""The main job, on a part of the synthetic campaign and on all of it."""
+"""The main job on parts of the synthetic campaign, on ideal sensors and on two trucks.
+
+The README's own campaign, whole, is ``tests/test_default_campaign.py``.
+"""
 
 from __future__ import annotations
 
 import json
 import math
 import os
-from collections import Counter
 
 import pandas as pd
 import pytest
 
 from artic.mjcf import load_vehicle
 from artic.validation.campaign.main import run_campaign
-from artic.validation.logs.importers import import_source
-from artic.validation.review.recording import PLOT_RATE, read_rows
-from artic.validation.synthetic.testmatrix import MATRIX, TUNING
+from artic.validation.synthetic.testmatrix import TUNING
+from tests.helpers import check_recordings
 
 PART = [*[n for n in TUNING if "-unloaded-" in n][:2],
         "02-constant-steer-unloaded-200deg-10kph-left", "27-ramp-steer-reverse", "45-docking"]
-
-
-def check_recordings(out):
-    """Read every recording back: each holds every sample of each model's run."""
-    metrics = pd.read_csv(out / "metrics.csv")
-    for path in (out / "recordings").glob("*.rrd"):
-        rows = read_rows(path)
-        if path.stem == "campaign":
-            assert rows["/criteria/eps_n/kin"] == metrics.log.nunique()
-            continue
-        log, _ = import_source(out / "synthetic" / path.stem)
-        # One plot row per PLOT_RATE sample of the log, every model's line in it.
-        every = round(1.0 / (PLOT_RATE * 0.01))
-        assert rows["/signals/articulation"] == math.ceil(len(log.frame) / every), path.name
-        if "mbd" in set(metrics.model):
-            assert rows["/yard/mbd/axle.front/wheel.front.L"] > 0
-            assert rows["/yard/mbd/tyre_forces"] > 0
 
 
 @pytest.mark.slow
@@ -173,63 +157,6 @@ def test_campaign_part_resumes_and_never_leaves_a_stale_report(tmp_path, capsys,
     with pytest.raises(RuntimeError, match="interrupted"):  # --remeasure: compute it again
         run_campaign(out, models=("kin", "stm", "mbd"), only=PART, jobs=2, remeasure=True)
     assert not (out / "report.md").exists()
-
-
-@pytest.mark.slow
-def test_whole_campaign(default_campaign):
-    # The main job on all 63 manoeuvres (the paper's 58, the 4 tuning
-    # slaloms and the swept sine of the frequency response), as the README's
-    # first command runs it (the session's one, tests/conftest.py, which
-    # tests/test_output_size.py weighs).
-    out = default_campaign
-    metas = [json.loads(p.read_text()) for p in (out / "synthetic").glob("*/meta.json")]
-    assert Counter(m["direction"] for m in metas) == {"forward": 30, "reverse": 33}
-    assert {(m["kind"], m["load"], m["amplitude_deg"], m["speed_kph"], m["side"])
-            for m in metas} == {(c.kind, c.load, c.amplitude_deg, c.speed_kph, c.side)
-                                for c in MATRIX}
-    for m in metas:
-        if m["kind"] == "ramp-steer-reverse":
-            assert math.radians(30) < m["peak_articulation"] < math.radians(50), m["name"]
-        if m["kind"] in ("docking", "parking"):
-            assert m["docked"], m["name"]
-            assert abs(m["final_lateral_error"]) < 0.5, m["name"]
-            assert abs(m["final_heading_error"]) < math.radians(3.0), m["name"]
-    # The truth's own driver rarely shuffles (1 of 136 docking and parking drives on seeds
-    # 0-7; tests/test_truth_driver.py drives one shuffle against its closed form): none
-    # needs more than one, where the harness-law driver it replaced reached its cap of 4.
-    assert max(m.get("shuffles", 0) for m in metas) <= 1
-    # Tables for all three models and the floor: 22 forward manoeuvres (the
-    # paper's 25 less the 4 constant steers for tuning, and the swept sine) and
-    # 33 reverse, every run complete.
-    t2 = pd.read_csv(out / "table2_forward.csv", index_col=0)
-    t3 = pd.read_csv(out / "table3_reverse.csv", index_col=0)
-    assert (t2["n"] == 22).all() and (t3["n"] == 33).all()
-    assert set(t2.index) == set(t3.index) == {"kin", "stm", "mbd", "floor"}
-    assert (pd.read_csv(out / "metrics.csv").status == "ok").all()
-    # No model beats the floor, the truth's own plant through the same harness.
-    for t in (t2, t3):
-        assert (t.drop(index="floor")["eps_n"] > t.loc["floor", "eps_n"]).all()
-    # The plant as the second reference, for the reduced models.
-    p2 = pd.read_csv(out / "table2_vs_plant.csv", index_col=0)
-    p3 = pd.read_csv(out / "table3_vs_plant.csv", index_col=0)
-    assert set(p2.index) == set(p3.index) == {"kin", "stm"}
-    assert (p2["n"] == 22).all() and (p3["n"] == 33).all()
-    # Tuning recovers what it can. The structural truth has understeer no model
-    # has (the steering yields to the aligning moment, softer trailer tyres,
-    # the tridem's bore torque), which every fit can only put into a larger
-    # steering ratio: measured +5.7 % (MBD) to +8.5 % (KIN), so 0 to 12 %. The
-    # column's play and drift bias the offset: measured +0.6 to +0.9 deg, so
-    # within 1.5 deg.
-    for load, part in json.loads((out / "tuning.json").read_text())["loads"].items():
-        truth = part["truth"]
-        i_s_true = part["nominal"]["i_s"] * truth["i_s_scale"]
-        for model, fit in part["fitted"].items():
-            assert 1.0 < fit["i_s"] / i_s_true < 1.12, (load, model)
-            assert abs(fit["delta_h_offset"] - truth["delta_h_offset"]) < math.radians(1.5), \
-                (load, model)
-    assert len(list((out / "recordings").glob("*.rrd"))) == 55 + 1
-    check_recordings(out)
-    assert "## Discussion" in (out / "report.md").read_text()
 
 
 @pytest.mark.slow

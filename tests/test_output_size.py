@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -118,21 +117,3 @@ def test_runs_without_samples_keep_their_criteria_and_are_reused(tmp_path):
                           samples=False)
     assert again.attrs.get("reused") == 1
     pd.testing.assert_frame_equal(again.drop(columns="wall_s"), first.drop(columns="wall_s"))
-
-
-LIMIT_MB = 150.0
-"""What a default campaign may write [MB] (issue 33). It writes 146 MB on seed 0
-(2026-11-28): exports 23 + twins 17, runs 41, recordings 61, the twins' and
-against-the-plant runs 3. The sizes are the same on any machine (the same
-seed gives the same files, but for the recordings' ids and times)."""
-
-
-@pytest.mark.slow
-def test_the_default_campaign_writes_at_most_150_mb(default_campaign):
-    # The session's default campaign (tests/conftest.py), which test_campaign.py checks.
-    out = default_campaign
-    files = [p for p in Path(out).rglob("*") if p.is_file()]
-    size = sum(p.stat().st_size for p in files) / 1e6
-    assert size <= LIMIT_MB, f"{size:.0f} MB"
-    # No imported copy of a log is kept: the exports are the campaign's logs.
-    assert not (out / "logs").exists() and not (out / "twins" / "logs").exists()
