@@ -117,6 +117,22 @@ def test_paired_table_resolves_a_real_difference_only(manoeuvres):
     assert "not resolved" in T.paired_markdown(pairs)
 
 
+def test_a_paired_table_without_intervals_has_the_same_findings(manoeuvres):
+    # intervals=False bootstraps only the rows whose adjusted p is below the
+    # level: every other row cannot resolve after the correction, whatever its
+    # interval. What it gives must equal the full table where it is computed.
+    m = frame(manoeuvres)
+    full = T.paired_table(m, "reverse")
+    quick = T.paired_table(m, "reverse", intervals=False)
+    same = ["criterion", "a", "b", "n", "diff", "test", "p", "p_adj", "resolved_adj"]
+    pd.testing.assert_frame_equal(quick[same], full[same])
+    below = quick["p_adj"] < 0.05
+    assert below.any() and (~below).any()  # both kinds of row in this table
+    pd.testing.assert_frame_equal(quick.loc[below], full.loc[below])
+    assert quick.loc[~below, ["diff_lo", "diff_hi"]].isna().all().all()
+    assert not quick.loc[~below, "resolved"].any()
+
+
 def test_excess_over_the_floor_is_paired(manoeuvres):
     m = frame(manoeuvres)
     ex = T.excess(m, "reverse")

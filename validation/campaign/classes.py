@@ -28,6 +28,7 @@ correction leaves it NaN, and a NaN is not below the level.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterable
 from string import Template
@@ -159,6 +160,8 @@ def carried_by(pairs: pd.DataFrame, metrics: pd.DataFrame, twins: pd.DataFrame |
         return out
     kinds = classes_of(metrics, direction)
     keys = ["criterion", "a", "b"]
+    if pair is paired_table:  # read for their findings alone: no interval that cannot resolve
+        pair = functools.partial(paired_table, intervals=False)
     found = out["finding"].astype(bool)
     carriers: dict[int, list[str]] = {i: [] for i in out.index[found]}
     for kind in kinds:

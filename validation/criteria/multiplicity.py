@@ -79,7 +79,9 @@ expected share of false rankings among those stated) and only under
 positive dependence, which two-sided tests of correlated criteria do not
 guarantee; and the README states each finding on its own, so each must be
 true, not most. Both adjustments are statsmodels'
-(:func:`statsmodels.stats.multitest.multipletests`); the campaign uses Holm.
+(:func:`statsmodels.stats.multitest.multipletests`), Holm's recomputed here
+with its operations (statsmodels' runs a full garbage collection a call); the
+campaign uses Holm.
 A NaN p value (a row not testable) is left out of the family: it states
 nothing, so it is no hypothesis tested.
 """
@@ -165,8 +167,26 @@ def _adjusted(p, method: str) -> np.ndarray:
     return out
 
 
+def _holm(p) -> np.ndarray:
+    """Holm's adjustment as statsmodels computes it (the same operations, the same bits).
+
+    Written here because statsmodels' ``holm`` ends in a full ``gc.collect()``,
+    which in a campaign's heap costs 0.1 s a call: 7 of the tables stage's 60 s
+    (66 families). Ties give the same adjusted value whichever comes first.
+    ``tests/test_multiplicity.py`` holds it equal to statsmodels' to the bit.
+    """
+    p, out, ok = _family(p)
+    if ok.size:
+        q = p[ok]
+        order = np.argsort(q)
+        adjusted = np.maximum.accumulate(q[order] * np.arange(q.size, 0, -1))
+        adjusted[adjusted > 1] = 1
+        out[ok[order]] = adjusted
+    return out
+
+
 def holm(p: Sequence[float] | np.ndarray) -> np.ndarray:
-    """Holm's step-down adjusted p values (statsmodels' ``holm``).
+    """Holm's step-down adjusted p values (statsmodels' ``holm``, bit for bit).
 
     Sorted ascending, the ``k``-th smallest of ``m`` p values (``k`` from 1)
     becomes ``min(1, max over j <= k of (m - j + 1) p_(j))``; a hypothesis is
@@ -184,7 +204,7 @@ def holm(p: Sequence[float] | np.ndarray) -> np.ndarray:
     ndarray
         Adjusted p values, in the input's order [-].
     """
-    return _adjusted(p, "holm")
+    return _holm(p)
 
 
 def benjamini_hochberg(p: Sequence[float] | np.ndarray) -> np.ndarray:

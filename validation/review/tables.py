@@ -358,23 +358,43 @@ def corrected(rows: pd.DataFrame) -> pd.DataFrame:
     resolved after the correction.
     """
     out = rows.copy()
-    out["p_adj"] = np.nan
-    if len(out):
-        rating = out["criterion"].astype(str).str.startswith(RATING_PREFIX).to_numpy()
-        p = out["p"].to_numpy(dtype=float)
-        adj = np.full(p.size, np.nan)
-        for family in (rating, ~rating):
-            if family.any():
-                adj[family] = holm(p[family])
-        out["p_adj"] = adj
+    out["p_adj"] = _adjusted(out)
     out["resolved_adj"] = (out["p_adj"] < ALPHA) & out["resolved"].astype(bool) \
         if len(out) else []
     return out
 
 
+def _adjusted(rows: pd.DataFrame) -> np.ndarray:
+    """Holm's adjusted p values of ``rows``, each family on its own (see :func:`corrected`)."""
+    p = rows["p"].to_numpy(dtype=float) if len(rows) else np.zeros(0)
+    adj = np.full(p.size, np.nan)
+    if p.size:
+        rating = rows["criterion"].astype(str).str.startswith(RATING_PREFIX).to_numpy()
+        for family in (rating, ~rating):
+            if family.any():
+                adj[family] = holm(p[family])
+    return adj
+
+
 def paired_table(metrics: pd.DataFrame, direction: str,
-                 criteria: list[str] | None = None) -> pd.DataFrame:
+                 criteria: list[str] | None = None, intervals: bool = True) -> pd.DataFrame:
     """Every pair of models compared on the same manoeuvres, per criterion.
+
+    Parameters
+    ----------
+    metrics : DataFrame
+        One row per (manoeuvre, model) with the criteria.
+    direction : str
+        ``forward`` or ``reverse``.
+    criteria : list of str, optional
+        The criteria to compare; every one of the direction by default.
+    intervals : bool
+        False computes a row's bootstrap interval only where its adjusted p
+        value is below the level, the only rows that can resolve after the
+        correction: the findings, ``resolved_adj`` and ``diff`` are the same
+        to the bit, the other rows have NaN ``diff_lo``, ``diff_hi`` and
+        ``resolved`` False. For tables that are read for their findings alone
+        (:func:`artic.validation.campaign.classes.carried_by`'s).
 
     Returns
     -------
@@ -391,16 +411,27 @@ def paired_table(metrics: pd.DataFrame, direction: str,
         the correction). :func:`artic.validation.campaign.findings.mark` adds
         whether each is a finding.
     """
-    rows = []
+    rows, pairs = [], []
     for c, a, b, table in _model_pairs(metrics, direction, criteria, ("log",)):
         x, y = table[a].to_numpy(dtype=float), table[b].to_numpy(dtype=float)
-        p = paired(x, y, (a, b))
-        if p.diff.n == 0:
+        ok = np.isfinite(x) & np.isfinite(y)
+        if not ok.any():
             continue
         test = paired_test(x - y)
-        rows.append({"criterion": c, "a": a, "b": b, "n": p.diff.n, "diff": p.diff.mean,
-                     "diff_lo": p.diff.lo, "diff_hi": p.diff.hi, "resolved": p.resolved,
-                     "lower": p.lower or "not resolved", "test": test.status, "p": test.p})
+        rows.append({"criterion": c, "a": a, "b": b, "n": int(ok.sum()), "test": test.status,
+                     "p": test.p})
+        pairs.append((x, y, a, b))
+    frame = pd.DataFrame(rows, columns=["criterion", "a", "b", "n", "test", "p"])
+    wanted = np.ones(len(frame), bool) if intervals else _adjusted(frame) < ALPHA
+    for i, (x, y, a, b) in enumerate(pairs):
+        if wanted[i]:
+            p = paired(x, y, (a, b))
+            rows[i] |= {"diff": p.diff.mean, "diff_lo": p.diff.lo, "diff_hi": p.diff.hi,
+                        "resolved": p.resolved, "lower": p.lower or "not resolved"}
+        else:
+            ok = np.isfinite(x) & np.isfinite(y)
+            rows[i] |= {"diff": float(np.mean(x[ok] - y[ok])), "diff_lo": math.nan,
+                        "diff_hi": math.nan, "resolved": False, "lower": "not resolved"}
     return corrected(pd.DataFrame(rows, columns=PAIRED_COLUMNS[:-2]))
 
 
