@@ -8,6 +8,7 @@ follow the numbers, the findings and the missing values.
 from __future__ import annotations
 
 import math
+import re
 
 import pandas as pd
 
@@ -46,6 +47,9 @@ def test_the_rating_clause_follows_the_corrected_finding():
     open_ = "\n".join(measures.truck_lines(None, {"forward": _pairs(0.4)}, None))
     assert "## ISO/TS 18571 rating" in found and "**Forward, iso_gap**" in found
     assert found != open_
+    # The rating is a pure number (unit "-"): no unit, and no stray dash, after a figure.
+    bullets = [line for line in (found + open_).splitlines() if line.startswith("- **")]
+    assert "by 0.010" in found and not any(re.search(r"[\d\]] -", b) for b in bullets)
     assert "not resolved" in open_ or "no finding" in open_ or "unresolved" in open_
     # Without the rating's rows there is no section; with nothing at all, no lines.
     other = _pairs(0.001).assign(criterion="eps_n")

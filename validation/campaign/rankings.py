@@ -39,7 +39,7 @@ def label(model: str) -> str:
 
 def _unit(criterion: str) -> str:
     unit = UNITS.get(criterion, "")
-    return {"%": " points", "": ""}.get(unit, f" {unit}")
+    return {"%": " points", "": "", "-": ""}.get(unit, f" {unit}")  # "-": a pure number
 
 
 def _rows(pairs: pd.DataFrame, criterion: str, exclude: tuple[str, ...]) -> pd.DataFrame:
