@@ -667,22 +667,15 @@ def record_docking(path: Path, name: str, frame: pd.DataFrame, vehicle: Vehicle,
     vehicle : Vehicle
         The plant's parameters.
     scene : DockScene
-        The yard and the plan, as below.
+        The yard and the plan (:class:`DockScene`).
     intent : DockIntent
         The controller's horizons, references and what it saw, as below.
     text : str
         Markdown for the description: the scores.
 
-    The fields of ``scene`` and ``intent``:
+    How the fields of ``intent`` are drawn (those of ``scene`` as
+    :class:`DockScene` says):
 
-    obstacles : sequence of (name, x_min, x_max, y_min, y_max)
-        The yard's obstacles [m]: the dock, its far edge, parked semitrailers.
-    doors : sequence of float
-        The doors' centre lines [m].
-    dock_face : tuple of float
-        The dock face's x and the target door's y [m].
-    plan : sequence of ndarray
-        The planner's path as polylines ``(n, 2)`` [m].
     horizons : sequence of (float, ndarray or None)
         The controller's predicted path ``(n, 2)`` [m] at each of its samples
         [s], ``None`` where it gave none: one row of ``/yard/horizon`` per
