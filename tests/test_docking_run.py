@@ -17,7 +17,7 @@ from artic.validation.docking.controllers import BUILTIN, Command, Controller, l
 from artic.validation.docking.planner import steady_delta
 from artic.validation.docking.run import DT, PLANT_DT, drive
 from artic.validation.docking.scenarios import SCENARIOS, scenario
-from artic.validation.docking.scores import COLUMNS, markdown, paired, rate_ci, table
+from artic.validation.docking.scores import COLUMNS, markdown, rate_ci, table
 from artic.validation.docking.sensing import SensorStream
 from artic.validation.synthetic.sensors import SensorModel
 
@@ -514,20 +514,6 @@ def test_compute_times_pool_every_runs_commands():
     # first run's 100 alone it would pull its 99th percentile to 1.5 ms), the largest 50.
     assert (a["p50 [ms]"], a["p99 [ms]"], a["max [ms]"]) == ("2", "2", "50")
     assert np.percentile(rows[0]["solve_ms"], 99) == pytest.approx(1.49)
-
-
-def test_paired_differences_resolve_only_when_the_interval_excludes_zero():
-    rows = []
-    for seed in range(10):
-        for c, err in (("a", 0.05 + 0.001 * seed), ("b", 0.02 + 0.001 * seed)):
-            rows.append({"scenario": "s", "vehicle": "v", "controller": c, "seed": seed,
-                         "success": True, "lateral_error_m": err})
-    df = pd.DataFrame(rows)
-    p = paired(df, "a", "b", "lateral_error_m")
-    assert p["pairs"] == 10 and p["resolved"]
-    assert p["mean_difference"] == pytest.approx(0.03)
-    same = paired(df, "a", "a", "lateral_error_m")
-    assert not same["resolved"]
 
 
 def test_the_table_has_a_row_per_scenario_vehicle_and_controller():

@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 
 from artic.mjcf.errors import UserError
+from artic.validation.docking import pairs
 from artic.validation.docking import sweep as sw
 from artic.validation.docking.controllers import Command, Controller
 from artic.validation.docking.scores import COLUMNS, TIERS, rate_ci, tiers
@@ -141,9 +142,9 @@ def test_the_wilson_interval_against_a_hand_computed_value():
 
 def test_mcnemar_exact_p_values():
     # 6 discordant starts all one way: 2 * 0.5^6; 5 to 1: 2 * (1 + 6) / 64.
-    assert sw.mcnemar_p(0, 6) == pytest.approx(2 * 0.5 ** 6)
-    assert sw.mcnemar_p(5, 1) == pytest.approx(2 * 7 / 64)
-    assert sw.mcnemar_p(0, 0) == 1.0
+    assert pairs.mcnemar_p(0, 6) == pytest.approx(2 * 0.5 ** 6)
+    assert pairs.mcnemar_p(5, 1) == pytest.approx(2 * 7 / 64)
+    assert pairs.mcnemar_p(0, 0) == 1.0
 
 
 def _synthetic() -> pd.DataFrame:
@@ -183,7 +184,7 @@ def test_the_sweep_table_and_its_paired_comparisons_with_holm():
     succ = p[(p["metric"] == "success") & (p["level"] == 0.3)].iloc[0]
     # a missed seed 11 alone; b docked seeds 10 and 11 alone: a only on 0-9, b only on 11
     assert (succ["a_only"], succ["b_only"]) == (10, 1)
-    assert succ["p"] == pytest.approx(sw.mcnemar_p(10, 1))
+    assert succ["p"] == pytest.approx(pairs.mcnemar_p(10, 1))
     # Holm: the adjusted p values are the step-down of the family of six.
     from artic.validation.criteria.multiplicity import holm
 

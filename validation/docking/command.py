@@ -10,8 +10,9 @@
   ``D/dock.csv`` (one row per run, the columns of
   :data:`artic.validation.docking.scores.COLUMNS`), ``D/dock_table.csv`` and
   ``D/dock_table.md`` (success rates and errors with 95 % intervals; with
-  two controllers or more, the Markdown ends with their paired comparisons
-  over the starts both docked), ``D/dock_errors.png`` (the final errors) and,
+  two controllers or more, ``D/dock_pairs.csv`` and the Markdown compare every
+  two over the same starts, after Holm's correction:
+  :mod:`artic.validation.docking.pairs`), ``D/dock_errors.png`` (the final errors) and,
   unless ``--no-recordings``, ``D/recordings/SCENARIO-VEHICLE-CONTROLLER-SEED.rrd``.
   The Markdown ends with each controller's compute time per command over all
   its runs (median, 99th percentile, largest): for the controller's own, run
@@ -49,10 +50,6 @@ from pathlib import Path
 from artic.mjcf.errors import UserError
 
 DEFAULT_VEHICLES = "gosar2022-unloaded,gosar2022-loaded,six-axle"
-
-PAIRED_METRICS = ("lateral_error_m", "heading_error_deg", "time_s")
-"""What the paired comparison of two controllers reports."""
-
 
 def add_parser(sub) -> None:
     """Add ``dock`` to the ``artic`` subcommands ``sub``."""
@@ -204,11 +201,12 @@ def run(args: argparse.Namespace) -> int:
 
     from artic.mjcf.plausible import check_tyre_data
     from artic.mjcf.vehicle import load_vehicle
+    from artic.validation.docking import pairs as dock_pairs
     from artic.validation.docking.controllers import load
     from artic.validation.docking.plots import plot_errors
     from artic.validation.docking.run import benchmark, run_name
     from artic.validation.docking.scenarios import SCENARIOS, scenario
-    from artic.validation.docking.scores import COLUMNS, compute_times, markdown, paired, table
+    from artic.validation.docking.scores import COLUMNS, compute_times, markdown, table
     from artic.validation.docking.sensing import SENSOR_SETS, sensor_set
     from artic.validation.logs.runfile import atomic_write, atomic_write_text
     from artic.validation.plumbing.outputs import OutDirLock, check_output_dir, clean_stale
@@ -269,12 +267,12 @@ def run(args: argparse.Namespace) -> int:
         if sensors != "full":  # the default's table stays as it was
             md = (f"Sensors: {sensors}, {SENSOR_SETS[sensors]}; the semitrailer's pose from the "
                   "estimator (dock.csv: gamma_est_*, rear_est_*).\n\n" + md)
-        for i, a in enumerate(controllers):
-            for b in controllers[i + 1:]:
-                md += (f"\n{a} minus {b} in magnitude, paired over the starts both docked "
-                       "(resolved: the interval excludes zero):\n\n")
-                pairs = pd.DataFrame([paired(frame, a, b, m) for m in PAIRED_METRICS])
-                md += markdown(pairs[["metric", "pairs", "difference [95 % CI]", "resolved"]])
+        if len(controllers) > 1:
+            found = dock_pairs.compare(frame, controllers,
+                                       metrics=dock_pairs.ERRORS + (dock_pairs.TIME,))
+            atomic_write(out / "dock_pairs.csv",
+                         lambda p: found.to_csv(p, index=False, float_format="%.6g"))
+            md += dock_pairs.markdown(found)
         md += ("\nCompute time per command, every run's commands pooled, in "
                f"{args.jobs} process{'es' if args.jobs > 1 else ''} on {_cores()} "
                f"core{'s' if _cores() > 1 else ''}:\n\n" + markdown(compute_times(rows)))

@@ -35,7 +35,7 @@ The table (:func:`table`) groups by scenario, vehicle and controller: the
 success rate with its Wilson 95 % interval, and the means of the errors
 over the successes with the project's 95 % intervals, printed to the digits
 the interval supports (:mod:`artic.validation.criteria.statistics`).
-:func:`paired` compares two controllers over the starts both docked.
+:mod:`artic.validation.docking.pairs` compares controllers over the same starts.
 """
 
 from __future__ import annotations
@@ -50,7 +50,6 @@ from scipy import stats
 from artic.mjcf.interface import OBS_INDEX
 from artic.mjcf.vehicle import Vehicle
 from artic.validation.criteria.statistics import CONFIDENCE, Interval, format_ci, mean_ci
-from artic.validation.criteria.statistics import paired as compare
 from artic.validation.docking.geometry import Frames, swept_cells
 
 DOCKED = (0.3, 0.3, math.radians(3.0))
@@ -381,27 +380,6 @@ def compute_times(rows) -> pd.DataFrame:
         out.append(rec)
     return pd.DataFrame(out, columns=["controller", "commands", "p50 [ms]", "p99 [ms]",
                                       "max [ms]"])
-
-
-def paired(rows: pd.DataFrame, a: str, b: str, column: str, absolute: bool = True) -> dict:
-    """Controller ``a`` minus ``b`` on ``column`` over the starts both docked, with its 95 % CI.
-
-    Pairs are (scenario, vehicle, seed): the same start and the same sensor
-    noise. With ``absolute``, the difference of the magnitudes. The
-    difference is resolved when its interval excludes zero
-    (:func:`artic.validation.criteria.statistics.paired`).
-    """
-    key = ["scenario", "vehicle", "seed"]
-    ra = rows[(rows["controller"] == a) & rows["success"].astype(bool)].set_index(key)[column]
-    rb = rows[(rows["controller"] == b) & rows["success"].astype(bool)].set_index(key)[column]
-    both = ra.index.intersection(rb.index)
-    xa, xb = ra.loc[both].to_numpy(dtype=float), rb.loc[both].to_numpy(dtype=float)
-    if absolute:
-        xa, xb = np.abs(xa), np.abs(xb)
-    p = compare(xa, xb, (a, b))
-    return {"a": a, "b": b, "metric": column, "pairs": len(both),
-            "difference [95 % CI]": format_ci(p.diff), "resolved": p.resolved,
-            "mean_difference": p.diff.mean, "low": p.diff.lo, "high": p.diff.hi}
 
 
 def markdown(t: pd.DataFrame) -> str:

@@ -67,9 +67,10 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy import stats
 
 from artic.mjcf.errors import UserError, one_line
+from artic.validation.docking import pairs
+from artic.validation.docking.pairs import ERRORS, finished
 
 RUNS_DIR = "sweep_runs"
 """Folder of the per-run files in the output folder."""
@@ -582,14 +583,6 @@ def sweep(specs: Sequence[RunSpec], out: Path, jobs: int = 1, executor: str = "l
 
 
 # ---------------------------------------------------------------- the tables
-def finished(rows: pd.DataFrame) -> pd.Series:
-    """Runs that came to rest at the dock: docked, or stopped outside the gates."""
-    from artic.validation.docking.scores import MISSED
-
-    f = rows["failure"].fillna("").astype(str)
-    return (f == "") | f.str.startswith(MISSED)
-
-
 def _rate(prefix: str, k: int, n: int) -> dict:
     from artic.validation.docking.scores import rate_ci
 
@@ -603,9 +596,6 @@ def _mean(prefix: str, x: np.ndarray) -> dict:
     iv = mean_ci(x)
     return {prefix: iv.mean, f"{prefix}_lo": iv.lo, f"{prefix}_hi": iv.hi}
 
-
-ERRORS = (("lateral_cm", "lateral_error_m", 100.0), ("heading_deg", "heading_error_deg", 1.0))
-"""sweep.csv's error columns: name, dock.csv's column, scale (of the magnitude)."""
 
 GROUP = ["axis", "level", "scenario", "vehicle", "controller"]
 
@@ -640,94 +630,27 @@ def summarise(rows: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def mcnemar_p(a_only: int, b_only: int) -> float:
-    """McNemar's exact two-sided p value from the discordant pairs [-].
-
-    Under "both dock equally often" each discordant start is ``a``'s with
-    probability 1/2: the binomial test of ``a_only`` of ``a_only + b_only``.
-    Without discordant pairs there is no evidence either way: 1.
-    """
-    n = int(a_only) + int(b_only)
-    if n == 0:
-        return 1.0
-    return float(stats.binomtest(int(a_only), n, 0.5).pvalue)
-
-
 def compare(rows: pd.DataFrame, controllers: Sequence[str]) -> pd.DataFrame:
-    """``sweep_pairs.csv``: every two controllers at each level, over the same starts."""
-    from artic.validation.criteria.multiplicity import ALPHA, holm, paired_test
-    from artic.validation.criteria.statistics import paired
+    """``sweep_pairs.csv``: every two controllers at each level, scenario and vehicle.
 
-    out = []
-    rows = rows.assign(_finished=finished(rows), _level=rows["level"].map(level_text))
-    for (axis_, _lv, scen, veh), g in rows.groupby(["axis", "_level", "scenario", "vehicle"],
-                                                   sort=False):
-        by = {c: x.set_index("seed") for c, x in g.groupby("controller", sort=False)}
-        for i, a in enumerate(controllers):
-            for b in controllers[i + 1:]:
-                if a not in by or b not in by:
-                    continue
-                ra, rb = by[a], by[b]
-                seeds = ra.index.intersection(rb.index)
-                head = {"axis": axis_, "level": g["level"].iloc[0], "scenario": scen,
-                        "vehicle": veh, "a": a, "b": b}
-                sa = ra.loc[seeds, "success"].astype(bool).to_numpy()
-                sb = rb.loc[seeds, "success"].astype(bool).to_numpy()
-                a_only, b_only = int(np.sum(sa & ~sb)), int(np.sum(~sa & sb))
-                out.append(head | {
-                    "metric": "success", "pairs": len(seeds), "a_only": a_only,
-                    "b_only": b_only, "difference": float(np.mean(sa) - np.mean(sb))
-                    if len(seeds) else math.nan, "low": math.nan, "high": math.nan,
-                    "test": "McNemar exact", "p": mcnemar_p(a_only, b_only)})
-                both = ra.loc[seeds, "_finished"].to_numpy(bool) & \
-                    rb.loc[seeds, "_finished"].to_numpy(bool)
-                common = seeds[both]
-                for name, col, scale in ERRORS:
-                    xa = scale * np.abs(ra.loc[common, col].to_numpy(dtype=float))
-                    xb = scale * np.abs(rb.loc[common, col].to_numpy(dtype=float))
-                    p = paired(xa, xb, (a, b))
-                    test = paired_test(xa - xb)
-                    out.append(head | {
-                        "metric": name, "pairs": len(common), "a_only": math.nan,
-                        "b_only": math.nan, "difference": p.diff.mean, "low": p.diff.lo,
-                        "high": p.diff.hi, "test": f"paired mean ({p.diff.method})"
-                        + ("" if test.testable else f": {test.status}"), "p": test.p})
-    cols = ["axis", "level", "scenario", "vehicle", "a", "b", "metric", "pairs", "a_only",
-            "b_only", "difference", "low", "high", "test", "p", "p_holm", "finding"]
-    if not out:
-        return pd.DataFrame(columns=cols)
-    t = pd.DataFrame(out)
-    t["p_holm"] = holm(t["p"].to_numpy(dtype=float))
-    t["finding"] = t["p_holm"] < ALPHA  # NaN (not testable): never a finding
-    return t[cols]
+    :func:`artic.validation.docking.pairs.compare` at each level (its ``level``
+    as the rows give it), one Holm family over the whole sweep.
+    """
+    rows = rows.assign(_level=rows["level"].map(level_text))
+    t = pairs.compare(rows, controllers, by=("axis", "_level", "scenario", "vehicle"))
+    level = rows.groupby("_level", sort=False)["level"].first()
+    t.insert(1, "level", t.pop("_level").map(level))
+    return t
 
 
-def findings(pairs: pd.DataFrame) -> list[str]:
+def findings(found: pd.DataFrame) -> list[str]:
     """The comparisons resolved after Holm's correction, in words."""
-    lines = []
-    for r in pairs[pairs["finding"].astype(bool)].itertuples(index=False):
-        where = f"at {r.axis} = {level_text(r.level)} ({r.scenario}, {r.vehicle})"
-        better, worse = (r.a, r.b) if r.difference > 0 else (r.b, r.a)
-        if r.metric == "success":
-            n_better, n_worse = ((r.a_only, r.b_only) if r.difference > 0
-                                 else (r.b_only, r.a_only))
-            lines.append(f"{better} docks more often than {worse} {where}: {int(n_better)} "
-                         f"starts only it docked against {int(n_worse)} of {r.pairs} "
-                         f"(McNemar, Holm p = {r.p_holm:.2g})")
-        else:  # the difference of magnitudes a - b: positive, b ends closer
-            flip = r.difference > 0
-            closer, farther = (r.b, r.a) if flip else (r.a, r.b)
-            d, lo, hi = ((r.difference, r.low, r.high) if flip
-                         else (-r.difference, -r.high, -r.low))
-            unit = "cm" if r.metric == "lateral_cm" else "deg"
-            what = "off the line" if r.metric == "lateral_cm" else "askew"
-            lines.append(f"{closer} ends less {what} than {farther} {where}: by {d:.2g} "
-                         f"{unit} [95 % CI {lo:.2g} to {hi:.2g}] over {r.pairs} starts "
-                         f"(Holm p = {r.p_holm:.2g})")
-    return lines
+    return [pairs.finding_words(r, f"at {r.axis} = {level_text(r.level)} ({r.scenario}, "
+                                   f"{r.vehicle})")
+            for r in found[found["finding"].astype(bool)].itertuples(index=False)]
 
 
-def markdown(summary: pd.DataFrame, pairs: pd.DataFrame) -> str:
+def markdown(summary: pd.DataFrame, found: pd.DataFrame) -> str:
     """``sweep.md``: the table, and the findings after Holm's correction."""
     from artic.validation.criteria.statistics import format_ci
     from artic.validation.docking.scores import TIERS
@@ -750,20 +673,11 @@ def markdown(summary: pd.DataFrame, pairs: pd.DataFrame) -> str:
         rec["time [s]"] = ci(r, "time_s")
         recs.append(rec)
     text = md_table(pd.DataFrame(recs)) if recs else ""
-    n = len(pairs)
-    if not n:  # say why, rather than a bare 0
+    if not len(found):  # say why, rather than a bare 0
         controllers = summary["controller"].nunique() if len(summary) else 0
         why = ("one controller: a comparison pairs two controllers over the same starts; "
                "give --controller A,B" if controllers < 2
                else "no level has two controllers' runs of the same starts")
         return text + f"\nPaired comparisons: none ({why}).\n"
-    tested = int(np.isfinite(pairs["p"].to_numpy(dtype=float)).sum())
-    untested = (f" ({n - tested} not testable at their number of starts: `test` in "
-                "sweep_pairs.csv says why; their intervals stand, no finding)") \
-        if tested < n else ""
-    found = findings(pairs)
-    text += (f"\nPaired comparisons: {n} (success by McNemar's exact test, errors by the "
-             "paired mean difference over the starts both finished); Holm's correction over "
-             f"the {tested} tested{untested}. Findings (Holm p < 0.05): "
-             + ("none." if not found else "\n\n" + "\n".join(f"- {f}" for f in found)) + "\n")
+    text += pairs.summary(found, findings(found), "sweep_pairs.csv")
     return text
