@@ -180,6 +180,7 @@ def stop_and_reverse(plant, seconds: float = 12.0) -> np.ndarray:
     return np.array(out)
 
 
+@pytest.mark.long_on_numpy
 @pytest.mark.parametrize("name", ["gosar2022-unloaded", "six-axle"])
 def test_the_default_step_and_10_ms_are_converged_through_a_stop(name):
     # The default step and the logs' 10 ms against plain RK4 at 1 ms (the
@@ -201,6 +202,7 @@ def test_the_default_step_and_10_ms_are_converged_through_a_stop(name):
         assert np.abs(got[:, [5, 11]] - ref[:, [5, 11]]).max() < 1e-3
 
 
+@pytest.mark.long_on_numpy
 def test_the_speed_set_point_is_the_middle_of_the_step_whatever_the_timestep(unloaded):
     # A ramp of the commanded speed is held for each 10 ms at its value at the
     # middle of the interval (its mean), so the followed speed does not depend

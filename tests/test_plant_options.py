@@ -66,6 +66,7 @@ def test_on_a_grade_a_parked_truck_creeps_downhill_without_brakes_and_holds_with
     assert abs(held) < 0.01 * abs(free), (held, free)
 
 
+@pytest.mark.long_on_numpy
 def test_on_crossfall_the_truck_drifts_downhill(unloaded):
     phi = 0.03  # +y runs uphill
     v = with_options(unloaded, crossfall=phi)
@@ -97,6 +98,7 @@ def _peak_articulation_rate(v) -> float:
     return float(np.abs(np.diff(gamma)).max() / 0.01)
 
 
+@pytest.mark.long_on_numpy
 @pytest.mark.parametrize("option", [{"fifth_wheel_friction": 3.0e4},
                                     {"hitch_damping": 1.0e5}])
 def test_hitch_friction_and_damping_damp_an_articulation_transient(unloaded, option):

@@ -271,6 +271,7 @@ def held_by_the_drive(vehicle, timestep: float, spin_fit: bool) -> tuple[float, 
         return p.observe()[0] - x0, d.qvel[p._spin_dof].copy()
 
 
+@pytest.mark.long_on_numpy
 def test_held_by_the_drive_on_a_slope_at_10_ms_as_at_1_ms(unloaded):
     # A wheel held by a torque: its spin's rate is zero only counting that
     # torque, which the fit does (left out, the held drive wheels creep at
@@ -295,6 +296,7 @@ def parked(vehicle, timestep: float, spin_fit: bool) -> float:
         return p.observe()[0] - x0
 
 
+@pytest.mark.long_on_numpy
 def test_parked_on_a_slope_at_10_ms_as_at_1_ms(unloaded):
     # The parking brake is MuJoCo's soft friction constraint on the spins
     # (a parked truck creeps, 0.4 mm/s on 15 %), which the fit leaves to the
