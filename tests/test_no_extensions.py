@@ -64,9 +64,10 @@ def test_the_fast_tests_of_the_compiled_parts_pass_without_them():
     # passes on the numpy fallback or skips because it needs what has no Python
     # version; none fails. Left out: the six tests marked long_on_numpy (timestep
     # studies at 1 ms, slopes, the hitch's transients), 84 % of this run's time on the
-    # numpy tyre (858 of 1 026 s, measured on a loaded machine). They check the plant's numerics and physics, which the
-    # fallback shares; the suite runs them compiled, and the numpy tyre is held to the
-    # compiled one force by force and along a plant's trajectory (tests/test_ctyre.py).
+    # numpy tyre (858 of 1 026 s, measured on a loaded machine). They check the plant's
+    # numerics and physics, which the fallback shares; the suite runs them compiled, and
+    # the numpy tyre is held to the compiled one force by force and along a plant's
+    # trajectory (tests/test_ctyre.py).
     files = [str(ROOT / "tests" / f) for f in FALLBACK_FILES]
     out = subprocess.run([sys.executable, "-m", "pytest", "-m", "not slow and not long_on_numpy",
                           "-q", "-rs",

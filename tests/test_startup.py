@@ -64,3 +64,28 @@ def test_import_artic_loads_no_numpy_nor_metadata():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True, timeout=120)
     assert json.loads(done.stdout) == []
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["--version"], []])
+def test_the_top_level_is_answered_without_the_commands_or_numpy(argv):
+    # `artic`, `artic --help` and `artic --version` need no command's options: the
+    # commands' modules (and numpy under their defaults) stay unloaded.
+    code = ("import json, sys\nfrom artic.validation.cli.entry import main\n"
+            f"rc = main({argv!r})\n"
+            "print(json.dumps({'rc': rc, 'loaded': [m for m in ('numpy', "
+            "'artic.validation.cli.commands') if m in sys.modules]}))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    out = json.loads(done.stdout.splitlines()[-1])
+    assert out == {"rc": 2 if argv == [] else 0, "loaded": []}, done.stderr
+    if argv == []:  # the full parser's one-line error
+        assert "artic: error: the following arguments are required: command" in done.stderr
+
+
+def test_the_top_level_help_is_the_full_parsers():
+    from artic.validation.cli import toplevel
+    from artic.validation.cli.commands import build_parser
+
+    full = build_parser()
+    assert toplevel.parser()[0].format_help() == full.format_help()
+    assert toplevel.answers(["-h", "--version"]) and not toplevel.answers(["dock", "--help"])

@@ -48,6 +48,7 @@ from pathlib import Path
 from artic.mjcf import schema
 from artic.mjcf.errors import PlantError, UserError, one_line
 from artic.mjcf.vehicle import load_vehicle
+from artic.validation.cli import toplevel
 from artic.validation.docking import command as dock_command
 from artic.validation.harness.reversing import DEFAULT_GAIN
 from artic.validation.logs.schema import CHECKS, MIN_SEGMENT, SOURCES
@@ -479,14 +480,6 @@ def _campaign(args: argparse.Namespace) -> int:
     return 0
 
 
-class _Parser(argparse.ArgumentParser):
-    """``argparse`` with the one-line errors of the rest of the command line."""
-
-    def error(self, message: str) -> None:  # type: ignore[override]
-        """Print ``artic: error: MESSAGE`` and exit with code 2 (no usage block)."""
-        self.exit(2, f"artic: error: {message}; see {self.prog} --help\n")
-
-
 def _add_accept(p: argparse.ArgumentParser) -> None:
     p.add_argument("--accept", action="append", default=[], metavar="CHECK",
                    help="use the logs although this consistency check refuses them "
@@ -514,27 +507,11 @@ def _add_vehicle(p: argparse.ArgumentParser) -> None:
                    help="preset name or TOML file (default: %(default)s)")
 
 
-class _Version(argparse.Action):
-    """``--version``: artic's version, read when asked (reading it costs ``--help`` 0.1 s)."""
-
-    def __call__(self, parser, namespace, values, option_string=None):
-        import artic
-
-        print(f"artic {artic.__version__}")
-        parser.exit()
-
-
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of ``artic``."""
-    p = _Parser(
-        prog="artic", description="Tractor-semitrailer models at yard speeds, forward and "
-        "in reverse, and their validation.")
-    p.add_argument("--version", action=_Version, nargs=0,
-                   help="show the program's version number and exit")
-    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
-
-    veh = sub.add_parser("vehicle", help="inspect vehicle parameter files")
-    vsub = veh.add_subparsers(dest="vehicle_command", required=True, parser_class=_Parser)
+    """The argument parser of ``artic``: :func:`toplevel.parser` with each command's options."""
+    p, cmd = toplevel.parser()
+    veh = cmd["vehicle"]
+    vsub = veh.add_subparsers(dest="vehicle_command", required=True, parser_class=toplevel.Parser)
     show = vsub.add_parser("show", help="print the resolved parameters")
     show.add_argument("vehicle", help="preset name or TOML file")
     show.add_argument("--json", action="store_true", help="print JSON")
@@ -542,7 +519,7 @@ def build_parser() -> argparse.ArgumentParser:
     keys = vsub.add_parser("keys", help="print the parameter file format")
     keys.set_defaults(func=_vehicle_keys)
 
-    sim = sub.add_parser("simulate", help="simulate a manoeuvre open loop")
+    sim = cmd["simulate"]
     sim.add_argument("--model", required=True, type=_one_model,
                      help="kin, stm, mbd, or a registered model (see artic.register_model)")
     _add_vehicle(sim)
@@ -567,7 +544,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="the run to write, .parquet (its folder must exist)")
     sim.set_defaults(func=_simulate)
 
-    val = sub.add_parser("validate", help="validate models against logs")
+    val = cmd["validate"]
     val.add_argument("logs", nargs="+", type=Path, help="logs in the signal schema (.parquet)")
     _add_vehicle(val)
     val.add_argument("--models", default="kin,stm",
@@ -599,7 +576,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_accept(val)
     val.set_defaults(func=_validate)
 
-    tun = sub.add_parser("tune", help="fit f, i_s, q and the offset on forward logs")
+    tun = cmd["tune"]
     tun.add_argument("logs", nargs="+", type=Path, help="forward logs (.parquet)")
     _add_vehicle(tun)
     tun.add_argument("--models", default="kin,stm", help="comma-separated (default: %(default)s)")
@@ -610,14 +587,14 @@ def build_parser() -> argparse.ArgumentParser:
     _add_accept(tun)
     tun.set_defaults(func=_tune)
 
-    mj = sub.add_parser("mjcf", help="write the multibody model as MJCF")
+    mj = cmd["mjcf"]
     _add_vehicle(mj)
     mj.add_argument("-o", "--output", required=True, type=options.output_path, help="output .xml")
     mj.add_argument("--no-scene", action="store_true", help="the vehicle only, no yard")
     mj.set_defaults(func=_mjcf)
 
-    logs = sub.add_parser("logs", help="import measured logs")
-    lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=_Parser)
+    logs = cmd["logs"]
+    lsub = logs.add_subparsers(dest="logs_command", required=True, parser_class=toplevel.Parser)
     imp = lsub.add_parser("import", help="exports to canonical Parquet")
     imp.add_argument("sources", nargs="+", type=Path, help=SOURCES)
     imp.add_argument("--out-dir", required=True, type=options.output_path,
@@ -657,7 +634,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="processes (default: the number of cores, %(default)s)")
     gen.set_defaults(func=_logs_generate)
 
-    tyre = sub.add_parser("tyre", help="inspect tyre property files")
+    tyre = cmd["tyre"]
     tsub = tyre.add_subparsers(dest="tyre_command", required=True)
     tc = tsub.add_parser("curves", help="steady-state Fx, Fy and Mz curves as CSV and PNG")
     tc.add_argument("--tyre", default="artic-truck-315-80R22.5.tir",
@@ -668,8 +645,7 @@ def build_parser() -> argparse.ArgumentParser:
     tc.add_argument("--out", required=True, type=options.output_path, help="output folder")
     tc.set_defaults(func=_tyre_curves)
 
-    camp = sub.add_parser("campaign", help="the main job: generate the synthetic measured "
-                                           "campaign and validate every model on it")
+    camp = cmd["campaign"]
     camp.add_argument("--out-dir", type=options.output_path, default=Path("artic-out"),
                       help="output folder (default: %(default)s)")
     camp.add_argument("--models", default="kin,stm,mbd",
@@ -720,8 +696,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="processes and threads (default: the number of cores, %(default)s)")
     camp.set_defaults(func=_campaign)
 
-    dock_command.add_parser(sub)
-    pbs_command.add_parser(sub)
+    dock_command.add_options(cmd["dock"])
+    pbs_command.add_options(cmd["pbs"])
     return p
 
 

@@ -51,11 +51,14 @@ from artic.mjcf.errors import UserError
 
 DEFAULT_VEHICLES = "gosar2022-unloaded,gosar2022-loaded,six-axle"
 
-def add_parser(sub) -> None:
-    """Add ``dock`` to the ``artic`` subcommands ``sub``."""
+
+def add_options(p) -> None:
+    """Add ``artic dock``'s options to its subparser ``p``.
+
+    The subparser comes from :func:`artic.validation.cli.toplevel.parser`.
+    """
     from artic.validation.plumbing import options
 
-    p = sub.add_parser("dock", help="the docking benchmark: controllers dock the plant in a yard")
     p.add_argument("--list", action="store_true",
                    help="name the scenarios, controllers and vehicle presets, and exit")
     p.add_argument("--scenario", default="all",

@@ -20,12 +20,13 @@ from artic.mjcf.errors import UserError
 DEFAULT_MODELS = "kin,stm,mbd,truth"
 
 
-def add_parser(sub) -> None:
-    """Add ``pbs`` to the ``artic`` subcommands ``sub``."""
+def add_options(p) -> None:
+    """Add ``artic pbs``'s options to its subparser ``p``.
+
+    The subparser comes from :func:`artic.validation.cli.toplevel.parser`.
+    """
     from artic.validation.plumbing import options
 
-    p = sub.add_parser("pbs", help="low-speed performance measures (swept path, swings, "
-                                   "off-tracking) on every model and the truth")
     p.add_argument("--vehicle", default="gosar2022-loaded",
                    help="preset or vehicle file (default: %(default)s)")
     p.add_argument("--out-dir", type=options.output_path, required=True, help="output folder")
