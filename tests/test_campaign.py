@@ -166,9 +166,9 @@ def test_parallel_and_serial_campaigns_give_identical_metrics(tmp_path):
     # tuning's Jacobian columns at once, and one thread for everything.
     part = PART[:2] + ["27-ramp-steer-reverse"]
     serial = run_campaign(tmp_path / "one", models=("kin", "mbd"), only=part, jobs=1,
-                          sweep_models=(), recordings=False)
+                          sweep_models=(), recordings=False, oracle=False)
     parallel = run_campaign(tmp_path / "two", models=("kin", "mbd"), only=part, jobs=2,
-                            sweep_models=(), recordings=False)
+                            sweep_models=(), recordings=False, oracle=False)
     a = pd.read_csv(serial["metrics"]).drop(columns="wall_s")
     b = pd.read_csv(parallel["metrics"]).drop(columns="wall_s")
     assert set(a.model) == {"kin", "mbd", "floor"}  # the one validated log, every model
@@ -184,8 +184,10 @@ def test_two_trucks_pool_and_resume(tmp_path, capsys):
     # seed in seed-K, pooled tables and report on top, and a rerun that reuses both.
     out = tmp_path / "out"
     part = ["00-", "02-constant-steer-unloaded-200deg-10kph-left", "45-docking-unloaded-left"]
+    # No oracle rows: their pooling over trucks is tests/test_tables.py's, their runs
+    # test_campaign_classes's.
     paths = run_campaign(out, models=("kin", "mbd"), only=part, jobs=2, seeds=2, seed=3,
-                         sweep_models=(), recordings=False)
+                         sweep_models=(), recordings=False, oracle=False)
     for s in (3, 4):
         assert (out / f"seed-{s}" / "report.md").is_file()
     m = pd.read_csv(paths["metrics"])
@@ -232,7 +234,7 @@ def test_two_trucks_pool_and_resume(tmp_path, capsys):
     assert "[2/2] trucks: seed 4" in captured.err and "pooled over 2 trucks" in captured.out
     # A rerun reuses every seed's work.
     run_campaign(out, models=("kin", "mbd"), only=part, jobs=2, seeds=2, seed=3,
-                 sweep_models=(), recordings=False)
+                 sweep_models=(), recordings=False, oracle=False)
     err = capsys.readouterr().err
     assert err.count("tuning reused") == 2 and err.count("4 of 4 runs reused") >= 2
     again = pd.read_csv(out / "table3_reverse.csv", index_col=0)
