@@ -42,6 +42,7 @@ with [4.97, 5.77] prints ``5.4 ± 0.4``; 47.2 with [36.0, 58.9] prints ``47 ±
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -110,11 +111,14 @@ class Interval:
         return bool(np.isfinite(self.lo) and (self.lo > value or self.hi < value))
 
 
+@functools.lru_cache(maxsize=1024)
 def expanded_level(n: int, confidence: float = CONFIDENCE) -> float:
     """Hesterberg's expanded confidence level for a bootstrap of ``n`` values.
 
     The level at which a normal interval with the bootstrap's spread (divisor
-    ``n``) is as wide as Student's t interval (divisor ``n - 1``).
+    ``n``) is as wide as Student's t interval (divisor ``n - 1``). Kept per
+    ``(n, confidence)``: scipy's distributions take 0.4 ms a call, and the
+    tables ask for the same few ``n`` thousands of times.
     """
     t = stats.t.ppf(0.5 + confidence / 2, n - 1)
     return float(2.0 * stats.norm.cdf(math.sqrt(n / (n - 1)) * t) - 1.0)
