@@ -87,3 +87,22 @@ def test_mean_ci_uses_the_same_interval_as_scipy():
     lo, hi = scipy_bca(x, st.expanded_level(x.size), st.RESAMPLES, st.SEED)
     assert (iv.lo, iv.hi) == (min(lo, iv.mean), max(hi, iv.mean))
     assert iv.method == "BCa bootstrap (expanded)"
+
+
+def test_kept_draws_give_scipys_interval_for_every_sample_of_a_size():
+    # The resamples' indices are kept per (seed, n): the second and later
+    # samples of a size reuse them, and their intervals are still scipy's.
+    from artic.validation.criteria import bca
+
+    bca._DRAWS.clear()
+    gen = np.random.default_rng(9)
+    for i in range(12):
+        n = (17, 33, 8)[i % 3]
+        x = gen.lognormal(0.0, 1.0, n)
+        want = scipy_bca(x, 0.95, st.RESAMPLES, 0)
+        assert np.array(bca_mean(x, 0.95, st.RESAMPLES, 0)).tobytes() == want.tobytes()
+    assert set(bca._DRAWS) == {(0, 17, st.RESAMPLES), (0, 33, st.RESAMPLES),
+                               (0, 8, st.RESAMPLES)}
+    for i in range(bca.DRAWS_KEPT + 2):  # the oldest sizes make way
+        bca_mean(gen.normal(size=40 + i), 0.95, 99, 0)
+    assert len(bca._DRAWS) == bca.DRAWS_KEPT and (0, 8, st.RESAMPLES) not in bca._DRAWS
