@@ -96,6 +96,20 @@ def test_halls_skewness_and_t_tail_are_scipys_to_the_bit():
         assert got.tobytes() == want.tobytes(), (n, t)
 
 
+def test_signed_sums_are_the_concatenated_ones_to_the_bit():
+    # The sign-flip test's enumeration built in one array: every sum in the
+    # order and to the bit of concatenating [s + a_i, s - a_i] value by value.
+    from artic.validation.criteria import multiplicity as mp
+
+    rng = np.random.default_rng(5)
+    for k in (0, 1, 2, 7, 12, 17):
+        a = np.abs(rng.standard_t(2, k))
+        want = np.zeros(1)
+        for v in a:
+            want = np.concatenate([want + v, want - v])
+        assert mp._sums(a).tobytes() == want.tobytes(), k
+
+
 def test_benjamini_hochberg_leaves_nan_out_of_the_family():
     got = benjamini_hochberg([0.02, math.nan, 0.04])
     assert math.isnan(got[1]) and got[[0, 2]] == pytest.approx([0.04, 0.04])  # m = 2

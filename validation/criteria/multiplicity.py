@@ -228,10 +228,20 @@ def benjamini_hochberg(p: Sequence[float] | np.ndarray) -> np.ndarray:
 
 
 def _sums(a: np.ndarray) -> np.ndarray:
-    """Every signed sum ``sum(s_i a_i)``, ``s_i = +-1``: ``2^len(a)`` values."""
-    s = np.zeros(1)
+    """Every signed sum ``sum(s_i a_i)``, ``s_i = +-1``: ``2^len(a)`` values.
+
+    Built in one array, each value in turn doubling the sums so far (the
+    first half ``+ a_i``, the second ``- a_i``), the order and every bit of
+    concatenating ``[s + a_i, s - a_i]`` anew (a fresh 1 MB array per value at
+    17 values, 10 times slower).
+    """
+    s = np.empty(2 ** a.size)
+    s[0] = 0.0
+    m = 1
     for v in a:
-        s = np.concatenate([s + v, s - v])
+        np.subtract(s[:m], v, out=s[m:2 * m])
+        s[:m] += v
+        m *= 2
     return s
 
 
