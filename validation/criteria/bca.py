@@ -30,6 +30,7 @@ acceleration), so does this, without scipy's warning.
 
 from __future__ import annotations
 
+import threading
 from collections import OrderedDict
 
 import numpy as np
@@ -148,18 +149,21 @@ set of ``n_resamples`` rows of ``n`` indices takes ``80 n`` kB (2.6 MB at
 ``n = 33``)."""
 
 _DRAWS: OrderedDict[tuple[int, int, int], np.ndarray] = OrderedDict()
+_DRAWS_LOCK = threading.Lock()  # tables made in threads share the kept sets
 
 
 def _draws(seed: int, n: int, n_resamples: int) -> np.ndarray:
     """``np.random.default_rng(seed).integers(0, n, (n_resamples, n))``, kept (read-only)."""
     key = (int(seed), n, n_resamples)
-    got = _DRAWS.get(key)
-    if got is None:
-        got = np.random.default_rng(seed).integers(0, n, (n_resamples, n))
-        got.setflags(write=False)
+    with _DRAWS_LOCK:
+        got = _DRAWS.get(key)
+        if got is not None:
+            _DRAWS.move_to_end(key)
+            return got
+    got = np.random.default_rng(seed).integers(0, n, (n_resamples, n))
+    got.setflags(write=False)
+    with _DRAWS_LOCK:
         _DRAWS[key] = got
         while len(_DRAWS) > DRAWS_KEPT:
             _DRAWS.popitem(last=False)
-    else:
-        _DRAWS.move_to_end(key)
     return got
