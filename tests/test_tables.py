@@ -274,3 +274,55 @@ def test_pooled_files_per_class_and_with_oracle_rows(tmp_path, manoeuvres, capsy
     answer = (tmp_path / "docking_parking.md").read_text()
     assert answer.count("**docking**") == 2  # the tuned rows, then the oracle rows
     assert not re.search(r"(?i)\bnan\b", text)
+
+
+def _pivot_alone(metrics: pd.DataFrame, direction: str, criterion: str,
+                 by: tuple[str, ...]) -> pd.DataFrame:
+    """One criterion pivoted on its own, as the tables did before :func:`T._pivots`."""
+    part = T._ok(metrics)
+    part = part[part["direction"] == direction]
+    values = pd.to_numeric(part[criterion], errors="coerce")
+    return part.assign(_v=values).pivot_table(index=list(by), columns="model", values="_v",
+                                              aggfunc="first", sort=False, dropna=False)
+
+
+def test_one_pivot_of_all_criteria_gives_each_criterion_alone():
+    # Two trucks (seed, log rows), duplicated rows (the first non-NaN value
+    # counts), NaN and non-numeric values, a failed run, cells missing (a
+    # model without some manoeuvres, a seed without some models), an integer
+    # and an all-NaN criterion, rows of the other direction, and the logs and
+    # models in an order that is not sorted.
+    rng = np.random.default_rng(3)
+    rows = []
+    for seed in (7, 2):
+        for log in ("m09", "m01", "m05", "m03"):
+            for model in ("stm", "kin", "mbd"):
+                if (seed == 2 and model == "mbd") or (log == "m05" and model == "kin"):
+                    continue
+                for direction in ("reverse", "forward"):
+                    rows.append({"seed": seed, "log": log, "model": model,
+                                 "direction": direction, "status": "ok",
+                                 "eps_n": rng.normal(40, 10), "eps_a": rng.normal(1e-3, 1e-4),
+                                 "eps_v": "n/a" if log == "m03" else rng.normal(0.1, 0.01),
+                                 "n_hit": int(rng.integers(0, 5)), "empty": math.nan})
+    m = pd.DataFrame(rows)
+    m.loc[0, "eps_n"] = math.nan
+    dup = m.iloc[[0, 3, 8]].copy()
+    dup["eps_n"] = [1.0, 2.0, math.nan]
+    m = pd.concat([m, dup], ignore_index=True)  # duplicate (seed, log, model) rows
+    m.loc[5, "status"] = "failed: diverged"
+    crit = ["eps_n", "eps_a", "eps_v", "n_hit", "empty"]
+    for by in (("log",), ("seed", "log")):
+        for direction in ("reverse", "forward"):
+            got = T._pivots(m, direction, crit, by)
+            assert list(got) == crit
+            for c in crit:
+                pd.testing.assert_frame_equal(got[c], _pivot_alone(m, direction, c, by),
+                                              check_exact=True, check_index_type=True,
+                                              check_column_type=True)
+    table = T._pivots(m, "reverse", crit, ("seed", "log"))["eps_n"]
+    assert table.loc[(7, "m09"), "stm"] == 1.0  # the duplicate's value where the first is NaN
+    assert math.isnan(table.loc[(2, "m01"), "mbd"])  # a missing cell
+    assert T._pivots(m, "reverse", [], ("log",)) == {}
+    for c, table in T._pivots(m, "sideways", crit, ("log",)).items():  # no rows: empty frames
+        pd.testing.assert_frame_equal(table, _pivot_alone(m, "sideways", c, ("log",)))

@@ -121,16 +121,20 @@ def noise_share(metrics: pd.DataFrame, twins: pd.DataFrame, direction: str) -> p
     a, b = a[a["direction"] == direction], b[b["direction"] == direction]
     keys = ["seed", "log"] if "seed" in a and "seed" in b else ["log"]
     rows = []
+    # Per model, the rows on the logs and on the twins by manoeuvre, and the
+    # manoeuvres both have: the same for every criterion.
+    per_model = []
+    for model, g in a.groupby("model", sort=False):
+        g, h = g.set_index(keys), b[b["model"] == model].set_index(keys)
+        per_model.append((model, g, h, g.index.intersection(h.index)))
     for c in columns(metrics, direction):
         if c not in b:
             continue
-        for model, g in a.groupby("model", sort=False):
-            h = b[b["model"] == model]
-            x = pd.to_numeric(g.set_index(keys)[c], errors="coerce")
-            y = pd.to_numeric(h.set_index(keys)[c], errors="coerce")
+        for model, g, h, common in per_model:
+            x = pd.to_numeric(g[c], errors="coerce")
+            y = pd.to_numeric(h[c], errors="coerce")
             if c.startswith("dock_"):
                 x, y = x.abs(), y.abs()
-            common = x.index.intersection(y.index)
             x, y = x.loc[common].to_numpy(float), y.loc[common].to_numpy(float)
             ok = np.isfinite(x) & np.isfinite(y)
             if not ok.any():

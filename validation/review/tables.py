@@ -308,14 +308,35 @@ def versus_paper(ours: pd.DataFrame, paper: pd.DataFrame) -> pd.DataFrame:
     return out
 
 
-def _pivot(metrics: pd.DataFrame, direction: str, criterion: str,
-           by: tuple[str, ...] = ("log",)) -> pd.DataFrame:
-    """One criterion per manoeuvre (rows) and model (columns), results only."""
+def _pivots(metrics: pd.DataFrame, direction: str, criteria: Iterable[str],
+            by: tuple[str, ...] = ("log",)) -> dict[str, pd.DataFrame]:
+    """Each criterion per ``by`` (rows) and model (columns), results only.
+
+    One ``pivot_table`` of all the criteria (``aggfunc="first"``, the rows
+    and models in their order of first appearance, ``dropna=False``), each
+    criterion's columns the frame that the criterion pivoted alone gives
+    (``tests/test_tables.py`` holds them equal): a pivot costs about as much
+    for one criterion as for twenty, and the paired tables ask for every
+    criterion of a direction.
+    """
+    crit = list(dict.fromkeys(criteria))
+    if not crit:
+        return {}
     part = _ok(metrics)
     part = part[part["direction"] == direction]
-    values = pd.to_numeric(part[criterion], errors="coerce")
-    return part.assign(_v=values).pivot_table(index=list(by), columns="model", values="_v",
-                                              aggfunc="first", sort=False, dropna=False)
+    names = {c: f"_v{i}" for i, c in enumerate(crit)}
+    values = {names[c]: pd.to_numeric(part[c], errors="coerce") for c in crit}
+    if part.empty:  # no value columns come out of an empty pivot: each alone (empty frames)
+        return {c: _pivot_table(part.assign(**{names[c]: values[names[c]]}), by, names[c])
+                for c in crit}
+    table = _pivot_table(part.assign(**values), by, list(values))
+    return {c: table[names[c]] for c in crit}
+
+
+def _pivot_table(part: pd.DataFrame, by: tuple[str, ...], values: str | list[str]) -> pd.DataFrame:
+    """``values`` per ``by`` (rows) and model (columns): each cell's first, rows as they come."""
+    return part.pivot_table(index=list(by), columns="model", values=values, aggfunc="first",
+                            sort=False, dropna=False)
 
 
 def _models(metrics: pd.DataFrame) -> list[str]:
@@ -326,13 +347,13 @@ def _model_pairs(metrics: pd.DataFrame, direction: str, criteria: list[str] | No
                  by: tuple[str, ...]) -> Iterator[tuple[str, str, str, pd.DataFrame]]:
     """``(criterion, a, b, table)`` for every criterion and pair of models in it.
 
-    ``table`` is :func:`_pivot`'s: the criterion per ``by`` (rows) and model.
+    ``table`` is :func:`_pivots`'s: the criterion per ``by`` (rows) and model.
     """
     models = _models(metrics)
-    for c in criteria or columns(metrics, direction):
-        if c not in metrics:
-            continue
-        table = _pivot(metrics, direction, c, by=by)
+    wanted = [c for c in criteria or columns(metrics, direction) if c in metrics]
+    tables = _pivots(metrics, direction, wanted, by=by)
+    for c in wanted:
+        table = tables[c]
         for a, b in itertools.combinations([m for m in models if m in table], 2):
             yield c, a, b, table
 
