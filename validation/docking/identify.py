@@ -194,7 +194,7 @@ class WheelbaseIdentifier:
 
 
 def numpy_sum(values) -> float:
-    """``float(np.sum(np.array(values)))`` to the bit, without making the array [-].
+    """``float(np.sum(np.array(values)))`` to the bit, without making the array.
 
     numpy adds a float64 array pairwise: blocks of up to 128 in eight running
     sums combined as ``((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))`` and
