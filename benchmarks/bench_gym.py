@@ -26,7 +26,8 @@ environments), the median and range of :data:`ROUNDS` rounds, by the wall clock
 and per CPU second of this process and its workers (``per core``: the rate one
 core gives, which is what a loaded or a many-core machine multiplies).
 
-Run: ``python benchmarks/run.py`` (or this file alone). Needs ``artic[gym]``.
+Run: ``python benchmarks/run.py`` (or this file alone; ``python
+benchmarks/bench_gym.py artic/Dock-v0`` measures the ids named only). Needs ``artic[gym]``.
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ import importlib.util
 import os
 import resource
 import statistics
+import sys
 import time
 import warnings
 
@@ -121,7 +123,8 @@ def _row(label: str, runs: list[tuple[float, float]]) -> str:
             f"   {statistics.median(cpu):9.0f} ({min(cpu):.0f}-{max(cpu):.0f})")
 
 
-def main() -> None:
+def main(ids: list[str] | None = None) -> None:
+    """Print the rows of every environment id, or of those in ``ids``."""
     if importlib.util.find_spec("gymnasium") is None:
         print("gymnasium is not installed (pip install 'artic[gym]'): skipped")
         return
@@ -132,7 +135,13 @@ def main() -> None:
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     print(f"environment steps per second, median (range) of {ROUNDS} rounds of {STEPS} steps, "
           f"by the wall clock and per CPU second; {cores} cores")
+    unknown = sorted(set(ids or ()) - set(artic.gym.ENVIRONMENTS))
+    if unknown:
+        raise SystemExit(f"{', '.join(unknown)}: not an artic environment; expected "
+                         f"{' or '.join(artic.gym.ENVIRONMENTS)}")
     for env_id in artic.gym.ENVIRONMENTS:
+        if ids and env_id not in ids:
+            continue
         print(f"  {env_id}: {'':5s}wall steps/s {'':9s}per core steps/s")
         rows = [("single", lambda env_id=env_id: gym.make(env_id, scenario=SCENARIO), 1, False)]
         for n in NATIVE[env_id]:
@@ -154,4 +163,4 @@ def main() -> None:
         print(_row("model", [_model_rate(env_id) for _ in range(ROUNDS)]), flush=True)
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

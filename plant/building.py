@@ -157,6 +157,7 @@ class Building:
         self._tractor = m.body(nm.TRACTOR).id
         self._trailer = m.body(nm.TRAILER).id
         self._hitch_yaw = m.joint(nm.HITCH_YAW).id
+        self._hitch_qpos = int(m.jnt_qposadr[self._hitch_yaw])  # gamma reads it every step
         self._sensor = [m.site(nm.sensor(1)).id, m.site(nm.sensor(2)).id]
         self._index_extras(lay, ends)
         self._s1 = np.array(v.sensor1[:2])

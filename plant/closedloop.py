@@ -93,6 +93,10 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     lib.artic_step.restype = ctypes.c_int
     lib.artic_step.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
                                ctypes.c_double, ctypes.c_int]
+    # observe is called through a handle that keeps the GIL: it takes a microsecond, and
+    # releasing the GIL for it would let every other thread's plant in (Dock-v0's vector
+    # environment steps its plants on threads) before this one goes on.
+    lib.artic_observe = ctypes.PyDLL(lib._name).artic_observe
     lib.artic_observe.restype = ctypes.c_int
     lib.artic_observe.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
                                   ctypes.c_void_p]
@@ -168,6 +172,9 @@ class Stepper:
         self._m, self._d = plant.model._address, plant.data._address
         self._out = np.empty(N_OBS)
         self._out_at = self._out.ctypes.data
+        # observe's arguments converted once: the harness calls it every plant step.
+        self._observe_args = (ctypes.c_void_p(self._m), ctypes.c_void_p(self._d), self._s,
+                              ctypes.c_void_p(self._out_at))
         self.psi = np.ctypeslib.as_array(self.struct.psi)
         """The unwrapped headings [rad], a view of the struct's."""
 
@@ -177,7 +184,7 @@ class Stepper:
 
     def observe(self) -> np.ndarray:
         """The signals at the sensor points (``OBSERVATION`` order), a new array."""
-        if self._lib.artic_observe(self._m, self._d, self._s, self._out_at) != DONE:
+        if self._lib.artic_observe(*self._observe_args) != DONE:
             raise RuntimeError("the compiled step refused the plant's indices")
         return self._out.copy()
 

@@ -70,8 +70,7 @@ class Observing:
         mounted straight), so that the harness compares it with a log's like for like.
         """
         e1, e2 = self._sensor_yaw
-        return float(wrap_angle(-self.data.qpos[self.model.jnt_qposadr[self._hitch_yaw]]
-                                + e1 - e2))
+        return float(wrap_angle(-self.data.qpos[self._hitch_qpos] + e1 - e2))
 
     def wheel_loads(self) -> np.ndarray:
         """Vertical force of every wheel end from the last callback [N]."""

@@ -12,6 +12,7 @@ from artic.mjcf.errors import UserError
 from artic.mjcf.interface import OBS_INDEX
 from artic.mjcf.masses import layout, unsprung_bodies
 from artic.reduced.kinematic import kin_observe, kin_rhs
+from artic.validation.docking import identify
 from artic.validation.docking.identify import WheelbaseIdentifier
 from artic.validation.docking.run import drive
 from artic.validation.docking.scenarios import scenario
@@ -252,6 +253,81 @@ def test_without_excitation_the_identifier_holds_its_estimate(loaded):
         s[OBS_INDEX["gamma"]] = rng.normal(0.0, math.radians(0.07))
         assert not ident.update(0.1 * k, s)
     assert ident.updates == 0 and ident.L2 == before
+
+
+
+class _NumpyIdentifier(WheelbaseIdentifier):
+    """The identifier as first written: its window in numpy arrays, summed by ``np.sum``."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.buffers = [[] for _ in range(6)]  # t, r_1, w_a, r_1 cos(gamma), gamma, |v_x|
+
+    def update(self, t, signals):
+        vx, vy, r1 = (float(signals[OBS_INDEX[c]]) for c in ("v_x_1", "v_y_1", "r_1"))
+        gamma = float(signals[OBS_INDEX["gamma"]]) - self.gamma_bias
+        if not all(math.isfinite(x) for x in (vx, vy, r1, gamma, t)):
+            return False
+        sg, cg = math.sin(gamma), math.cos(gamma)
+        wa = (vx + r1 * self.s1[1]) * sg + (vy - r1 * self.s1[0]) * cg
+        for buf, x in zip(self.buffers, (t, r1, wa, r1 * cg, gamma, abs(vx)), strict=True):
+            buf.append(float(x))
+            del buf[:-(self.window + 1)]
+        ts, r1s, was, rcs, gammas, us = (np.asarray(b) for b in self.buffers)
+        if len(ts) <= self.window or us.min() < identify.MIN_SPEED:
+            return False
+
+        def trapz(y):
+            return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(ts)))
+
+        y = trapz(r1s) - (gammas[-1] - gammas[0])
+        phi = np.array([trapz(was), trapz(rcs)])
+        if abs(float(phi @ self.theta)) < self.excitation:
+            return False
+        Pphi = self.P @ phi
+        k = Pphi / (self.forgetting + float(phi @ Pphi))
+        self.theta = self.theta + k * (y - float(phi @ self.theta))
+        P = (self.P - np.outer(k, Pphi)) / self.forgetting
+        P = 0.5 * (P + P.T)
+        tr0, tr = float(np.trace(self.P0)), float(np.trace(P))
+        self.P = P * (tr0 / tr) if tr > tr0 else P
+        if self.theta[0] <= 0.0:
+            self.theta[0] = 1.0 / self.L2_prior
+        self.updates += 1
+        return True
+
+
+@pytest.mark.parametrize("window", [1, 10, 23])
+def test_the_identifier_computes_what_its_numpy_form_computes_to_the_bit(loaded, window):
+    # The window's sums are numpy's pairwise ones written out (identify.numpy_sum), so a
+    # run's l2_identified_m stays what it was; a noisy stream with dropouts, turning and
+    # slowing below MIN_SPEED at times, irregular sample times.
+    rng = np.random.default_rng(window)
+    # A low excitation threshold, so that the short windows update too.
+    ours = WheelbaseIdentifier(loaded, window=window, excitation=0.001)
+    ref = _NumpyIdentifier(loaded, window=window, excitation=0.001)
+    t = 0.0
+    for k in range(600):
+        s = rng.normal(0.0, 0.3, 13)
+        s[OBS_INDEX["v_x_1"]] = -0.6 + 0.55 * math.sin(k / 40.0)
+        s[OBS_INDEX["r_1"]] = 0.2 * math.sin(k / 17.0) + rng.normal(0.0, 0.01)
+        s[OBS_INDEX["gamma"]] = 0.4 * math.sin(k / 23.0) + rng.normal(0.0, 0.01)
+        if rng.random() < 0.03:
+            s[rng.choice([OBS_INDEX["v_x_1"], OBS_INDEX["gamma"]])] = np.nan
+        t += 0.1 if rng.random() > 0.05 else 0.2
+        assert ours.update(t, s) == ref.update(t, s), k
+        assert ours.theta.tobytes() == ref.theta.tobytes(), k
+        assert ours.P.tobytes() == ref.P.tobytes(), k
+    assert ref.updates > 50  # the updates were compared, not only the skipped samples
+
+
+def test_numpy_sum_is_np_sum_to_the_bit():
+    rng = np.random.default_rng(7)
+    for n in [*range(0, 140), 255, 256, 257, 1000]:  # each of numpy's branches
+        for _ in range(5):
+            a = rng.normal(0.0, 1.0, n) * 10.0 ** rng.integers(-8, 8, n)
+            assert np.float64(identify.numpy_sum(a.tolist())).tobytes() == \
+                np.sum(a).tobytes(), n
 
 
 # ---------------------------------------------------------------- the runs

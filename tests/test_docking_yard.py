@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
 from artic.mjcf import load_vehicle
-from artic.mjcf.interface import InitialState
+from artic.mjcf.interface import OBS_INDEX, InitialState
 from artic.mjcf.outline import (
     APRON_DEPTH,
     BUMPER_TRAVEL,
@@ -111,6 +112,54 @@ def test_poses_from_the_signals_are_the_models_own(preset):
     t2, k2 = fr.unit_poses_of_kin(x)
     assert t1 == pytest.approx(t2, abs=1e-9) and k1 == pytest.approx(k2, abs=1e-9)
     assert fr.tractor_sensor_of_kin(x) == pytest.approx(obs[:2], abs=1e-9)
+
+
+
+def _numpy_poses(fr, obs):
+    """Unit poses as numpy's element-wise operations give them (the first form)."""
+    obs = np.atleast_2d(obs)
+    out = []
+    for i, s in ((1, fr.s1), (2, fr.s2)):
+        psi = obs[:, OBS_INDEX[f"psi_{i}"]] - fr.sensor_yaw[i - 1]
+        c, sn = np.cos(psi), np.sin(psi)
+        out.append(np.column_stack([obs[:, OBS_INDEX[f"x_{i}"]] - (c * s[0] - sn * s[1]),
+                                    obs[:, OBS_INDEX[f"y_{i}"]] - (sn * s[0] + c * s[1]),
+                                    psi]))
+    return out
+
+
+def test_the_poses_of_signals_are_numpys_to_the_bit():
+    # The compiled poses (the run's collision test) and the scalar ones of one set of
+    # signals (the dock errors, every observation) are numpy's, so no run's numbers move:
+    # the same operations in the same order, and the C library's sine and cosine.
+    v = load_vehicle("gosar2022-loaded")
+    fr = Frames.of(v)
+    mounted = dataclasses.replace(fr, sensor_yaw=(0.013, -0.021), s1=np.array([0.3, -0.1]),
+                                  s2=np.array([-1.2, 0.05]))
+    rng = np.random.default_rng(11)
+    obs = rng.uniform(-80.0, 80.0, (20_000, 13))
+    obs[:, [OBS_INDEX["psi_1"], OBS_INDEX["psi_2"]]] = rng.uniform(-20.0, 20.0, (20_000, 2))
+    for f in (fr, mounted):
+        for rows in (obs, obs[::3]):  # contiguous and strided
+            got, want = f.unit_poses_of_signals(rows), _numpy_poses(f, rows)
+            assert got[0].tobytes() == want[0].tobytes()
+            assert got[1].tobytes() == want[1].tobytes()
+        # The run's collision test of a sample's poses, in one call: first_hit's answer.
+        boxes = box_array((Box("a", 10.0, 30.0, -5.0, 5.0), Box("b", -40.0, -20.0, 0.0, 9.0)))
+        for start in range(0, 2000, 10):
+            rows = obs[start:start + 10]
+            assert f.first_hit_of_signals(rows, boxes) == first_hit(
+                *_numpy_poses(f, rows), f.tractor_box, f.trailer_box, boxes)
+        tractor, trailer = _numpy_poses(f, obs[:2000])
+        for row, (x1, y1, psi_1), (xk, yk, psi_2) in zip(obs, tractor, trailer, strict=False):
+            assert f.rear_of_signals(row).tolist() == [
+                xk - f.rear * math.cos(psi_2), yk - f.rear * math.sin(psi_2), psi_2]
+            L2 = f.kin.params.L2
+            assert f.trailer_axle_of_signals(row).tolist() == [
+                xk - L2 * math.cos(psi_2), yk - L2 * math.sin(psi_2), psi_2]
+            assert f.kin_of_signals(row).tolist() == [
+                x1 + f.x_ref * math.cos(psi_1), y1 + f.x_ref * math.sin(psi_1), psi_1,
+                row[OBS_INDEX["gamma"]]]
 
 
 # ---------------------------------------------------------------- collisions

@@ -21,6 +21,7 @@ it tries and the run for every plant step.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -32,6 +33,10 @@ from artic.mjcf.outline import outline
 from artic.mjcf.vehicle import Vehicle
 from artic.reduced.control import KIN
 from artic.reduced.kinematic import wheelbases
+
+_X1, _Y1, _PSI1, _X2, _Y2, _PSI2 = (OBS_INDEX[c] for c in ("x_1", "y_1", "psi_1",
+                                                             "x_2", "y_2", "psi_2"))
+_POSE = ((_X1, _Y1, _PSI1), (_X2, _Y2, _PSI2))
 
 
 @dataclass(frozen=True)
@@ -164,15 +169,35 @@ class Frames:
         Each unit from its own sensor: position minus the sensor's offset,
         heading minus its mounting yaw.
         """
-        obs = np.atleast_2d(obs)
-        out = []
-        for i, s in ((1, self.s1), (2, self.s2)):
-            psi = obs[:, OBS_INDEX[f"psi_{i}"]] - self.sensor_yaw[i - 1]
-            c, sn = np.cos(psi), np.sin(psi)
-            x = obs[:, OBS_INDEX[f"x_{i}"]] - (c * s[0] - sn * s[1])
-            y = obs[:, OBS_INDEX[f"y_{i}"]] - (sn * s[0] + c * s[1])
-            out.append(np.column_stack([x, y, psi]))
-        return out[0], out[1]
+        return _unit_poses(np.atleast_2d(np.asarray(obs, dtype=float)), self._mounts)
+
+    def first_hit_of_signals(self, obs: np.ndarray, boxes: np.ndarray) -> tuple[int, int, int]:
+        """:func:`first_hit` of the poses of signals ``(n, 13)``, in one compiled call.
+
+        What ``first_hit(*self.unit_poses_of_signals(obs), self.tractor_box,
+        self.trailer_box, boxes)`` returns: a run tests the outlines of every
+        plant step of a sample this way.
+        """
+        return _hit_of_signals(np.atleast_2d(np.asarray(obs, dtype=float)), self._mounts,
+                               self.tractor_box, self.trailer_box, boxes)
+
+    @functools.cached_property
+    def _mounts(self) -> np.ndarray:
+        """The sensors' offsets and yaws ``(s1x, s1y, s2x, s2y, yaw_1, yaw_2)`` [m, rad]."""
+        return np.array([*self.s1[:2], *self.s2[:2], *self.sensor_yaw], dtype=float)
+
+    def _pose_of_signals(self, obs: np.ndarray, unit: int) -> tuple[float, float, float]:
+        """One unit's pose ``(x, y, psi)`` (0 tractor, 1 semitrailer) from one set of signals.
+
+        :meth:`unit_poses_of_signals`' first row, to the bit, in scalars.
+        """
+        obs = np.asarray(obs, dtype=float).reshape(-1)  # one row, or the first of several
+        s = self.s2 if unit else self.s1
+        ix, iy, ipsi = _POSE[unit]
+        psi = float(obs[ipsi]) - self.sensor_yaw[unit]
+        c, sn = math.cos(psi), math.sin(psi)
+        return (float(obs[ix]) - (c * float(s[0]) - sn * float(s[1])),
+                float(obs[iy]) - (sn * float(s[0]) + c * float(s[1])), psi)
 
     def kin_of_signals(self, obs: np.ndarray) -> np.ndarray:
         """KIN state ``[X, Y, psi_1, gamma]`` from one set of signals.
@@ -180,23 +205,20 @@ class Frames:
         The tractor's point and heading from its sensor, the articulation as
         the signals give it (the heading difference of the two units).
         """
-        tractor, _ = self.unit_poses_of_signals(obs)
-        x, y, psi_1 = tractor[0]
+        x, y, psi_1 = self._pose_of_signals(obs, 0)
         gamma = float(obs[OBS_INDEX["gamma"]])
         return np.array([x + self.x_ref * math.cos(psi_1), y + self.x_ref * math.sin(psi_1),
                          psi_1, gamma])
 
     def rear_of_signals(self, obs: np.ndarray) -> np.ndarray:
         """Semitrailer rear ``(x, y, psi_2)`` from one set of signals, by its own sensor."""
-        _, trailer = self.unit_poses_of_signals(obs)
-        xk, yk, psi_2 = trailer[0]
+        xk, yk, psi_2 = self._pose_of_signals(obs, 1)
         return np.array([xk - self.rear * math.cos(psi_2), yk - self.rear * math.sin(psi_2),
                          psi_2])
 
     def trailer_axle_of_signals(self, obs: np.ndarray) -> np.ndarray:
         """KIN's semitrailer axle ``(x, y, psi_2)`` from one set of signals, by its own sensor."""
-        _, trailer = self.unit_poses_of_signals(obs)
-        xk, yk, psi_2 = trailer[0]
+        xk, yk, psi_2 = self._pose_of_signals(obs, 1)
         L2 = self.kin.params.L2
         return np.array([xk - L2 * math.cos(psi_2), yk - L2 * math.sin(psi_2), psi_2])
 
@@ -207,6 +229,39 @@ class Frames:
         c, s = math.cos(psi), math.sin(psi)
         return (float(x + c * self.s1[0] - s * self.s1[1]),
                 float(y + s * self.s1[0] + c * self.s1[1]))
+
+
+@njit(cache=True)
+def _unit_poses(obs, mounts):
+    """:meth:`Frames.unit_poses_of_signals` compiled, with :attr:`Frames._mounts`.
+
+    The same operations in the same order as numpy's element-wise ones (numba
+    contracts no multiply-add and takes the C library's sine and cosine, as
+    numpy does), so the poses are numpy's to the bit.
+    """
+    tractor = np.empty((obs.shape[0], 3))
+    trailer = np.empty((obs.shape[0], 3))
+    _poses_of_unit(obs, _X1, _Y1, _PSI1, mounts[0], mounts[1], mounts[4], tractor)
+    _poses_of_unit(obs, _X2, _Y2, _PSI2, mounts[2], mounts[3], mounts[5], trailer)
+    return tractor, trailer
+
+
+@njit(cache=True, inline="always")
+def _poses_of_unit(obs, ix, iy, ipsi, sx, sy, yaw, out):
+    """One unit's poses into ``out`` from its sensor's columns, offset and yaw."""
+    for k in range(obs.shape[0]):
+        psi = obs[k, ipsi] - yaw
+        c, sn = math.cos(psi), math.sin(psi)
+        out[k, 0] = obs[k, ix] - (c * sx - sn * sy)
+        out[k, 1] = obs[k, iy] - (sn * sx + c * sy)
+        out[k, 2] = psi
+
+
+@njit(cache=True)
+def _hit_of_signals(obs, mounts, tractor_box, trailer_box, boxes):
+    """:meth:`Frames.first_hit_of_signals` compiled."""
+    tractor, trailer = _unit_poses(obs, mounts)
+    return first_hit(tractor, trailer, tractor_box, trailer_box, boxes)
 
 
 @njit(cache=True)

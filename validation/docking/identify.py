@@ -45,6 +45,7 @@ identification works from any sensor set that gives the controller ``gamma``.
 from __future__ import annotations
 
 import math
+from collections import deque
 
 import numpy as np
 
@@ -76,6 +77,8 @@ PRIOR_L1C = 0.2
 
 MIN_SPEED = 0.1
 """Least tractor speed over the window for an update [m/s]."""
+
+_VX, _VY, _R1, _GAMMA = (OBS_INDEX[c] for c in ("v_x_1", "v_y_1", "r_1", "gamma"))
 
 
 class WheelbaseIdentifier:
@@ -119,12 +122,13 @@ class WheelbaseIdentifier:
         self.P0 = np.diag(sd ** 2)
         self.P = self.P0.copy()
         self.updates = 0
-        self._t: list[float] = []
-        self._r1: list[float] = []
-        self._wa: list[float] = []
-        self._rc: list[float] = []
-        self._gamma: list[float] = []
-        self._u: list[float] = []
+        self._s1x, self._s1y = float(self.s1[0]), float(self.s1[1])
+        self._last: tuple[float, float, float, float] | None = None
+        # The window's last ``window`` trapezoids of r_1, w_a and r_1 cos(gamma) (one
+        # tuple per interval), and its ``window + 1`` articulations and speeds.
+        self._areas: deque[tuple[float, float, float]] = deque(maxlen=self.window)
+        self._gamma: deque[float] = deque(maxlen=self.window + 1)
+        self._u: deque[float] = deque(maxlen=self.window + 1)
 
     @property
     def L2(self) -> float:
@@ -152,26 +156,27 @@ class WheelbaseIdentifier:
         bool
             Whether the estimate was updated.
         """
-        vx, vy, r1 = (float(signals[OBS_INDEX[c]]) for c in ("v_x_1", "v_y_1", "r_1"))
-        gamma = float(signals[OBS_INDEX["gamma"]]) - self.gamma_bias
-        if not all(math.isfinite(x) for x in (vx, vy, r1, gamma, t)):
+        vx, vy, r1 = float(signals[_VX]), float(signals[_VY]), float(signals[_R1])
+        gamma = float(signals[_GAMMA]) - self.gamma_bias
+        t = float(t)
+        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(r1)
+                and math.isfinite(gamma) and math.isfinite(t)):
             return False  # a dropout: skipped, the window spans it
         sg, cg = math.sin(gamma), math.cos(gamma)
-        self._t.append(float(t))
-        self._r1.append(r1)
-        self._wa.append((vx + r1 * self.s1[1]) * sg + (vy - r1 * self.s1[0]) * cg)
-        self._rc.append(r1 * cg)
+        wa = (vx + r1 * self._s1y) * sg + (vy - r1 * self._s1x) * cg
+        rc = r1 * cg
+        last, self._last = self._last, (t, r1, wa, rc)
+        if last is not None:  # the interval's trapezoids, as numpy's would compute them
+            dt = t - last[0]
+            self._areas.append((0.5 * (r1 + last[1]) * dt, 0.5 * (wa + last[2]) * dt,
+                                0.5 * (rc + last[3]) * dt))
         self._gamma.append(gamma)
         self._u.append(abs(vx))
-        n = self.window + 1
-        if len(self._t) > n:
-            for buf in (self._t, self._r1, self._wa, self._rc, self._gamma, self._u):
-                del buf[0]
-        if len(self._t) < n or min(self._u) < MIN_SPEED:
+        if len(self._areas) < self.window or min(self._u) < MIN_SPEED:
             return False
-        t_ = np.asarray(self._t)
-        y = _trapz(np.asarray(self._r1), t_) - (self._gamma[-1] - self._gamma[0])
-        phi = np.array([_trapz(np.asarray(self._wa), t_), _trapz(np.asarray(self._rc), t_)])
+        r1_dt, wa_dt, rc_dt = zip(*self._areas, strict=True)
+        y = numpy_sum(r1_dt) - (self._gamma[-1] - self._gamma[0])
+        phi = np.array([numpy_sum(wa_dt), numpy_sum(rc_dt)])
         if abs(float(phi @ self.theta)) < self.excitation:
             return False
         lam = self.forgetting
@@ -188,5 +193,41 @@ class WheelbaseIdentifier:
         return True
 
 
-def _trapz(y: np.ndarray, t: np.ndarray) -> float:
-    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)))
+def numpy_sum(values) -> float:
+    """``float(np.sum(np.array(values)))`` to the bit, without making the array.
+
+    numpy adds a float64 array pairwise: blocks of up to 128 in eight running
+    sums combined as ``((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))`` and
+    the rest added in order, larger arrays split in two at a multiple of eight,
+    all added to the sum's start, 0.0. The identifier's window is ten samples:
+    the array would cost more than the sum.
+    """
+    return 0.0 + _pairwise(values, 0, len(values))
+
+
+def _pairwise(a, lo: int, n: int) -> float:
+    if n < 8:
+        res = 0.0
+        for i in range(lo, lo + n):
+            res += a[i]
+        return res
+    if n < 16:  # one block, no running sums (the identifier's windows of ten)
+        r0, r1, r2, r3, r4, r5, r6, r7 = a[lo:lo + 8]
+        res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+        for k in range(lo + 8, lo + n):
+            res += a[k]
+        return res
+    if n <= 128:
+        r = [a[lo + j] for j in range(8)]
+        i = 8
+        while i < n - n % 8:
+            for j in range(8):
+                r[j] += a[lo + i + j]
+            i += 8
+        res = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]))
+        for k in range(lo + i, lo + n):
+            res += a[k]
+        return res
+    half = n // 2
+    half -= half % 8
+    return _pairwise(a, lo, half) + _pairwise(a, lo + half, n - half)

@@ -59,7 +59,7 @@ from artic.plant import Plant, PlantWarning
 from artic.plant.plant import PlantError
 from artic.validation.docking.conditions import ActuatorDelay, road
 from artic.validation.docking.controllers import Command, Observation, Task, load
-from artic.validation.docking.geometry import Frames, box_array, first_hit
+from artic.validation.docking.geometry import Frames, box_array
 from artic.validation.docking.identify import WheelbaseIdentifier
 from artic.validation.docking.planner import HybridAStar, Plan, PlanningError
 from artic.validation.docking.scenarios import Scenario, Start, Yard, scenario
@@ -433,6 +433,13 @@ def _closed_loop(trace: Trace, loop: _Loop, run: DockRun, conditions: Conditions
         settle_until = None
         cmd = Command(wheel, 0.0)
         actuators = ActuatorDelay(delay, PLANT_DT, (wheel, 0.0))
+        # Bound once: the plant steps 100 times a second of the run, and Python looks
+        # each name up every time.
+        wheel_step, u_step, gamma_max = steer_rate * PLANT_DT, ACCEL_MAX * PLANT_DT, \
+            plant_vehicle.gamma_max
+        observe, road_wheel = plant.observe, mbd.road_wheel
+        t_log, true_log, wheel_log, speed_log = trace.t, trace.true, trace.steering_wheel, \
+            trace.speed
         for k in range(n_ctrl):
             now = k * DT
             if settle_until is None:
@@ -486,32 +493,27 @@ def _closed_loop(trace: Trace, loop: _Loop, run: DockRun, conditions: Conditions
                 return
             for j in range(n_sub):
                 wheel_target, u_target = actuators.at(k * n_sub + j)
-                step = steer_rate * PLANT_DT
-                wheel += min(max(wheel_target - wheel, -step), step)
-                u_next = u + min(max(u_target - u, -ACCEL_MAX * PLANT_DT), ACCEL_MAX * PLANT_DT)
+                wheel += min(max(wheel_target - wheel, -wheel_step), wheel_step)
+                u_next = u + min(max(u_target - u, -u_step), u_step)
                 try:
                     if yard_plant is not None:
                         yard_plant.step_steering_wheel(PLANT_DT, wheel, u, (u_next - u) / PLANT_DT)
                     else:
-                        plant.step(PLANT_DT, float(mbd.road_wheel(wheel)), u,
-                                   (u_next - u) / PLANT_DT)
+                        plant.step(PLANT_DT, float(road_wheel(wheel)), u, (u_next - u) / PLANT_DT)
                 except (PlantError, FloatingPointError) as exc:  # the plant or the yard truth
                     _fail(trace, f"plant diverged: {one_line(_named(exc))}")
                     return
                 u = u_next
-                trace.t.append(trace.t[-1] + PLANT_DT)
-                trace.true.append(plant.observe())
-                trace.steering_wheel.append(wheel)
-                trace.speed.append(u)
-                if abs(plant.gamma) > plant_vehicle.gamma_max:
+                t_log.append(t_log[-1] + PLANT_DT)
+                true_log.append(observe())
+                wheel_log.append(wheel)
+                speed_log.append(u)
+                if abs(plant.gamma) > gamma_max:
                     _fail(trace, f"jackknife: |gamma| {math.degrees(abs(plant.gamma)):.1f} deg "
-                                 f"beyond {math.degrees(plant_vehicle.gamma_max):.1f} deg at "
-                                 f"t = {trace.t[-1]:.2f} s")
+                                 f"beyond {math.degrees(gamma_max):.1f} deg at "
+                                 f"t = {t_log[-1]:.2f} s")
                     return
-            recent = np.asarray(trace.true[-n_sub:])
-            tractor, trailer = frames.unit_poses_of_signals(recent)
-            i, j, unit = first_hit(tractor, trailer, frames.tractor_box, frames.trailer_box,
-                                   boxes)
+            i, j, unit = frames.first_hit_of_signals(np.asarray(true_log[-n_sub:]), boxes)
             if i >= 0:
                 _fail(trace, f"collision: {('tractor', 'semitrailer')[unit]} hit "
                              f"{yard.obstacles[j].name} at t = {trace.t[-n_sub + i]:.2f} s")

@@ -69,6 +69,7 @@ from artic.validation.synthetic.sensors import (
 _CHANNELS = ("x_1", "y_1", "psi_1", "v_x_1", "v_y_1", "r_1", *TRAILER_CHANNELS)
 _TRAILER = np.array([OBS_INDEX[c] for c in TRAILER_CHANNELS])
 _ANGLES = np.array([OBS_INDEX[c] for c in ("psi_1", "psi_2", "gamma")])
+_GAMMA = OBS_INDEX["gamma"]
 
 
 class SensorStream:
@@ -99,6 +100,7 @@ class SensorStream:
         noise = measure(zero, rng, dataclasses.replace(model, trailer_skew=0.0))
         self.noise = noise[list(_CHANNELS)].to_numpy()
         self.plant_dt = plant_dt
+        self._ideal = model.is_ideal  # a frozen model: asked once, not every sample
 
     def _at(self, true: Sequence[np.ndarray], when: float) -> np.ndarray:
         """The plant's signals at time ``when`` [s], linear between its steps (angles wrapped)."""
@@ -145,9 +147,9 @@ class SensorStream:
         else:
             out = np.array(true[i], dtype=float, copy=True)
         out[:12] += self.noise[k]
-        out[OBS_INDEX["gamma"]] = wrap_angle(float(out[2] - out[8]))
+        out[_GAMMA] = wrap_angle(float(out[2] - out[8]))
         j = len(steering_wheel) - 1
-        if m.is_ideal:
+        if self._ideal:
             return out, float(steering_wheel[j])
         held = float(steering_wheel[min(max(can_sample(j, self.plant_dt, m), 0), j)])
         return out, float(can_quantise(held, m))

@@ -59,8 +59,7 @@ _heartbeat = None
 run's time then [s]; ``None`` outside a supervised worker."""
 
 
-@contextlib.contextmanager
-def calling(what: str, t: float = 0.0) -> Iterator[None]:
+def calling(what: str, t: float = 0.0) -> contextlib.AbstractContextManager[None]:
     """Stamp the heartbeat while the controller's ``what`` runs (nothing outside a worker).
 
     Parameters
@@ -71,9 +70,16 @@ def calling(what: str, t: float = 0.0) -> Iterator[None]:
         The run's time [s], for the message of a hang.
     """
     hb = _heartbeat
-    if hb is None:
-        yield
-        return
+    if hb is None:  # not in a worker: a run in this process, a Gymnasium environment's
+        return _UNWATCHED
+    return _stamping(hb, what, t)
+
+
+_UNWATCHED = contextlib.nullcontext()
+
+
+@contextlib.contextmanager
+def _stamping(hb, what: str, t: float) -> Iterator[None]:
     hb[1], hb[2] = float(CALLS.index(what)), float(t)
     hb[0] = time.monotonic()
     try:

@@ -88,8 +88,10 @@ class Episode:
 
     def __init__(self, scen: Scenario, vehicle: str, seed: int, yard_model: str = "mbd",
                  **options) -> None:
-        self._to_run: queue.Queue = queue.Queue(maxsize=1)
-        self._to_caller: queue.Queue = queue.Queue(maxsize=1)
+        # The run and its caller take turns, so neither queue holds more than one item;
+        # SimpleQueue's hand-over costs half of Queue's, a share of every step.
+        self._to_run: queue.SimpleQueue = queue.SimpleQueue()
+        self._to_caller: queue.SimpleQueue = queue.SimpleQueue()
         self.task: Task | None = None
         """The run's task (vehicle file, yard, plan, limits), known after :meth:`start`."""
         self._args = (scen, vehicle, seed)

@@ -75,7 +75,11 @@ def observation_vector(obs: Observation, ctrl: Controller) -> np.ndarray:
     (17,)
     """
     errors = ctrl.dock_errors(obs)
-    return np.concatenate([np.asarray(obs.signals, float), [obs.delta_h], errors])
+    out = np.empty(len(OBSERVATION_NAMES))
+    out[:13] = obs.signals
+    out[13] = obs.delta_h
+    out[14:] = errors
+    return out
 
 
 @dataclass(frozen=True)
@@ -137,12 +141,13 @@ class ActionScale:
         if a.shape != (2,):
             raise UserError(f"action of shape {a.shape}: expected shape (2,), the steering "
                             "wheel and the speed, each in [-1, 1]")
-        if not np.isfinite(a).all():
+        steer, speed = float(a[0]), float(a[1])
+        if not (math.isfinite(steer) and math.isfinite(speed)):
             raise UserError(f"action {a.tolist()}: not finite; expected the steering wheel "
                             "and the speed, each in [-1, 1]")
-        a = np.clip(a, -1.0, 1.0)
-        side = self.left if a[0] >= 0.0 else self.right
-        return Command(self.offset + float(a[0]) * side, float(a[1]) * self.speed)
+        steer, speed = min(max(steer, -1.0), 1.0), min(max(speed, -1.0), 1.0)  # np.clip's
+        side = self.left if steer >= 0.0 else self.right
+        return Command(self.offset + steer * side, speed * self.speed)
 
     def action(self, cmd: Command) -> np.ndarray:
         """The action of a command (the inverse of :meth:`command`, clipped to [-1, 1])."""
