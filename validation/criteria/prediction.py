@@ -211,9 +211,27 @@ class Replay:
         """No compiled form: the harness's Python loop drives it."""
         return None
 
-    def closed_loop(self) -> None:
-        """No whole-log loop of its own."""
-        return None
+    def closed_loop(self) -> Callable | None:
+        """The truth's compiled loop replaying its rows from the present one, or ``None``.
+
+        A truth with ``replay_loop`` (the yard truth,
+        :mod:`artic.validation.synthetic.yardloop`) runs the harness's loop in C,
+        taking each step from the recorded row as :meth:`step` does; the rows
+        are the Python loop's to the bit. Other truths: ``None``, the Python loop.
+        """
+        make = getattr(self.truth, "replay_loop", None)
+        if not callable(make):
+            return None
+        inner = make(lambda: (self.actuation.x, self._k))
+        if inner is None:
+            return None
+
+        def loop(args, extras: bool = False):
+            res = inner(args, extras)
+            self._k = res.act_k
+            return res
+
+        return loop
 
     def close(self) -> None:
         """Close the truth."""

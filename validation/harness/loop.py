@@ -62,7 +62,8 @@ from artic.mjcf.vehicle import Vehicle
 from artic.validation.harness.feedback import feedback_law
 from artic.validation.harness.reversing import DEFAULT_GAIN, feedback_weight
 from artic.validation.logs.differentiate import smooth_speed
-from artic.validation.logs.runfile import MAX_POSITION, Run, new_frame
+from artic.validation.logs.limits import OBSERVATION_LIMIT
+from artic.validation.logs.runfile import Run, new_frame
 from artic.validation.logs.yawsteer import (
     equivalent_wheelbase,
     road_wheel_from_yaw_rate,
@@ -263,16 +264,6 @@ def count_run(kind: str, t: np.ndarray, n_done: int) -> None:
     """
     n = int(n_done)
     BUDGET.add(kind, float(t[n - 1] - t[0]) if n > 1 else 0.0)
-
-
-OBSERVATION_LIMIT = np.array([MAX_POSITION, MAX_POSITION, 1e4, 100.0, 100.0, 100.0] * 2
-                             + [1e4])
-"""Largest magnitude of each observed signal (``OBSERVATION`` order, SI) a model's output may
-have and still be scored: positions within :data:`~artic.validation.logs.runfile.MAX_POSITION`
-(a quarter meridian), headings within 1e4 rad, speeds within 100 m/s (360 km/h) and rates
-within 100 rad/s. A model beyond them (an output of 1e300) has diverged as surely as one
-that is no longer finite: its run stops there, with its status saying so, instead of an
-``eps_p`` of infinity with the status ``ok``."""
 
 
 DIVERGED = "diverged: "

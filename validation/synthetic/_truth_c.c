@@ -727,3 +727,193 @@ void artic_yard_kinematics(const mjModel* m, mjData* d) {
   mj_comPos(m, d);
   mj_comVel(m, d);
 }
+
+/* ------------------------------------------------------------------------------------------
+ * The harness's closed loop around the yard truth: a whole log in one call.
+ *
+ * Per sample k, what validation/harness/loop.py's Python loop does with YardTruth (and with
+ * the floor's Replay of it), in the same order and the same IEEE operations, so that the
+ * rows are the same to the bit (tests/test_yard_loop.py):
+ *
+ *   1. the feedback law on YardTruth.gamma (wrap_angle of the two sensors' headings);
+ *   2. YardTruth.observe, which carries the units' unwrapped headings in psi;
+ *   3. the stop: |gamma| past gamma_max, or a signal past its OBSERVATION_LIMIT (NaN too);
+ *   4. YardTruth.step: the steering box's lock, the pedals (their brakes), the controls and
+ *      round(dt / h) steps of artic_yard_advance. Replaying (act != NULL), the step takes the
+ *      recorded row act[act_k] (steering, speed, its rate, throttle, brake) in place of the
+ *      harness's demand, as Replay.step does.
+ *
+ * Returns YL_DONE, YL_STOPPED (n_done rows), YL_DIVERGED (artic_yard_advance's check failed
+ * in the step after row n_done - 1: Python raises as YardTruth._advance does) or
+ * YL_REPLAY_END (the recorded actuation ran out before that step: Python raises as
+ * Replay.step does). */
+#define YL_MAX_ENDS 32
+enum { YL_DONE = 0, YL_STOPPED = 1, YL_DIVERGED = 4, YL_REPLAY_END = 6, YL_BAD = 5 };
+
+typedef struct {
+  int sensor_site[2], sensor_body[2];
+  double eps[2];
+  double gain, delta_max, gamma_max, lock;
+  double obs_limit[13];
+  int pedals; /* the speed mode "pedals" */
+  double throttle, brake; /* the pedals as set, when no recorded row sets them */
+  double drive_max, brake_max, parking, weight, r0_mean;
+  int parked;
+  int n_ends, spin[YL_MAX_ENDS];
+  double r0[YL_MAX_ENDS], brake_share[YL_MAX_ENDS];
+  const double* act; /* n_act rows of (delta, u1, u1_dot, throttle, brake), or NULL */
+  int n_act;
+  /* state, read and written */
+  double psi[2], decel;
+  int act_k, steer_limited;
+} yard_loop;
+
+int artic_yard_loop_size(void) { return (int)sizeof(yard_loop); }
+
+static const double YL_PI = 3.14159265358979323846;
+
+/* artic.mjcf.interface.wrap_angle's scalar path: pi - (pi - a) % (2 pi), Python's float %. */
+static double yl_wrap_angle(double a) {
+  double x = YL_PI - a, b = 2.0 * YL_PI;
+  double mod = fmod(x, b);
+  if (mod != 0.0) {
+    if ((b < 0.0) != (mod < 0.0)) mod += b;
+  } else {
+    mod = copysign(0.0, b);
+  }
+  return YL_PI - mod;
+}
+
+/* Python's max(a, b) and min(a, b) on floats: the first unless the second is beyond it. */
+static double py_max(double a, double b) { return b > a ? b : a; }
+static double py_min(double a, double b) { return b < a ? b : a; }
+
+static double yl_heading(const mjData* d, int site) {
+  const mjtNum* R = d->site_xmat + 9 * site;
+  return atan2(R[3], R[0]);
+}
+
+/* YardTruth.observe */
+static void yl_observe(const mjModel* m, mjData* d, yard_loop* s, double* out) {
+  double vel[6];
+  for (int i = 0; i < 2; i++) {
+    int site = s->sensor_site[i], body = s->sensor_body[i];
+    double prev = s->psi[i];
+    double psi = prev + yl_wrap_angle(yl_heading(d, site) - prev);
+    s->psi[i] = psi;
+    mj_objectVelocity(m, d, mjOBJ_SITE, site, vel, 0);
+    double h = psi + s->eps[i];
+    double c = cos(h), sn = sin(h);
+    const mjtNum* B = d->xmat + 9 * body;
+    const mjtNum* p = d->site_xpos + 3 * site;
+    double* o = out + 6 * i;
+    o[0] = p[0];
+    o[1] = p[1];
+    o[2] = h;
+    o[3] = c * vel[3] + sn * vel[4];
+    o[4] = -sn * vel[3] + c * vel[4];
+    o[5] = vel[0] * B[2] + vel[1] * B[5] + vel[2] * B[8];
+  }
+  out[12] = yl_wrap_angle(out[2] - out[8]);
+}
+
+/* YardTruth._set_brakes */
+static void yl_set_brakes(mjModel* m, yard_loop* s, double decel) {
+  if (decel != s->decel) {
+    for (int e = 0; e < s->n_ends; e++)
+      m->dof_frictionloss[s->spin[e]] = decel * s->weight * s->r0[e] * s->brake_share[e];
+    s->decel = decel;
+  }
+}
+
+static int yl_sound(const mjModel* m, const yard_loop* s, const double* par) {
+  if (s->n_ends < 0 || s->n_ends > YL_MAX_ENDS || (s->act == NULL && s->n_act != 0)
+      || (int)par[YP_NZ] < 0) {
+    return 0;
+  }
+  for (int i = 0; i < 2; i++)
+    if (s->sensor_site[i] < 0 || s->sensor_site[i] >= m->nsite || s->sensor_body[i] < 0
+        || s->sensor_body[i] >= m->nbody) {
+      return 0;
+    }
+  for (int e = 0; e < s->n_ends; e++)
+    if (s->spin[e] < 0 || s->spin[e] >= m->nv) return 0;
+  return 1;
+}
+
+/* Run samples 0 .. n - 1 of a log from the truth's present state; see above. The model is
+ * not const: the pedals' brakes are its spin joints' friction, as YardTruth._set_brakes. */
+int artic_yard_run_loop(mjModel* m, mjData* d, const double* par, double* ctl, double* z,
+                        double* zdot, double* out, yard_loop* s, int n, const double* dt,
+                        const double* delta_c, const double* u1, const double* u1_dot,
+                        const double* gamma_meas, const double* weight, double* obs,
+                        double* delta, double* delta_fb, unsigned char* sat, int* n_done) {
+  *n_done = 0;
+  if (!yl_sound(m, s, par)) return YL_BAD;
+  double h = m->opt.timestep;
+  for (int k = 0; k < n; k++) {
+    /* 1. feedback_law(delta_c, YardTruth.gamma, gamma_meas, weight, gain, delta_max) */
+    double gamma = yl_wrap_angle(yl_heading(d, s->sensor_site[0]) + s->eps[0]
+                                 - yl_heading(d, s->sensor_site[1]) - s->eps[1]);
+    double fb = 0.0;
+    if (weight[k] != 0.0) {
+      double e = gamma - gamma_meas[k];
+      fb = weight[k] * s->gain
+           * (e - 2.0 * YL_PI * floor((e + YL_PI) / (2.0 * YL_PI)));
+    }
+    double dl = delta_c[k] + fb;
+    unsigned char limited = 0;
+    if (dl > s->delta_max) {
+      dl = s->delta_max;
+      limited = 1;
+    } else if (dl < -s->delta_max) {
+      dl = -s->delta_max;
+      limited = 1;
+    }
+    /* 2. observe */
+    double* o = obs + 13 * k;
+    yl_observe(m, d, s, o);
+    delta[k] = dl;
+    delta_fb[k] = dl - delta_c[k];
+    sat[k] = limited;
+    *n_done = k + 1;
+    /* 3. the stop */
+    int beyond = fabs(o[12]) > s->gamma_max;
+    for (int j = 0; j < 13; j++) beyond = beyond || !(fabs(o[j]) <= s->obs_limit[j]);
+    if (beyond) return YL_STOPPED;
+    if (k + 1 >= n) break;
+    /* 4. step(dt, delta, u1, u1_dot), or Replay.step's recorded row */
+    double dem = dl, u = u1[k], u_dot = u1_dot[k], throttle = s->throttle, brake = s->brake;
+    if (s->act != NULL) {
+      if (s->act_k >= s->n_act) return YL_REPLAY_END;
+      const double* row = s->act + 5 * (size_t)s->act_k;
+      dem = row[0];
+      u = row[1];
+      u_dot = row[2];
+      throttle = s->throttle = row[3];
+      brake = s->brake = row[4];
+    }
+    double r = nearbyint(dt[k] / h);
+    int nsub = r < 1.0 ? 1 : (int)r;
+    if (fabs(dem) > s->lock) {
+      s->steer_limited += 1;
+      dem = copysign(s->lock, dem);
+    }
+    double drive = 0.0;
+    if (s->pedals) {
+      double th = py_min(py_max(throttle, 0.0), 1.0);
+      double br = py_min(py_max(brake, 0.0), 1.0);
+      double gear = u >= 0.0 ? 1.0 : -1.0;
+      drive = gear * th * s->drive_max * s->weight * s->r0_mean;
+      yl_set_brakes(m, s, py_max(br * s->brake_max, s->parked ? s->parking : 0.0));
+    }
+    ctl[0] = dem;
+    ctl[1] = u;
+    ctl[2] = u_dot;
+    ctl[3] = d->time;
+    ctl[4] = drive;
+    if (artic_yard_advance(m, d, par, ctl, z, zdot, nsub, out)) return YL_DIVERGED;
+    if (s->act != NULL) s->act_k += 1;
+  }
+  return YL_DONE;
+}

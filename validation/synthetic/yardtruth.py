@@ -40,7 +40,7 @@ import ctypes
 import dataclasses
 import functools
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import mujoco
 import numpy as np
@@ -191,6 +191,10 @@ class YardTruth:
     budget_kind = "multibody"
     """What its runs count as in the process's budget of simulated time."""
 
+    PEDALS = (DRIVE_FORCE_MAX, BRAKE_DECEL_MAX, PARKING_GRADE)
+    """What the pedals give (for the compiled loop): full throttle's force over the weight,
+    full brake's deceleration [g], the grade the parking brake holds [-]."""
+
     name = "mbd"
     """The harness maps the steering wheel with the truth file's ``[steering.mbd]``."""
 
@@ -299,8 +303,12 @@ class YardTruth:
         bad = self._lib.artic_yard_advance(self.model._address, self.data._address, par, ctl,
                                            z, zdot, n, out)
         if bad:
-            raise FloatingPointError(f"{self.vehicle.name}: the yard truth's state stopped "
-                                     f"being finite at t = {self.data.time:.2f} s")
+            self.diverged()
+
+    def diverged(self) -> None:
+        """Raise the truth's error for a state that stopped being finite in its last step."""
+        raise FloatingPointError(f"{self.vehicle.name}: the yard truth's state stopped "
+                                 f"being finite at t = {self.data.time:.2f} s")
 
     def _set_brakes(self, decel: float) -> None:
         if decel != self._decel:
@@ -501,9 +509,33 @@ class YardTruth:
         """No compiled form for the harness's numba loop."""
         return None
 
-    def closed_loop(self) -> None:
-        """No whole-log loop of its own: the harness's Python loop drives it."""
-        return None
+    def closed_loop(self) -> Callable | None:
+        """The harness's loop in C (:mod:`artic.validation.synthetic.yardloop`), or ``None``.
+
+        ``None`` where the compiled truth lacks it: the harness's Python loop
+        then drives the truth, to the same bits.
+        """
+        return self.replay_loop(None)
+
+    def replay_loop(self, replay: Callable[[], tuple[np.ndarray, int]] | None
+                    ) -> Callable | None:
+        """:meth:`closed_loop`, its steps taken from a recorded actuation with ``replay``.
+
+        ``replay()`` gives the rows and the first row's index when the loop starts
+        (:class:`artic.validation.criteria.prediction.Replay`); the loop's result
+        carries the next row's as ``act_k``.
+        """
+        # Here, not at the top: the loop reads the harness's limits, which making a
+        # log never loads (tests/test_truth_driver.py).
+        from artic.validation.synthetic import yardloop
+
+        if not yardloop.available(self._lib):
+            return None
+
+        def loop(args, extras: bool = False):  # the truth has no extras() columns
+            return yardloop.run(self, args, None if replay is None else replay())
+
+        return loop
 
     def close(self) -> None:
         """Nothing held beyond Python's own objects."""
