@@ -1288,9 +1288,15 @@ def _floor(out_dir: Path, logs: list[Run], s: _Settings, samples: bool = True,
     from artic.validation.synthetic.truth import truth_configuration, truth_vehicle
 
     config = truth_configuration(s.seed, s.truth)
+    made: dict[tuple[str, str], Vehicle] = {}
 
     def vehicle_of(log: Run) -> Vehicle:
-        return truth_vehicle(log.meta["load"], config, s.seed, log.meta.get("slope"))
+        # Asked twice per log (the run, then its criteria), a few milliseconds each: made once.
+        load, slope = log.meta["load"], log.meta.get("slope")
+        key = (load, json.dumps(slope, sort_keys=True))
+        if key not in made:
+            made[key] = truth_vehicle(load, config, s.seed, slope)
+        return made[key]
 
     return validate_runs(logs, vehicle_of, ["floor"], gain=s.gain, out_dir=out_dir,
                          progress=stderr_progress, reuse_key=f"{s.key}.floor", jobs=s.jobs,
