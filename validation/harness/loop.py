@@ -39,12 +39,14 @@ Inputs per sample ``k`` (held over the step to ``k + 1``):
 The applied road-wheel angle is limited to the vehicle's ``delta_max``; the
 run's ``delta_saturated`` column says where.
 
-Three loops run this law (:mod:`artic.validation.harness.feedback`): the numba loop of
+Four loops run this law (:mod:`artic.validation.harness.feedback`): the numba loop of
 :mod:`artic.validation.harness.reducedloop` for KIN and the STM (and subclasses
 that replace none of what it computes, see :mod:`artic.reduced.control`),
 the plant's own loop in C (:mod:`artic.plant.closedloop`, which ``closed_loop()``
-offers), and :func:`_python_loop` for any other model, through its ``step`` and
-``observe``. The Python loop is the reference the plant's C loop is tested against.
+offers), the yard truth's in C for the floor and its replay
+(:mod:`artic.validation.synthetic.yardloop`, offered the same way), and
+:func:`_python_loop` for any other model, through its ``step`` and ``observe``.
+The Python loop is the reference the C loops are tested against.
 """
 
 from __future__ import annotations

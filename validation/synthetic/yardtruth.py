@@ -525,8 +525,8 @@ class YardTruth:
         (:class:`artic.validation.criteria.prediction.Replay`); the loop's result
         carries the next row's as ``act_k``.
         """
-        # Here, not at the top: the loop reads the harness's limits, which making a
-        # log never loads (tests/test_truth_driver.py).
+        # Here, not at the top: only the harness asks for the loop; making a log
+        # needs none of it.
         from artic.validation.synthetic import yardloop
 
         if not yardloop.available(self._lib):
