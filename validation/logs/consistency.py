@@ -85,6 +85,7 @@ The distances and speeds below are the full-size ones; with a vehicle of the
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Collection, Iterator, Mapping
@@ -94,7 +95,7 @@ import numpy as np
 import pandas as pd
 
 from artic.mjcf.errors import UserError
-from artic.mjcf.vehicle import load_vehicle
+from artic.mjcf.vehicle import load_vehicle, resolve_vehicle_path
 from artic.validation.logs.checks import MAX_GAP, MAX_JUMP
 from artic.validation.logs.runfile import LogError
 from artic.validation.logs.scale import FULL_SIZE, LogScale
@@ -726,8 +727,27 @@ def check_hitch(t: np.ndarray, df: pd.DataFrame, vehicle, ctx: Context,
 
 def _default_vehicle(vehicle):
     if vehicle is None:
-        return load_vehicle("gosar2022-unloaded")
+        return _preset(DEFAULT_PRESET)
     return vehicle
+
+
+DEFAULT_PRESET = "gosar2022-unloaded"
+"""The vehicle whose steering map and geometry the checks use when given none."""
+
+
+def _preset(name: str):
+    """The preset ``name``, read again only when its file changes.
+
+    Five checks per log ask for it, and reading it costs a tenth of importing
+    a log. The object is only read by the checks here.
+    """
+    st = resolve_vehicle_path(name).stat()
+    return _preset_as_of(name, st.st_mtime_ns, st.st_size)
+
+
+@functools.lru_cache(maxsize=4)
+def _preset_as_of(name: str, mtime_ns: int, size: int):
+    return load_vehicle(name)
 
 
 def _pose_names(i: int, ctx: Context) -> str:
@@ -1064,7 +1084,7 @@ def findings(frame: pd.DataFrame, vehicle=None, ctx: Context = CANONICAL,
     if "steering" in run:
         steer_vehicle = vehicle
         if steer_vehicle is None:
-            steer_vehicle = load_vehicle("gosar2022-unloaded")
+            steer_vehicle = _preset(DEFAULT_PRESET)
         if (f := check_steering(t, frame, steer_vehicle, ctx, sc)) is not None:
             yield f
     if "hitch" in run and (f := check_hitch(t, frame, vehicle, ctx, sc)) is not None:

@@ -51,6 +51,7 @@ from artic.validation.logs.checks import (
     fill_nan_runs,
     require,
 )
+from artic.validation.logs.csvtext import csv_text
 from artic.validation.logs.runfile import LogError, Run, atomic_write, check_frame
 from artic.validation.logs.scale import FULL_SIZE, LogScale
 from artic.validation.logs.schema import COLUMNS
@@ -237,7 +238,7 @@ name inside (the same run, the same bytes)."""
 
 
 def _write_csv(path: Path, table: pd.DataFrame, compress: bool) -> None:
-    text = table.to_csv(index=False).encode("utf-8")
+    text = csv_text(table).encode("utf-8")
     path.write_bytes(gzip.compress(text, GZIP_LEVEL, mtime=0) if compress else text)
 
 

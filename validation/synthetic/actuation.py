@@ -67,6 +67,18 @@ class SteeringColumn:
         return self._out - self.drift_rate * t
 
 
+def _clamp01(x: float) -> float:
+    """``min(max(x, 0.0), 1.0)``, the same object for every ``x``."""
+    x = 0.0 if 0.0 > x else x
+    return 1.0 if 1.0 < x else x
+
+
+def _clamp(x: float, step: float) -> float:
+    """``min(max(x, -step), step)``, the same object for every ``x``."""
+    x = -step if -step > x else x
+    return step if step < x else x
+
+
 @dataclass
 class PedalDriver:
     """A driver keeping a target speed with throttle and brake.
@@ -120,31 +132,41 @@ class PedalDriver:
 
         Speeds are magnitudes along the travel direction (the gear decides it).
         """
-        self._seen.append(abs(u))
-        seen = self._seen.popleft()
-        err = abs(u_target) - seen
-        if abs(u_target) > 0.05:
-            self._trim += 0.25 * self.gain ** 2 * err * self.dt
+        # Called every step: locals, and the clamps as conditionals that pick what
+        # min(max(x, lo), hi) picks (its first argument unless another is strictly
+        # beyond it), so that every number is the same to the bit.
+        seen_q = self._seen
+        seen_q.append(abs(u))
+        seen = seen_q.popleft()
+        gain, dt, target = self.gain, self.dt, abs(u_target)
+        err = target - seen
+        moving = target > 0.05
+        if moving:
+            self._trim += 0.25 * gain ** 2 * err * dt
         else:
             self._trim = 0.0  # stopping or stopped: the brake does it
-        a = a_target + self.gain * err + self._trim
-        need = a / G + self.resistance * (1.0 if abs(u_target) > 0.05 else 0.0)
-        want_t = min(max(need / self.drive_force_max, 0.0), 1.0)
-        want_b = min(max(-need / self.brake_decel_max, 0.0), 1.0)
-        if abs(u_target) < 1e-3 and seen < 0.05:
-            want_t, want_b = 0.0, max(want_b, 0.3)  # stopped: hold it on the brake
-        step = self.pedal_rate * self.dt
+        a = a_target + gain * err + self._trim
+        need = a / G + self.resistance * (1.0 if moving else 0.0)
+        want_t = _clamp01(need / self.drive_force_max)
+        want_b = _clamp01(-need / self.brake_decel_max)
+        if target < 1e-3 and seen < 0.05:
+            want_t, want_b = 0.0, (0.3 if 0.3 > want_b else want_b)  # stopped: hold the brake
+        step = self.pedal_rate * dt
+        throttle, brake = self.throttle, self.brake
         # One foot: release one pedal before pressing the other.
-        if want_b > 0.0 and self.throttle > 0.0:
+        if want_b > 0.0 and throttle > 0.0:
             want_t = 0.0
-        if want_t > 0.0 and self.brake > 0.0:
+        if want_t > 0.0 and brake > 0.0:
             want_b = 0.0
-        self.throttle += min(max(want_t - self.throttle, -step), step)
-        self.brake += min(max(want_b - self.brake, -step), step)
-        if self.throttle > 0.0 and self.brake > 0.0:  # still moving across
-            self.brake = max(self.brake - step, 0.0) if want_t > 0.0 else self.brake
-            self.throttle = max(self.throttle - step, 0.0) if want_b > 0.0 else self.throttle
-        return self.throttle, self.brake
+        throttle += _clamp(want_t - throttle, step)
+        brake += _clamp(want_b - brake, step)
+        if throttle > 0.0 and brake > 0.0:  # still moving across
+            if want_t > 0.0:
+                brake = 0.0 if 0.0 > brake - step else brake - step
+            if want_b > 0.0:
+                throttle = 0.0 if 0.0 > throttle - step else throttle - step
+        self.throttle, self.brake = throttle, brake
+        return throttle, brake
 
 
 class TruthActuation:

@@ -248,6 +248,15 @@ class YardTruth:
         self._vel = np.zeros(6)
         self._sensor_bodies = [(int(site), int(self.model.site_bodyid[site]))
                                for site in self.layout.sensor_sites]
+        # Per step, cached: MjData's arrays as views (each attribute read makes a
+        # new one), the wheel ends' radii the brakes scale, the integration
+        # state's size, the lock and MuJoCo's steps a 10 ms step takes.
+        self._site_xmat, self._site_xpos = self.data.site_xmat, self.data.site_xpos
+        self._xmat = self.data.xmat
+        self._r0_ends = np.array([self.tyres[e["axle"]].r0 for e in self.layout.ends])
+        self._state_size = mujoco.mj_stateSize(self.model, mujoco.mjtState.mjSTATE_INTEGRATION)
+        self._lock = float(vehicle.steering.delta_max)
+        self._sub = (None, 0)
         self._settled = self._settle()
 
     # ------------------------------------------------------------ construction
@@ -312,8 +321,8 @@ class YardTruth:
 
     def _set_brakes(self, decel: float) -> None:
         if decel != self._decel:
-            r0 = np.array([self.tyres[e["axle"]].r0 for e in self.layout.ends])
-            self.model.dof_frictionloss[self._spin] = decel * self._weight * r0 * self._brake_share
+            self.model.dof_frictionloss[self._spin] = (decel * self._weight * self._r0_ends
+                                                       * self._brake_share)
             self._decel = decel
 
     def _settle(self) -> tuple[np.ndarray, np.ndarray]:
@@ -408,8 +417,11 @@ class YardTruth:
 
     def step(self, dt: float, delta: float, u1: float, u1_dot: float) -> None:
         """Advance ``dt`` [s]: steering demand ``delta`` (the left wheel's) [rad], speed ``u1``."""
-        n = max(1, int(round(dt / self.model.opt.timestep)))
-        lock = self.vehicle.steering.delta_max
+        sub_dt, n = self._sub
+        if dt != sub_dt:  # MuJoCo's steps in one of ``dt``, worked out once per ``dt``
+            n = max(1, int(round(dt / self.model.opt.timestep)))
+            self._sub = (dt, n)
+        lock = self._lock
         if abs(delta) > lock:
             self.steer_limited += 1
             delta = math.copysign(lock, delta)
@@ -419,9 +431,11 @@ class YardTruth:
             brake = min(max(float(self.pedals[1]), 0.0), 1.0)
             gear = 1.0 if u1 >= 0.0 else -1.0
             drive = gear * throttle * DRIVE_FORCE_MAX * self._weight * self._r0_mean
-            self._set_brakes(max(brake * BRAKE_DECEL_MAX,
-                                 PARKING_GRADE if self._parked else 0.0))
-        self._ctl[:] = [delta, u1, u1_dot, self.data.time, drive]
+            decel = max(brake * BRAKE_DECEL_MAX, PARKING_GRADE if self._parked else 0.0)
+            if decel != self._decel:
+                self._set_brakes(decel)
+        ctl = self._ctl
+        ctl[0], ctl[1], ctl[2], ctl[3], ctl[4] = delta, u1, u1_dot, self.data.time, drive
         self._advance(n)
 
     def observe(self, delta: float | None = None) -> np.ndarray:
@@ -435,23 +449,23 @@ class YardTruth:
         # as on numpy's scalars, and wrap_angle's scalar path written out), the
         # sensors' bodies looked up once.
         d, m = self.data, self.model
-        out = np.empty(13)
         vel, two_pi = self._vel, 2.0 * math.pi
+        xmat, xpos, bmat, psis = self._site_xmat, self._site_xpos, self._xmat, self._psi
+        row = []
         for i, (site, body) in enumerate(self._sensor_bodies):
-            R = d.site_xmat[site]
-            prev = float(self._psi[i])
+            R = xmat[site]
+            prev = float(psis[i])
             psi = prev + (math.pi - (math.pi - (math.atan2(R[3], R[0]) - prev)) % two_pi)
-            self._psi[i] = psi
+            psis[i] = psi
             mujoco.mj_objectVelocity(m, d, _SITE, site, vel, 0)  # every entry written
             v0, v1, v2, v3, v4, _ = vel.tolist()
             h = psi + self._eps[i]
             c, s = math.cos(h), math.sin(h)
-            B = d.xmat[body]
-            p = d.site_xpos[site]
-            out[6 * i:6 * i + 6] = [p[0], p[1], h, c * v3 + s * v4, -s * v3 + c * v4,
-                                    v0 * float(B[2]) + v1 * float(B[5]) + v2 * float(B[8])]
-        out[12] = wrap_angle(out[2] - out[8])
-        return out
+            B = bmat[body].tolist()
+            x, y, _ = xpos[site].tolist()
+            row += [x, y, h, c * v3 + s * v4, -s * v3 + c * v4, v0 * B[2] + v1 * B[5] + v2 * B[8]]
+        row.append(math.pi - (math.pi - (row[2] - row[8])) % two_pi)  # wrap_angle's scalar path
+        return np.array(row)
 
     def sensor_speed(self) -> float:
         """The tractor's unit's longitudinal velocity [m/s]: :meth:`observe`'s ``v_x_1`` alone.
@@ -460,18 +474,17 @@ class YardTruth:
         much again. Both units' continuous headings advance here as ``observe``
         advances them, so that what is observed next is the same to the bit.
         """
-        d = self.data
-        vx = 0.0
-        for i, site in enumerate(self.layout.sensor_sites):
-            psi = self._heading(i)
-            psi = self._psi[i] + float(wrap_angle(psi - self._psi[i]))
-            self._psi[i] = psi
-            if i == 0:
-                vel = self._vel
-                mujoco.mj_objectVelocity(self.model, d, mujoco.mjtObj.mjOBJ_SITE, site, vel, 0)
-                h = psi + self._eps[0]
-                vx = math.cos(h) * vel[3] + math.sin(h) * vel[4]
-        return float(vx)
+        xmat, psis, two_pi = self._site_xmat, self._psi, 2.0 * math.pi
+        (s0, _), (s1, _) = self._sensor_bodies
+        for i, site in ((0, s0), (1, s1)):  # observe's (and wrap_angle's) scalar path
+            R = xmat[site]
+            prev = float(psis[i])
+            psis[i] = prev + (math.pi - (math.pi - (math.atan2(R[3], R[0]) - prev)) % two_pi)
+        vel = self._vel
+        mujoco.mj_objectVelocity(self.model, self.data, _SITE, s0, vel, 0)
+        h = float(psis[0]) + self._eps[0]
+        _, _, _, v3, v4, _ = vel.tolist()
+        return math.cos(h) * v3 + math.sin(h) * v4
 
     @property
     def gamma(self) -> float:
@@ -555,12 +568,15 @@ class YardTruth:
         assist torque), the brakes' level, the parking brake, the units' unwrapped
         headings, the steering-limit count, the pedals and the last controls.
         """
-        spec = mujoco.mjtState.mjSTATE_INTEGRATION
-        st = np.empty(mujoco.mj_stateSize(self.model, spec))
-        mujoco.mj_getState(self.model, self.data, st, spec)
-        extra = [self._decel, float(self._parked), *self._psi, float(self.steer_limited),
-                 *map(float, self.pedals), *self._ctl]
-        return np.concatenate([st, self.z, extra])
+        n, n_z = self._state_size, self.n_z
+        x = np.empty(n + n_z + 12)
+        mujoco.mj_getState(self.model, self.data, x[:n], mujoco.mjtState.mjSTATE_INTEGRATION)
+        x[n:n + n_z] = self.z
+        x[n + n_z:n + n_z + 5] = (self._decel, float(self._parked), *self._psi.tolist(),
+                                  float(self.steer_limited))
+        x[n + n_z + 5:n + n_z + 7] = self.pedals
+        x[n + n_z + 7:] = self._ctl
+        return x
 
     def set_full_state(self, x: np.ndarray) -> None:
         """Restore a :meth:`full_state` of this truth."""
