@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from artic.mjcf.vehicle import load_vehicle
-from artic.validation.pbs import friction, offtracking, standards, swing
+from artic.validation.pbs import friction, offtracking, standards, sweep, swing
 from artic.validation.pbs.motion import Motion
 from artic.validation.pbs.paths import TurnPath
 from artic.validation.pbs.sweep import swept
@@ -57,6 +57,26 @@ def test_rigid_unit_swept_width_in_a_steady_turn():
     rear = np.c_[RR * np.sin(theta), RR * (1 - np.cos(theta))]
     assert offtracking.steady_offtracking((0.0, RR), front, rear) == pytest.approx(
         math.hypot(RR, LF) - RR, abs=1e-9)
+
+
+def test_swept_in_chunks_is_the_envelope_of_one_call():
+    # The envelope is taken from the points' path coordinates computed a chunk
+    # at a time (for memory); frenet is elementwise and max/min are exact, so
+    # the envelope equals the one from a single frenet call to the bit, chunk
+    # edges falling inside a sample's outline included.
+    theta = np.linspace(0.0, 2.6, 301)
+    path = TurnPath(0.0, RR, 2.6, 0.0, 1.0)
+    points = _rigid_points(theta)
+    assert points.reshape(-1, 2).shape[0] > 3 * sweep.CHUNK  # several chunks
+    sw = swept(path, points)
+    p = points.reshape(-1, 2)
+    s, n = path.frenet(p[:, 0], p[:, 1])
+    lo = np.floor(np.nanmin(s) / sweep.BIN)
+    k = (np.floor(s / sweep.BIN) - lo).astype(np.int64)
+    outer, inner = np.full(k.max() + 1, -np.inf), np.full(k.max() + 1, np.inf)
+    np.maximum.at(outer, k, n)
+    np.minimum.at(inner, k, n)
+    assert np.array_equal(sw.outer, outer) and np.array_equal(sw.inner, inner)
 
 
 def test_rigid_unit_tail_swing_turning_about_a_point():
