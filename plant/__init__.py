@@ -8,7 +8,8 @@
   (resets, speed control, the step), :mod:`artic.plant.observing` (the signals) and
   :mod:`artic.plant.recording` (the outputs for drawings);
 - :mod:`artic.plant.closedloop`: the harness's loop around the plant, compiled
-  (``_loop_c.c``): a whole log in one call without the GIL;
+  (``_loop_c.c``): a whole log in one call without the GIL, and a docking run's
+  steps between two controller samples;
 - :mod:`artic.plant.standalone`: the plant as a standalone MJCF file, and :func:`load`;
 - :mod:`artic.plant.curves`: steady-state tyre curves;
 - :mod:`artic.plant.warp_plant`: many plants at once on MuJoCo Warp (the ``gpu`` extra),

@@ -24,6 +24,12 @@
  * drives one step at a time: the synthetic truth's drivers, whose decisions
  * stay in Python. They share this file's code with the whole-log loop.
  *
+ * artic_ramp_steps is a docking run's ten plant steps between two controller
+ * samples (validation/docking/run.py): the actuators ramping towards their
+ * targets at their rate limits, the steering map, Plant.step and Plant.observe
+ * and the jackknife check, per plant step, in that loop's order and arithmetic,
+ * so that its traces are the Python loop's to the bit.
+ *
  * The call returns early, with the struct ready to resume at sample k + 1,
  * when Python has something to do that needs the state of that moment: a
  * loaded wheel went outside the tyre file's ranges (Python names it), or the
@@ -36,7 +42,7 @@
 
 #include "extensions.h" /* mjcf/: what artic's extensions export to their loader */
 
-#define ARTIC_LOOP_ABI 3
+#define ARTIC_LOOP_ABI 4
 #define N_OBS 13
 #define MAX_SERVOS 4
 #define MAX_WHEELS 64
@@ -252,5 +258,76 @@ int artic_step(const mjModel* m, mjData* d, artic_loop* s, double delta, int nsu
 int artic_observe(const mjModel* m, mjData* d, artic_loop* s, double* out) {
   if (!sound(m, s)) return LOOP_BAD;
   observe(m, d, s, out);
+  return LOOP_DONE;
+}
+
+/* A docking run's actuators between two controller samples (plant/closedloop.py Ramp). */
+typedef struct {
+  /* state, carried across calls */
+  double wheel, u, t;
+  /* per plant step: the largest change of the steering wheel [rad] and of the speed [m/s] */
+  double wheel_step, u_step;
+  /* the steering map of eq. (3): delta = (d - q d^2) / i_s, d = wheel - offset */
+  double offset, q, i_s;
+  double dt, gamma_max;
+  /* plant steps per call, the next one (a call resumes there), and the tyre files'
+   * range flag of the last step taken */
+  int n, j, tyre_range;
+} artic_ramp;
+
+int artic_ramp_size(void) { return (int)sizeof(artic_ramp); }
+
+/* Python's min(max(x, -lim), lim), signed zeros included. */
+static double limited(double x, double lim) {
+  double y = -lim > x ? -lim : x;
+  return lim < y ? lim : y;
+}
+
+/* Plant steps r->j .. r->n - 1, each: the steering wheel and the speed one rate-limited
+ * step towards target[2 j], target[2 j + 1]; the road-wheel angle of the steering map;
+ * Plant.step (the speed follower at the ramp's middle, the servos, the steps, the check);
+ * the signals into obs[13 j ...] and (wheel, speed, time) into log[3 j ...]; the
+ * articulation against gamma_max. Returns LOOP_DONE; LOOP_STOPPED past gamma_max (its
+ * step filled); LOOP_TYRE_RANGE after a step that flagged a wheel (filled; Python names
+ * it, resets the flag and calls again); LOOP_DIVERGED (that step not filled); LOOP_BAD. */
+int artic_ramp_steps(const mjModel* m, mjData* d, artic_loop* s, artic_ramp* r,
+                     const double* target, double* obs, double* log) {
+  if (!sound(m, s)) return LOOP_BAD;
+  double h = m->opt.timestep;
+  int nsub = (int)nearbyint(r->dt / h);
+  if (nsub < 1) nsub = 1;
+  r->tyre_range = 0;
+  for (int j = r->j; j < r->n; j++) {
+    double u = r->u;
+    double wheel = r->wheel + limited(target[2 * j] - r->wheel, r->wheel_step);
+    double u_next = u + limited(target[2 * j + 1] - u, r->u_step);
+    double dw = wheel - r->offset; /* Steering.road_wheel */
+    double delta = (dw - r->q * dw * dw) / r->i_s;
+    double u1_dot = (u_next - u) / r->dt;
+    /* Plant._control, the speed followed, sampled at the middle of the interval */
+    double u_cmd = u + u1_dot * 0.5 * (nsub * h);
+    double e = u_cmd - speed(d, s);
+    s->integral += e * (nsub * h);
+    double rr = s->rr_coef * tanh(u_cmd / 0.1);
+    double ff = s->mass_eff * u1_dot + rr;
+    d->ctrl[s->follower] = u_cmd + ff / s->follower_kv + s->follow_ki * s->integral;
+    int code = servo_and_steps(m, d, s, delta, nsub);
+    if (code == LOOP_DIVERGED) {
+      r->j = j;
+      return code;
+    }
+    r->wheel = wheel;
+    r->u = u_next;
+    r->t = r->t + r->dt;
+    observe(m, d, s, obs + N_OBS * j);
+    log[3 * j] = wheel;
+    log[3 * j + 1] = u_next;
+    log[3 * j + 2] = r->t;
+    r->j = j + 1;
+    r->tyre_range = code == LOOP_TYRE_RANGE;
+    double gamma = wrap_angle(-d->qpos[s->hitch_qpos] + s->sensor_yaw[0] - s->sensor_yaw[1]);
+    if (fabs(gamma) > r->gamma_max) return LOOP_STOPPED;
+    if (r->tyre_range) return LOOP_TYRE_RANGE;
+  }
   return LOOP_DONE;
 }

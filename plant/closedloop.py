@@ -19,6 +19,11 @@ the plants Python drives step by step, such as the synthetic truth's, whose
 drivers decide in Python every 10 ms. It computes what Python's ``step``
 and ``observe`` compute, to the bit (``tests/test_plant_step.py``).
 
+:class:`Ramp` is a docking run's plant steps between two controller samples
+(:func:`artic.validation.docking.run.drive`): the actuators' rate-limited ramps,
+the steering map, ``step``, ``observe`` and the jackknife check, ten steps in
+one call without the GIL, to the bit of ``drive``'s Python loop.
+
 The extension is built by ``pip install`` beside the tyre callback; without
 it, or for a plant whose speed is not followed or whose backend is
 ``"python"``, :func:`available` says why and the harness uses its Python loop.
@@ -42,7 +47,7 @@ if TYPE_CHECKING:
     from artic.mjcf.interface import LoopArgs
     from artic.plant.plant import Plant
 
-ABI = 3
+ABI = 4
 MAX_SERVOS = 4
 MAX_WHEELS = 64
 N_OBS = 13
@@ -75,6 +80,16 @@ class _Loop(ctypes.Structure):
     ]
 
 
+class _Ramp(ctypes.Structure):
+    _fields_ = [
+        ("wheel", ctypes.c_double), ("u", ctypes.c_double), ("t", ctypes.c_double),
+        ("wheel_step", ctypes.c_double), ("u_step", ctypes.c_double),
+        ("offset", ctypes.c_double), ("q", ctypes.c_double), ("i_s", ctypes.c_double),
+        ("dt", ctypes.c_double), ("gamma_max", ctypes.c_double),
+        ("n", ctypes.c_int), ("j", ctypes.c_int), ("tyre_range", ctypes.c_int),
+    ]
+
+
 def _load() -> tuple[ctypes.CDLL | None, str]:
     if ctyre.library() is None:  # the loop calls the tyre callback's models
         return None, ctyre.unavailable_reason()
@@ -100,6 +115,13 @@ def _load() -> tuple[ctypes.CDLL | None, str]:
     lib.artic_observe.restype = ctypes.c_int
     lib.artic_observe.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
                                   ctypes.c_void_p]
+    lib.artic_ramp_steps.restype = ctypes.c_int
+    lib.artic_ramp_steps.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(_Loop),
+                                     ctypes.POINTER(_Ramp), ctypes.c_void_p, ctypes.c_void_p,
+                                     ctypes.c_void_p]
+    if lib.artic_ramp_size() != ctypes.sizeof(_Ramp):
+        return None, ("the compiled closed loop was built from another version of artic; "
+                      "reinstall artic")
     return lib, ""
 
 
@@ -187,6 +209,124 @@ class Stepper:
         if self._lib.artic_observe(*self._observe_args) != DONE:
             raise RuntimeError("the compiled step refused the plant's indices")
         return self._out.copy()
+
+
+class Ramp:
+    """A docking run's plant steps between two controller samples, in compiled code.
+
+    :func:`artic.validation.docking.run.drive` steps the plant ``n`` times per
+    controller sample. Each step the steering wheel and the speed move one
+    rate-limited step towards their targets (``min(max(target - now, -step),
+    step)``), the steering map turns the wheel into the road-wheel angle, the
+    plant steps (:meth:`plant.Plant.step`, the speed's ramp as its derivative) and is
+    observed (:meth:`plant.Plant.observe`), and its articulation is checked against
+    ``gamma_max``. :meth:`run` does the ``n`` steps in one call without the GIL,
+    with the arithmetic of ``drive``'s Python loop in its order, so the signals,
+    the wheel, the speed and the times are that loop's to the bit
+    (``tests/test_plant_step.py``); a wheel outside its tyre file's ranges is
+    named and a diverged step raises as :meth:`plant.Plant.step` does.
+
+    Parameters
+    ----------
+    plant : Plant
+        :func:`ramp_available` must be true of it.
+    steering : Steering
+        The steering map (:class:`artic.mjcf.steering.Steering`) from wheel to road wheel.
+    n : int
+        Plant steps per call.
+    dt : float
+        The plant's step [s].
+    limits : tuple of float
+        The largest change per plant step of the steering wheel [rad] and of the speed [m/s].
+    gamma_max : float
+        The articulation that stops the steps [rad].
+    start : tuple of float
+        The steering wheel [rad], the speed [m/s] and the time [s] now.
+    """
+
+    def __init__(self, plant: Plant, steering, n: int, dt: float,
+                 limits: tuple[float, float], gamma_max: float,
+                 start: tuple[float, float, float]) -> None:
+        self._lib = _loaded()[0]
+        self._plant = plant
+        stepper = plant._stepper
+        self._stepper = stepper
+        r = self.struct = _Ramp()
+        r.wheel, r.u, r.t = start
+        r.wheel_step, r.u_step = limits
+        r.offset, r.q, r.i_s = steering.delta_h_offset, steering.q, steering.i_s
+        r.dt, r.gamma_max, r.n = dt, gamma_max, n
+        self.targets = np.zeros((n, 2))
+        """The steering wheel's [rad] and the speed's [m/s] target at each step of a call."""
+        self._obs = np.zeros((n, N_OBS))
+        self._log = np.zeros((n, 3))
+        self._args = (ctypes.c_void_p(plant.model._address), ctypes.c_void_p(plant.data._address),
+                      stepper._s, ctypes.pointer(r),
+                      *(ctypes.c_void_p(a.ctypes.data) for a in (self.targets, self._obs,
+                                                                 self._log)))
+
+    @property
+    def wheel(self) -> float:
+        """The steering wheel now [rad]."""
+        return self.struct.wheel
+
+    @property
+    def u(self) -> float:
+        """The speed now [m/s]."""
+        return self.struct.u
+
+    def run(self) -> tuple[np.ndarray, np.ndarray, int]:
+        """The ``n`` steps towards :attr:`targets`, or up to the one that ends the run.
+
+        Returns
+        -------
+        obs : ndarray, shape (k, 13)
+            The signals after each step taken (new arrays, the caller's).
+        log : ndarray, shape (k, 3)
+            The steering wheel [rad], the speed [m/s] and the time [s] after each.
+        code : int
+            :data:`DONE`; :data:`STOPPED` when the last step passed ``gamma_max``;
+            :data:`DIVERGED` when the step after the last one diverged
+            (:meth:`raise_diverged` raises what ``Plant.step`` raises).
+        """
+        plant, s, r = self._plant, self._stepper.struct, self.struct
+        r.j = 0
+        while True:
+            s.integral = plant._integral
+            code = self._lib.artic_ramp_steps(*self._args)
+            plant._integral = s.integral
+            if s.steer_limited:  # as Plant.step counts and warns
+                first = plant.steer_limited == 0
+                plant.steer_limited += s.steer_limited
+                s.steer_limited = 0
+                if first:
+                    plant.warn_steer_limited(s.first_limit_time, s.first_limit_delta)
+            if r.tyre_range:
+                plant.data.userdata[3 * plant.n_wheels] = 0.0
+                plant.check_tyre_ranges()
+            if code == TYRE_RANGE:
+                continue
+            if code == BAD:
+                raise RuntimeError("the compiled step refused the plant's indices")
+            k = r.j
+            return self._obs[:k].copy(), self._log[:k].copy(), code
+
+    def raise_diverged(self) -> None:
+        """Raise the :class:`plant.PlantError` of the diverged step :meth:`run` reported."""
+        s, plant = self._stepper.struct, self._plant
+        good = np.array(s.good_forces[:3 * plant.n_wheels]).reshape(-1, 3)
+        plant._check(s.good_time, good, s.span)
+        raise AssertionError("unreachable: a diverged step that _check accepts")
+
+
+def ramp_available(plant) -> bool:
+    """Whether ``plant`` can take a docking run's steps in compiled code (:class:`Ramp`).
+
+    It needs the compiled single step switched on and a followed speed, as the
+    docking runs' plant has; the runs step any other plant in Python.
+    """
+    return (getattr(plant, "_stepper", None) is not None and plant._compiled_step
+            and plant.speed_mode == "follow")
 
 
 class LoopResult(NamedTuple):

@@ -71,6 +71,24 @@ def test_a_delay_must_be_whole_plant_steps():
         ActuatorDelay(-0.01, PLANT_DT, (0.0, 0.0))
 
 
+@pytest.mark.parametrize("delay", [0.0, 0.03, 0.1, 0.25])
+def test_a_sample_s_filled_targets_are_the_steps_own(delay):
+    # drive's compiled steps take a sample's targets at once (fill); its Python loop asks
+    # step by step (at): the same values, and the same queue left behind.
+    a, b = (ActuatorDelay(delay, PLANT_DT, (0.5, 0.0)) for _ in range(2))
+    seen = []
+    for k in range(8):
+        for x in (a, b):
+            if k % 3 != 2:  # a sample without a command (settling) now and then
+                x.command(10 * k, (float(k), -0.1 * k))
+        rows = np.full((10, 2), np.nan)
+        a.fill(10 * k, rows)
+        np.testing.assert_array_equal(rows, [b.at(10 * k + j) for j in range(10)])
+        assert a.current == b.current and list(a._queue) == list(b._queue)
+        seen.append(rows)
+    assert len(np.unique(np.concatenate(seen)[:, 0])) >= 5  # the commands arrived
+
+
 def _free_roll(grade: float) -> tuple[float, float]:
     """Speed change over 1-3 s [m/s^2] and travel after 4 s [m] of the parked plant, no brake."""
     v = road(load_vehicle(VEHICLE), grade=grade)

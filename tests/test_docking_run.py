@@ -12,6 +12,7 @@ import pytest
 
 from artic.mjcf import load_vehicle
 from artic.mjcf.interface import OBS_INDEX
+from artic.plant import closedloop
 from artic.validation.criteria.statistics import format_ci
 from artic.validation.docking.controllers import BUILTIN, Command, Controller, load
 from artic.validation.docking.planner import steady_delta
@@ -100,6 +101,40 @@ def test_a_timeout_and_a_stop_short_of_the_door_are_failures():
     r = drive(scenario("straight"), VEHICLE, DoneAtOnce, 0)
     assert r.row["failure"].startswith("missed the door: rear ")
     assert r.row["longitudinal_error_m"] == pytest.approx(r.row["start_x_m"], abs=0.01)
+
+
+@pytest.mark.parametrize("controller, options", [
+    (HoldStraight, {}),  # into the dock: a collision
+    (FullLock, {}),  # a jackknife within a sample's steps
+    (StandStill, {"timeout": 2.0}),
+    (DoneAtOnce, {"delay": 0.05, "steer_rate": 2.0}),  # delayed, slower wheel, settling
+])
+def test_the_compiled_steps_run_as_the_python_loop_to_the_bit(controller, options, monkeypatch):
+    # drive steps the plant a sample at a time in C (closedloop.Ramp) where it can; its
+    # Python loop is the reference: the traces and the scores agree to the bit.
+    calls = []
+    run = closedloop.Ramp.run
+
+    def counted(self):
+        calls.append(1)
+        return run(self)
+
+    monkeypatch.setattr(closedloop.Ramp, "run", counted)
+    a = drive(scenario("straight"), VEHICLE, controller, 1, realtime=False, **options)
+    assert calls  # it ran compiled
+    compiled = len(calls)
+    monkeypatch.setattr(closedloop, "ramp_available", lambda plant: False)
+    b = drive(scenario("straight"), VEHICLE, controller, 1, realtime=False, **options)
+    assert len(calls) == compiled  # and this one in Python
+    ta, tb = a.trace.arrays(), b.trace.arrays()
+    for key in ("t", "true", "steering_wheel", "speed", "measured", "commands"):
+        np.testing.assert_array_equal(ta[key], tb[key], err_msg=key)
+    timed = ("plan_ms", "solve_ms", "solve_ms_p50", "solve_ms_p99")
+    assert a.row.keys() == b.row.keys()
+    for key in a.row.keys() - set(timed):
+        x, y = a.row[key], b.row[key]
+        assert x == y or (x != x and y != y), key  # NaN where a score is unknown
+    assert a.trace.seen_at == b.trace.seen_at and a.row["failure"] == b.row["failure"]
 
 
 # ---------------------------------------------------------------- what a controller sees

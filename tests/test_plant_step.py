@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import warnings
 
 import numpy as np
@@ -114,3 +115,109 @@ def test_plants_without_the_compiled_step_run_in_python(loaded, monkeypatch):
         p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=1.0))
         p.step(0.01, 0.1, 1.0, 0.0)
         assert p.observe()[3] == pytest.approx(1.0, abs=0.01)
+
+
+# ------------------------------------------------- a docking run's steps per sample
+RAMP_N, RAMP_DT = 10, 0.01
+
+
+def _ramp_targets(steering, k: int) -> np.ndarray:
+    """Sample ``k``'s targets: the wheel past either lock and back, the speed through
+    standstill; each sample's command takes over from the one before within the sample,
+    as a delayed command does."""
+    def command(i):
+        wheel = steering.steering_wheel(0.0) + (16.0 if (i // 8) % 2 else -16.0) * (i < 40)
+        return wheel, -1.5 if (i // 9) % 2 == 0 else 1.0
+
+    targets = np.tile(command(max(k - 1, 0)), (RAMP_N, 1))
+    targets[k % RAMP_N:] = command(k)
+    return targets
+
+
+def _ramped(vehicle, compiled: bool, samples: int = 80, edit=None, gamma_max=0.3):
+    """A docking run's plant steps, through the compiled :class:`closedloop.Ramp` or
+    ``drive``'s Python loop (the reference, written out here as it is there)."""
+    steering = vehicle.steering_for("mbd")
+    wheel_step, u_step = 30.0 * RAMP_DT, 2.0 * RAMP_DT
+    with Plant(vehicle) as p, warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if edit is not None:
+            edit(p)
+        p.reset(InitialState(0.0, 0.0, 0.0, 0.0, u1=0.0))
+        wheel, u, t = steering.steering_wheel(0.0), 0.0, 0.0
+        ramp = closedloop.Ramp(p, steering, RAMP_N, RAMP_DT, (wheel_step, u_step), gamma_max,
+                               (wheel, u, t)) if compiled else None
+        obs, log, end = [], [], "timeout"
+        for k in range(samples):
+            targets = _ramp_targets(steering, k)
+            if ramp is not None:
+                ramp.targets[:] = targets
+                rows, steps, code = ramp.run()
+                obs += list(rows)
+                log += steps.tolist()
+                if code == closedloop.DIVERGED:
+                    with pytest.raises(PlantError) as exc:
+                        ramp.raise_diverged()
+                    end = str(exc.value)
+                elif code == closedloop.STOPPED:
+                    end = f"jackknife at {log[-1][2]}"
+                if code != closedloop.DONE:
+                    break
+                continue
+            for j in range(RAMP_N):
+                wheel += min(max(targets[j, 0] - wheel, -wheel_step), wheel_step)
+                u_next = u + min(max(targets[j, 1] - u, -u_step), u_step)
+                try:
+                    p.step(RAMP_DT, float(steering.road_wheel(float(wheel))), u,
+                           (u_next - u) / RAMP_DT)
+                except PlantError as exc:
+                    end = str(exc)
+                    break
+                u = u_next
+                t = t + RAMP_DT
+                obs.append(p.observe())
+                log.append([wheel, u, t])
+                if abs(p.gamma) > gamma_max:
+                    end = f"jackknife at {t}"
+                    break
+            if end != "timeout":
+                break
+        return (np.array(obs), np.array(log), end, p.steer_limited, p._integral,
+                [(w.category, str(w.message)) for w in caught])
+
+
+def test_a_docking_run_s_compiled_steps_are_its_python_loop_s_to_the_bit(unloaded):
+    a, b = _ramped(unloaded, True), _ramped(unloaded, False)
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])
+    assert a[2:] == b[2:]
+    # The run did what it is for: past the lock (counted, warned once), the wheel and
+    # the speed at their rate limits, through standstill, and on until a jackknife.
+    assert a[3] > 0 and len([m for c, m in a[5] if issubclass(c, PlantWarning)]) == 1
+    assert np.abs(np.diff(a[1][:, 0])).max() == pytest.approx(30.0 * RAMP_DT)
+    assert a[1][:, 1].min() < -0.5 and a[1][:, 1].max() > 0.1
+    assert a[2].startswith("jackknife") and len(a[0]) % RAMP_N != 0
+
+
+def test_a_docking_run_s_compiled_steps_name_tyres_and_divergence_as_python_does(unloaded):
+    # A file that claims loads above 10 kN are out of range: every wheel is, every step.
+    def low_fzmax(p):
+        p.tyres = [dataclasses.replace(t, FZMAX=1e4) for t in p.tyres]
+
+    a, b = (_ramped(unloaded, c, samples=3, edit=low_fzmax) for c in (True, False))
+    ranges = [m for c, m in a[5] if issubclass(c, TyreRangeWarning)]
+    assert len(ranges) == 3 * RAMP_N and a[5] == b[5]
+    np.testing.assert_array_equal(a[0], b[0])
+
+    # A NaN target at sample 2, step 4: MuJoCo refuses the control, the run ends there.
+    def nan_at(steering, k, targets=_ramp_targets):
+        out = targets(steering, k)
+        if k == 2:
+            out[4:, 0] = math.nan
+        return out
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(sys.modules[__name__], "_ramp_targets", nan_at)
+        a, b = _ramped(unloaded, True), _ramped(unloaded, False)
+    assert a[2] == b[2] and "diverged" in a[2] and len(a[0]) == len(b[0]) == 2 * RAMP_N + 4
+    np.testing.assert_array_equal(a[0], b[0])

@@ -136,3 +136,19 @@ class ActuatorDelay:
         while self._queue and self._queue[0][0] <= step:
             self.current = self._queue.popleft()[1]
         return self.current
+
+    def fill(self, step: int, out) -> None:
+        """:meth:`at` of ``step``, ``step + 1``, ... into the rows of ``out``, one per step.
+
+        ``out`` is an array of ``(n, len(value))``; the steps follow the ones asked for
+        before, as :meth:`at`'s do, and leave the queue as ``at(step + n - 1)`` would.
+        """
+        queue, n, j = self._queue, len(out), 0
+        while queue and queue[0][0] < step + n:
+            first, value = queue.popleft()
+            i = max(first - step, 0)
+            if i > j:
+                out[j:i] = self.current
+                j = i
+            self.current = value
+        out[j:] = self.current

@@ -55,7 +55,7 @@ import pandas as pd
 from artic.mjcf.errors import UserError, one_line
 from artic.mjcf.interface import OBS_INDEX, InitialState
 from artic.mjcf.vehicle import load_vehicle
-from artic.plant import Plant, PlantWarning
+from artic.plant import Plant, PlantWarning, closedloop
 from artic.plant.plant import PlantError
 from artic.validation.docking.conditions import ActuatorDelay, road
 from artic.validation.docking.controllers import Command, Observation, Task, load
@@ -440,6 +440,11 @@ def _closed_loop(trace: Trace, loop: _Loop, run: DockRun, conditions: Conditions
         observe, road_wheel = plant.observe, mbd.road_wheel
         t_log, true_log, wheel_log, speed_log = trace.t, trace.true, trace.steering_wheel, \
             trace.speed
+        # The plant's steps of a sample in one compiled call where the plant allows it
+        # (the same arithmetic, to the bit); the loop below in Python otherwise.
+        ramp = (closedloop.Ramp(plant, mbd, n_sub, PLANT_DT, (wheel_step, u_step), gamma_max,
+                                (wheel, u, 0.0))
+                if yard_plant is None and closedloop.ramp_available(plant) else None)
         for k in range(n_ctrl):
             now = k * DT
             if settle_until is None:
@@ -491,35 +496,73 @@ def _closed_loop(trace: Trace, loop: _Loop, run: DockRun, conditions: Conditions
                 actuators.command(k * n_sub, (target[0], u_target))
             elif now >= settle_until or (abs(u) < 1e-9 and abs(trace.true[-1][3]) < 0.01):
                 return
-            for j in range(n_sub):
-                wheel_target, u_target = actuators.at(k * n_sub + j)
-                wheel += min(max(wheel_target - wheel, -wheel_step), wheel_step)
-                u_next = u + min(max(u_target - u, -u_step), u_step)
-                try:
-                    if yard_plant is not None:
-                        yard_plant.step_steering_wheel(PLANT_DT, wheel, u, (u_next - u) / PLANT_DT)
-                    else:
-                        plant.step(PLANT_DT, float(road_wheel(wheel)), u, (u_next - u) / PLANT_DT)
-                except (PlantError, FloatingPointError) as exc:  # the plant or the yard truth
-                    _fail(trace, f"plant diverged: {one_line(_named(exc))}")
+            if ramp is not None:  # the sample's plant steps in one compiled call
+                actuators.fill(k * n_sub, ramp.targets)
+                steps = _compiled_steps(trace, ramp, plant, gamma_max)
+                if steps is None:
                     return
-                u = u_next
-                t_log.append(t_log[-1] + PLANT_DT)
-                true_log.append(observe())
-                wheel_log.append(wheel)
-                speed_log.append(u)
-                if abs(plant.gamma) > gamma_max:
-                    _fail(trace, f"jackknife: |gamma| {math.degrees(abs(plant.gamma)):.1f} deg "
-                                 f"beyond {math.degrees(gamma_max):.1f} deg at "
-                                 f"t = {t_log[-1]:.2f} s")
-                    return
-            i, j, unit = frames.first_hit_of_signals(np.asarray(true_log[-n_sub:]), boxes)
+                u = ramp.u  # the settling reads it
+            else:
+                for j in range(n_sub):
+                    wheel_target, u_target = actuators.at(k * n_sub + j)
+                    wheel += min(max(wheel_target - wheel, -wheel_step), wheel_step)
+                    u_next = u + min(max(u_target - u, -u_step), u_step)
+                    try:
+                        if yard_plant is not None:
+                            yard_plant.step_steering_wheel(PLANT_DT, wheel, u,
+                                                           (u_next - u) / PLANT_DT)
+                        else:
+                            plant.step(PLANT_DT, float(road_wheel(wheel)), u,
+                                       (u_next - u) / PLANT_DT)
+                    except (PlantError, FloatingPointError) as exc:  # the plant or the truth
+                        _fail(trace, f"plant diverged: {one_line(_named(exc))}")
+                        return
+                    u = u_next
+                    t_log.append(t_log[-1] + PLANT_DT)
+                    true_log.append(observe())
+                    wheel_log.append(wheel)
+                    speed_log.append(u)
+                    if abs(plant.gamma) > gamma_max:
+                        _jackknife(trace, plant, gamma_max)
+                        return
+                steps = np.asarray(true_log[-n_sub:])
+            i, j, unit = frames.first_hit_of_signals(steps, boxes)
             if i >= 0:
                 _fail(trace, f"collision: {('tractor', 'semitrailer')[unit]} hit "
                              f"{yard.obstacles[j].name} at t = {trace.t[-n_sub + i]:.2f} s")
                 return
         if settle_until is None:
             _fail(trace, f"timeout: not docked after {timeout:.0f} s")
+
+
+def _jackknife(trace: Trace, plant, gamma_max: float) -> None:
+    """Fail the run: the plant's articulation is past ``gamma_max`` [rad] now."""
+    _fail(trace, f"jackknife: |gamma| {math.degrees(abs(plant.gamma)):.1f} deg "
+                 f"beyond {math.degrees(gamma_max):.1f} deg at t = {trace.t[-1]:.2f} s")
+
+
+def _compiled_steps(trace: Trace, ramp: closedloop.Ramp, plant,
+                    gamma_max: float) -> np.ndarray | None:
+    """One sample's plant steps in one compiled call, logged to ``trace``.
+
+    The steps towards ``ramp.targets``; their signals, rows ``(n, 13)``, or ``None`` when
+    the run failed in them (a diverged plant, a jackknife), the steps before logged.
+    """
+    rows, log, code = ramp.run()
+    trace.true.extend(rows)
+    trace.steering_wheel.extend(log[:, 0].tolist())
+    trace.speed.extend(log[:, 1].tolist())
+    trace.t.extend(log[:, 2].tolist())
+    if code == closedloop.DIVERGED:
+        try:
+            ramp.raise_diverged()
+        except PlantError as exc:
+            _fail(trace, f"plant diverged: {one_line(_named(exc))}")
+            return None
+    if code == closedloop.STOPPED:
+        _jackknife(trace, plant, gamma_max)
+        return None
+    return rows
 
 
 def _sensor_set(name: str, articulation_noise_deg: float | None) -> str:
