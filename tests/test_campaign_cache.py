@@ -23,7 +23,7 @@ from artic.validation.logs.importers import import_source
 from tests.helpers import SMALL_CAMPAIGN as SMALL
 
 CACHED = ("logs", "tuning", "validation", "references", "twins", "oracle", "efficiency",
-          "gain sweep")
+          "gain sweep", "pbs")
 
 
 @pytest.fixture

@@ -44,6 +44,7 @@ Stages, each timed and each resumable:
    validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
 8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
+   **pbs**: the PBS low-speed turn on each model and the truth (``pbs_truck.csv``);
 9. **report**: ``report.md``, written last.
 
 Resuming. Every stage goes through one cache
@@ -1197,17 +1198,28 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     paths = {k: v for r in (tuning, validation, references, twins, oracle, tables, efficiency,
                             sweep, recordings) if r is not None
              for k, v in r.outputs.items() if ":" not in k and k != "gain_sweep_plot"} | swept
-    paths["pbs_truck"] = _pbs_truck(c)
+    paths["pbs_truck"] = _stage_pbs(c).outputs["pbs_truck"]
     return _report(c, paths, tables.value, tuning.value[0], efficiency.value,
                    sweep.value if sweep is not None else None, metrics, vs_plant,
                    twins.value if twins is not None else None)
 
 
-def _pbs_truck(c: _Campaign) -> Path:
-    """The low-speed measures of this truck's models against its truth (artic.validation.pbs)."""
+def _stage_pbs(c: _Campaign) -> StageResult:
+    """Stage 8b: the low-speed measures of this truck's models against its truth.
+
+    The PBS turn on each model and the truth (:mod:`artic.validation.pbs.trucks`),
+    ``pbs_truck.csv``; it reads none of the other stages' outputs (the loaded
+    preset, untuned), so its key is the truck, the models and the truth.
+    """
     from artic.validation.pbs.trucks import write_truck_table
 
-    return write_truck_table(c.out_dir, c.config.seed, c.models, c.config.truth)
+    key = c.cache.key("pbs", c.fields("seed", "models", "truth"))
+
+    def compute():
+        path = write_truck_table(c.out_dir, c.config.seed, c.models, c.config.truth)
+        return {"pbs_truck": path}, {}, None
+
+    return c.run("pbs", key, compute, lambda entry: None)
 
 
 def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,
