@@ -462,6 +462,9 @@ def _campaign(args: argparse.Namespace) -> int:
     from artic.validation.campaign.executors import DaskOptions
     from artic.validation.campaign.main import run_campaign
     from artic.validation.models import parse_models
+    from artic.validation.plumbing.heap import single_arena
+
+    single_arena()  # for the campaign's peak memory (artic.validation.plumbing.heap)
 
     sweep = tuple(parse_models(args.sweep_models, "--sweep-models")) if args.sweep_models else ()
     models = tuple(parse_models(args.models))
