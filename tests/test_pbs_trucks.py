@@ -61,3 +61,10 @@ def test_one_truck_has_no_interval_and_no_test():
     errors, pairs = trucks.pooled(_rows({"kin": [0.02], "stm": [0.01]}))
     assert errors["lo"].isna().all() and pairs["p"].isna().all()
     assert not pairs["resolved"].any()
+
+
+@pytest.mark.slow  # drives the truth and KIN through the PBS turn twice (about 10 s)
+def test_a_truck_on_fresh_processes_is_the_same_truck():
+    here = trucks.truck_table(0, models=("kin",))
+    there = trucks.truck_table(0, models=("kin",), jobs=2, fresh=True)
+    pd.testing.assert_frame_equal(here, there, check_exact=True)

@@ -1216,7 +1216,10 @@ def _stage_pbs(c: _Campaign) -> StageResult:
     key = c.cache.key("pbs", c.fields("seed", "models", "truth"))
 
     def compute():
-        path = write_truck_table(c.out_dir, c.config.seed, c.models, c.config.truth)
+        # on fresh processes: the truth's model and the reduced models' compiled
+        # code would otherwise grow the campaign's process past its peak (85 MB)
+        path = write_truck_table(c.out_dir, c.config.seed, c.models, c.config.truth,
+                                 jobs=c.jobs, fresh=True)
         return {"pbs_truck": path}, {}, None
 
     return c.run("pbs", key, compute, lambda entry: None)
@@ -1441,7 +1444,8 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
                 jobs: int = 1) -> dict[str, Path]:
     """One recording per validated manoeuvre, skipped when newer than its runs; a few plots.
 
-    The recordings are written on ``jobs`` local worker processes: drawing
+    The recordings are written on ``jobs`` new local worker processes
+    (``spawn``, not forks of the campaign's process and its memory): drawing
     them is Python work that holds the GIL. They are local even with a Dask
     executor, whose workers need not share this file system.
 
@@ -1471,7 +1475,8 @@ def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
     tasks = [(target, (target, logs[name], runs,
                        vehicles[logs[name].meta.get("load", "unloaded")],
                        metrics[metrics["log"] == name])) for name, runs, target in todo]
-    with contextlib.closing(completed(_record_one, tasks, jobs)) as done:
+    # fresh workers: forked ones would each carry the campaign's memory (560 MB)
+    with contextlib.closing(completed(_record_one, tasks, jobs, fresh=True)) as done:
         for target, size in done:
             counter.step(f"{target.name} ({size / 1e6:.1f} MB)")
     for name, runs, _ in todo:  # a plot of the first manoeuvre of each kind drawn

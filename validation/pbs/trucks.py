@@ -17,6 +17,7 @@ and ``pbs_trucks.md``.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 from collections.abc import Sequence
@@ -30,6 +31,7 @@ from artic.validation.criteria.multiplicity import holm, truck_p
 from artic.validation.criteria.statistics import format_ci, mean_ci
 from artic.validation.logs.runfile import atomic_write, atomic_write_text
 from artic.validation.pbs.run import MEASURES, run_model
+from artic.validation.plumbing.workers import completed
 
 COLUMNS = ("swept_width", "frontal_swing", "tail_swing")
 """The measures compared with the truth: those of the PBS turn that every model has."""
@@ -39,17 +41,31 @@ LOAD = "loaded"
 ALPHA = 0.05
 
 
+def truck_measures(name: str, seed: int, truth: str | None = None,
+                   load: str = LOAD) -> dict[str, float]:
+    """The PBS turn's measures of model ``name`` (or ``"truth"``) built from the ``load`` preset."""
+    return run_model(name, load_vehicle(f"gosar2022-{load}"), seed, ("pbs",), truth).measures
+
+
 def truck_table(seed: int, models: Sequence[str] = MODELS, truth: str | None = None,
-                load: str = LOAD) -> pd.DataFrame:
-    """One truck's measures: a row per (model, measure) with the truth's and the plant's."""
-    v = load_vehicle(f"gosar2022-{load}")
+                load: str = LOAD, jobs: int = 1, fresh: bool = False) -> pd.DataFrame:
+    """One truck's measures: a row per (model, measure) with the truth's and the plant's.
+
+    The models and the truth are driven on ``jobs`` worker processes, or in
+    this one (:func:`artic.validation.plumbing.workers.completed`); with
+    ``fresh`` on that many new processes however many, so that what they
+    build (the truth's model, the reduced models' compiled code) stays out of
+    this process's memory. The numbers are the same either way.
+    """
     names = [m for m in MODELS if m in models]
-    runs = {n: run_model(n, v, seed, ("pbs",), truth) for n in [*names, "truth"]}
+    tasks = [(n, (truck_measures, n, seed, truth, load)) for n in ["truth", *names]]
+    with contextlib.closing(completed(_call, tasks, jobs, fresh=fresh)) as done:
+        runs = dict(done)
     rows = []
     for n in names:
         for c in COLUMNS:
-            value, ref = runs[n].measures[c], runs["truth"].measures[c]
-            plant = runs["mbd"].measures[c] if "mbd" in runs and n != "mbd" else math.nan
+            value, ref = runs[n][c], runs["truth"][c]
+            plant = runs["mbd"][c] if "mbd" in runs and n != "mbd" else math.nan
             rows.append({"seed": seed, "load": load, "model": n, "measure": c,
                          "unit": MEASURES[c][0], "value": value, "truth": ref,
                          "error": value - ref, "plant": plant, "error_vs_plant": value - plant})
@@ -57,10 +73,17 @@ def truck_table(seed: int, models: Sequence[str] = MODELS, truth: str | None = N
                                        "truth", "error", "plant", "error_vs_plant"])
 
 
+def _call(fn, *args):
+    return fn(*args)
+
+
 def write_truck_table(out_dir: Path, seed: int, models: Sequence[str] = MODELS,
-                      truth: str | None = None) -> Path:
-    """Write one truck's table as ``out_dir/pbs_truck.csv``, atomically."""
-    df = truck_table(seed, models, truth)
+                      truth: str | None = None, jobs: int = 1, fresh: bool = False) -> Path:
+    """Write one truck's table as ``out_dir/pbs_truck.csv``, atomically.
+
+    ``jobs`` and ``fresh`` as in :func:`truck_table`.
+    """
+    df = truck_table(seed, models, truth, jobs=jobs, fresh=fresh)
     return atomic_write(Path(out_dir) / "pbs_truck.csv", lambda p: df.to_csv(p, index=False))
 
 

@@ -14,6 +14,7 @@ the *thread* that forked the worker ends, not the process.
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import threading
 import time
@@ -49,20 +50,25 @@ def init_worker(parent: int) -> None:
 
 
 def completed(fn: Callable, tasks: Iterable[tuple[object, tuple]], jobs: int = 1,
-              executor: Executor | None = None) -> Iterator[tuple[object, object]]:
+              executor: Executor | None = None, fresh: bool = False
+              ) -> Iterator[tuple[object, object]]:
     """``(key, fn(*args))`` for each ``(key, args)`` of ``tasks``, as each finishes.
 
     The tasks run on ``executor`` when one is given; otherwise on ``jobs``
     worker processes started here (with :func:`init_worker`) when there are
-    more jobs and tasks than one; otherwise one after another in this
-    process. A pool started here is shut down, its waiting tasks cancelled,
-    when the iteration ends, fails, or is closed early (use
-    ``contextlib.closing``).
+    more jobs and tasks than one, or always with ``fresh``; otherwise one
+    after another in this process. Workers are forked from this process, or
+    with ``fresh`` started anew (``spawn``: they import what ``fn`` needs
+    and nothing of this process's memory, for work that would grow it). A
+    pool started here is shut down, its waiting tasks cancelled, when the
+    iteration ends, fails, or is closed early (use ``contextlib.closing``).
     """
     tasks = list(tasks)
-    own = executor is None and jobs > 1 and len(tasks) > 1
-    pool = ProcessPoolExecutor(max_workers=jobs, initializer=init_worker,
-                               initargs=(os.getpid(),)) if own else executor
+    own = executor is None and ((jobs > 1 and len(tasks) > 1) or (fresh and len(tasks) > 0))
+    context = multiprocessing.get_context("spawn") if fresh else None
+    pool = ProcessPoolExecutor(max_workers=max(1, min(jobs, len(tasks))), mp_context=context,
+                               initializer=init_worker, initargs=(os.getpid(),)) if own \
+        else executor
     try:
         if pool is None:
             for key, args in tasks:
