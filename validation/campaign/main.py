@@ -491,6 +491,12 @@ def run_campaign(config: CampaignConfig | Path | str, /, **options: Any) -> dict
     artic.CampaignConfig : its choices.
     artic.validate_runs : validate models on logs of your own.
 
+    Notes
+    -----
+    The PBS stage and the recordings run on new worker processes (``spawn``),
+    which import the calling script's main module again, as every pool does
+    on macOS: call this from a script under ``if __name__ == "__main__":``.
+
     Examples
     --------
     A part of the campaign (a forward tuning log and a reverse ramp steer, KIN
