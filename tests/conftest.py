@@ -29,6 +29,29 @@ from artic.validation.campaign.main import run_campaign  # noqa: E402
 from tests.helpers import SMALL_CAMPAIGN  # noqa: E402
 
 
+def _untraced_fork() -> None:
+    """In a forked child: stop the coverage tracer it inherited, and never save its data.
+
+    pytest-cov traces this process; a child forked from it (the campaign's and the
+    sweeps' worker pools, the docking supervisor) inherits the tracer, which slows
+    its Python about 2.4 times, but its data is never written: multiprocessing ends
+    its children with ``os._exit``, before coverage's exit hook. So the trace in a
+    child only costs time; what the children run is measured where a test runs it
+    in this process.
+    """
+    try:
+        import coverage
+    except ImportError:
+        return
+    cov = coverage.Coverage.current()
+    if cov is not None:
+        cov._auto_save = False  # as coverage's own fork hook does: not the parent's data
+        cov.stop()
+
+
+os.register_at_fork(after_in_child=_untraced_fork)
+
+
 def pytest_configure(config):
     # artic's pytest plugin (artic_logs, ...) comes from its pytest11 entry
     # point; an environment installed before the plugin existed, or with
