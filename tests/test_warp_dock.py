@@ -108,3 +108,31 @@ def test_a_missing_gpu_is_one_line():
     with pytest.raises(UserError, match="no CUDA GPU") as exc:
         warp_dock.prepare([run], device="cuda")
     assert "\n" not in str(exc.value)
+
+
+def test_a_sweep_on_the_warp_backend_writes_the_cpu_sweep_s_tables(tmp_path, monkeypatch,
+                                                                    capsys):
+    import dataclasses
+
+    import pandas as pd
+
+    from artic.validation.cli.entry import main
+    from artic.validation.docking import scenarios
+    from artic.validation.docking.scores import COLUMNS
+
+    # 1 s runs: the sweep's tables, not a docking (the test above compares the runs).
+    monkeypatch.setitem(scenarios.SCENARIOS, "straight",
+                        dataclasses.replace(scenarios.SCENARIOS["straight"], timeout=1.0))
+    out = tmp_path / "out"
+    code = main(["dock", "--sweep", "friction=1,0.5", "--scenario", "straight", "--vehicle",
+                 "gosar2022-unloaded", "--seeds", "1", "--backend", "warp", "--device", "cpu",
+                 "--no-recordings", "--out-dir", str(out)])
+    assert code == 1  # none docked in 1 s: the tables are written, and the exit says so
+    runs = pd.read_csv(out / "sweep_runs.csv")
+    assert list(runs.columns) == ["axis", "level", *COLUMNS]
+    assert list(runs["level"]) == [1.0, 0.5] and set(runs["plant"]) == {"mbd-warp"}
+    assert set(runs["failure"]) == {"timeout: not docked after 1 s"}
+    summary = pd.read_csv(out / "sweep.csv")
+    assert len(summary) == 2 and {"success", "success_lo", "timeouts"} <= set(summary.columns)
+    assert (out / "sweep.md").is_file() and (out / "sweep.png").is_file()
+    assert "none of the 2 run(s) docked" in capsys.readouterr().err

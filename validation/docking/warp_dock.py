@@ -615,3 +615,4 @@ def dock_batch(runs: Sequence[DockRun], conditions: Conditions | Sequence[Condit
         world, collision, timeout) is a row with its reason, and the others go on.
     """
     return prepare(runs, conditions, device).run()
+
