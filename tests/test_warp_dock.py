@@ -8,6 +8,8 @@ start, steer onto its path and reach the cruising speed.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -18,6 +20,7 @@ import warp as wp  # noqa: E402
 
 from artic.mjcf.errors import UserError  # noqa: E402
 from artic.validation.docking import warp_dock  # noqa: E402
+from artic.validation.docking.geometry import Box  # noqa: E402
 from artic.validation.docking.run import drive  # noqa: E402
 from artic.validation.docking.scenarios import scenario  # noqa: E402
 from artic.validation.docking.spec import Conditions, DockRun  # noqa: E402
@@ -41,7 +44,8 @@ def _runs():
     return [DockRun(scenario("straight"), "gosar2022-unloaded", "reference", 0, timeout=SHORT),
             DockRun(scenario("alley"), "gosar2022-loaded", "reference", 1, timeout=SHORT),
             DockRun(scenario("straight"), "gosar2022-unloaded", "reference", 2, timeout=SHORT),
-            DockRun(scenario("alley"), "gosar2022-unloaded", "reference", 3, timeout=SHORT)]
+            DockRun(scenario("alley"), "gosar2022-unloaded", "reference", 3, timeout=SHORT),
+            DockRun(scenario("straight"), "gosar2022-unloaded", "reference", 0, timeout=SHORT)]
 
 
 def test_batch_matches_the_cpu_run_and_failed_worlds_do_not_stop_it():
@@ -54,6 +58,12 @@ def test_batch_matches_the_cpu_run_and_failed_worlds_do_not_stop_it():
     qvel = batch.plant.d.qvel.numpy()
     qvel[3, 0] = np.nan
     batch.plant.d.qvel.assign(qvel)
+    # World 4 reverses into a wall 0.3 m behind its rear, which it reaches in about 1.1 s
+    # (from rest at 0.5 m/s^2); collisions are checked on the host after the batch.
+    job = batch.jobs[4]
+    x_r = job.start.x_r
+    wall = Box("wall", x_r - 0.6, x_r - 0.3, job.start.y_r - 5.0, job.start.y_r + 5.0)
+    job.yard = dataclasses.replace(job.yard, obstacles=(*job.yard.obstacles, wall))
     results = batch.run()
     for res, run in zip(results[:2], _runs()[:2], strict=True):
         ref = drive(run.scenario, run.vehicle, "reference", run.seed, timeout=SHORT)
@@ -75,6 +85,13 @@ def test_batch_matches_the_cpu_run_and_failed_worlds_do_not_stop_it():
     assert results[2].row["failure"].startswith("jackknife:")
     assert len(results[2].trace.t) == 2  # the start and the step that jackknifed
     assert results[3].row["failure"].startswith("plant diverged: world 3")
+    hit = results[4]
+    assert hit.row["failure"].startswith("collision: semitrailer hit wall at t = "), hit.row
+    hit_t = float(hit.row["failure"].split("t = ")[1].split(" s")[0])
+    assert 0.5 < hit_t < SHORT and hit.trace.t[-1] >= hit_t
+    # the run ends with the sample whose steps hit: its 10 plant steps, no later sample
+    assert len(hit.trace.t) - 1 == 10 * len(hit.trace.t_ctrl) < 10 * 20
+    assert np.array_equal(hit.trace.commands, results[0].trace.commands[:len(hit.trace.t_ctrl)])
     assert not any(r.row["success"] for r in results)
 
 
@@ -91,7 +108,7 @@ def test_what_runs_only_on_the_cpu_is_refused_in_one_line(run, conditions, match
     assert "\n" not in str(exc.value)
 
 
-def test_bad_batches_are_refused_in_one_line():
+def test_bad_batches_are_refused_in_one_line(monkeypatch):
     with pytest.raises(UserError, match="at least one"):
         warp_dock.prepare([])
     runs = _runs()[:2]
@@ -100,6 +117,11 @@ def test_bad_batches_are_refused_in_one_line():
     run = DockRun(scenario("straight"), "gosar2022-unloaded", "reference", 0, timeout=-1.0)
     with pytest.raises(UserError, match="positive number of seconds"):
         warp_dock.prepare([run])
+    # a batch whose records do not fit the device: refused before the plant is built
+    monkeypatch.setattr(warp_dock, "free_bytes", lambda device: 3 * warp_dock.record_bytes(SHORT))
+    with pytest.raises(UserError, match="give at most about 1 runs per batch") as exc:
+        warp_dock.prepare(runs)
+    assert "\n" not in str(exc.value)
 
 
 @pytest.mark.skipif(wp.is_cuda_available(), reason="a CUDA GPU is here")
@@ -112,8 +134,6 @@ def test_a_missing_gpu_is_one_line():
 
 def test_a_sweep_on_the_warp_backend_writes_the_cpu_sweep_s_tables(tmp_path, monkeypatch,
                                                                     capsys):
-    import dataclasses
-
     import pandas as pd
 
     from artic.validation.cli.entry import main

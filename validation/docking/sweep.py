@@ -569,20 +569,24 @@ WORLDS_PER_BATCH = 4096
 def _on_warp(specs: Sequence[RunSpec], device: str) -> Iterator[tuple[RunSpec, dict]]:
     """``(spec, row)`` of each run on the Warp plant, batch by batch (:func:`execute`).
 
-    The runs of one vehicle go in batches of at most :data:`WORLDS_PER_BATCH` worlds
-    (a batch's plant holds one model layout):
+    The runs of one vehicle go in batches of at most :data:`WORLDS_PER_BATCH` worlds,
+    fewer where their records would not fit the device
+    (:func:`~artic.validation.docking.warp_dock.runs_that_fit`; a batch's plant holds one
+    model layout):
     :func:`artic.validation.docking.warp_dock.dock_batch`.
     """
     from artic.validation.docking.scenarios import scenario
     from artic.validation.docking.spec import DockRun, split_options
-    from artic.validation.docking.warp_dock import dock_batch
+    from artic.validation.docking.warp_dock import dock_batch, runs_that_fit
 
     by_vehicle: dict[str, list[RunSpec]] = {}
     for s in specs:
         by_vehicle.setdefault(s.vehicle, []).append(s)
+    longest = max((scenario(s.scenario).timeout for s in specs), default=0.0)
+    size = min(WORLDS_PER_BATCH, runs_that_fit(longest, device)) if specs else 1
     for group in by_vehicle.values():
-        for at in range(0, len(group), WORLDS_PER_BATCH):
-            chunk = group[at:at + WORLDS_PER_BATCH]
+        for at in range(0, len(group), size):
+            chunk = group[at:at + size]
             runs, conds = [], []
             for s in chunk:
                 options, c = split_options({"sensor_set": s.sensors, "trailer": s.trailer,

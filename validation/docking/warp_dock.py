@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import time
 from collections.abc import Sequence
 from itertools import accumulate
@@ -45,7 +46,7 @@ import warp as wp
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import load_vehicle
-from artic.plant.warp_plant import WarpPlant
+from artic.plant.warp_plant import WarpPlant, find_device
 from artic.validation.docking import warp_law
 from artic.validation.docking.conditions import road
 from artic.validation.docking.controllers import Task
@@ -177,12 +178,12 @@ def sample_kernel(counter: wp.array(dtype=int), loop: Loop, law: warp_law.Law,
     dh = bus(loop, records, w, j)
     records.delta_h[w, k] = dh
     wheel, u1, done = warp_law.command(law, w, m, k, dh)
+    records.commands[w, k, 0] = wheel
+    records.commands[w, k, 1] = u1
     if not (wp.isfinite(wheel) and wp.isfinite(u1)):
         state.fail[w] = NON_FINITE
         state.phase[w] = ENDED
         return
-    records.commands[w, k, 0] = wheel
-    records.commands[w, k, 1] = u1
     state.samples[w] = k + 1
     state.wheel_target[w] = wheel
     if done != 0:
@@ -355,6 +356,31 @@ def _loop_consts(job: Job, n_ctrl: int) -> np.ndarray:
     return out
 
 
+def record_bytes(timeout: float) -> int:
+    """Bytes of one run's records on the device for a run of ``timeout`` [s]."""
+    samples = int(round(timeout / DT)) + 1
+    steps = samples * round(DT / PLANT_DT) + 1
+    # per step the signals (float32) and the wheel and speed (float64); per sample the
+    # measured signals, the wheel from the bus, the commands and the noise (float64)
+    return steps * (13 * 4 + 2 * 8) + samples * 8 * (13 + 1 + 2 + 12)
+
+
+def free_bytes(device: str) -> int:
+    """The free memory of Warp's ``device`` [bytes] (the host's for ``"cpu"``)."""
+    dev = find_device(device)
+    if dev.is_cuda:
+        return int(dev.free_memory)
+    return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+
+
+def runs_that_fit(timeout: float, device: str) -> int:
+    """How many runs of ``timeout`` [s] one batch on ``device`` takes, at least 1.
+
+    Their records in half its free memory; the plant's worlds take the rest.
+    """
+    return max(1, int(0.5 * free_bytes(device) // record_bytes(timeout)))
+
+
 class Batch:
     """The planned runs of :func:`dock_batch` on one Warp plant, ready to run.
 
@@ -377,6 +403,13 @@ class Batch:
         js = [jobs[i] for i in self.worlds]
         self.n_ctrl = [int(round(_timeout(j.run) / DT)) for j in js]
         self.n_sub = round(DT / PLANT_DT)
+        need = len(js) * record_bytes(max(self.n_ctrl) * DT)
+        free = free_bytes(device)
+        if need > 0.5 * free:
+            raise UserError(f"{len(js)} runs: their records need about {need / 2**30:.1f} GiB, "
+                            f"more than half of {device}'s free memory ({free / 2**30:.1f} GiB); "
+                            f"give at most about {runs_that_fit(max(self.n_ctrl) * DT, device)} "
+                            "runs per batch, or shorter timeouts")
         self.plant = WarpPlant([j.plant_vehicle for j in js], device=device)
         starts = []
         for j in js:
@@ -497,54 +530,59 @@ class Batch:
                     if (k + 1) % check_every == 0 and np.all(
                             self.state.phase.numpy() == ENDED):
                         break
+            self._read_back()
             self.plant.close()
         return [self._result(i) for i in range(len(self.jobs))]
 
+    def _read_back(self) -> None:
+        """The records and the worlds' ends, on the host once."""
+        st, rec = self.state, self.records
+        self.host = {name: getattr(st, name).numpy() for name in ("steps", "samples", "fail",
+                                                                  "done")}
+        self.host.update({name: getattr(rec, name).numpy() for name in (
+            "plant", "wheel", "speed", "measured", "commands")})
+        self.host["failures"] = self.plant.failures()
+
     def _trace(self, w: int) -> Trace:
         """World ``w``'s trace as ``dock`` keeps it, with the collision check of its samples."""
-        st, rec = self.state, self.records
-        n_steps = int(st.steps.numpy()[w]) + 1
-        n_samples = int(st.samples.numpy()[w])
-        fail = int(st.fail.numpy()[w])
-        tr = Trace()
-        true = rec.plant.numpy()[w, :n_steps].astype(float)
-        tr.true = list(true)
-        tr.steering_wheel = rec.wheel.numpy()[w, :n_steps].tolist()
-        tr.speed = rec.speed.numpy()[w, :n_steps].tolist()
-        tr.t = list(accumulate([0.0] + [PLANT_DT] * (n_steps - 1)))
-        tr.t_ctrl = [k * DT for k in range(n_samples)]
-        tr.measured = list(rec.measured.numpy()[w, :n_samples])
-        tr.commands = [tuple(c) for c in rec.commands.numpy()[w, :n_samples].tolist()]
-        tr.seen_at = [k * self.n_sub for k in range(n_samples)]
-        tr.horizons = [None] * n_samples
-        tr.references = [None] * n_samples
-        tr.done = bool(st.done.numpy()[w])
+        h = self.host
+        n_steps = int(h["steps"][w]) + 1
+        n_samples = int(h["samples"][w])
+        fail = int(h["fail"][w])
+        true = h["plant"][w, :n_steps].astype(float)
         job = self.jobs[self.worlds[w]]
-        boxes = box_array(job.yard.obstacles)
         n = self.n_sub
         # Every sample's steps were checked after them, but for the one a jackknife ended.
         checked = (n_steps - 2) // n if fail == JACKKNIFE else (n_steps - 1) // n
-        for k in range(checked):
-            i, b, unit = job.frames.first_hit_of_signals(true[1 + k * n:1 + (k + 1) * n], boxes)
-            if i >= 0:
-                end = 1 + (k + 1) * n
-                tr.failure = (f"collision: {('tractor', 'semitrailer')[unit]} hit "
-                              f"{job.yard.obstacles[b].name} at t = {tr.t[1 + k * n + i]:.2f} s")
-                tr.true, tr.steering_wheel, tr.speed, tr.t = (
-                    x[:end] for x in (tr.true, tr.steering_wheel, tr.speed, tr.t))
-                keep = sum(1 for s in tr.seen_at if s < end)
-                for name in ("t_ctrl", "measured", "commands", "seen_at", "horizons",
-                             "references"):
-                    setattr(tr, name, getattr(tr, name)[:keep])
-                return tr
+        # The first hit over the checked samples' steps is the first sample's with one.
+        i, b, unit = job.frames.first_hit_of_signals(true[1:1 + checked * n],
+                                                     box_array(job.yard.obstacles))
+        if i >= 0:
+            n_steps = 1 + (i // n + 1) * n  # the run ends with the sample that hit
+            n_samples = min(n_samples, i // n + 1)
+        tr = Trace()
+        tr.true = list(true[:n_steps])
+        tr.steering_wheel = h["wheel"][w, :n_steps].tolist()
+        tr.speed = h["speed"][w, :n_steps].tolist()
+        tr.t = list(accumulate([0.0] + [PLANT_DT] * (n_steps - 1)))
+        tr.t_ctrl = [k * DT for k in range(n_samples)]
+        tr.measured = list(h["measured"][w, :n_samples])
+        tr.commands = [tuple(c) for c in h["commands"][w, :n_samples].tolist()]
+        tr.seen_at = [k * n for k in range(n_samples)]
+        tr.horizons = [None] * n_samples
+        tr.references = [None] * n_samples
+        tr.done = bool(h["done"][w])
         gamma_max = job.plant_vehicle.gamma_max
-        if fail == JACKKNIFE:
+        if i >= 0:
+            tr.failure = (f"collision: {('tractor', 'semitrailer')[unit]} hit "
+                          f"{job.yard.obstacles[b].name} at t = {tr.t[1 + i]:.2f} s")
+        elif fail == JACKKNIFE:
             tr.failure = (f"jackknife: |gamma| {math.degrees(abs(true[-1, 12])):.1f} deg beyond "
                           f"{math.degrees(gamma_max):.1f} deg at t = {tr.t[-1]:.2f} s")
         elif fail == DIVERGED:
-            tr.failure = f"plant diverged: {self.plant.failures().get(w, f'world {w}')}"
+            tr.failure = f"plant diverged: {h['failures'].get(w, f'world {w}')}"
         elif fail == NON_FINITE:
-            c = rec.commands.numpy()[w, n_samples]
+            c = h["commands"][w, n_samples]
             tr.failure = (f"controller error: non-finite command {tuple(c)} at "
                           f"t = {n_samples * DT:.1f} s")
         elif fail == TIMEOUT:
