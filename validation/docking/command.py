@@ -354,6 +354,8 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, names: tuple, dask,
     (``--backend warp``), or ``None`` for the CPU's.
     """
     scenarios, vehicles, controllers = names
+    import dataclasses
+
     import pandas as pd
 
     from artic.validation.docking import sweep as sw
@@ -368,8 +370,9 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, names: tuple, dask,
     axis, levels = sweep
     specs = sw.plan(axis, levels, scenarios, vehicles, controllers, range(args.seeds),
                     truth=0 if args.truth else None, realtime=args.realtime,
-                    sensors=sensor_set(args.sensors), trailer=check_trailer(args.trailer),
-                    backend=args.backend)
+                    sensors=sensor_set(args.sensors), trailer=check_trailer(args.trailer))
+    if args.backend != "cpu":  # a run on the other plant is another run on resumption
+        specs = [dataclasses.replace(s, backend=args.backend) for s in specs]
     with OutDirLock(out, "dock"):
         stale = clean_stale(out)
         if stale:

@@ -369,16 +369,13 @@ def check_base(axis: Axis, sensors: str = "full", trailer: str = "nominal") -> N
 def plan(axis: Axis, levels: Sequence[float | str], scenarios: Sequence[str],
          vehicles: Sequence[str], controllers: Sequence[str], seeds: Sequence[int],
          truth: int | None = None, realtime: bool = True, sensors: str = "full",
-         trailer: str = "nominal", backend: str = "cpu") -> list[RunSpec]:
-    """Every run of a sweep, level by level, in the order of the tables (see :func:`check_base`).
-
-    ``backend`` ``"warp"`` runs them on the Warp plant (:func:`sweep`'s ``device``).
-    """
+         trailer: str = "nominal") -> list[RunSpec]:
+    """Every run of a sweep, level by level, in the order of the tables (see :func:`check_base`)."""
     check_base(axis, sensors, trailer)
     prints = {v: vehicle_fingerprint(v) for v in vehicles}
     codes = {c: code_fingerprint(c) for c in controllers}
     return [RunSpec(axis.name, lv, s, v, c, int(seed), prints[v], truth, realtime, sensors,
-                    trailer, codes[c], backend)
+                    trailer, codes[c])
             for lv in levels for s in scenarios for v in vehicles for c in controllers
             for seed in seeds]
 

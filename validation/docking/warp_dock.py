@@ -397,6 +397,7 @@ class Batch:
     def __init__(self, jobs: list[Job], device: str) -> None:
         self.jobs = jobs
         self.worlds = [i for i, j in enumerate(jobs) if j.plan is not None]
+        self._world_of = {i: w for w, i in enumerate(self.worlds)}
         self.plant = None
         if not self.worlds:
             return
@@ -592,8 +593,8 @@ class Batch:
     def _result(self, i: int) -> Result:
         """Job ``i``'s result: its row as ``dock`` writes it."""
         job = self.jobs[i]
-        if i in self.worlds:
-            trace = self._trace(self.worlds.index(i))
+        if i in self._world_of:
+            trace = self._trace(self._world_of[i])
         else:
             trace = Trace(failure=job.failure)
         identifier = WheelbaseIdentifier(job.vehicle)
