@@ -156,3 +156,24 @@ def test_a_sweep_on_the_warp_backend_writes_the_cpu_sweep_s_tables(tmp_path, mon
     assert len(summary) == 2 and {"success", "success_lo", "timeouts"} <= set(summary.columns)
     assert (out / "sweep.md").is_file() and (out / "sweep.png").is_file()
     assert "none of the 2 run(s) docked" in capsys.readouterr().err
+
+
+class _NoPath:
+    """A planner that finds nothing."""
+
+    def plan(self, yard, vehicle, start):
+        from artic.validation.docking.planner import PlanningError
+
+        raise PlanningError("boxed in")
+
+
+def test_a_run_without_a_plan_is_a_failed_row_beside_the_others():
+    runs = [DockRun(scenario("straight"), "gosar2022-unloaded", "reference", 0, timeout=1.0),
+            DockRun(scenario("straight"), "gosar2022-unloaded", "reference", 1, timeout=1.0,
+                    planner=_NoPath())]
+    batch = warp_dock.prepare(runs)
+    assert batch.worlds == [0] and batch.plant.n_worlds == 1  # no world for the unplanned run
+    first, second = batch.run()
+    assert first.row["failure"] == "timeout: not docked after 1 s" and len(first.trace.t) == 101
+    assert second.row["failure"] == "no plan: boxed in" and not second.trace.t
+    assert second.row["seed"] == 1 and second.row["plant"] == "mbd-warp"
