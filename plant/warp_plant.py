@@ -56,7 +56,7 @@ SPEED_MODES = ("follow", "drive")
 """How the worlds' tractor speed is controlled, as :class:`artic.plant.Plant`'s."""
 
 
-def _device(device: str) -> wp.context.Device:
+def find_device(device: str) -> wp.context.Device:
     """Warp's device ``device``, or a :class:`UserError` saying what to do."""
     wp.init()
     try:
@@ -196,7 +196,7 @@ class WarpPlant:
         if speed not in SPEED_MODES:
             raise UserError(f"speed {speed!r}: expected one of {', '.join(SPEED_MODES)} "
                             "(pedals: the CPU plant)")
-        self.device = _device(device)
+        self.device = find_device(device)
         self.n_worlds = int(n_worlds)
         self.speed_mode = speed
         per_vehicle = _per_world("vehicles", vehicles, self.n_worlds)

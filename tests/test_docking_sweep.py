@@ -491,3 +491,53 @@ def test_a_one_controller_sweep_says_why_it_has_no_paired_comparisons(tmp_path):
     assert text.strip().splitlines()[-1] == (
         "Paired comparisons: none (one controller: a comparison pairs two controllers over "
         "the same starts; give --controller A,B).")
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--controller", "reference,mpc"], "--controller mpc: runs only on the CPU backend"),
+    (["--truth"], "--truth: runs only on the CPU backend"),
+    (["--sensors", "camera"], "--sensors camera: runs only on the CPU backend"),
+    (["--sweep", "delay=0,0.1"], "--sweep delay: runs only on the CPU backend"),
+])
+def test_what_the_warp_backend_does_not_run_is_one_line(argv, message, tmp_path, capsys):
+    from artic.validation.cli.entry import main
+
+    out = tmp_path / "out"
+    if "--sweep" not in argv:
+        argv = ["--sweep", "steer_rate=360,180", *argv]
+    code = main(["dock", "--backend", "warp", *argv,
+                 "--scenario", "straight", "--vehicle", VEHICLE, "--seeds", "1",
+                 "--out-dir", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and message in err[0], err
+    assert not out.exists()
+
+
+def test_the_warp_backend_without_the_gpu_extra_or_a_sweep_is_one_line(tmp_path, capsys,
+                                                                       monkeypatch):
+    import importlib.util
+
+    from artic.validation.cli.entry import main
+
+    out = tmp_path / "out"
+    base = ["dock", "--scenario", "straight", "--vehicle", VEHICLE, "--seeds", "1",
+            "--out-dir", str(out)]
+    assert main([*base, "--backend", "warp"]) == 2
+    assert "--backend warp runs sweeps" in capsys.readouterr().err
+    assert main([*base, "--device", "cpu", "--sweep", "friction=1,0.6"]) == 2
+    assert "add --backend warp" in capsys.readouterr().err
+    find = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name in ("warp", "mujoco_warp")
+                        else find(name, *a))
+    assert main([*base, "--backend", "warp", "--sweep", "friction=1,0.6"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and 'pip install "artic[gpu]"' in err[0], err
+    assert not out.exists()
+
+
+def test_a_warp_run_is_not_a_cpu_run_on_resumption():
+    cpu = sw.plan(sw.AXES["friction"], [1.0], ["straight"], [VEHICLE], ["reference"], [0])[0]
+    warp = dataclasses.replace(cpu, backend="warp")
+    assert "backend" not in cpu.as_dict()  # the files of before the Warp backend still match
+    assert warp.as_dict()["backend"] == "warp" and warp.as_dict() != cpu.as_dict()

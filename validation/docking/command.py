@@ -26,7 +26,9 @@
   on ``--jobs`` local processes or ``--executor dask`` (``--scheduler``, TLS
   options), each written as it finishes so that a killed sweep resumes; writes
   ``D/sweep.csv``, ``D/sweep_pairs.csv``, ``D/sweep.md``, ``D/sweep.png`` and
-  ``D/sweep_runs.csv``.
+  ``D/sweep_runs.csv``. With ``--backend warp [--device cuda|cpu]`` the reference
+  controller's runs go to the Warp plant in batches
+  (:mod:`artic.validation.docking.warp_dock`; the gpu extra), into the same tables.
 
 A name given twice in a list is refused (its runs would count twice). A
 controller module that cannot be imported is one line naming the module and
@@ -99,8 +101,56 @@ def add_options(p) -> None:
                    help="a robustness sweep: every run at each level of one axis (artic dock "
                         "--list names the axes); writes sweep.csv, sweep_pairs.csv, sweep.md "
                         "and sweep.png, and resumes an interrupted sweep in the same folder")
+    p.add_argument("--backend", choices=("cpu", "warp"), default="cpu",
+                   help="the plant a sweep's runs drive: cpu, the C plant on --jobs processes; "
+                        "warp, the reference controller's runs batched on the Warp plant "
+                        "(pip install \"artic[gpu]\"; no recordings) (default: %(default)s)")
+    p.add_argument("--device", choices=("cpu", "cuda"), default=None,
+                   help="with --backend warp: Warp's device, cuda (a GPU) or cpu (slow, for "
+                        "checks) (default: cuda)")
     options.add_executor_options(p, "a sweep's runs")
     p.set_defaults(func=run)
+
+
+def check_backend(args: argparse.Namespace, controllers: list[str],
+                  axis: str | None = None) -> str | None:
+    """The Warp device of ``--backend warp``, or ``None`` for the CPU plant.
+
+    Raises
+    ------
+    UserError
+        One line for what the Warp backend does not run, or a missing gpu extra.
+    """
+    if args.backend == "cpu":
+        if args.device is not None:
+            raise UserError("--device picks the Warp plant's device: add --backend warp, or "
+                            "leave --device out")
+        return None
+    if args.sweep is None:
+        raise UserError("--backend warp runs sweeps: add --sweep AXIS=L1,L2,... (the "
+                        "benchmark itself runs on the CPU plant)")
+    others = [c for c in controllers if c != "reference"]
+    if others:
+        raise UserError(f"--controller {others[0]}: runs only on the CPU backend; the Warp "
+                        "backend batches the reference controller alone (leave --backend warp "
+                        "out, or give --controller reference)")
+    for flag, bad in (("--truth", args.truth), ("--executor dask", args.executor != "local"),
+                      (f"--sensors {args.sensors}", args.sensors != "full"),
+                      (f"--sweep {axis}", axis in ("delay", "sensors", "articulation_noise"))):
+        if bad:
+            raise UserError(f"{flag}: runs only on the CPU backend; leave it out with "
+                            "--backend warp")
+    import importlib.util
+
+    missing = [m for m in ("warp", "mujoco_warp") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise UserError(f"--backend warp needs the gpu extra ({', '.join(missing)} is not "
+                        'installed): pip install "artic[gpu]"')
+    device = args.device or "cuda"
+    from artic.plant.warp_plant import find_device
+
+    find_device(device)  # a missing GPU is one line now, before any run is planned
+    return device
 
 
 def _cores() -> int:
@@ -244,11 +294,12 @@ def run(args: argparse.Namespace) -> int:
         for v in vehicles:
             draw_semitrailer(load_vehicle(v), np.random.default_rng(0))
     controllers = _names(args.controller, "--controller")
+    device = check_backend(args, controllers, None if sweep is None else sweep[0].name)
     classes = [load(c) for c in controllers]
     _once([f"{c.__module__}:{c.__qualname__}" for c in classes], "--controller", controllers)
     out = check_output_dir(args.out_dir)
     if sweep is not None:
-        return _run_sweep(args, out, sweep, scenarios, vehicles, controllers, dask)
+        return _run_sweep(args, out, sweep, (scenarios, vehicles, controllers), dask, device)
     rows = []
     with OutDirLock(out, "dock"):
         stale = clean_stale(out)
@@ -295,9 +346,16 @@ def run(args: argparse.Namespace) -> int:
     return _exit_code(rows, out)
 
 
-def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
-               vehicles: list[str], controllers: list[str], dask) -> int:
-    """``artic dock --sweep``: the runs (resumed), then sweep.csv, its pairs, .md and .png."""
+def _run_sweep(args: argparse.Namespace, out: Path, sweep, names: tuple, dask,
+               device: str | None) -> int:
+    """``artic dock --sweep``: the runs (resumed), then sweep.csv, its pairs, .md and .png.
+
+    ``names`` are the scenarios, vehicles and controllers; ``device`` the Warp plant's
+    (``--backend warp``), or ``None`` for the CPU's.
+    """
+    scenarios, vehicles, controllers = names
+    import dataclasses
+
     import pandas as pd
 
     from artic.validation.docking import sweep as sw
@@ -313,14 +371,18 @@ def _run_sweep(args: argparse.Namespace, out: Path, sweep, scenarios: list[str],
     specs = sw.plan(axis, levels, scenarios, vehicles, controllers, range(args.seeds),
                     truth=0 if args.truth else None, realtime=args.realtime,
                     sensors=sensor_set(args.sensors), trailer=check_trailer(args.trailer))
+    if args.backend != "cpu":  # a run on the other plant is another run on resumption
+        specs = [dataclasses.replace(s, backend=args.backend) for s in specs]
     with OutDirLock(out, "dock"):
         stale = clean_stale(out)
         if stale:
             stderr(f"removed {len(stale)} temporary file(s) left by an interrupted run")
+        if device is not None and args.recordings:
+            stderr("--backend warp writes no recordings (the CPU backend does)")
         rows = sw.sweep(specs, out, jobs=args.jobs, executor=args.executor,
                         scheduler=args.scheduler, dask=dask,
                         recordings=out / "recordings" if args.recordings else None,
-                        progress=stderr)
+                        progress=stderr, device=device)
         _warn_late(rows, args.realtime)
         frame = pd.DataFrame(rows).reindex(columns=["axis", "level", *COLUMNS])
         atomic_write(out / "sweep_runs.csv",

@@ -296,6 +296,9 @@ class RunSpec:
     code: str = ""
     """:func:`code_fingerprint` of the run's controller: a run made by other code is not
     reused."""
+    backend: str = "cpu"
+    """The plant the run drives: ``"cpu"``, or ``"warp"`` (``artic dock --backend warp``,
+    :mod:`artic.validation.docking.warp_dock`); a run on the other is not reused."""
 
     @property
     def name(self) -> str:
@@ -306,8 +309,11 @@ class RunSpec:
                 f"{run_name(self.scenario, self.vehicle, self.controller, self.seed)}")
 
     def as_dict(self) -> dict:
-        """As JSON stores it."""
-        return dataclasses.asdict(self)
+        """As JSON stores it (without ``backend`` for the CPU's: the files of before it)."""
+        out = dataclasses.asdict(self)
+        if self.backend == "cpu":
+            del out["backend"]
+        return out
 
 
 def vehicle_fingerprint(vehicle: str) -> str:
@@ -385,7 +391,7 @@ def run_one(spec: RunSpec, recordings: str | None = None) -> dict:
                 **axis.keywords(spec.level)}
     row = drive(scenario(spec.scenario), spec.vehicle, spec.controller, spec.seed,
                 record=record, truth=spec.truth, realtime=spec.realtime, **keywords).row
-    return _stored({"axis": spec.axis, "level": spec.level, **row})
+    return stored({"axis": spec.axis, "level": spec.level, **row})
 
 
 def run_in_child(spec: RunSpec, recordings: str | None = None) -> dict:
@@ -407,10 +413,10 @@ def _failed(spec: RunSpec, reason: str) -> dict:
 
     row = failed_row(spec.scenario, spec.vehicle, spec.controller, spec.seed, spec.truth,
                      reason, spec.sensors, spec.trailer)
-    return _stored({"axis": spec.axis, "level": spec.level, **row})
+    return stored({"axis": spec.axis, "level": spec.level, **row})
 
 
-def _stored(row: dict) -> dict:
+def stored(row: dict) -> dict:
     """``row`` as a run file keeps it: plain numbers, without the per-command compute times."""
     out = {}
     for k, v in row.items():
@@ -492,7 +498,8 @@ def write_run(folder: Path, spec: RunSpec, row: dict) -> Path:
 
 def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
             scheduler: str | None = None, dask=None, recordings: Path | None = None,
-            deadline: float | None = None) -> Iterator[tuple[RunSpec, dict]]:
+            deadline: float | None = None,
+            device: str | None = None) -> Iterator[tuple[RunSpec, dict]]:
     """``(spec, row)`` of each run as it finishes.
 
     Parameters
@@ -514,7 +521,14 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
         Folder for one recording per run.
     deadline : float, optional
         Longest controller call [s] (local only).
+    device : str, optional
+        The Warp device (``"cuda"``, ``"cpu"``) of runs on the Warp plant
+        (batch by batch, :data:`WORLDS_PER_BATCH` worlds at most; no recordings);
+        ``None``: the CPU plant.
     """
+    if device is not None:
+        yield from _on_warp(specs, device)
+        return
     rec = None if recordings is None else str(recordings)
     by_name = {s.name: s for s in specs}
     if executor == "local":
@@ -545,14 +559,51 @@ def execute(specs: Sequence[RunSpec], jobs: int = 1, executor: str = "local",
                 f.cancel()
 
 
+WORLDS_PER_BATCH = 4096
+"""Most runs of one vehicle a sweep puts on one Warp plant; more go in further batches."""
+
+
+def _on_warp(specs: Sequence[RunSpec], device: str) -> Iterator[tuple[RunSpec, dict]]:
+    """``(spec, row)`` of each run on the Warp plant, batch by batch (:func:`execute`).
+
+    The runs of one vehicle go in batches of at most :data:`WORLDS_PER_BATCH` worlds,
+    fewer where their records would not fit the device
+    (:func:`~artic.validation.docking.warp_dock.runs_that_fit`; a batch's plant holds one
+    model layout):
+    :func:`artic.validation.docking.warp_dock.dock_batch`.
+    """
+    from artic.validation.docking.scenarios import scenario
+    from artic.validation.docking.spec import DockRun, split_options
+    from artic.validation.docking.warp_dock import dock_batch, runs_that_fit
+
+    by_vehicle: dict[str, list[RunSpec]] = {}
+    for s in specs:
+        by_vehicle.setdefault(s.vehicle, []).append(s)
+    longest = max((scenario(s.scenario).timeout for s in specs), default=0.0)
+    size = min(WORLDS_PER_BATCH, runs_that_fit(longest, device)) if specs else 1
+    for group in by_vehicle.values():
+        for at in range(0, len(group), size):
+            chunk = group[at:at + size]
+            runs, conds = [], []
+            for s in chunk:
+                options, c = split_options({"sensor_set": s.sensors, "trailer": s.trailer,
+                                            **AXES[s.axis].keywords(s.level)})
+                runs.append(DockRun(scenario(s.scenario), s.vehicle, s.controller, s.seed,
+                                    **options))
+                conds.append(c)
+            for s, res in zip(chunk, dock_batch(runs, conds, device), strict=True):
+                yield s, stored({"axis": s.axis, "level": s.level, **res.row})
+
+
 def sweep(specs: Sequence[RunSpec], out: Path, jobs: int = 1, executor: str = "local",
           scheduler: str | None = None, dask=None, recordings: Path | None = None,
           progress: Callable[[str], None] | None = None,
-          deadline: float | None = None) -> list[dict]:
+          deadline: float | None = None, device: str | None = None) -> list[dict]:
     """Run the sweep's runs not yet done in ``out``; every run's row, in ``specs``' order.
 
     Each run's row is written to ``out/sweep_runs`` as it finishes
-    (:func:`write_run`), so an interrupted sweep resumes (:func:`done_runs`).
+    (:func:`write_run`), so an interrupted sweep resumes (:func:`done_runs`). With
+    ``device`` the runs go to the Warp plant on that device (:func:`execute`).
     """
     from artic.validation.plumbing.progress import Counter
 
@@ -569,11 +620,14 @@ def sweep(specs: Sequence[RunSpec], out: Path, jobs: int = 1, executor: str = "l
     if progress is not None:
         where = (f"{jobs} local process{'es' if jobs > 1 else ''}" if executor == "local"
                  else f"Dask ({scheduler or f'a local cluster of {jobs}'})")
+        if device is not None:
+            where = f"the Warp plant ({device})"
         progress(f"sweep {specs[0].axis if specs else ''}: {len(specs)} runs"
                  + (f", {len(rows)} already done in {folder} (resumed)" if rows else "")
                  + (f", {len(todo)} to run on {where}" if todo else ""))
     counter = Counter(len(todo), f"sweep {specs[0].axis if specs else ''}", progress)
-    for spec, row in execute(todo, jobs, executor, scheduler, dask, recordings, deadline):
+    for spec, row in execute(todo, jobs, executor, scheduler, dask, recordings, deadline,
+                             device):
         write_run(folder, spec, row)
         rows[spec.name] = row
         counter.step(f"{spec.axis}={level_text(spec.level)} {spec.scenario} "
