@@ -22,11 +22,9 @@ from artic.validation.plumbing import runtime
 
 # As the artic command does: numba's cache folder before any compiled model is imported.
 runtime.configure()
-
-from artic.mjcf import load_vehicle  # noqa: E402
-from artic.validation.campaign.config import CampaignConfig  # noqa: E402
-from artic.validation.campaign.main import run_campaign  # noqa: E402
-from tests.helpers import SMALL_CAMPAIGN  # noqa: E402
+# The fixtures import what they make (the campaign, the presets) when first asked: a
+# pytest process that runs none of them (the suite's own checks start several) does
+# not pay 1.8 s importing the campaign.
 
 
 def _untraced_fork() -> None:
@@ -104,17 +102,25 @@ def _settled_heap():
 
 @pytest.fixture(scope="session")
 def unloaded():
+    from artic.mjcf import load_vehicle
+
     return load_vehicle("gosar2022-unloaded")
 
 
 @pytest.fixture(scope="session")
 def loaded():
+    from artic.mjcf import load_vehicle
+
     return load_vehicle("gosar2022-loaded")
 
 
 @pytest.fixture(scope="session")
 def small_campaign(tmp_path_factory) -> Path:
     """The output folder of :data:`SMALL_CAMPAIGN`, made once per session; read only."""
+    from artic.validation.campaign.config import CampaignConfig
+    from artic.validation.campaign.main import run_campaign
+    from tests.helpers import SMALL_CAMPAIGN
+
     out = tmp_path_factory.mktemp("small-campaign") / "out"
     run_campaign(CampaignConfig(out, **SMALL_CAMPAIGN))
     return out
@@ -124,6 +130,8 @@ def small_campaign(tmp_path_factory) -> Path:
 def default_campaign(tmp_path_factory) -> Path:
     """The README's first command's campaign (all 63 manoeuvres, recordings), once per
     session, for the slow tests that check it whole; read only."""
+    from artic.validation.campaign.main import run_campaign
+
     out = tmp_path_factory.mktemp("default-campaign") / "out"
     run_campaign(out, jobs=os.cpu_count() or 1)
     return out

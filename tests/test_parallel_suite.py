@@ -24,8 +24,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def test_each_file_runs_whole_in_one_process():
     pytest.importorskip("xdist", reason="pytest-xdist (the test extra) is not installed")
-    files = ["tests/test_parameter_lists.py", "tests/test_campaign_measures.py",
-             "tests/test_startup.py"]
+    # Three files that import little (the check is of the dealing, not of the tests).
+    files = ["tests/test_parameter_lists.py", "tests/test_see_also.py", "tests/test_startup.py"]
     out = subprocess.run([sys.executable, "-m", "pytest", "-n", "2", "--dist", "loadfile", "-v",
                           "-p", "no:cacheprovider", *files], cwd=ROOT, capture_output=True,
                          text=True, timeout=600)
