@@ -5,8 +5,9 @@ vectorization_mode="vector_entry_point")`` returns a :class:`DockVectorEnv`:
 ``N`` :class:`~artic.validation.docking.gym.env.DockEnv` in one process, without
 a worker process each (``artic/DockKIN-v0`` gets the batched
 :class:`~artic.validation.docking.gym.kinbatch.KinVectorEnv` where it covers the
-options, :func:`vector_env`). Every episode already runs its
-``artic dock`` loop on a thread of its own
+options, and ``backend="warp"`` the Warp plant's
+:class:`~artic.validation.docking.gym.warpbatch.WarpDockVectorEnv`: :func:`vector_env`).
+Every episode already runs its ``artic dock`` loop on a thread of its own
 (:class:`~artic.validation.docking.gym.episode.Episode`); a vector step hands
 each episode its action first (:meth:`DockEnv.post`) and then collects the
 results (:meth:`DockEnv.receive`), so the episodes compute side by side: the
