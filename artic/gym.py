@@ -7,7 +7,9 @@ Importing this module registers
 
 ``gymnasium.make("artic.gym:artic/Dock-v0")`` imports it for you, and
 ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")`` gives
-:class:`DockVectorEnv`, the environments stepped side by side in one process. The
+:class:`DockVectorEnv`, the environments stepped side by side in one process
+(with ``backend="warp", device="cuda"``, ``artic/Dock-v0``'s plants as the worlds
+of one Warp plant on a GPU, ``pip install "artic[gpu]"``). The
 environment is :class:`~artic.validation.docking.gym.env.DockEnv`; a trained
 policy goes back into ``artic dock --controller`` through
 :func:`policy_controller`. The docking guide shows the round trip.

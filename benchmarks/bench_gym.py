@@ -26,12 +26,21 @@ environments), the median and range of :data:`ROUNDS` rounds, by the wall clock
 and per CPU second of this process and its workers (``per core``: the rate one
 core gives, which is what a loaded or a many-core machine multiplies).
 
+On the Warp plant: ``python benchmarks/bench_gym.py --backend warp --device cuda``
+measures ``artic/Dock-v0`` vectorised on the GPU
+(:class:`~artic.validation.docking.gym.warpbatch.WarpDockVectorEnv`) at
+``--num-envs`` environments (:data:`WARP_ENVS` on a GPU, :data:`WARP_CPU_ENVS` on
+Warp's CPU device, a smoke run): rows ``warp xN`` and ``warp xN ends``, the first
+step (the kernels' loading and the CUDA graph's capture) not counted. Needs
+``artic[gpu]`` as well.
+
 Run: ``python benchmarks/run.py`` (or this file alone; ``python
 benchmarks/bench_gym.py artic/Dock-v0`` measures the ids named only). Needs ``artic[gym]``.
 """
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import importlib.util
 import os
@@ -52,6 +61,12 @@ NATIVE = {"artic/Dock-v0": (2, 8), "artic/DockKIN-v0": (16, 1024)}
 ENDS = 10.0
 """The time limit of the rows whose episodes end [s]: 100 steps."""
 
+WARP_ENVS = 8192
+"""``--backend warp``'s environments on a GPU: the issue's target is 10^5 steps/s there."""
+
+WARP_CPU_ENVS = 4
+"""``--backend warp``'s environments on Warp's CPU device: a smoke run, not a figure."""
+
 
 def _cpu() -> float:
     """CPU seconds of this process and its worker processes, running or finished."""
@@ -70,7 +85,7 @@ def _cpu() -> float:
     return total
 
 
-def _rate(make, n_envs: int, vector: bool) -> tuple[float, float]:
+def _rate(make, n_envs: int, vector: bool, steps: int = STEPS) -> tuple[float, float]:
     """Environment steps per wall second and per CPU second of one round."""
     env = make()
     action = np.array([0.0, -0.6])
@@ -79,13 +94,13 @@ def _rate(make, n_envs: int, vector: bool) -> tuple[float, float]:
     env.reset(seed=0)
     env.step(action)  # the first step: numba's and MuJoCo's first calls
     w0, c0 = time.perf_counter(), _cpu()
-    for _ in range(STEPS):
+    for _ in range(steps):
         out = env.step(action)
         if not vector and (out[2] or out[3]):
             env.reset()
     wall, cpu = time.perf_counter() - w0, _cpu() - c0
     env.close()
-    return STEPS * n_envs / wall, STEPS * n_envs / max(cpu, 1e-9)
+    return steps * n_envs / wall, steps * n_envs / max(cpu, 1e-9)
 
 
 def _model_rate(env_id: str) -> tuple[float, float]:
@@ -123,11 +138,53 @@ def _row(label: str, runs: list[tuple[float, float]]) -> str:
             f"   {statistics.median(cpu):9.0f} ({min(cpu):.0f}-{max(cpu):.0f})")
 
 
+def warp_main(device: str, n: int | None, steps: int, rounds: int) -> None:
+    """Print the rows of ``artic/Dock-v0`` on the Warp plant, ``n`` environments on ``device``."""
+    missing = [m for m in ("warp", "mujoco_warp") if importlib.util.find_spec(m) is None]
+    if missing:
+        print(f"skipped: {', '.join(missing)} not installed (pip install 'artic[gpu]')")
+        return
+    import gymnasium as gym
+    import warp as wp
+
+    wp.config.quiet = True
+    n = n or (WARP_ENVS if device.startswith("cuda") else WARP_CPU_ENVS)
+    print(f"artic/Dock-v0 on the Warp plant, device {device}: environment steps per second, "
+          f"median (range) of {rounds} rounds of {steps} steps, by the wall clock and per CPU "
+          "second of this process")
+    if not device.startswith("cuda"):
+        print("(Warp's CPU device: a smoke run, not a GPU's throughput)")
+    print(f"  {'':22s}wall steps/s {'':9s}per core steps/s")
+    for label, timeout in ((f"warp x{n}", None), (f"warp x{n} ends", ENDS)):
+        extra = {} if timeout is None else {"timeout": timeout}
+
+        def make(extra=extra):
+            return gym.make_vec("artic.gym:artic/Dock-v0", num_envs=n,
+                                vectorization_mode="vector_entry_point", backend="warp",
+                                device=device, scenario=SCENARIO, **extra)
+
+        print(_row(label, [_rate(make, n, True, steps) for _ in range(rounds)]), flush=True)
+
+
 def main(ids: list[str] | None = None) -> None:
-    """Print the rows of every environment id, or of those in ``ids``."""
+    """Print the rows of every environment id, or of those in ``ids`` (or ``--backend warp``'s)."""
     if importlib.util.find_spec("gymnasium") is None:
         print("gymnasium is not installed (pip install 'artic[gym]'): skipped")
         return
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("ids", nargs="*", help="environment ids (default: all)")
+    ap.add_argument("--backend", choices=("cpu", "warp"), default="cpu",
+                    help="warp: artic/Dock-v0 vectorised on the Warp plant")
+    ap.add_argument("--device", default="cuda", help="the Warp device (--backend warp)")
+    ap.add_argument("--num-envs", type=int, default=None,
+                    help=f"environments (--backend warp; {WARP_ENVS} on a GPU)")
+    ap.add_argument("--steps", type=int, default=STEPS, help="vector steps per round")
+    ap.add_argument("--rounds", type=int, default=ROUNDS, help="rounds per row")
+    args = ap.parse_args(ids or [])
+    if args.backend == "warp":
+        warp_main(args.device, args.num_envs, args.steps, args.rounds)
+        return
+    ids = args.ids
     import gymnasium as gym
 
     import artic.gym  # noqa: F401 - registers the environments

@@ -150,6 +150,33 @@ def _batched_fields(models: list[mujoco.MjModel], index: np.ndarray):
     return mw
 
 
+def check_memory(mj_model: mujoco.MjModel, n_worlds: int, device: wp.context.Device) -> None:
+    """Refuse ``n_worlds`` worlds of ``mj_model`` that cannot fit ``device``'s memory.
+
+    Raises
+    ------
+    UserError
+        One line with the memory they need and how many worlds fit.
+    """
+    m = mj_model
+    # The data's arrays scale with the worlds; MuJoCo Warp's are a few times the
+    # model's sizes in floats. A generous per-world estimate from a one-world data.
+    with wp.ScopedDevice("cpu"):
+        d1 = mjw.put_data(m, mujoco.MjData(m), nworld=1)
+    per_world = sum(a.capacity for a in vars(d1).values() if isinstance(a, wp.array))
+    per_world = 3 * per_world  # the RK4 stages' copies and the solver's scratch
+    if device.is_cuda:
+        free = device.free_memory
+    else:
+        free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    if per_world * n_worlds > 0.8 * free:
+        fit = int(0.8 * free // per_world)
+        need = per_world * n_worlds / 2**30
+        raise UserError(f"n_worlds {n_worlds}: about {need:.1f} GiB, more than "
+                        f"{device.alias}'s free memory "
+                        f"({free / 2**30:.1f} GiB); use at most about {fit} worlds per batch")
+
+
 class WarpPlant:
     """``n_worlds`` plants stepped at once on MuJoCo Warp (see the module docstring).
 
@@ -225,7 +252,7 @@ class WarpPlant:
                 models.append(mm)
             self.mj_model = models[0]
             """The first truck's host model, with the Newton solver."""
-            self._check_memory()
+            check_memory(self.mj_model, self.n_worlds, self.device)
             with wp.ScopedDevice(self.device):
                 self.m = _batched_fields(models, self._variant)
                 self.d = mjw.put_data(models[0], mujoco.MjData(models[0]), nworld=self.n_worlds)
@@ -239,26 +266,6 @@ class WarpPlant:
             raise
 
     # ------------------------------------------------------------ setup
-    def _check_memory(self) -> None:
-        """Refuse a batch that cannot fit the device's memory, before allocating it."""
-        m = self.mj_model
-        # The data's arrays scale with the worlds; MuJoCo Warp's are a few times the
-        # model's sizes in floats. A generous per-world estimate from a one-world data.
-        with wp.ScopedDevice("cpu"):
-            d1 = mjw.put_data(m, mujoco.MjData(m), nworld=1)
-        per_world = sum(a.capacity for a in vars(d1).values() if isinstance(a, wp.array))
-        per_world = 3 * per_world  # the RK4 stages' copies and the solver's scratch
-        if self.device.is_cuda:
-            free = self.device.free_memory
-        else:
-            free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-        if per_world * self.n_worlds > 0.8 * free:
-            fit = int(0.8 * free // per_world)
-            need = per_world * self.n_worlds / 2**30
-            raise UserError(f"n_worlds {self.n_worlds}: about {need:.1f} GiB, more than "
-                            f"{self.device.alias}'s free memory "
-                            f"({free / 2**30:.1f} GiB); use at most about {fit} worlds per batch")
-
     def _tables(self, friction: list[float], scaling: list) -> None:
         """The device's wheel table, tyre sets and per-world controller constants."""
         h0 = self.hosts[0]

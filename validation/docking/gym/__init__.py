@@ -8,5 +8,5 @@ adapter that scores a policy function with ``artic dock --controller``;
 one command at a time; :mod:`.reward` is the shaped reward; :mod:`.env` is the
 Gymnasium environment (``pip install "artic[gym]"``), registered by :mod:`artic.gym`;
 :mod:`.vector` is its native vector environment (``make_vec``'s ``vector_entry_point``),
-batched in one step on KIN by :mod:`.kinbatch`.
+batched in one step on KIN by :mod:`.kinbatch` and on the Warp plant by :mod:`.warpbatch`.
 """

@@ -212,10 +212,8 @@ class KinVectorEnv(VectorEnv):
                 or num_envs < 1:
             raise UserError(f"num_envs {num_envs!r}: expected a positive integer")
         check_drive_options(drive_options)
-        if not batchable({"yard_model": yard_model, "sensors": sensors,
-                          "render_mode": render_mode, **drive_options}):
-            raise UserError("KinVectorEnv: KIN with the full sensor set, no recording and "
-                            "no drive() option but timeout; use DockVectorEnv for the others")
+        self._refuse({"yard_model": yard_model, "sensors": sensors,
+                      "render_mode": render_mode, **drive_options})
         # One environment checks the keywords and gives the spaces and the scale.
         probe = DockEnv(scenario=scenario, vehicle=vehicle, yard_model=yard_model,
                         sensors=sensors, **drive_options)
@@ -231,8 +229,7 @@ class KinVectorEnv(VectorEnv):
         self.action_space = batch_space(probe.action_space, n)
         v = self.vehicle
         self._frames = Frames.of(v)
-        self._model = KIN(v)
-        steering = v.steering_for("kin")
+        steering = v.steering_for(self.PLANT)
         self._map = (float(steering.i_s), float(steering.q), float(steering.delta_h_offset))
         self._wheel0 = float(steering.steering_wheel(0.0))
         self._sensors = SensorModel()
@@ -264,6 +261,63 @@ class KinVectorEnv(VectorEnv):
         self._period_log: list[tuple] = []
         self._sample_log: list[tuple] = []
         self._base = [0, 0]
+        self._starts: dict[int, InitialState] = {}  # the runs reset, to be placed
+        self._build()
+
+    # ------------------------------------------------------------- the plant
+    PLANT = "kin"
+    """Whose steering map the actuators use (``Vehicle.steering_for``)."""
+
+    PLANT_NAME = "kin"
+    """The ``plant`` of a run's row."""
+
+    @staticmethod
+    def _refuse(kwargs: dict[str, Any]) -> None:
+        """One line for keywords this batch does not cover (:func:`batchable`)."""
+        if not batchable(kwargs):
+            raise UserError("KinVectorEnv: KIN with the full sensor set, no recording and "
+                            "no drive() option but timeout; use DockVectorEnv for the others")
+
+    def _build(self) -> None:
+        """The batch's plant: KIN's model, each run's state a row of ``_x``."""
+        self._model = KIN(self.vehicle)
+
+    def _place(self, idx: np.ndarray) -> None:
+        """Put runs ``idx`` at their starts (``_starts``): their signals into ``_true``."""
+        for i in idx:
+            plant = Driven(self._model)
+            plant.reset(self._starts.pop(int(i)))
+            self._x[i] = plant.x
+            self._true[i] = self._runs[i].true0 = plant.observe()
+
+    def _period(self, live: np.ndarray, first: bool) -> tuple:
+        """One controller period of runs ``live`` on the plant.
+
+        ``first``: the first period of the step (the later ones are a settling run's).
+        Returns the period's logs ``(steps, times, true, wheels, speeds)``, each run's
+        rows ``(n, N_SUB, ...)`` and how many steps it took, and the runs that ended in
+        it (a jackknife, a diverged plant), their ``failure`` set.
+        """
+        n = self.num_envs
+        m = self._model
+        i_s, q, offset = self._map
+        true = np.zeros((n, N_SUB, 13))
+        wheels, speeds, times = np.zeros((n, N_SUB)), np.zeros((n, N_SUB)), \
+            np.zeros((n, N_SUB))
+        steps = np.zeros(n, np.int64)
+        _periods((m.kind, m.P, m._s1, m._s2), live,
+                 (self._x, self._wheel, self._u, self._t),
+                 (self._wheel_target, self._u_target),
+                 (STEER_RATE * PLANT_DT, ACCEL_MAX * PLANT_DT, PLANT_DT, i_s, q, offset),
+                 self.vehicle.gamma_max, (true, wheels, speeds, times, steps))
+        jack = live & (steps < N_SUB)
+        for i in np.flatnonzero(jack):
+            gamma = float(wrap_angle(float(self._x[i, 3])))
+            self._runs[i].failure = (
+                f"jackknife: |gamma| {math.degrees(abs(gamma)):.1f} deg beyond "
+                f"{math.degrees(self.vehicle.gamma_max):.1f} deg at "
+                f"t = {float(times[i, steps[i] - 1]):.2f} s")
+        return (steps, times, true, wheels, speeds), jack
 
     # ------------------------------------------------------------- episodes
     def _rng(self, i: int, seed: int | None) -> np.random.Generator:
@@ -272,7 +326,7 @@ class KinVectorEnv(VectorEnv):
         return self._rngs[i]
 
     def _reset_one(self, i: int, seed: int | None, options: dict[str, Any]) -> dict:
-        """``DockEnv.reset`` for sub-environment ``i``: its info (the observation in place)."""
+        """``DockEnv.reset`` for sub-environment ``i``: its info; :meth:`_started` places it."""
         start_k = check_reset_options(options)
         rng = self._rng(i, seed)
         if "scenario" in options:
@@ -302,11 +356,9 @@ class KinVectorEnv(VectorEnv):
                               n_ctrl + 1, DT, PLANT_DT)
         x0 = self._frames.kin_from_rear(start.x_r, start.y_r, start.psi_2, start.gamma)
         xs, ys = self._frames.tractor_sensor_of_kin(x0)
-        plant = Driven(self._model)
-        plant.reset(InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0))
-        true0 = plant.observe()
+        self._starts[i] = InitialState(xs, ys, float(x0[2]), float(x0[3]), u1=0.0)
         self._runs[i] = _Run(scen, k, yard, start, plan, plan_ms, timeout,
-                             true0, self._base[0] + len(self._period_log),
+                             None, self._base[0] + len(self._period_log),
                              self._base[1] + len(self._sample_log))
         if n_ctrl + 1 > self._noise.shape[1]:  # the longest run so far: room for its noise
             grown = np.zeros((self.num_envs, n_ctrl + 1, 12))
@@ -320,18 +372,21 @@ class KinVectorEnv(VectorEnv):
             self._boxes = grown
         self._boxes[i, :len(boxes)] = boxes
         self._n_boxes[i] = len(boxes)
-        self._x[i] = plant.x
         self._wheel[i] = self._wheel_target[i] = self._wheel0
         self._u[i] = self._t[i] = self._u_target[i] = 0.0
-        self._true[i] = true0
         self._ctrl[i] = self._steps[i] = self._late[i] = 0
         self._n_ctrl[i] = n_ctrl
         self._settle_until[i] = math.nan
         self._done[i] = False
         self._dock[i] = (yard.x_dock, yard.y_dock)
-        self._observe(np.array([i]))
-        self._asked[i] = time.perf_counter()
         return {"t": 0.0, "scenario": scen.name, "start": k, "reason": ""}
+
+    def _started(self, idx: np.ndarray) -> None:
+        """Place the runs ``idx`` reset by :meth:`_reset_one`: their first observations."""
+        if idx.size:
+            self._place(idx)
+            self._observe(idx)
+            self._asked[idx] = time.perf_counter()
 
     def _wheel_at(self, i: int, step: int) -> float:
         """Run ``i``'s steering wheel at plant step ``step`` [rad] (last period, or the log)."""
@@ -407,7 +462,8 @@ class KinVectorEnv(VectorEnv):
             identifier.update(now, signals)
         plan = run.plan
         return {"scenario": run.scen.name, "vehicle": v.name, "controller": CONTROLLER,
-                "plant": "kin", "seed": run.k, **score(tr, run.yard, v, frames, run.start),
+                "plant": self.PLANT_NAME, "seed": run.k,
+                **score(tr, run.yard, v, frames, run.start),
                 "late_commands": tr.late, "plan_ms": run.plan_ms,
                 "plan_expansions": plan.expansions,
                 "plan_direction_changes": plan.direction_changes,
@@ -441,6 +497,7 @@ class KinVectorEnv(VectorEnv):
         infos: dict[str, Any] = {}
         for i in np.flatnonzero(mask):
             infos = self._add_info(infos, self._reset_one(int(i), seeds[i], options), int(i))
+        self._started(np.flatnonzero(mask))
         self._autoreset[mask] = False
         self._trim()
         return self._last.copy(), infos
@@ -481,7 +538,7 @@ class KinVectorEnv(VectorEnv):
         for i in np.flatnonzero(~stepping | ended):
             i = int(i)
             if self._autoreset[i]:
-                info = self._reset_one(i, None, {})
+                info = self._reset_one(i, None, {})  # observed below, with the others
             else:
                 row = self._finish(i)
                 reason_ = "docked" if row["success"] else str(row["failure"]).split(":")[0]
@@ -492,6 +549,7 @@ class KinVectorEnv(VectorEnv):
                 info = {"t": float(self._t_obs[i]), "reason": reason_, "scores": row}
                 self._runs[i] = None
             infos = self._add_info(infos, info, i)
+        self._started(np.flatnonzero(~stepping))
         self._autoreset = terminated | truncated
         if len(self._sample_log) > 256:
             self._trim()
@@ -525,43 +583,28 @@ class KinVectorEnv(VectorEnv):
         n = self.num_envs
         live = live.copy()
         ended = np.zeros(n, np.bool_)
-        m, f = self._model, self._frames
-        i_s, q, offset = self._map
+        f = self._frames
         hits = np.empty((n, 3), np.int64)
+        first = True
         while live.any():
-            true = np.zeros((n, N_SUB, 13))
-            wheels, speeds, times = np.zeros((n, N_SUB)), np.zeros((n, N_SUB)), \
-                np.zeros((n, N_SUB))
-            steps = np.zeros(n, np.int64)
-            _periods((m.kind, m.P, m._s1, m._s2), live,
-                     (self._x, self._wheel, self._u, self._t),
-                     (self._wheel_target, self._u_target),
-                     (STEER_RATE * PLANT_DT, ACCEL_MAX * PLANT_DT, PLANT_DT, i_s, q, offset),
-                     self.vehicle.gamma_max, (true, wheels, speeds, times, steps))
+            (steps, times, true, wheels, speeds), jack = self._period(live, first)
+            first = False
             self._period_log.append((live.copy(), steps, times, true, wheels, speeds))
-            rows = np.flatnonzero(live)
+            rows = np.flatnonzero(live & (steps > 0))
             self._steps[rows] += steps[rows]
             self._true[rows] = true[rows, steps[rows] - 1]
             self._last_wheels[rows] = wheels[rows]
             tractor, trailer = f.unit_poses_of_signals(true.reshape(-1, 13))
-            jack = live & (steps < N_SUB)
             _first_hits(live & ~jack, tractor.reshape(n, N_SUB, 3),
                         trailer.reshape(n, N_SUB, 3), f.tractor_box, f.trailer_box,
                         self._boxes, self._n_boxes, hits)
             hit = hits[:, 0] >= 0
-            for i in np.flatnonzero(jack | hit):
+            for i in np.flatnonzero(hit):
                 run = self._runs[i]
-                if jack[i]:
-                    gamma = float(wrap_angle(float(self._x[i, 3])))
-                    run.failure = (
-                        f"jackknife: |gamma| {math.degrees(abs(gamma)):.1f} deg beyond "
-                        f"{math.degrees(self.vehicle.gamma_max):.1f} deg at "
-                        f"t = {float(times[i, steps[i] - 1]):.2f} s")
-                else:
-                    k, b, unit = hits[i]
-                    run.failure = (
-                        f"collision: {('tractor', 'semitrailer')[unit]} hit "
-                        f"{run.yard.obstacles[b].name} at t = {float(times[i, k]):.2f} s")
+                k, b, unit = hits[i]
+                run.failure = (
+                    f"collision: {('tractor', 'semitrailer')[unit]} hit "
+                    f"{run.yard.obstacles[b].name} at t = {float(times[i, k]):.2f} s")
             on = live & ~jack & ~hit
             self._ctrl[on] += 1
             out_of_time = on & (self._ctrl >= self._n_ctrl)  # drive's loop ends

@@ -5,8 +5,9 @@ vectorization_mode="vector_entry_point")`` returns a :class:`DockVectorEnv`:
 ``N`` :class:`~artic.validation.docking.gym.env.DockEnv` in one process, without
 a worker process each (``artic/DockKIN-v0`` gets the batched
 :class:`~artic.validation.docking.gym.kinbatch.KinVectorEnv` where it covers the
-options, :func:`vector_env`). Every episode already runs its
-``artic dock`` loop on a thread of its own
+options, and ``backend="warp"`` the Warp plant's
+:class:`~artic.validation.docking.gym.warpbatch.WarpDockVectorEnv`: :func:`vector_env`).
+Every episode already runs its ``artic dock`` loop on a thread of its own
 (:class:`~artic.validation.docking.gym.episode.Episode`); a vector step hands
 each episode its action first (:meth:`DockEnv.post`) and then collects the
 results (:meth:`DockEnv.receive`), so the episodes compute side by side: the
@@ -44,16 +45,46 @@ from artic.mjcf.errors import UserError
 from artic.validation.docking.gym.env import DockEnv
 from artic.validation.docking.gym.kinbatch import KinVectorEnv, batchable, checked_actions
 
+BACKENDS = ("cpu", "warp")
+"""The ``backend`` keywords of :func:`vector_env`."""
 
-def vector_env(num_envs: int = 1, **kwargs: Any) -> VectorEnv:
-    """``make_vec``'s ``vector_entry_point``: batched on KIN where it can be, else threaded.
 
+def vector_env(num_envs: int = 1, backend: str = "cpu", device: str | None = None,
+               **kwargs: Any) -> VectorEnv:
+    """``make_vec``'s ``vector_entry_point``: batched where it can be, else threaded.
+
+    With ``backend="cpu"`` (the default):
     :class:`~artic.validation.docking.gym.kinbatch.KinVectorEnv` for the
     configurations :func:`~artic.validation.docking.gym.kinbatch.batchable` covers
     (``artic/DockKIN-v0`` with the full sensor set, unrecorded, ``timeout`` the only
     ``drive`` option), :class:`DockVectorEnv` for the others. Both give what the
     single environments give, bit for bit.
+
+    With ``backend="warp"``, ``artic/Dock-v0`` on the Warp plant on ``device``
+    (``"cuda"``, or ``"cpu"``, the default):
+    :class:`~artic.validation.docking.gym.warpbatch.WarpDockVectorEnv`, equal to the
+    single environments within the Warp plant's float32 precision
+    (``pip install "artic[gpu]"``).
+
+    Raises
+    ------
+    artic.mjcf.errors.UserError
+        One line for another backend, a ``device`` without ``backend="warp"``, or
+        ``backend="warp"`` without the ``gpu`` extra.
     """
+    if backend not in BACKENDS:
+        raise UserError(f"backend {backend!r}: expected 'cpu' (the default) or 'warp' "
+                        "(artic/Dock-v0 on the Warp plant, pip install 'artic[gpu]')")
+    if backend == "warp":
+        try:
+            from artic.validation.docking.gym.warpbatch import WarpDockVectorEnv
+        except ImportError as exc:
+            raise UserError(f"backend='warp': the gpu extra is not installed ({exc.name}); "
+                            "pip install 'artic[gpu]', or leave backend out") from None
+        return WarpDockVectorEnv(num_envs, device=device or "cpu", **kwargs)
+    if device is not None:
+        raise UserError(f"device {device!r}: only with backend='warp'; add backend='warp' "
+                        "(artic/Dock-v0 on the Warp plant), or leave device out")
     if batchable(kwargs):
         return KinVectorEnv(num_envs, **kwargs)
     return DockVectorEnv(num_envs, **kwargs)
