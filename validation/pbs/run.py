@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from artic.mjcf.errors import UserError
-from artic.mjcf.vehicle import Vehicle
+from artic.mjcf.vehicle import Vehicle, load_vehicle
 from artic.validation.pbs import friction, offtracking, swing
 from artic.validation.pbs.driver import PathDriver, drive_path
 from artic.validation.pbs.motion import Geometry, Motion
@@ -202,3 +202,30 @@ def run_model(name: str, vehicle: Vehicle, seed: int = 0,
         closer()
     out.measures = measure(name, v, out.drives, f_pbs)
     return out
+
+
+LOAD = "loaded"
+"""The preset whose load the campaign's PBS turn drives (:mod:`artic.validation.pbs.trucks`)."""
+
+
+def truck_measures(name: str, seed: int, truth: str | None = None,
+                   load: str = LOAD) -> dict[str, float]:
+    """The PBS turn's measures of model ``name`` (or ``"truth"``) built from the ``load`` preset.
+
+    Parameters
+    ----------
+    name : str
+        A model of :data:`MODELS`, or ``"truth"``.
+    seed : int
+        The truck (the campaign's seed), which draws the truth.
+    truth : str, optional
+        The kind of truth; the default's if None.
+    load : str
+        ``"loaded"`` or ``"unloaded"``: the ``gosar2022-`` preset built.
+
+    Returns
+    -------
+    dict
+        Each measure of :data:`MEASURES` by name, in its unit.
+    """
+    return run_model(name, load_vehicle(f"gosar2022-{load}"), seed, ("pbs",), truth).measures
