@@ -46,6 +46,7 @@ import warp as wp
 from artic.mjcf.errors import UserError
 from artic.mjcf.interface import InitialState
 from artic.mjcf.vehicle import load_vehicle
+from artic.plant.warp_loop import advance_kernel
 from artic.plant.warp_plant import WarpPlant, find_device
 from artic.validation.docking import warp_law
 from artic.validation.docking.conditions import road
@@ -242,12 +243,6 @@ def record_kernel(loop: Loop, failed: wp.array(dtype=int), qpos: wp.array2d(dtyp
     if wp.abs(gamma) > loop.consts[w, GAMMA_MAX]:
         state.fail[w] = JACKKNIFE
         state.phase[w] = ENDED
-
-
-@wp.kernel
-def advance_kernel(counter: wp.array(dtype=int)):
-    """The next sample."""
-    counter[0] = counter[0] + 1
 
 
 @dataclasses.dataclass

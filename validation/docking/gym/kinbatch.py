@@ -204,16 +204,29 @@ class KinVectorEnv(VectorEnv):
     def close(self, **kwargs: Any) -> None:
         """Close every episode (Gymnasium's ``VectorEnv.close``; its docstring is not RST)."""
         super().close(**kwargs)
+
+    @classmethod
+    def _check_inputs(cls, num_envs: Any, options: dict[str, Any]) -> None:
+        """One line for the first bad input, before anything is built or planned.
+
+        ``options`` are the keywords past ``vehicle`` (``yard_model``, ``sensors``,
+        ``render_mode`` and the ``drive()`` options); :meth:`_refuse` says whether
+        this batch covers them.
+        """
+        if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) \
+                or num_envs < 1:
+            raise UserError(f"num_envs {num_envs!r}: expected a positive integer")
+        drive_options = {k: v for k, v in options.items()
+                         if k not in ("yard_model", "sensors", "render_mode")}
+        check_drive_options(drive_options)
+        cls._refuse(options)
+
     def __init__(self, num_envs: int, scenario: str = "alley",
                  vehicle: str = "gosar2022-unloaded", yard_model: str = "kin",
                  sensors: str = "full", render_mode: str | None = None,
                  recording_dir: Any = "recordings", **drive_options: Any) -> None:
-        if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) \
-                or num_envs < 1:
-            raise UserError(f"num_envs {num_envs!r}: expected a positive integer")
-        check_drive_options(drive_options)
-        self._refuse({"yard_model": yard_model, "sensors": sensors,
-                      "render_mode": render_mode, **drive_options})
+        self._check_inputs(num_envs, {"yard_model": yard_model, "sensors": sensors,
+                                      "render_mode": render_mode, **drive_options})
         # One environment checks the keywords and gives the spaces and the scale.
         probe = DockEnv(scenario=scenario, vehicle=vehicle, yard_model=yard_model,
                         sensors=sensors, **drive_options)

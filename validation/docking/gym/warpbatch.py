@@ -49,7 +49,6 @@ from artic.mjcf.vehicle import load_vehicle
 from artic.plant.warp_plant import WarpPlant, check_memory, find_device
 from artic.plant.warp_worlds import Worlds
 from artic.validation.docking import warp_dock
-from artic.validation.docking.gym.env import check_drive_options
 from artic.validation.docking.gym.kinbatch import N_SUB, KinVectorEnv
 from artic.validation.docking.run import ACCEL_MAX, PLANT_DT, STEER_RATE
 
@@ -120,14 +119,11 @@ class WarpDockVectorEnv(KinVectorEnv):
                  vehicle: str = "gosar2022-unloaded", yard_model: str = "mbd",
                  sensors: str = "full", render_mode: str | None = None,
                  recording_dir: Any = "recordings", **drive_options: Any) -> None:
-        # One line for each bad input before anything is built or planned.
-        if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) \
-                or num_envs < 1:
-            raise UserError(f"num_envs {num_envs!r}: expected a positive integer")
+        # One line for each bad input before the plant is built (KinVectorEnv's
+        # checks, which its __init__ repeats at no cost, and the device's).
+        self._check_inputs(num_envs, {"yard_model": yard_model, "sensors": sensors,
+                                      "render_mode": render_mode, **drive_options})
         find_device(device)
-        check_drive_options(drive_options)
-        self._refuse({"yard_model": yard_model, "sensors": sensors,
-                      "render_mode": render_mode, **drive_options})
         self.plant: WarpPlant | None = _plant(load_vehicle(vehicle), int(num_envs), device)
         try:
             super().__init__(num_envs, scenario=scenario, vehicle=vehicle,
