@@ -15,6 +15,7 @@ range limits must be ordered.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass
@@ -98,6 +99,20 @@ def read_tir(path: str | Path) -> TirFile:
                        f"{MAX_BYTES} bytes")
     if b"\0" in data:
         raise TirError(f"{path}: a binary file, not a tyre property file")
+    parsed = _parse(str(path), data)
+    tir = TirFile(str(path), {name: dict(entries) for name, entries in parsed.items()})
+    check_coefficients(tir)
+    return tir
+
+
+@functools.lru_cache(maxsize=16)
+def _parse(path: str, data: bytes) -> dict[str, dict[str, float | str]]:
+    """The sections of a ``.tir`` file's bytes (``path`` names it in errors).
+
+    Kept for the last few files: a campaign builds its vehicles hundreds of
+    times from the same two or three tyre files, and parsing one takes about
+    half a millisecond. :func:`read_tir` hands every caller its own copy.
+    """
     sections: dict[str, dict[str, float | str]] = {}
     current = "_"
     for n, raw in enumerate(data.decode("latin-1").splitlines(), start=1):
@@ -129,9 +144,7 @@ def read_tir(path: str | Path) -> TirFile:
     fmt = sections.get("MODEL", {}).get("PROPERTY_FILE_FORMAT", "")
     if fmt and str(fmt).upper() not in ("PAC2002", "MF_05", "PAC2002_05"):
         raise TirError(f"{path}: key PROPERTY_FILE_FORMAT: the format is not PAC2002")
-    tir = TirFile(str(path), sections)
-    check_coefficients(tir)
-    return tir
+    return sections
 
 
 MAX_BYTES = 1 << 20

@@ -32,6 +32,32 @@ def test_round_trip_is_lossless(tmp_path):
     assert not list((tmp_path / "a").glob("*.part"))
 
 
+def test_metadata_only_run_files_are_the_same_bytes_from_the_kept_schema(tmp_path):
+    # write_run keeps the Arrow schema of each empty frame's columns and dtypes; a
+    # file written from the kept schema must be the file a fresh conversion writes,
+    # and a frame whose dtypes differ must not take another frame's schema.
+    from artic.validation.logs import runfile
+
+    run = good_log()
+    run.frame["flag"] = run.frame["t"] > 1.0  # a bool column beside the floats
+    empty = Run(run.frame.iloc[:0], run.meta)
+    runfile._EMPTY_SCHEMAS.clear()
+    fresh = write_run(empty, tmp_path / "fresh.parquet", single=("x_1", "psi_1")).read_bytes()
+    assert len(runfile._EMPTY_SCHEMAS) == 1
+    kept = write_run(empty, tmp_path / "kept.parquet", single=("x_1", "psi_1")).read_bytes()
+    assert kept == fresh
+    back = read_run(tmp_path / "kept.parquet", check=False).frame
+    assert list(back.columns) == list(run.frame.columns) and len(back) == 0
+    assert back["flag"].dtype == bool
+    # Another single set is another schema: x_1 stays float64 there.
+    other = write_run(empty, tmp_path / "other.parquet", single=("psi_1",))
+    assert len(runfile._EMPTY_SCHEMAS) == 2 and other.read_bytes() != fresh
+    import pyarrow.parquet as pq
+
+    assert str(pq.read_schema(other).field("x_1").type) == "double"
+    assert str(pq.read_schema(tmp_path / "kept.parquet").field("x_1").type) == "float"
+
+
 def test_truncated_file(tmp_path):
     p = write_run(good_log(), tmp_path / "run.parquet")
     p.write_bytes(p.read_bytes()[: p.stat().st_size // 2])

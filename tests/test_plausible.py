@@ -206,3 +206,22 @@ def test_a_bar_in_a_name_stays_in_its_markdown_cell():
         row = text.strip().splitlines()[-1]
         assert row.replace("\\|", "").count("|") == 3, text  # two cells: three bars
         assert "a\\|b" in row
+
+
+def test_a_tyre_file_read_again_is_parsed_from_its_bytes_and_warned_again(tmp_path):
+    # read_tir keeps the parse of the last few files' bytes: every caller still gets
+    # its own sections, an edited file is read anew, and the judgement of its
+    # coefficients (its warnings) is made on every read.
+    first = read_tir(TYRE)
+    longvl = first.number("LONGVL")
+    first.sections["MODEL"]["LONGVL"] = -1.0
+    again = read_tir(TYRE)
+    assert again.number("LONGVL") == longvl != -1.0
+    assert again.sections == read_tir(TYRE).sections
+    p = tmp_path / "x.tir"
+    p.write_text(tyre_with(r"^PDY1 .*$", "PDY1 = 1.1"))
+    assert read_tir(p).number("PDY1") == 1.1
+    p.write_text(tyre_with(r"^PDY1 .*$", "PDY1 = 2.0"))  # the same name, new bytes
+    for _ in range(2):
+        with pytest.warns(PlausibilityWarning, match="key PDY1: 2 is unusual"):
+            assert read_tir(p).number("PDY1") == 2.0
