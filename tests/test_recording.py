@@ -177,3 +177,39 @@ def test_failed_recording_leaves_nothing(tmp_path, unloaded, manoeuvre):
     with pytest.raises(KeyError):
         record_manoeuvre(tmp_path / "bad.rrd", log, bad, unloaded)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_campaign_recordings_draw_on_workers_and_keep_the_newer(tmp_path, unloaded, manoeuvre):
+    # The campaign starts its recordings on worker processes before the tables and
+    # collects them after (artic.validation.campaign.recordings): what is collected
+    # is the recording of each manoeuvre with a run, a recording newer than its runs
+    # is kept without starting a worker, and closing leaves no worker behind.
+    import multiprocessing
+
+    from artic.validation.campaign.recordings import Recordings
+    from artic.validation.logs.runfile import write_run
+
+    log, runs = manoeuvre
+    log = type(log)(log.frame, {**log.meta, "name": "m1", "manoeuvre": "slalom"})  # no plot
+    for model, run in runs.items():
+        write_run(run, tmp_path / "runs" / f"m1.{model}.parquet")
+    metrics = pd.DataFrame({"log": ["m1"] * 3, "model": ["kin", "stm", "mbd"],
+                            "status": ["ok", "ok", "failed: diverged"]})
+    for c in ("eps_p", "eps_a", "eps_v", "eps_n", "J_steer"):  # the description's table
+        metrics[c] = [0.25, 0.5, float("nan")]
+    with Recordings(tmp_path, metrics, {"m1": log}, {"unloaded": unloaded},
+                    ("kin", "stm", "mbd"), jobs=2) as started:
+        # the failed plant run is left out; one manoeuvre, one worker
+        assert [(set(r), t.name) for _, r, t in started.todo] == [({"kin", "stm"}, "m1.rrd")]
+        made = started.collect()
+    assert made == {"m1": tmp_path / "recordings" / "m1.rrd"}
+    assert read_views(made["m1"])  # a recording Rerun reads, with its blueprint
+    # every row of the manoeuvre's metrics went to the worker with it
+    text = read_text(made["m1"], "/description")
+    assert "| kin | 0.25 | 0.25 | 0.25 | 0.25 | 0.25 |" in text and "| mbd | nan |" in text
+    assert not (tmp_path / "plots").exists()  # a slalom: no plot drawn
+    again = Recordings(tmp_path, metrics, {"m1": log}, {"unloaded": unloaded},
+                       ("kin", "stm", "mbd"), jobs=2)
+    assert again.kept == 1 and again.todo == [] and again._pool is None
+    assert again.collect() == made
+    assert not multiprocessing.active_children()

@@ -43,7 +43,9 @@ Stages, each timed and each resumable:
 6. **efficiency**: wall time per simulated second of each model, from the
    validation runs' own times (``efficiency.csv``);
 7. **gain sweep**: the reverse criteria against K (``gain_sweep.csv``, ``plots/gain_sweep.png``);
-8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``;
+8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``,
+   drawn on worker processes started before the tables (stage 5), which computes
+   on one core, and collected here (:mod:`artic.validation.campaign.recordings`);
    **pbs**: the PBS low-speed turn on each model and the truth (``pbs_truck.csv``);
 9. **report**: ``report.md``, written last.
 
@@ -97,6 +99,7 @@ from artic.validation.campaign import findings, frequency
 from artic.validation.campaign.cache import Entry, StageCache, StageResult
 from artic.validation.campaign.config import SENSORS, CampaignConfig
 from artic.validation.campaign.executors import cluster_executor
+from artic.validation.campaign.recordings import Recordings
 from artic.validation.campaign.seeds import run_seeds
 from artic.validation.criteria.fixedscale import SCALE_FILE, campaign_scale, write_scale
 from artic.validation.criteria.multiplicity import CORRECTION
@@ -113,8 +116,6 @@ from artic.validation.models import code_of
 from artic.validation.plumbing import fingerprint
 from artic.validation.plumbing.budget import BUDGET, budget_text
 from artic.validation.plumbing.outputs import OutDirLock, clean_stale
-from artic.validation.plumbing.progress import Counter
-from artic.validation.plumbing.workers import completed
 from artic.validation.review.tables import (
     paired_markdown,
     paired_table,
@@ -249,15 +250,24 @@ def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
     """
     chain = _sensor_model(sensors)
     where = None if chain.is_ideal or not twins else out_dir / TWINS / "synthetic"
+    runs: dict[Path, Run] = {}
+    damaged: list[Path] = []
 
-    def generate() -> list[Path]:
+    def imported(folders: list[Path]) -> None:
+        # a fresh export is imported as soon as it is written, while the workers
+        # simulate the next manoeuvres, instead of on one core after the last
+        got, bad = _import(folders)
+        runs.update(got)
+        damaged.extend(bad)
+
+    def generate(written: Callable[[list[Path]], None] | None = None) -> list[Path]:
         return generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
                                  jobs=jobs, only=only, executor=executor, truth=truth,
-                                 sensors=chain, drift=drift, twins=where)
+                                 sensors=chain, drift=drift, twins=where, written=written)
 
-    exports = generate()
+    exports = generate(imported)
     folders = exports + ([where / f.name for f in exports] if where is not None else [])
-    runs, damaged = _import(folders)
+    imported([f for f in folders if f not in runs and f not in damaged])  # the ones reused
     if damaged:  # generated again (export and twin together), then imported once more
         for folder in damaged:
             (folder / META_FILE).unlink(missing_ok=True)
@@ -1156,18 +1166,44 @@ def _stage_sweep(c: _Campaign, logs: StageResult, tuning: StageResult) -> StageR
     return c.run("gain sweep", key, compute, restore)
 
 
-def _stage_recordings(c: _Campaign, logs: StageResult, tuning: StageResult,
-                      references: StageResult) -> StageResult:
-    """Stage 8: one ``.rrd`` per validated manoeuvre and a plot of a few."""
-    key = c.cache.key("recordings", c.fields("models"), [logs, tuning, references])
-    metrics = references.value[0]
+def _recordings_key(c: _Campaign, logs: StageResult, tuning: StageResult,
+                    references: StageResult) -> str:
+    return c.cache.key("recordings", c.fields("models"), [logs, tuning, references])
+
+
+def _start_recordings(c: _Campaign, logs: StageResult, tuning: StageResult,
+                      references: StageResult) -> Recordings | None:
+    """The recordings the recordings stage will compute, started now; ``None`` if reused.
+
+    Their workers draw while the tables stage computes on one core (see
+    :mod:`artic.validation.campaign.recordings`).
+    """
+    if c.cache.lookup("recordings", _recordings_key(c, logs, tuning, references),
+                      quiet=True) is not None:
+        return None
     by_name = {log.name: log for log in logs.value[0]}
+    return Recordings(c.out_dir, references.value[0], by_name, tuning.value[1], c.models,
+                      c.jobs)
+
+
+def _stage_recordings(c: _Campaign, logs: StageResult, tuning: StageResult,
+                      references: StageResult, started: Recordings | None) -> StageResult:
+    """Stage 8: one ``.rrd`` per validated manoeuvre and a plot of a few.
+
+    ``started``: the recordings :func:`_start_recordings` started, collected
+    here when the stage computes (and stopped when it reuses its entry).
+    """
+    key = _recordings_key(c, logs, tuning, references)
 
     def compute():
-        made = _recordings(c.out_dir, metrics, by_name, tuning.value[1], c.models, c.jobs)
+        made = (started if started is not None else _start_recordings(c, logs, tuning,
+                                                                      references)).collect()
         return {f"recording:{n}": p for n, p in made.items()}, {}, None
 
-    result = c.run("recordings", key, compute, lambda entry: None)
+    with contextlib.ExitStack() as stack:
+        if started is not None:
+            stack.enter_context(started)
+        result = c.run("recordings", key, compute, lambda entry: None)
     return dataclasses.replace(result, outputs={"recordings": c.out_dir / "recordings"})
 
 
@@ -1194,12 +1230,18 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     metrics, vs_plant = references.value
     twins = _stage_twins(c, logs, tuning, validation) if logs.value[1] is not None else None
     oracle = _stage_oracle(c, logs, validation) if _has_oracle(c) else None
-    tables = _stage_tables(c, metrics, vs_plant, twins.value if twins is not None else None,
-                           oracle.value if oracle is not None else None, tuning.value[2])
-    efficiency = _stage_efficiency(c, metrics)
-    swept = frequency.write(c.out_dir, validation.value[2])  # the swept sine's responses
-    sweep = _stage_sweep(c, logs, tuning) if cfg.sweep_models else None
-    recordings = _stage_recordings(c, logs, tuning, references) if cfg.recordings else None
+    started = _start_recordings(c, logs, tuning, references) if cfg.recordings else None
+    with contextlib.ExitStack() as stack:  # a failing stage stops the recordings' workers
+        if started is not None:
+            stack.enter_context(started)
+        tables = _stage_tables(c, metrics, vs_plant,
+                               twins.value if twins is not None else None,
+                               oracle.value if oracle is not None else None, tuning.value[2])
+        efficiency = _stage_efficiency(c, metrics)
+        swept = frequency.write(c.out_dir, validation.value[2])  # the swept sine's responses
+        sweep = _stage_sweep(c, logs, tuning) if cfg.sweep_models else None
+        recordings = _stage_recordings(c, logs, tuning, references, started) \
+            if cfg.recordings else None
     # The result files by name (a stage's single runs and recordings are not named here).
     paths = {k: v for r in (tuning, validation, references, twins, oracle, tables, efficiency,
                             sweep, recordings) if r is not None
@@ -1433,61 +1475,3 @@ def _version() -> str:
     from artic.validation.review.recording import artic_version
 
     return artic_version()
-
-
-def _record_one(target: Path, log: Run, run_paths: dict[str, Path], vehicle: Vehicle,
-                rows: pd.DataFrame) -> int:
-    """Write one manoeuvre's recording from its run files; returns its size [bytes]."""
-    from artic.validation.review.recording import record_manoeuvre
-
-    loaded = {m: read_run(p) for m, p in run_paths.items()}
-    record_manoeuvre(target, log, loaded, vehicle, rows)
-    return target.stat().st_size
-
-
-def _recordings(out_dir: Path, metrics: pd.DataFrame, logs: dict[str, Run],
-                vehicles: dict[str, Vehicle], models: Sequence[str],
-                jobs: int = 1) -> dict[str, Path]:
-    """One recording per validated manoeuvre, skipped when newer than its runs; a few plots.
-
-    The recordings are written on ``jobs`` new local worker processes
-    (``spawn``, not forks of the campaign's process and its memory): drawing
-    them is Python work that holds the GIL. They are local even with a Dask
-    executor, whose workers need not share this file system.
-
-    Returns every validated manoeuvre's recording by its name, written or kept.
-    """
-    from artic.validation.review.plots import plot_manoeuvre
-
-    names = list(dict.fromkeys(metrics["log"]))
-    made: dict[str, Path] = {}
-    failed = {(r.log, r.model) for r in metrics.itertuples() if is_failed(r.status)}
-    todo = []
-    for name in names:
-        runs = {m: out_dir / "runs" / f"{name}.{m}.parquet" for m in models
-                if (name, m) not in failed}
-        if not runs:
-            continue
-        target = out_dir / "recordings" / f"{name}.rrd"
-        made[name] = target
-        newest = max(p.stat().st_mtime for p in runs.values())
-        if not (target.is_file() and target.stat().st_mtime >= newest):
-            todo.append((name, runs, target))
-    if len(todo) < len(names):
-        stderr_progress(f"{len(names) - len(todo)} of {len(names)} recordings reused from "
-                        f"{out_dir / 'recordings'} (newer than their runs)")
-    counter = Counter(len(todo), "recordings", stderr_progress)
-
-    tasks = [(target, (target, logs[name], runs,
-                       vehicles[logs[name].meta.get("load", "unloaded")],
-                       metrics[metrics["log"] == name])) for name, runs, target in todo]
-    # fresh workers: forked ones would each carry the campaign's memory (560 MB)
-    with contextlib.closing(completed(_record_one, tasks, jobs, fresh=True)) as done:
-        for target, size in done:
-            counter.step(f"{target.name} ({size / 1e6:.1f} MB)")
-    for name, runs, _ in todo:  # a plot of the first manoeuvre of each kind drawn
-        log = logs[name]
-        plot = out_dir / "plots" / f"{log.meta.get('manoeuvre')}.png"
-        if log.meta.get("manoeuvre") in ("docking", "constant-steer") and not plot.is_file():
-            plot_manoeuvre(plot, log, {m: read_run(p) for m, p in runs.items()})
-    return made

@@ -377,7 +377,8 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
                       jobs: int = 1, executor: Executor | None = None,
                       sensors: SensorModel | None = None,
                       truth: str = DEFAULT, drift: bool = True,
-                      twins: Path | None = None) -> list[Path]:
+                      twins: Path | None = None,
+                      written: Callable[[list[Path]], None] | None = None) -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -408,6 +409,10 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         exported there under the same name: the same truth run measured with
         ideal sensors, made by the same simulation. A manoeuvre whose export or
         twin is missing or stale is simulated again and both are written.
+    written : callable, optional
+        Called with a manoeuvre's export folders (the export, then its twin)
+        as soon as they are written, while the other manoeuvres simulate (the
+        campaign imports them there); not for the exports reused.
 
     Returns
     -------
@@ -450,5 +455,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
             if twin is not None:  # first: a complete export then implies its twin
                 write_export(twin, twins, name=m.name, meta_from=out_dir / m.name)
             write_export(run, out_dir, name=m.name)
+            if written is not None:
+                written([out_dir / m.name] + ([twins / m.name] if twin is not None else []))
             counter.step(f"{m.name} ({wall:.1f} s)")
     return [out_dir / m.name for m in todo]
