@@ -13,6 +13,7 @@ import textwrap
 import threading
 import time
 import tomllib
+import types
 from concurrent.futures import Executor, Future
 from pathlib import Path
 
@@ -277,14 +278,15 @@ def test_a_damaged_export_is_generated_again(tmp_path, monkeypatch, capsys):
     export = tmp_path / "synthetic" / "run"
     made = []
 
-    def generate(*args, **kwargs):  # as generate_campaign: what lacks its meta.json
+    def generate(*args, **kwargs):  # as exports_as_written: what lacks its meta.json
         if not (export / "meta.json").is_file():
             export_oxts(slalom(), export)
             (export / "meta.json").write_text(json.dumps({"load": "unloaded"}))
             made.append(export)
-        return [export]
+            yield [export]
 
-    monkeypatch.setattr(campaign, "generate_campaign", generate)
+    monkeypatch.setattr(campaign, "exports_as_written", generate)
+    monkeypatch.setattr(campaign, "selected", lambda only: [types.SimpleNamespace(name="run")])
     first = campaign.load_logs(tmp_path)[0]
     table = export / "tractor.csv"
     table.write_bytes(table.read_bytes()[:100])  # cut short by a crash

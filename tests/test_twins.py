@@ -12,6 +12,7 @@ import pytest
 from artic.validation.logs.importers import import_source
 from artic.validation.synthetic.generate import (
     TRUTH_RECORDS,
+    exports_as_written,
     generate_campaign,
     simulate_manoeuvre,
 )
@@ -52,14 +53,18 @@ def test_generate_exports_each_twin_and_reuses_both(tmp_path):
     assert meta["sensors"]["pos_sigma"] == 0.0 and meta["twin_of"]["pos_sigma"] == 0.01
     stamp = (path / "meta.json").stat().st_mtime_ns
     lines = []
-    generate_campaign(out, only=[m.name], twins=twins, progress=lines.append)
+    # what is reused is not yielded as written
+    assert list(exports_as_written(out, only=[m.name], twins=twins, progress=lines.append)) == []
     assert (path / "meta.json").stat().st_mtime_ns == stamp  # reused, not made again
     assert any("already generated" in line for line in lines)
-    # A missing twin makes the manoeuvre again, both exports.
+    # A missing twin makes the manoeuvre again, both exports, yielded together
+    # once both are complete (the export, then the twin).
     for f in (twins / m.name).iterdir():
         f.unlink()
     (twins / m.name).rmdir()
-    generate_campaign(out, only=[m.name], twins=twins)
+    for written in exports_as_written(out, only=[m.name], twins=twins):
+        assert written == [path, twins / m.name]
+        assert all((f / "meta.json").is_file() for f in written)
     assert (twins / m.name / "meta.json").is_file()
 
 

@@ -21,7 +21,7 @@ from artic.mjcf.errors import UserError
 from artic.validation.campaign.executors import DaskOptions
 from artic.validation.harness.loop import DEFAULT_GAIN
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import MATRIX, check_only, tuning_set
+from artic.validation.synthetic.testmatrix import MATRIX, check_only, selected, tuning_set
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 SENSORS = ("default", "ideal")
@@ -214,7 +214,7 @@ def check_selection(only: tuple[str, ...] | list[str] | None, tuning: str = "def
         return
     check_only(only)
     names = tuning_set(tuning)
-    chosen = [m.name for m in MATRIX if any(m.name.startswith(o) for o in only)]
+    chosen = [m.name for m in selected(only)]
     if chosen and all(n in names for n in chosen):
         first = next(m.name for m in MATRIX if m.name not in names)
         raise UserError(f"--only {','.join(only)}: selects only tuning manoeuvres "

@@ -46,7 +46,8 @@ Stages, each timed and each resumable:
 8. **recordings**: one ``.rrd`` per manoeuvre and ``recordings/campaign.rrd``,
    drawn on worker processes started before the tables (stage 5), which computes
    on one core, and collected here (:mod:`artic.validation.campaign.recordings`);
-   **pbs**: the PBS low-speed turn on each model and the truth (``pbs_truck.csv``);
+   **pbs**: the PBS low-speed turn on each model and the truth (``pbs_truck.csv``),
+   started beside the recordings on worker processes of its own;
 9. **report**: ``report.md``, written last.
 
 Resuming. Every stage goes through one cache
@@ -79,14 +80,15 @@ The tables and the report use the pairs with results.
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import dataclasses
 import json
 import threading
 import time
 import zlib
-from collections.abc import Callable, Sequence
-from concurrent.futures import Executor, ThreadPoolExecutor
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import Executor, Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -129,9 +131,9 @@ from artic.validation.runs.validate import (
     validate_runs,
     write_metrics,
 )
-from artic.validation.synthetic.generate import META_FILE, generate_campaign
+from artic.validation.synthetic.generate import META_FILE, exports_as_written
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import TUNING
+from artic.validation.synthetic.testmatrix import TUNING, selected
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 LOADS = ("unloaded", "loaded")
@@ -254,24 +256,26 @@ def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
     damaged: list[Path] = []
 
     def imported(folders: list[Path]) -> None:
-        # a fresh export is imported as soon as it is written, while the workers
-        # simulate the next manoeuvres, instead of on one core after the last
         got, bad = _import(folders)
         runs.update(got)
         damaged.extend(bad)
 
-    def generate(written: Callable[[list[Path]], None] | None = None) -> list[Path]:
-        return generate_campaign(out_dir / "synthetic", seed=seed, progress=stderr_progress,
-                                 jobs=jobs, only=only, executor=executor, truth=truth,
-                                 sensors=chain, drift=drift, twins=where, written=written)
+    def generate() -> Iterator[list[Path]]:
+        return exports_as_written(out_dir / "synthetic", seed=seed, progress=stderr_progress,
+                                  jobs=jobs, only=only, executor=executor, truth=truth,
+                                  sensors=chain, drift=drift, twins=where)
 
-    exports = generate(imported)
+    # a fresh export is imported as soon as it is written, while the workers
+    # simulate the next manoeuvres, instead of on one core after the last
+    for written in generate():
+        imported(written)
+    exports = [out_dir / "synthetic" / m.name for m in selected(only)]
     folders = exports + ([where / f.name for f in exports] if where is not None else [])
     imported([f for f in folders if f not in runs and f not in damaged])  # the ones reused
     if damaged:  # generated again (export and twin together), then imported once more
         for folder in damaged:
             (folder / META_FILE).unlink(missing_ok=True)
-        generate()
+        collections.deque(generate(), maxlen=0)
         again, still = _import(damaged)
         if still:
             raise LogError(f"{still[0]}: generated again, and still does not import")
@@ -1231,6 +1235,7 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     twins = _stage_twins(c, logs, tuning, validation) if logs.value[1] is not None else None
     oracle = _stage_oracle(c, logs, validation) if _has_oracle(c) else None
     started = _start_recordings(c, logs, tuning, references) if cfg.recordings else None
+    pbs = _start_pbs(c)
     with contextlib.ExitStack() as stack:  # a failing stage stops the recordings' workers
         if started is not None:
             stack.enter_context(started)
@@ -1246,31 +1251,55 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     paths = {k: v for r in (tuning, validation, references, twins, oracle, tables, efficiency,
                             sweep, recordings) if r is not None
              for k, v in r.outputs.items() if ":" not in k and k != "gain_sweep_plot"} | swept
-    paths["pbs_truck"] = _stage_pbs(c).outputs["pbs_truck"]
+    paths["pbs_truck"] = _stage_pbs(c, pbs).outputs["pbs_truck"]
     return _report(c, paths, tables.value, tuning.value[0], efficiency.value,
                    sweep.value if sweep is not None else None, metrics, vs_plant,
                    twins.value if twins is not None else None)
 
 
-def _stage_pbs(c: _Campaign) -> StageResult:
+def _pbs_key(c: _Campaign) -> str:
+    return c.cache.key("pbs", c.fields("seed", "models", "truth"))
+
+
+def _start_pbs(c: _Campaign) -> Future | None:
+    """The PBS stage's table, started now on a thread of its own; ``None`` if reused.
+
+    The thread only waits: the turns drive on new worker processes
+    (:func:`_stage_pbs`), which share the cores with the tables stage's one
+    and the recordings' workers instead of running after them.
+    """
+    if c.cache.lookup("pbs", _pbs_key(c), quiet=True) is not None:
+        return None
+    pool = ThreadPoolExecutor(1, thread_name_prefix="artic-pbs")
+    try:
+        return pool.submit(_pbs_table, c)
+    finally:
+        pool.shutdown(wait=False)  # the thread ends with its one task
+
+
+def _pbs_table(c: _Campaign) -> Path:
+    from artic.validation.pbs.trucks import write_truck_table
+
+    # on fresh processes: the truth's model and the reduced models' compiled
+    # code would otherwise grow the campaign's process past its peak (85 MB)
+    return write_truck_table(c.out_dir, c.config.seed, c.models, c.config.truth,
+                             jobs=c.jobs, fresh=True)
+
+
+def _stage_pbs(c: _Campaign, started: Future | None = None) -> StageResult:
     """Stage 8b: the low-speed measures of this truck's models against its truth.
 
     The PBS turn on each model and the truth (:mod:`artic.validation.pbs.trucks`),
     ``pbs_truck.csv``; it reads none of the other stages' outputs (the loaded
     preset, untuned), so its key is the truck, the models and the truth.
+    ``started``: the table :func:`_start_pbs` started, waited for here.
     """
-    from artic.validation.pbs.trucks import write_truck_table
-
-    key = c.cache.key("pbs", c.fields("seed", "models", "truth"))
 
     def compute():
-        # on fresh processes: the truth's model and the reduced models' compiled
-        # code would otherwise grow the campaign's process past its peak (85 MB)
-        path = write_truck_table(c.out_dir, c.config.seed, c.models, c.config.truth,
-                                 jobs=c.jobs, fresh=True)
+        path = started.result() if started is not None else _pbs_table(c)
         return {"pbs_truck": path}, {}, None
 
-    return c.run("pbs", key, compute, lambda entry: None)
+    return c.run("pbs", _pbs_key(c), compute, lambda entry: None)
 
 
 def _report(c: _Campaign, paths: dict[str, Path], t: _Tables, tuned: dict,

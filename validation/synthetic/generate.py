@@ -44,7 +44,7 @@ import tempfile
 import time
 import uuid
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
 from pathlib import Path
 
@@ -71,7 +71,7 @@ from artic.validation.synthetic.actuation import PedalDriver, SteeringColumn, Tr
 from artic.validation.synthetic.driver import DockingDriver, drive_dock
 from artic.validation.synthetic.manoeuvres import make_profile
 from artic.validation.synthetic.sensors import SensorModel, measure
-from artic.validation.synthetic.testmatrix import MATRIX, Manoeuvre, check_only
+from artic.validation.synthetic.testmatrix import Manoeuvre, check_only, selected
 from artic.validation.synthetic.truth import (
     DEFAULT,
     TRUTHS,
@@ -377,8 +377,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
                       jobs: int = 1, executor: Executor | None = None,
                       sensors: SensorModel | None = None,
                       truth: str = DEFAULT, drift: bool = True,
-                      twins: Path | None = None,
-                      written: Callable[[list[Path]], None] | None = None) -> list[Path]:
+                      twins: Path | None = None) -> list[Path]:
     """Generate the campaign's exports, skipping those already complete.
 
     Parameters
@@ -409,15 +408,39 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
         exported there under the same name: the same truth run measured with
         ideal sensors, made by the same simulation. A manoeuvre whose export or
         twin is missing or stale is simulated again and both are written.
-    written : callable, optional
-        Called with a manoeuvre's export folders (the export, then its twin)
-        as soon as they are written, while the other manoeuvres simulate (the
-        campaign imports them there); not for the exports reused.
 
     Returns
     -------
     list of Path
         The export folders; ``truth-LOAD.toml`` files are written beside them.
+
+    See Also
+    --------
+    exports_as_written : the same, each manoeuvre's folders as they are written.
+    """
+    for _ in exports_as_written(out_dir, seed, only, progress, jobs, executor, sensors, truth,
+                                drift, twins):
+        pass
+    return [Path(out_dir) / m.name for m in selected(only)]
+
+
+def exports_as_written(out_dir: Path, seed: int = 0, only: list[str] | None = None,
+                       progress: Callable[[str], None] | None = None,
+                       jobs: int = 1, executor: Executor | None = None,
+                       sensors: SensorModel | None = None,
+                       truth: str = DEFAULT, drift: bool = True,
+                       twins: Path | None = None) -> Iterator[list[Path]]:
+    """Generate the campaign's exports, yielding each manoeuvre's as it is written.
+
+    The parameters are :func:`generate_campaign`'s. A caller reads each
+    export while the workers simulate the next manoeuvres (the campaign
+    imports them so, instead of on one core after the last).
+
+    Yields
+    ------
+    list of Path
+        One manoeuvre's export folders: the export, then its twin if
+        ``twins``. Not the exports reused.
     """
     sensors = sensors or SensorModel()
     out_dir = Path(out_dir)
@@ -426,7 +449,7 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     check_only(only)  # before anything is made
     out_dir.mkdir(parents=True, exist_ok=True)
     write_truth_files(out_dir, seed, truth)
-    todo = [m for m in MATRIX if not only or any(m.name.startswith(o) for o in only)]
+    todo = selected(only)
     config = truth_configuration(seed, truth, drift)
     missing = []
     for m in todo:
@@ -455,7 +478,5 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
             if twin is not None:  # first: a complete export then implies its twin
                 write_export(twin, twins, name=m.name, meta_from=out_dir / m.name)
             write_export(run, out_dir, name=m.name)
-            if written is not None:
-                written([out_dir / m.name] + ([twins / m.name] if twin is not None else []))
             counter.step(f"{m.name} ({wall:.1f} s)")
-    return [out_dir / m.name for m in todo]
+            yield [out_dir / m.name] + ([twins / m.name] if twin is not None else [])

@@ -175,6 +175,11 @@ def tuning_set(name: str) -> tuple[str, ...]:
     return TUNING_SETS[name]
 
 
+def selected(only: Sequence[str] | None) -> list[Manoeuvre]:
+    """The manoeuvres whose names start with one of ``only``, in the matrix's order; all if none."""
+    return [m for m in MATRIX if not only or any(m.name.startswith(o) for o in only)]
+
+
 def check_only(only: Sequence[str] | None) -> None:
     """Refuse an ``--only`` prefix that names no manoeuvre, before anything is made.
 
