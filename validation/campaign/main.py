@@ -80,7 +80,6 @@ The tables and the report use the pairs with results.
 
 from __future__ import annotations
 
-import collections
 import contextlib
 import dataclasses
 import json
@@ -275,7 +274,8 @@ def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
     if damaged:  # generated again (export and twin together), then imported once more
         for folder in damaged:
             (folder / META_FILE).unlink(missing_ok=True)
-        collections.deque(generate(), maxlen=0)
+        for _ in generate():  # imported below, together
+            pass
         again, still = _import(damaged)
         if still:
             raise LogError(f"{still[0]}: generated again, and still does not import")
