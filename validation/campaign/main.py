@@ -1265,7 +1265,7 @@ def _start_pbs(c: _Campaign) -> Future | None:
     """The PBS stage's table, started now on a thread of its own; ``None`` if reused.
 
     The thread only waits: the turns drive on new worker processes
-    (:func:`_stage_pbs`), which share the cores with the tables stage's one
+    (:func:`_pbs_table`), which share the cores with the tables stage's one
     and the recordings' workers instead of running after them.
     """
     if c.cache.lookup("pbs", _pbs_key(c), quiet=True) is not None:
@@ -1286,13 +1286,14 @@ def _pbs_table(c: _Campaign) -> Path:
                              jobs=c.jobs, fresh=True)
 
 
-def _stage_pbs(c: _Campaign, started: Future | None = None) -> StageResult:
+def _stage_pbs(c: _Campaign, started: Future | None) -> StageResult:
     """Stage 8b: the low-speed measures of this truck's models against its truth.
 
     The PBS turn on each model and the truth (:mod:`artic.validation.pbs.trucks`),
     ``pbs_truck.csv``; it reads none of the other stages' outputs (the loaded
     preset, untuned), so its key is the truck, the models and the truth.
-    ``started``: the table :func:`_start_pbs` started, waited for here.
+    ``started``: the table :func:`_start_pbs` started, waited for here
+    (``None``: computed here).
     """
 
     def compute():
