@@ -8,7 +8,12 @@ public names in ``artic.__all__``.
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import artic
+
+sys.path.insert(0, str(Path(__file__).parent / "_ext"))  # artic_layout: the module table
 
 project = "artic"
 author = "artic developers"
@@ -21,6 +26,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "numpydoc",
+    "artic_layout",
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 exclude_patterns = ["_build", "images", "_templates"]
