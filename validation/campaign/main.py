@@ -130,9 +130,9 @@ from artic.validation.runs.validate import (
     validate_runs,
     write_metrics,
 )
-from artic.validation.synthetic.generate import META_FILE, exports_as_written
+from artic.validation.synthetic.generate import META_FILE, export_folders, exports_as_written
 from artic.validation.synthetic.sensors import SensorModel
-from artic.validation.synthetic.testmatrix import TUNING, selected
+from artic.validation.synthetic.testmatrix import TUNING
 from artic.validation.synthetic.truth import DEFAULT as DEFAULT_TRUTH
 
 LOADS = ("unloaded", "loaded")
@@ -268,7 +268,7 @@ def _load_logs(out_dir: Path, seed: int, jobs: int, only: list[str] | None,
     # simulate the next manoeuvres, instead of on one core after the last
     for written in generate():
         imported(written)
-    exports = [out_dir / "synthetic" / m.name for m in selected(only)]
+    exports = export_folders(out_dir / "synthetic", only)
     folders = exports + ([where / f.name for f in exports] if where is not None else [])
     imported([f for f in folders if f not in runs and f not in damaged])  # the ones reused
     if damaged:  # generated again (export and twin together), then imported once more

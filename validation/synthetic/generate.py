@@ -421,6 +421,15 @@ def generate_campaign(out_dir: Path, seed: int = 0, only: list[str] | None = Non
     for _ in exports_as_written(out_dir, seed, only, progress, jobs, executor, sensors, truth,
                                 drift, twins):
         pass
+    return export_folders(out_dir, only)
+
+
+def export_folders(out_dir: Path, only: list[str] | None = None) -> list[Path]:
+    """The export folders of the manoeuvres ``only`` selects (all if none), in the matrix's order.
+
+    Where :func:`generate_campaign` and :func:`exports_as_written` write them under
+    ``out_dir``, whether made now or reused.
+    """
     return [Path(out_dir) / m.name for m in selected(only)]
 
 
