@@ -138,9 +138,10 @@ def default_campaign(tmp_path_factory) -> Path:
     under the coverage tracer, which slowed the campaign's own Python (its tables,
     its criteria, the threads beside the compiled loops) for lines that the part
     campaigns of ``tests/test_campaign.py`` cover in this process.
-    ``tests/test_default_campaign.py`` alone under ``--cov`` took 140 s of wall and
-    239 s of CPU in this process, 127 and 221 s as a command (quiet, two cores, one
-    run each, 2026-12-07).
+    ``tests/test_default_campaign.py`` alone under ``--cov``, median (range) of three
+    runs each, alternately: 151 s (148-151) of wall and 253 s (248-253) of CPU in this
+    process, 133 s (131-140) and 229 s (227-239) as a command (quiet, two cores,
+    2026-12-07).
     """
     out = tmp_path_factory.mktemp("default-campaign") / "out"
     # What the installed ``artic`` script runs, wherever the installer put the script.

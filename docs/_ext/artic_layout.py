@@ -6,8 +6,9 @@ drawn at each docs build from the source files of the four folders (``mjcf``,
 :mod:`ast`: nothing is imported, so the Warp modules are listed without the gpu
 extra. It replaces a recursive autosummary whose page per module (215 of them)
 held only a pointer back, while the theme drew on every page of the site a
-navigation tree of every module: ``sphinx-build -W -b html docs`` took 43.6 s, and
-10.7 s with this table (quiet, two cores, one run each, 2026-12-07).
+navigation tree of every module: ``sphinx-build -W -b html docs`` took 44.8 s
+(43.4-46.0), and 11.5 s (11.3-11.8) with this table (median and range of three runs
+each, alternately, quiet, two cores, 2026-12-07).
 """
 
 from __future__ import annotations
