@@ -67,8 +67,9 @@ COMPILED = pytest.mark.skipif(ctyre.library() is None, reason="needs the compile
 
 @pytest.mark.parametrize(("stepping", "churning", "steps"), [
     pytest.param("compiled", "python", 4000, marks=COMPILED),
-    pytest.param("python", "compiled", 300, marks=COMPILED),
-    ("python", "compile", 300)])
+    # the Python-stepped ones take seconds each: in the slow set (issue 42)
+    pytest.param("python", "compiled", 300, marks=[COMPILED, pytest.mark.slow]),
+    pytest.param("python", "compile", 300, marks=pytest.mark.slow)])
 def test_a_plant_steps_on_while_others_open_and_close(stepping, churning, steps):
     # compiled/python: each numpy plant's opening installs the Python dispatcher and
     # its closing once put the C function back under the compiled plant's step,

@@ -40,6 +40,8 @@ def again(made: Path, where: Path, capsys, **changes) -> tuple[dict[str, bool], 
     return reused, capsys.readouterr().err
 
 
+# A partial campaign end to end: in the slow set (issue 42, the fast suite's budget).
+@pytest.mark.slow
 def test_a_second_run_reuses_every_stage_and_writes_the_same_numbers(made, tmp_path, capsys):
     first = json.loads((made / "timings.json").read_text())["reused"]
     assert not any(first.values())  # the first run computed every stage
@@ -51,6 +53,8 @@ def test_a_second_run_reuses_every_stage_and_writes_the_same_numbers(made, tmp_p
         assert (tmp_path / "out" / f).read_bytes() == (made / f).read_bytes(), f
 
 
+# A partial campaign end to end: in the slow set (issue 42, the fast suite's budget).
+@pytest.mark.slow
 def test_a_changed_gain_reruns_validation_and_what_depends_on_it(made, tmp_path, capsys):
     reused, _ = again(made, tmp_path / "out", capsys, gain=2.0)
     # K enters the harness, not the logs nor the tuning (open loop, forward).
@@ -64,6 +68,8 @@ def test_a_changed_gain_reruns_validation_and_what_depends_on_it(made, tmp_path,
     assert (before.loc[reverse, "J_steer"] != after.loc[reverse, "J_steer"]).all()
 
 
+# A partial campaign end to end: in the slow set (issue 42, the fast suite's budget).
+@pytest.mark.slow
 def test_a_corrupted_entry_or_output_is_computed_again(made, tmp_path, capsys):
     out = tmp_path / "out"
     shutil.copytree(made, out)

@@ -12,9 +12,15 @@ import pytest
 import artic
 
 PUBLIC = [n for n in artic.__all__ if n != "__version__"]
+CAMPAIGNS = {"run_campaign"}
+"""Names whose example runs a campaign end to end: in the slow set (issue 42)."""
 
 
-@pytest.mark.parametrize("name", PUBLIC)
+def _params() -> list:
+    return [pytest.param(n, marks=pytest.mark.slow) if n in CAMPAIGNS else n for n in PUBLIC]
+
+
+@pytest.mark.parametrize("name", _params())
 def test_the_examples_of_a_public_name_run(name, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # an example that writes does so here
     obj = getattr(artic, name)

@@ -22,6 +22,8 @@ from tests import conftest
 ROOT = Path(__file__).resolve().parents[1]
 
 
+# A pytest-xdist session in a process of its own: end to end, in the slow set (issue 42).
+@pytest.mark.slow
 def test_each_file_runs_whole_in_one_process():
     pytest.importorskip("xdist", reason="pytest-xdist (the test extra) is not installed")
     # Three files that import little (the check is of the dealing, not of the tests).

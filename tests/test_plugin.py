@@ -52,6 +52,8 @@ def shared_cache(pytestconfig, tmp_path_factory):
         tmp_path_factory.mktemp("artic-pytester")
 
 
+# A user's pytest session in a process of its own: end to end, in the slow set (issue 42).
+@pytest.mark.slow
 def test_a_users_tests_pass_for_a_right_model_and_fail_with_the_table_for_a_wrong_one(
         pytester, shared_cache):
     # A fresh process, as a user's suite: the plugin comes from artic's

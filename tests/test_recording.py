@@ -179,6 +179,21 @@ def test_failed_recording_leaves_nothing(tmp_path, unloaded, manoeuvre):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_manoeuvre_plot_is_a_png_of_the_figures_size(tmp_path, manoeuvre):
+    # The report's static plot (the campaign draws one per docking manoeuvre):
+    # 12 x 5.5 in at 100 dpi is 1200 x 550 pixels, read from the PNG's header.
+    import struct
+
+    from artic.validation.review.plots import plot_manoeuvre
+
+    log, runs = manoeuvre
+    path = plot_manoeuvre(tmp_path / "m.png", log, runs)
+    head = path.read_bytes()[:24]
+    assert head[:8] == b"\x89PNG\r\n\x1a\n"
+    assert struct.unpack(">II", head[16:24]) == (1200, 550)
+    assert [p.name for p in tmp_path.iterdir()] == ["m.png"]  # nothing left beside it
+
+
 def test_campaign_recordings_draw_on_workers_and_keep_the_newer(tmp_path, unloaded, manoeuvre):
     # The campaign starts its recordings on worker processes before the tables and
     # collects them after (artic.validation.campaign.recordings): what is collected

@@ -262,6 +262,9 @@ def broken():
 '''
 
 
+# The artic command in a process of its own, on an installed distribution: end to end,
+# in the slow set (issue 42, the fast suite's budget).
+@pytest.mark.slow
 def test_an_entry_point_registers_a_model_and_a_broken_one_is_one_line(tmp_path, logs):
     # A distribution installed the way pip leaves one: a module and its
     # .dist-info folder with entry_points.txt, on the path.
