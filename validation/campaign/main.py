@@ -1233,6 +1233,7 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     references = _stage_references(c, logs, tuning, validation)
     metrics, vs_plant = references.value
     twins = _stage_twins(c, logs, tuning, validation) if logs.value[1] is not None else None
+    logs = _without_twin_logs(c, logs)
     oracle = _stage_oracle(c, logs, validation) if _has_oracle(c) else None
     started = _start_recordings(c, logs, tuning, references) if cfg.recordings else None
     pbs = _start_pbs(c)
@@ -1255,6 +1256,19 @@ def _run_stages(c: _Campaign) -> dict[str, Path]:
     return _report(c, paths, tables.value, tuning.value[0], efficiency.value,
                    sweep.value if sweep is not None else None, metrics, vs_plant,
                    twins.value if twins is not None else None)
+
+
+def _without_twin_logs(c: _Campaign, logs: StageResult) -> StageResult:
+    """``logs`` without the noise-free twins' runs, which no stage after the twins reads.
+
+    For the campaign's peak memory: the twins' frames (as large as the logs') would
+    otherwise stay alive to the report, through the stages that draw the most.
+    """
+    if logs.value[1] is None:
+        return logs
+    c.results["logs"] = dataclasses.replace(logs, value=(logs.value[0], None))
+    release_memory()
+    return c.results["logs"]
 
 
 def _pbs_key(c: _Campaign) -> str:
